@@ -1,0 +1,129 @@
+// statepack archive format, version 1: the decoded model and the codec.
+//
+// This is the one place the on-disk format is defined; the packager encodes with it and the
+// dearchiver decodes with it. The byte layout is specified in docs/archive-format.md and, table by
+// table, next to the code in archive_format.cpp.
+//
+// Vulkan enum values (VkFormat, VkDescriptorType, VkShaderStageFlags, ...) are stored as their numeric
+// values: the Vulkan ABI fixes them, so they are as stable as our own codes would be.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "statepack/result.hpp"
+
+namespace statepack::format {
+
+inline constexpr std::array<uint8_t, 8> kMagic = {0x89, 'S', 'P', 'K', '\r', '\n', 0x1A, '\n'};
+inline constexpr uint32_t kFormatVersion = 1;          // what this code writes
+inline constexpr uint32_t kOldestReadableVersion = 1;  // what a reader must at least understand
+inline constexpr uint32_t kHeaderSize = 64;
+inline constexpr uint32_t kBlobAlignment = 16;  // SPIR-V blobs start on 16-byte file offsets
+inline constexpr uint32_t kNone = 0xFFFFFFFFu;  // "no index" in index fields
+inline constexpr uint32_t kMaxColorTargets = 8;
+
+enum Backend : uint32_t {
+  kBackendVulkan = 1u << 0,
+  kBackendOpenGL = 1u << 1,  // reserved: SPIR-V for OpenGL 4.6 (not produced yet)
+};
+
+enum class PipelineKind : uint32_t { graphics = 0, compute = 1 };
+
+struct Binding {
+  std::string name;  // the shader's resource name (block name or variable name)
+  uint32_t binding = 0;
+  uint32_t descriptor_type = 0;  // VkDescriptorType
+  uint32_t count = 1;
+  uint32_t stage_flags = 0;  // VkShaderStageFlags
+};
+
+struct SetLayout {
+  std::vector<Binding> bindings;  // sorted by binding number
+};
+
+struct Shader {
+  std::string name;
+  uint32_t stage = 0;  // VkShaderStageFlagBits
+  uint32_t blob = 0;   // index into Contents::spirv
+  std::string entry_point;
+};
+
+struct BlendAttachment {
+  uint32_t enable = 0;
+  uint32_t src_color = 1;  // VkBlendFactor (ONE)
+  uint32_t dst_color = 0;  // VkBlendFactor (ZERO)
+  uint32_t color_op = 0;   // VkBlendOp (ADD)
+  uint32_t src_alpha = 1;
+  uint32_t dst_alpha = 0;
+  uint32_t alpha_op = 0;
+  uint32_t write_mask = 0xF;  // VkColorComponentFlags
+  bool operator==(const BlendAttachment&) const = default;
+};
+
+struct StencilOpState {
+  uint32_t fail_op = 0, pass_op = 0, depth_fail_op = 0;  // VkStencilOp (KEEP)
+  uint32_t compare_op = 7;                               // VkCompareOp (ALWAYS)
+  bool operator==(const StencilOpState&) const = default;
+};
+
+// Fixed-function state of a graphics pipeline. Viewport and scissor are always dynamic.
+struct GraphicsState {
+  uint32_t topology = 3;      // VkPrimitiveTopology (TRIANGLE_LIST)
+  uint32_t polygon_mode = 0;  // VkPolygonMode (FILL)
+  uint32_t cull_mode = 2;     // VkCullModeFlags (BACK)
+  uint32_t front_face = 1;    // VkFrontFace (CLOCKWISE, as Diligent's FrontCounterClockwise=false)
+  uint32_t depth_clamp = 0;   // 1 when DepthClipEnable=false
+  float depth_bias = 0, depth_bias_clamp = 0, depth_bias_slope = 0;
+  uint32_t depth_test = 1, depth_write = 1;
+  uint32_t depth_compare = 1;  // VkCompareOp (LESS)
+  uint32_t stencil_test = 0;
+  uint32_t stencil_read_mask = 0xFF, stencil_write_mask = 0xFF;
+  StencilOpState front, back;
+  uint32_t samples = 1;  // VkSampleCountFlagBits
+  uint32_t sample_mask = 0xFFFFFFFFu;
+  uint32_t alpha_to_coverage = 0;
+  uint32_t color_count = 0;
+  std::array<uint32_t, kMaxColorTargets> color_formats{};  // VkFormat
+  uint32_t depth_stencil_format = 0;                      // VkFormat
+  std::array<BlendAttachment, kMaxColorTargets> blend{};
+  bool operator==(const GraphicsState&) const = default;
+};
+
+struct Pipeline {
+  std::string name;
+  PipelineKind kind = PipelineKind::graphics;
+  std::vector<uint32_t> shaders;      // indices into Contents::shaders
+  std::vector<uint32_t> set_layouts;  // per descriptor set number: index into set_layouts or kNone
+  uint32_t push_constant_size = 0;
+  uint32_t push_constant_stages = 0;
+  GraphicsState graphics;  // meaningful for graphics pipelines only
+};
+
+// Everything an archive holds. When decoding, `spirv` points into the archive bytes (zero copy);
+// when encoding, the caller keeps the blobs alive and unique (the packager deduplicates them).
+struct Contents {
+  uint32_t format_version = kFormatVersion;  // set by decode; encode always writes kFormatVersion
+  uint32_t producer_version = 0;  // packager version, VK_MAKE_API_VERSION-style packing
+  uint32_t content_version = 0;   // user's version (statepack -v)
+  uint32_t backends = kBackendVulkan;
+  std::vector<std::span<const uint32_t>> spirv;
+  std::vector<Shader> shaders;
+  std::vector<SetLayout> set_layouts;
+  std::vector<Pipeline> pipelines;
+};
+
+// Serialises `contents`, byte for byte deterministic. Pipelines must have unique names.
+std::vector<uint8_t> encode(const Contents& contents);
+
+// Validates every offset, size, count and checksum, then decodes. `bytes` must be 4-byte aligned
+// and must outlive the result's `spirv` spans.
+Result<Contents> decode(std::span<const uint8_t> bytes);
+
+// XXH3-64 of the bytes; the hash used for blob content and the whole-archive checksum.
+uint64_t hash_bytes(std::span<const uint8_t> bytes);
+
+}  // namespace statepack::format

@@ -1,0 +1,157 @@
+// libstatepack_dearchiver — unpacks statepack archives into Vulkan objects.
+//
+//   auto archive = statepack::Archive::from_file("scene.spk");          // or from_memory(bytes)
+//   auto dearchiver = statepack::Dearchiver::create({physical_device, device});
+//   dearchiver->add_archive(std::move(*archive));
+//   auto pso = dearchiver->unpack_graphics("Resolve PSO", [&](statepack::PatchableState& s) {
+//     s.color_formats[0] = swapchain_format;                            // run-time-only state
+//   });
+//   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, (*pso)->pipeline);
+//
+// The dearchiver owns every Vulkan object it creates and destroys them with itself. Shader modules
+// and descriptor set layouts are created once and shared between pipelines. No shader compiler is
+// linked: the archive holds final SPIR-V whose bindings already match the stored layouts.
+#pragma once
+
+#include <vulkan/vulkan.h>
+
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "statepack/result.hpp"
+
+namespace statepack {
+
+namespace format {
+struct Contents;
+}
+
+// A loaded, fully validated archive. Owns its bytes (from_file) or borrows them (from_memory).
+class Archive {
+ public:
+  // Reads and validates a file. `required_content_version`, when set, must equal the archive's.
+  static Result<Archive> from_file(const std::filesystem::path& path,
+                                   std::optional<uint32_t> required_content_version = std::nullopt);
+  // Validates caller-owned memory without copying it; `bytes` must stay alive and unchanged while the
+  // Archive (or a Dearchiver it was added to) exists, and must be 4-byte aligned.
+  static Result<Archive> from_memory(std::span<const uint8_t> bytes,
+                                     std::optional<uint32_t> required_content_version = std::nullopt);
+
+  Archive(Archive&&) noexcept;
+  Archive& operator=(Archive&&) noexcept;
+  ~Archive();
+
+  uint32_t content_version() const;
+  uint32_t format_version() const;
+  std::vector<std::string> pipeline_names() const;
+  const format::Contents& contents() const;
+
+ private:
+  struct State;
+  explicit Archive(std::unique_ptr<State> state);
+  std::unique_ptr<State> state_;
+};
+
+struct BlendAttachmentState {
+  bool enable = false;
+  VkBlendFactor src_color = VK_BLEND_FACTOR_ONE, dst_color = VK_BLEND_FACTOR_ZERO;
+  VkBlendOp color_op = VK_BLEND_OP_ADD;
+  VkBlendFactor src_alpha = VK_BLEND_FACTOR_ONE, dst_alpha = VK_BLEND_FACTOR_ZERO;
+  VkBlendOp alpha_op = VK_BLEND_OP_ADD;
+  VkColorComponentFlags write_mask = 0xF;
+};
+
+struct RasterizerState {
+  VkPolygonMode polygon_mode = VK_POLYGON_MODE_FILL;
+  VkCullModeFlags cull_mode = VK_CULL_MODE_BACK_BIT;
+  VkFrontFace front_face = VK_FRONT_FACE_CLOCKWISE;
+  bool depth_clamp = false;
+  float depth_bias = 0, depth_bias_clamp = 0, depth_bias_slope = 0;
+};
+
+struct DepthStencilState {
+  bool depth_test = true, depth_write = true;
+  VkCompareOp depth_compare = VK_COMPARE_OP_LESS;
+  bool stencil_test = false;
+  VkStencilOpState front{}, back{};
+};
+
+// What the modify callback may change at unpack time. The resource layout is deliberately absent:
+// the stored SPIR-V is bound to it, so it cannot change without recompiling.
+struct PatchableState {
+  uint32_t color_count = 0;
+  std::array<VkFormat, 8> color_formats{};
+  VkFormat depth_stencil_format = VK_FORMAT_UNDEFINED;
+  VkSampleCountFlagBits samples = VK_SAMPLE_COUNT_1_BIT;
+  std::array<BlendAttachmentState, 8> blend{};
+  RasterizerState rasterizer;
+  DepthStencilState depth_stencil;
+};
+using ModifyCallback = std::function<void(PatchableState&)>;
+
+// One resource of a pipeline's layout, as the shaders name it.
+struct BindingInfo {
+  std::string name;
+  uint32_t set = 0;
+  uint32_t binding = 0;
+  VkDescriptorType type = VK_DESCRIPTOR_TYPE_MAX_ENUM;
+  uint32_t count = 1;
+  VkShaderStageFlags stages = 0;
+};
+
+struct UnpackedPipeline {
+  std::string name;
+  VkPipeline pipeline = VK_NULL_HANDLE;
+  VkPipelineLayout layout = VK_NULL_HANDLE;
+  VkPipelineBindPoint bind_point = VK_PIPELINE_BIND_POINT_GRAPHICS;
+  std::vector<VkDescriptorSetLayout> set_layouts;  // index = set number
+  std::vector<BindingInfo> bindings;
+  uint32_t push_constant_size = 0;
+  VkShaderStageFlags push_constant_stages = 0;
+
+  const BindingInfo* find_binding(std::string_view resource_name) const;
+};
+
+struct DeviceContext {
+  VkPhysicalDevice physical_device = VK_NULL_HANDLE;
+  VkDevice device = VK_NULL_HANDLE;
+  const VkAllocationCallbacks* allocator = nullptr;
+  VkPipelineCache pipeline_cache = VK_NULL_HANDLE;
+  // Graphics pipelines without render passes need dynamic rendering (Vulkan 1.3 core, or
+  // VK_KHR_dynamic_rendering); say whether the device was created with the feature enabled.
+  bool dynamic_rendering_enabled = true;
+};
+
+class Dearchiver {
+ public:
+  static Result<Dearchiver> create(const DeviceContext& context);
+
+  Dearchiver(Dearchiver&&) noexcept;
+  Dearchiver& operator=(Dearchiver&&) noexcept;
+  ~Dearchiver();  // destroys every Vulkan object it created
+
+  // Adds an archive; names resolve across all added archives, the earliest added winning.
+  Result<void> add_archive(Archive archive);
+
+  // Unpacks a pipeline by name. The pointer stays valid for the Dearchiver's lifetime. Unpacking the
+  // same name twice without a callback returns the same pipeline.
+  Result<const UnpackedPipeline*> unpack_graphics(std::string_view name, const ModifyCallback& modify = {});
+  Result<const UnpackedPipeline*> unpack_compute(std::string_view name);
+
+  std::vector<std::string> pipeline_names() const;
+
+ private:
+  struct State;
+  explicit Dearchiver(std::unique_ptr<State> state);
+  std::unique_ptr<State> state_;
+};
+
+}  // namespace statepack

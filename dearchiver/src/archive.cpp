@@ -1,0 +1,66 @@
+// Archive: loads bytes (owned or borrowed) and keeps their validated, decoded contents.
+#include <fstream>
+
+#include "statepack/archive_format.hpp"
+#include "statepack/dearchiver.hpp"
+
+namespace statepack {
+
+struct Archive::State {
+  std::vector<uint32_t> owned;  // uint32_t storage keeps file bytes 4-byte aligned for SPIR-V
+  format::Contents contents;
+};
+
+Archive::Archive(std::unique_ptr<State> state) : state_(std::move(state)) {}
+Archive::Archive(Archive&&) noexcept = default;
+Archive& Archive::operator=(Archive&&) noexcept = default;
+Archive::~Archive() = default;
+
+namespace {
+Result<format::Contents> decode_checked(std::span<const uint8_t> bytes, std::optional<uint32_t> required,
+                                        const std::string& origin) {
+  auto decoded = format::decode(bytes);
+  if (!decoded) return Error{decoded.error().code, origin + ": " + decoded.error().message};
+  if (required && decoded->content_version != *required)
+    return Error{ErrorCode::content_version_mismatch,
+                 origin + ": content version " + std::to_string(decoded->content_version) + ", required " +
+                     std::to_string(*required)};
+  return decoded;
+}
+}  // namespace
+
+Result<Archive> Archive::from_file(const std::filesystem::path& path, std::optional<uint32_t> required) {
+  std::ifstream file(path, std::ios::binary | std::ios::ate);
+  if (!file) return Error{ErrorCode::io_error, path.string() + ": cannot open archive"};
+  auto size = static_cast<size_t>(file.tellg());
+  auto state = std::make_unique<State>();
+  state->owned.resize((size + 3) / 4);
+  file.seekg(0);
+  if (!file.read(reinterpret_cast<char*>(state->owned.data()), static_cast<std::streamsize>(size)))
+    return Error{ErrorCode::io_error, path.string() + ": cannot read archive"};
+  std::span<const uint8_t> bytes(reinterpret_cast<const uint8_t*>(state->owned.data()), size);
+  auto decoded = decode_checked(bytes, required, path.string());
+  if (!decoded) return decoded.error();
+  state->contents = std::move(decoded.value());
+  return Archive(std::move(state));
+}
+
+Result<Archive> Archive::from_memory(std::span<const uint8_t> bytes, std::optional<uint32_t> required) {
+  auto decoded = decode_checked(bytes, required, "archive in memory");
+  if (!decoded) return decoded.error();
+  auto state = std::make_unique<State>();
+  state->contents = std::move(decoded.value());
+  return Archive(std::move(state));
+}
+
+uint32_t Archive::content_version() const { return state_->contents.content_version; }
+uint32_t Archive::format_version() const { return state_->contents.format_version; }
+const format::Contents& Archive::contents() const { return state_->contents; }
+
+std::vector<std::string> Archive::pipeline_names() const {
+  std::vector<std::string> names;
+  for (const auto& p : state_->contents.pipelines) names.push_back(p.name);
+  return names;
+}
+
+}  // namespace statepack

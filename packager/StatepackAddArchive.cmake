@@ -1,0 +1,80 @@
+# statepack_add_archive: build a statepack archive as part of a CMake build.
+#
+#   statepack_add_archive(<target>
+#     OUTPUT <archive.spk>            # where the archive goes (relative: to the current binary dir)
+#     INPUTS <states.json>...         # notation files (relative: to the current source dir)
+#     [SHADER_DIRS <dir>...]          # -s: shader and #include search directories
+#     [RENDER_STATE_DIRS <dir>...]    # -r: notation search directories
+#     [DEFINES NAME=VALUE...]         # -D: macros for every shader
+#     [CONTENT_VERSION <n>]           # -v: user content version in the header
+#     [VULKAN_VERSION 1.0|1.1|1.2|1.3]
+#     [PACKAGER <path or target>]     # default: the statepack target of this build, else `statepack` on PATH
+#     [ARGS <extra packager args>...])
+#
+# The archive is a build product of <target> (built by `all`). The packager writes a depfile listing
+# every JSON and shader file it read, so the archive is repacked exactly when one of them changes.
+# The archive's path is stored in the target property STATEPACK_ARCHIVE.
+function(statepack_add_archive target)
+  cmake_parse_arguments(PARSE_ARGV 1 ARG "" "OUTPUT;CONTENT_VERSION;VULKAN_VERSION;PACKAGER"
+                        "INPUTS;SHADER_DIRS;RENDER_STATE_DIRS;DEFINES;ARGS")
+  if(NOT ARG_OUTPUT OR NOT ARG_INPUTS)
+    message(FATAL_ERROR "statepack_add_archive(${target}): OUTPUT and INPUTS are required")
+  endif()
+  if(ARG_UNPARSED_ARGUMENTS)
+    message(FATAL_ERROR "statepack_add_archive(${target}): unknown arguments ${ARG_UNPARSED_ARGUMENTS}")
+  endif()
+  cmake_path(ABSOLUTE_PATH ARG_OUTPUT BASE_DIRECTORY "${CMAKE_CURRENT_BINARY_DIR}" NORMALIZE OUTPUT_VARIABLE output)
+
+  if(ARG_PACKAGER)
+    set(packager "${ARG_PACKAGER}")
+  elseif(TARGET statepack)
+    set(packager statepack)
+  else()
+    find_program(STATEPACK_EXECUTABLE statepack REQUIRED)
+    set(packager "${STATEPACK_EXECUTABLE}")
+  endif()
+  if(TARGET ${packager})
+    set(packager_command "$<TARGET_FILE:${packager}>")
+    set(packager_dependency ${packager})
+  else()
+    set(packager_command "${packager}")
+    set(packager_dependency "${packager}")
+  endif()
+
+  set(args pack -o "${output}" --vulkan --depfile "${output}.d")
+  set(inputs "")
+  foreach(input IN LISTS ARG_INPUTS)
+    cmake_path(ABSOLUTE_PATH input BASE_DIRECTORY "${CMAKE_CURRENT_SOURCE_DIR}" NORMALIZE)
+    list(APPEND args -i "${input}")
+    list(APPEND inputs "${input}")
+  endforeach()
+  foreach(dir IN LISTS ARG_SHADER_DIRS)
+    cmake_path(ABSOLUTE_PATH dir BASE_DIRECTORY "${CMAKE_CURRENT_SOURCE_DIR}" NORMALIZE)
+    list(APPEND args -s "${dir}")
+  endforeach()
+  foreach(dir IN LISTS ARG_RENDER_STATE_DIRS)
+    cmake_path(ABSOLUTE_PATH dir BASE_DIRECTORY "${CMAKE_CURRENT_SOURCE_DIR}" NORMALIZE)
+    list(APPEND args -r "${dir}")
+  endforeach()
+  foreach(define IN LISTS ARG_DEFINES)
+    list(APPEND args -D "${define}")
+  endforeach()
+  if(DEFINED ARG_CONTENT_VERSION)
+    list(APPEND args -v "${ARG_CONTENT_VERSION}")
+  endif()
+  if(ARG_VULKAN_VERSION)
+    list(APPEND args --vulkan_version "${ARG_VULKAN_VERSION}")
+  endif()
+  list(APPEND args ${ARG_ARGS})
+
+  add_custom_command(
+    OUTPUT "${output}"
+    COMMAND ${packager_command} ${args}
+    DEPENDS ${inputs} ${packager_dependency}
+    DEPFILE "${output}.d"
+    WORKING_DIRECTORY "${CMAKE_CURRENT_SOURCE_DIR}"
+    COMMENT "statepack: packing ${output}"
+    VERBATIM)
+  add_custom_target(${target} ALL DEPENDS "${output}")
+  set_target_properties(${target} PROPERTIES STATEPACK_ARCHIVE "${output}")
+endfunction()

@@ -1,0 +1,200 @@
+// DRSN enum strings and their Vulkan values. Matching is exact and case-sensitive, as in Diligent;
+// unknown strings are errors with a suggestion (nlohmann's enum macro would silently pick the first).
+#pragma once
+
+#include <vulkan/vulkan_core.h>
+
+#include <cstdint>
+#include <span>
+#include <string_view>
+#include <utility>
+
+namespace statepack::packager {
+
+using EnumEntry = std::pair<std::string_view, uint32_t>;
+using EnumTable = std::span<const EnumEntry>;
+
+// A value Vulkan cannot express: accepted by name, rejected with a reason.
+inline constexpr uint32_t kUnsupportedValue = 0xFFFFFFFEu;
+
+inline constexpr EnumEntry kTextureFormats[] = {
+    {"UNKNOWN", VK_FORMAT_UNDEFINED},
+    {"RGBA32_FLOAT", VK_FORMAT_R32G32B32A32_SFLOAT},
+    {"RGBA32_UINT", VK_FORMAT_R32G32B32A32_UINT},
+    {"RGBA32_SINT", VK_FORMAT_R32G32B32A32_SINT},
+    {"RGB32_FLOAT", VK_FORMAT_R32G32B32_SFLOAT},
+    {"RGB32_UINT", VK_FORMAT_R32G32B32_UINT},
+    {"RGB32_SINT", VK_FORMAT_R32G32B32_SINT},
+    {"RGBA16_FLOAT", VK_FORMAT_R16G16B16A16_SFLOAT},
+    {"RGBA16_UNORM", VK_FORMAT_R16G16B16A16_UNORM},
+    {"RGBA16_UINT", VK_FORMAT_R16G16B16A16_UINT},
+    {"RGBA16_SNORM", VK_FORMAT_R16G16B16A16_SNORM},
+    {"RGBA16_SINT", VK_FORMAT_R16G16B16A16_SINT},
+    {"RG32_FLOAT", VK_FORMAT_R32G32_SFLOAT},
+    {"RG32_UINT", VK_FORMAT_R32G32_UINT},
+    {"RG32_SINT", VK_FORMAT_R32G32_SINT},
+    {"RGB10A2_UNORM", VK_FORMAT_A2B10G10R10_UNORM_PACK32},
+    {"RGB10A2_UINT", VK_FORMAT_A2B10G10R10_UINT_PACK32},
+    {"R11G11B10_FLOAT", VK_FORMAT_B10G11R11_UFLOAT_PACK32},
+    {"RGBA8_UNORM", VK_FORMAT_R8G8B8A8_UNORM},
+    {"RGBA8_UNORM_SRGB", VK_FORMAT_R8G8B8A8_SRGB},
+    {"RGBA8_UINT", VK_FORMAT_R8G8B8A8_UINT},
+    {"RGBA8_SNORM", VK_FORMAT_R8G8B8A8_SNORM},
+    {"RGBA8_SINT", VK_FORMAT_R8G8B8A8_SINT},
+    {"RG16_FLOAT", VK_FORMAT_R16G16_SFLOAT},
+    {"RG16_UNORM", VK_FORMAT_R16G16_UNORM},
+    {"RG16_UINT", VK_FORMAT_R16G16_UINT},
+    {"RG16_SNORM", VK_FORMAT_R16G16_SNORM},
+    {"RG16_SINT", VK_FORMAT_R16G16_SINT},
+    {"D32_FLOAT", VK_FORMAT_D32_SFLOAT},
+    {"R32_FLOAT", VK_FORMAT_R32_SFLOAT},
+    {"R32_UINT", VK_FORMAT_R32_UINT},
+    {"R32_SINT", VK_FORMAT_R32_SINT},
+    {"D24_UNORM_S8_UINT", VK_FORMAT_D24_UNORM_S8_UINT},
+    {"D32_FLOAT_S8X24_UINT", VK_FORMAT_D32_SFLOAT_S8_UINT},
+    {"RG8_UNORM", VK_FORMAT_R8G8_UNORM},
+    {"RG8_UINT", VK_FORMAT_R8G8_UINT},
+    {"RG8_SNORM", VK_FORMAT_R8G8_SNORM},
+    {"RG8_SINT", VK_FORMAT_R8G8_SINT},
+    {"R16_FLOAT", VK_FORMAT_R16_SFLOAT},
+    {"D16_UNORM", VK_FORMAT_D16_UNORM},
+    {"R16_UNORM", VK_FORMAT_R16_UNORM},
+    {"R16_UINT", VK_FORMAT_R16_UINT},
+    {"R16_SNORM", VK_FORMAT_R16_SNORM},
+    {"R16_SINT", VK_FORMAT_R16_SINT},
+    {"R8_UNORM", VK_FORMAT_R8_UNORM},
+    {"R8_UINT", VK_FORMAT_R8_UINT},
+    {"R8_SNORM", VK_FORMAT_R8_SNORM},
+    {"R8_SINT", VK_FORMAT_R8_SINT},
+    {"BGRA8_UNORM", VK_FORMAT_B8G8R8A8_UNORM},
+    {"BGRA8_UNORM_SRGB", VK_FORMAT_B8G8R8A8_SRGB},
+};
+
+inline constexpr EnumEntry kShaderTypes[] = {
+    {"VERTEX", VK_SHADER_STAGE_VERTEX_BIT},
+    {"PIXEL", VK_SHADER_STAGE_FRAGMENT_BIT},
+    {"GEOMETRY", VK_SHADER_STAGE_GEOMETRY_BIT},
+    {"HULL", VK_SHADER_STAGE_TESSELLATION_CONTROL_BIT},
+    {"DOMAIN", VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT},
+    {"COMPUTE", VK_SHADER_STAGE_COMPUTE_BIT},
+    {"AMPLIFICATION", kUnsupportedValue},
+    {"MESH", kUnsupportedValue},
+    {"RAY_GEN", kUnsupportedValue},
+    {"RAY_MISS", kUnsupportedValue},
+    {"RAY_CLOSEST_HIT", kUnsupportedValue},
+    {"RAY_ANY_HIT", kUnsupportedValue},
+    {"RAY_INTERSECTION", kUnsupportedValue},
+    {"CALLABLE", kUnsupportedValue},
+    {"TILE", kUnsupportedValue},
+};
+
+// Shader stage flags (bit-flag enum: one string or an array). Combined aliases as in Diligent.
+inline constexpr EnumEntry kShaderStageFlags[] = {
+    {"UNKNOWN", 0},
+    {"VERTEX", VK_SHADER_STAGE_VERTEX_BIT},
+    {"PIXEL", VK_SHADER_STAGE_FRAGMENT_BIT},
+    {"GEOMETRY", VK_SHADER_STAGE_GEOMETRY_BIT},
+    {"HULL", VK_SHADER_STAGE_TESSELLATION_CONTROL_BIT},
+    {"DOMAIN", VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT},
+    {"COMPUTE", VK_SHADER_STAGE_COMPUTE_BIT},
+    {"VS_PS", VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT},
+    {"ALL_GRAPHICS", VK_SHADER_STAGE_ALL_GRAPHICS},
+    {"ALL", VK_SHADER_STAGE_ALL_GRAPHICS | VK_SHADER_STAGE_COMPUTE_BIT},
+};
+
+inline constexpr EnumEntry kPipelineTypes[] = {
+    {"GRAPHICS", 0}, {"COMPUTE", 1}, {"MESH", 2}, {"RAY_TRACING", 3}, {"TILE", 4},
+};
+
+inline constexpr EnumEntry kVariableTypes[] = {{"STATIC", 0}, {"MUTABLE", 1}, {"DYNAMIC", 2}};
+
+inline constexpr EnumEntry kSourceLanguages[] = {
+    {"DEFAULT", 0}, {"HLSL", 1}, {"GLSL", 2}, {"GLSL_VERBATIM", 3}, {"MSL", 4},
+    {"MSL_VERBATIM", 5}, {"MTLB", 6}, {"WGSL", 7}, {"BYTECODE", 8},
+};
+
+inline constexpr EnumEntry kShaderCompilers[] = {{"DEFAULT", 0}, {"GLSLANG", 1}, {"DXC", 2}, {"FXC", 3}};
+
+inline constexpr EnumEntry kTopologies[] = {
+    {"UNDEFINED", kUnsupportedValue},
+    {"TRIANGLE_LIST", VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST},
+    {"TRIANGLE_STRIP", VK_PRIMITIVE_TOPOLOGY_TRIANGLE_STRIP},
+    {"POINT_LIST", VK_PRIMITIVE_TOPOLOGY_POINT_LIST},
+    {"LINE_LIST", VK_PRIMITIVE_TOPOLOGY_LINE_LIST},
+    {"LINE_STRIP", VK_PRIMITIVE_TOPOLOGY_LINE_STRIP},
+    {"TRIANGLE_LIST_ADJ", VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST_WITH_ADJACENCY},
+    {"TRIANGLE_STRIP_ADJ", VK_PRIMITIVE_TOPOLOGY_TRIANGLE_STRIP_WITH_ADJACENCY},
+    {"LINE_LIST_ADJ", VK_PRIMITIVE_TOPOLOGY_LINE_LIST_WITH_ADJACENCY},
+    {"LINE_STRIP_ADJ", VK_PRIMITIVE_TOPOLOGY_LINE_STRIP_WITH_ADJACENCY},
+};
+
+inline constexpr EnumEntry kFillModes[] = {
+    {"UNDEFINED", kUnsupportedValue}, {"WIREFRAME", VK_POLYGON_MODE_LINE}, {"SOLID", VK_POLYGON_MODE_FILL}};
+
+inline constexpr EnumEntry kCullModes[] = {{"UNDEFINED", kUnsupportedValue},
+                                           {"NONE", VK_CULL_MODE_NONE},
+                                           {"FRONT", VK_CULL_MODE_FRONT_BIT},
+                                           {"BACK", VK_CULL_MODE_BACK_BIT}};
+
+inline constexpr EnumEntry kComparisonFuncs[] = {
+    {"UNKNOWN", kUnsupportedValue},
+    {"NEVER", VK_COMPARE_OP_NEVER},
+    {"LESS", VK_COMPARE_OP_LESS},
+    {"EQUAL", VK_COMPARE_OP_EQUAL},
+    {"LESS_EQUAL", VK_COMPARE_OP_LESS_OR_EQUAL},
+    {"GREATER", VK_COMPARE_OP_GREATER},
+    {"NOT_EQUAL", VK_COMPARE_OP_NOT_EQUAL},
+    {"GREATER_EQUAL", VK_COMPARE_OP_GREATER_OR_EQUAL},
+    {"ALWAYS", VK_COMPARE_OP_ALWAYS},
+};
+
+inline constexpr EnumEntry kStencilOps[] = {
+    {"UNDEFINED", kUnsupportedValue},
+    {"KEEP", VK_STENCIL_OP_KEEP},
+    {"ZERO", VK_STENCIL_OP_ZERO},
+    {"REPLACE", VK_STENCIL_OP_REPLACE},
+    {"INCR_SAT", VK_STENCIL_OP_INCREMENT_AND_CLAMP},
+    {"DECR_SAT", VK_STENCIL_OP_DECREMENT_AND_CLAMP},
+    {"INVERT", VK_STENCIL_OP_INVERT},
+    {"INCR_WRAP", VK_STENCIL_OP_INCREMENT_AND_WRAP},
+    {"DECR_WRAP", VK_STENCIL_OP_DECREMENT_AND_WRAP},
+};
+
+inline constexpr EnumEntry kBlendFactors[] = {
+    {"UNDEFINED", kUnsupportedValue},
+    {"ZERO", VK_BLEND_FACTOR_ZERO},
+    {"ONE", VK_BLEND_FACTOR_ONE},
+    {"SRC_COLOR", VK_BLEND_FACTOR_SRC_COLOR},
+    {"INV_SRC_COLOR", VK_BLEND_FACTOR_ONE_MINUS_SRC_COLOR},
+    {"SRC_ALPHA", VK_BLEND_FACTOR_SRC_ALPHA},
+    {"INV_SRC_ALPHA", VK_BLEND_FACTOR_ONE_MINUS_SRC_ALPHA},
+    {"DEST_ALPHA", VK_BLEND_FACTOR_DST_ALPHA},
+    {"INV_DEST_ALPHA", VK_BLEND_FACTOR_ONE_MINUS_DST_ALPHA},
+    {"DEST_COLOR", VK_BLEND_FACTOR_DST_COLOR},
+    {"INV_DEST_COLOR", VK_BLEND_FACTOR_ONE_MINUS_DST_COLOR},
+    {"SRC_ALPHA_SAT", VK_BLEND_FACTOR_SRC_ALPHA_SATURATE},
+    {"BLEND_FACTOR", VK_BLEND_FACTOR_CONSTANT_COLOR},
+    {"INV_BLEND_FACTOR", VK_BLEND_FACTOR_ONE_MINUS_CONSTANT_COLOR},
+    {"SRC1_COLOR", VK_BLEND_FACTOR_SRC1_COLOR},
+    {"INV_SRC1_COLOR", VK_BLEND_FACTOR_ONE_MINUS_SRC1_COLOR},
+    {"SRC1_ALPHA", VK_BLEND_FACTOR_SRC1_ALPHA},
+    {"INV_SRC1_ALPHA", VK_BLEND_FACTOR_ONE_MINUS_SRC1_ALPHA},
+};
+
+inline constexpr EnumEntry kBlendOps[] = {
+    {"UNDEFINED", kUnsupportedValue}, {"ADD", VK_BLEND_OP_ADD}, {"SUBTRACT", VK_BLEND_OP_SUBTRACT},
+    {"REV_SUBTRACT", VK_BLEND_OP_REVERSE_SUBTRACT}, {"MIN", VK_BLEND_OP_MIN}, {"MAX", VK_BLEND_OP_MAX},
+};
+
+// COLOR_MASK is a bit-flag enum.
+inline constexpr EnumEntry kColorMasks[] = {
+    {"NONE", 0},
+    {"RED", VK_COLOR_COMPONENT_R_BIT},
+    {"GREEN", VK_COLOR_COMPONENT_G_BIT},
+    {"BLUE", VK_COLOR_COMPONENT_B_BIT},
+    {"ALPHA", VK_COLOR_COMPONENT_A_BIT},
+    {"RGB", VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT},
+    {"ALL", 0xF},
+};
+
+}  // namespace statepack::packager

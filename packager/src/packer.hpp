@@ -1,0 +1,38 @@
+// The pack command: notation in, archive out.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <iosfwd>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "diagnostics.hpp"
+#include "notation.hpp"
+#include "shader_compiler.hpp"
+
+namespace statepack::packager {
+
+// Exit codes of the CLI (docs/cli.md).
+enum ExitCode : int { kExitSuccess = 0, kExitInputError = 1, kExitUsage = 2, kExitIoError = 3 };
+
+struct PackOptions {
+  std::vector<std::filesystem::path> inputs;
+  NotationOptions notation;
+  CompileOptions compile;
+  std::filesystem::path output;
+  std::optional<std::filesystem::path> depfile;
+  uint32_t content_version = 0;
+  uint32_t threads = 0;  // 0: all cores
+  bool print_contents = false;
+};
+
+// Runs a whole pack; returns an ExitCode. Diagnostics are printed to `err`, progress to `out`.
+int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err);
+
+// Writes `bytes` to a temporary file beside `path`, then renames it over `path`: a failed write
+// never leaves a half file or destroys the previous one.
+bool write_file_atomically(const std::filesystem::path& path, const std::string& bytes, std::string& error);
+
+}  // namespace statepack::packager

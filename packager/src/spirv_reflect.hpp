@@ -1,0 +1,27 @@
+// Descriptor bindings and push constants of a SPIR-V module (spirv-cross C API).
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace statepack::packager {
+
+struct ReflectedBinding {
+  std::string name;
+  uint32_t set = 0;
+  uint32_t binding = 0;
+  uint32_t descriptor_type = 0;  // VkDescriptorType
+  uint32_t count = 1;
+};
+
+struct Reflection {
+  std::vector<ReflectedBinding> bindings;
+  uint32_t push_constant_size = 0;
+  std::string error;  // non-empty when reflection failed
+};
+
+Reflection reflect_spirv(std::span<const uint32_t> spirv);
+
+}  // namespace statepack::packager

@@ -1,0 +1,217 @@
+#include "vulkan_context.hpp"
+
+#include <cstring>
+
+namespace statepack::samples {
+namespace {
+
+Error vk_error(const char* call, VkResult r) {
+  return Error{ErrorCode::vulkan_error, std::string(call) + " failed with VkResult " + std::to_string(r)};
+}
+
+bool has_layer(const char* name) {
+  uint32_t count = 0;
+  vkEnumerateInstanceLayerProperties(&count, nullptr);
+  std::vector<VkLayerProperties> layers(count);
+  vkEnumerateInstanceLayerProperties(&count, layers.data());
+  for (const auto& l : layers)
+    if (std::strcmp(l.layerName, name) == 0) return true;
+  return false;
+}
+
+}  // namespace
+
+VKAPI_ATTR VkBool32 VKAPI_CALL VulkanContext::on_message(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
+                                                         VkDebugUtilsMessageTypeFlagsEXT,
+                                                         const VkDebugUtilsMessengerCallbackDataEXT* data, void* self) {
+  auto* ctx = static_cast<VulkanContext*>(self);
+  std::string text = (severity & VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT) ? "validation error: " : "validation warning: ";
+  text += data->pMessage ? data->pMessage : "(no message)";
+  std::lock_guard lock(ctx->mutex_);
+  ctx->messages_.push_back(std::move(text));
+  return VK_FALSE;
+}
+
+Result<std::unique_ptr<VulkanContext>> VulkanContext::create(const VulkanContextOptions& options) {
+  std::unique_ptr<VulkanContext> ctx(new VulkanContext());
+  constexpr const char* kValidationLayer = "VK_LAYER_KHRONOS_validation";
+  if (options.validation && !has_layer(kValidationLayer))
+    return Error{ErrorCode::unsupported, "the Vulkan validation layer is missing: apt-get install vulkan-validationlayers"};
+
+  VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
+  app.pApplicationName = "statepack";
+  app.apiVersion = VK_API_VERSION_1_3;
+  std::vector<const char*> extensions = options.instance_extensions;
+  std::vector<const char*> layers;
+  VkDebugUtilsMessengerCreateInfoEXT messenger_info{VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT};
+  messenger_info.messageSeverity =
+      VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
+  messenger_info.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT |
+                               VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT |
+                               VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT;
+  messenger_info.pfnUserCallback = &VulkanContext::on_message;
+  messenger_info.pUserData = ctx.get();
+  VkInstanceCreateInfo instance_info{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
+  if (options.validation) {
+    layers.push_back(kValidationLayer);
+    extensions.push_back(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
+    instance_info.pNext = &messenger_info;  // also catches messages from instance creation itself
+  }
+  instance_info.pApplicationInfo = &app;
+  instance_info.enabledLayerCount = static_cast<uint32_t>(layers.size());
+  instance_info.ppEnabledLayerNames = layers.data();
+  instance_info.enabledExtensionCount = static_cast<uint32_t>(extensions.size());
+  instance_info.ppEnabledExtensionNames = extensions.data();
+  if (VkResult r = vkCreateInstance(&instance_info, nullptr, &ctx->instance); r != VK_SUCCESS)
+    return vk_error("vkCreateInstance", r);
+  if (options.validation) {
+    auto create_messenger = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
+        vkGetInstanceProcAddr(ctx->instance, "vkCreateDebugUtilsMessengerEXT"));
+    if (VkResult r = create_messenger(ctx->instance, &messenger_info, nullptr, &ctx->messenger_); r != VK_SUCCESS)
+      return vk_error("vkCreateDebugUtilsMessengerEXT", r);
+  }
+
+  uint32_t count = 0;
+  vkEnumeratePhysicalDevices(ctx->instance, &count, nullptr);
+  std::vector<VkPhysicalDevice> devices(count);
+  vkEnumeratePhysicalDevices(ctx->instance, &count, devices.data());
+  std::string seen;
+  for (VkPhysicalDevice pd : devices) {
+    VkPhysicalDeviceDriverProperties driver{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES};
+    VkPhysicalDeviceProperties2 props{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &driver};
+    vkGetPhysicalDeviceProperties2(pd, &props);
+    seen += std::string(seen.empty() ? "" : ", ") + props.properties.deviceName;
+    if (props.properties.apiVersion < VK_API_VERSION_1_3) continue;
+    if (options.require_lavapipe && driver.driverID != VK_DRIVER_ID_MESA_LLVMPIPE) continue;
+    ctx->physical_device = pd;
+    ctx->device_name = props.properties.deviceName;
+    ctx->driver_name = std::string(driver.driverName) + " " + driver.driverInfo;
+    break;
+  }
+  if (!ctx->physical_device)
+    return Error{ErrorCode::unsupported,
+                 std::string(options.require_lavapipe ? "no lavapipe device (apt-get install mesa-vulkan-drivers)"
+                                                      : "no Vulkan 1.3 device") +
+                     "; devices seen: " + (seen.empty() ? "none" : seen)};
+
+  vkGetPhysicalDeviceQueueFamilyProperties(ctx->physical_device, &count, nullptr);
+  std::vector<VkQueueFamilyProperties> families(count);
+  vkGetPhysicalDeviceQueueFamilyProperties(ctx->physical_device, &count, families.data());
+  bool found_queue = false;
+  for (uint32_t i = 0; i < count; ++i) {
+    if ((families[i].queueFlags & (VK_QUEUE_GRAPHICS_BIT | VK_QUEUE_COMPUTE_BIT)) ==
+        (VK_QUEUE_GRAPHICS_BIT | VK_QUEUE_COMPUTE_BIT)) {
+      ctx->queue_family = i;
+      found_queue = true;
+      break;
+    }
+  }
+  if (!found_queue) return Error{ErrorCode::unsupported, "no queue family with graphics and compute"};
+
+  VkPhysicalDeviceVulkan13Features features13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
+  features13.dynamicRendering = VK_TRUE;
+  const float priority = 1.0f;
+  VkDeviceQueueCreateInfo queue_info{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
+  queue_info.queueFamilyIndex = ctx->queue_family;
+  queue_info.queueCount = 1;
+  queue_info.pQueuePriorities = &priority;
+  std::vector<const char*> device_extensions;
+  if (!options.instance_extensions.empty()) device_extensions.push_back(VK_KHR_SWAPCHAIN_EXTENSION_NAME);
+  VkDeviceCreateInfo device_info{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
+  device_info.pNext = &features13;
+  device_info.queueCreateInfoCount = 1;
+  device_info.pQueueCreateInfos = &queue_info;
+  device_info.enabledExtensionCount = static_cast<uint32_t>(device_extensions.size());
+  device_info.ppEnabledExtensionNames = device_extensions.data();
+  if (VkResult r = vkCreateDevice(ctx->physical_device, &device_info, nullptr, &ctx->device); r != VK_SUCCESS)
+    return vk_error("vkCreateDevice", r);
+  vkGetDeviceQueue(ctx->device, ctx->queue_family, 0, &ctx->queue);
+  VkCommandPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
+  pool_info.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
+  pool_info.queueFamilyIndex = ctx->queue_family;
+  if (VkResult r = vkCreateCommandPool(ctx->device, &pool_info, nullptr, &ctx->command_pool); r != VK_SUCCESS)
+    return vk_error("vkCreateCommandPool", r);
+  return ctx;
+}
+
+VulkanContext::~VulkanContext() {
+  if (device) {
+    vkDeviceWaitIdle(device);
+    if (command_pool) vkDestroyCommandPool(device, command_pool, nullptr);
+    vkDestroyDevice(device, nullptr);
+  }
+  if (messenger_) {
+    auto destroy = reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(
+        vkGetInstanceProcAddr(instance, "vkDestroyDebugUtilsMessengerEXT"));
+    destroy(instance, messenger_, nullptr);
+  }
+  if (instance) vkDestroyInstance(instance, nullptr);
+}
+
+std::vector<std::string> VulkanContext::validation_messages() const {
+  std::lock_guard lock(mutex_);
+  return messages_;
+}
+
+Result<void> VulkanContext::submit_and_wait(const std::function<void(VkCommandBuffer)>& record) {
+  VkCommandBufferAllocateInfo alloc{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+  alloc.commandPool = command_pool;
+  alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+  alloc.commandBufferCount = 1;
+  VkCommandBuffer cmd = VK_NULL_HANDLE;
+  if (VkResult r = vkAllocateCommandBuffers(device, &alloc, &cmd); r != VK_SUCCESS)
+    return vk_error("vkAllocateCommandBuffers", r);
+  VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+  begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+  vkBeginCommandBuffer(cmd, &begin);
+  record(cmd);
+  vkEndCommandBuffer(cmd);
+  VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+  submit.commandBufferCount = 1;
+  submit.pCommandBuffers = &cmd;
+  VkResult r = vkQueueSubmit(queue, 1, &submit, VK_NULL_HANDLE);
+  if (r == VK_SUCCESS) r = vkQueueWaitIdle(queue);
+  vkFreeCommandBuffers(device, command_pool, 1, &cmd);
+  if (r != VK_SUCCESS) return vk_error("vkQueueSubmit", r);
+  return {};
+}
+
+uint32_t VulkanContext::find_memory_type(uint32_t type_bits, VkMemoryPropertyFlags required) const {
+  VkPhysicalDeviceMemoryProperties props;
+  vkGetPhysicalDeviceMemoryProperties(physical_device, &props);
+  for (uint32_t i = 0; i < props.memoryTypeCount; ++i)
+    if ((type_bits & (1u << i)) && (props.memoryTypes[i].propertyFlags & required) == required) return i;
+  return UINT32_MAX;
+}
+
+HostBuffer::~HostBuffer() {
+  if (mapped) vkUnmapMemory(device, memory);
+  if (buffer) vkDestroyBuffer(device, buffer, nullptr);
+  if (memory) vkFreeMemory(device, memory, nullptr);
+}
+
+Result<std::unique_ptr<HostBuffer>> create_host_buffer(VulkanContext& vk, VkDeviceSize size, VkBufferUsageFlags usage) {
+  auto out = std::make_unique<HostBuffer>();
+  out->device = vk.device;
+  out->size = size;
+  VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
+  info.size = size;
+  info.usage = usage;
+  if (VkResult r = vkCreateBuffer(vk.device, &info, nullptr, &out->buffer); r != VK_SUCCESS)
+    return vk_error("vkCreateBuffer", r);
+  VkMemoryRequirements req;
+  vkGetBufferMemoryRequirements(vk.device, out->buffer, &req);
+  VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+  alloc.allocationSize = req.size;
+  alloc.memoryTypeIndex =
+      vk.find_memory_type(req.memoryTypeBits, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
+  if (alloc.memoryTypeIndex == UINT32_MAX) return Error{ErrorCode::unsupported, "no host-visible coherent memory"};
+  if (VkResult r = vkAllocateMemory(vk.device, &alloc, nullptr, &out->memory); r != VK_SUCCESS)
+    return vk_error("vkAllocateMemory", r);
+  vkBindBufferMemory(vk.device, out->buffer, out->memory, 0);
+  if (VkResult r = vkMapMemory(vk.device, out->memory, 0, size, 0, &out->mapped); r != VK_SUCCESS)
+    return vk_error("vkMapMemory", r);
+  return out;
+}
+
+}  // namespace statepack::samples

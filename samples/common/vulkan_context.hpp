@@ -1,0 +1,69 @@
+// A minimal Vulkan instance + device for the samples and tests: validation layers with a messenger
+// that records every warning and error, lavapipe selectable by driver ID, one graphics+compute queue.
+#pragma once
+
+#include <vulkan/vulkan.h>
+
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "statepack/result.hpp"
+
+namespace statepack::samples {
+
+struct VulkanContextOptions {
+  bool validation = true;         // enable VK_LAYER_KHRONOS_validation (an error when it is missing)
+  bool require_lavapipe = false;  // only accept Mesa's CPU driver (tests: same results everywhere)
+  std::vector<const char*> instance_extensions;  // e.g. what GLFW needs
+};
+
+class VulkanContext {
+ public:
+  static Result<std::unique_ptr<VulkanContext>> create(const VulkanContextOptions& options);
+  ~VulkanContext();
+  VulkanContext(const VulkanContext&) = delete;
+  VulkanContext& operator=(const VulkanContext&) = delete;
+
+  VkInstance instance = VK_NULL_HANDLE;
+  VkPhysicalDevice physical_device = VK_NULL_HANDLE;
+  VkDevice device = VK_NULL_HANDLE;
+  VkQueue queue = VK_NULL_HANDLE;
+  uint32_t queue_family = 0;
+  VkCommandPool command_pool = VK_NULL_HANDLE;
+  std::string device_name;
+  std::string driver_name;
+
+  // Every validation warning or error so far (empty when validation is off).
+  std::vector<std::string> validation_messages() const;
+
+  // Records commands into a fresh command buffer, submits them and waits.
+  Result<void> submit_and_wait(const std::function<void(VkCommandBuffer)>& record);
+
+  // A memory type index with `required` properties among `type_bits`, or UINT32_MAX.
+  uint32_t find_memory_type(uint32_t type_bits, VkMemoryPropertyFlags required) const;
+
+ private:
+  VulkanContext() = default;
+  static VKAPI_ATTR VkBool32 VKAPI_CALL on_message(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
+                                                   VkDebugUtilsMessageTypeFlagsEXT types,
+                                                   const VkDebugUtilsMessengerCallbackDataEXT* data, void* self);
+  VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;
+  mutable std::mutex mutex_;
+  std::vector<std::string> messages_;
+};
+
+// A host-visible buffer with its memory, freed on destruction.
+struct HostBuffer {
+  VkDevice device = VK_NULL_HANDLE;
+  VkBuffer buffer = VK_NULL_HANDLE;
+  VkDeviceMemory memory = VK_NULL_HANDLE;
+  void* mapped = nullptr;
+  VkDeviceSize size = 0;
+  ~HostBuffer();
+};
+Result<std::unique_ptr<HostBuffer>> create_host_buffer(VulkanContext& vk, VkDeviceSize size, VkBufferUsageFlags usage);
+
+}  // namespace statepack::samples
