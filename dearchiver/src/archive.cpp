@@ -22,9 +22,9 @@ Result<format::Contents> decode_checked(std::span<const uint8_t> bytes, std::opt
   auto decoded = format::decode(bytes);
   if (!decoded) return Error{decoded.error().code, origin + ": " + decoded.error().message};
   if (required && decoded->content_version != *required)
-    return Error{ErrorCode::content_version_mismatch,
-                 origin + ": content version " + std::to_string(decoded->content_version) + ", required " +
-                     std::to_string(*required)};
+    return Error{ErrorCode::content_version_mismatch, origin + ": content version " +
+                                                          std::to_string(decoded->content_version) +
+                                                          ", required " + std::to_string(*required)};
   return decoded;
 }
 }  // namespace
@@ -53,9 +53,15 @@ Result<Archive> Archive::from_memory(std::span<const uint8_t> bytes, std::option
   return Archive(std::move(state));
 }
 
-uint32_t Archive::content_version() const { return state_->contents.content_version; }
-uint32_t Archive::format_version() const { return state_->contents.format_version; }
-const format::Contents& Archive::contents() const { return state_->contents; }
+uint32_t Archive::content_version() const {
+  return state_->contents.content_version;
+}
+uint32_t Archive::format_version() const {
+  return state_->contents.format_version;
+}
+const format::Contents& Archive::contents() const {
+  return state_->contents;
+}
 
 std::vector<std::string> Archive::pipeline_names() const {
   std::vector<std::string> names;

@@ -201,14 +201,18 @@ struct SectionOut {
 uint32_t get_u32(const uint8_t* p) {
   return uint32_t(p[0]) | uint32_t(p[1]) << 8 | uint32_t(p[2]) << 16 | uint32_t(p[3]) << 24;
 }
-uint64_t get_u64(const uint8_t* p) { return uint64_t(get_u32(p)) | uint64_t(get_u32(p + 4)) << 32; }
+uint64_t get_u64(const uint8_t* p) {
+  return uint64_t(get_u32(p)) | uint64_t(get_u32(p + 4)) << 32;
+}
 
 struct Section {
   uint32_t offset = 0, size = 0, count = 0;
   bool present = false;
 };
 
-Error corrupt(std::string message) { return Error{ErrorCode::corrupt, "corrupt archive: " + std::move(message)}; }
+Error corrupt(std::string message) {
+  return Error{ErrorCode::corrupt, "corrupt archive: " + std::move(message)};
+}
 
 // Reads records from one section; remembers the first problem instead of throwing.
 struct Reader {
@@ -269,7 +273,8 @@ struct Reader {
       if (index != kNone) fail("compute pipeline '" + p.name + "' has a graphics state");
       return;
     }
-    if (index >= graphics_section.count) return fail("pipeline '" + p.name + "' graphics state index out of range");
+    if (index >= graphics_section.count)
+      return fail("pipeline '" + p.name + "' graphics state index out of range");
     const uint8_t* saved = cursor;
     cursor = file.data() + graphics_section.offset + size_t(index) * record_size<GraphicsState>();
     visit(*this, p.graphics);
@@ -314,7 +319,8 @@ Result<void> validate(const Contents& c) {
     uint32_t stages = 0;
     for (uint32_t s : p.shaders) {
       if (s >= c.shaders.size()) return corrupt("pipeline '" + p.name + "' refers to a missing shader");
-      if (stages & c.shaders[s].stage) return corrupt("pipeline '" + p.name + "' has two shaders for one stage");
+      if (stages & c.shaders[s].stage)
+        return corrupt("pipeline '" + p.name + "' has two shaders for one stage");
       stages |= c.shaders[s].stage;
     }
     if (p.kind == PipelineKind::compute && stages != kComputeStage)
@@ -332,7 +338,9 @@ Result<void> validate(const Contents& c) {
 
 }  // namespace
 
-uint64_t hash_bytes(std::span<const uint8_t> bytes) { return XXH3_64bits(bytes.data(), bytes.size()); }
+uint64_t hash_bytes(std::span<const uint8_t> bytes) {
+  return XXH3_64bits(bytes.data(), bytes.size());
+}
 
 static uint64_t archive_checksum(std::span<const uint8_t> file) {
   XXH3_state_t state;
@@ -421,7 +429,8 @@ std::vector<uint8_t> encode(const Contents& input) {
 
 Result<Contents> decode(std::span<const uint8_t> file) {
   if (reinterpret_cast<uintptr_t>(file.data()) % 4 != 0)
-    return Error{ErrorCode::misaligned_memory, "archive memory must be 4-byte aligned to hand SPIR-V to Vulkan"};
+    return Error{ErrorCode::misaligned_memory,
+                 "archive memory must be 4-byte aligned to hand SPIR-V to Vulkan"};
   if (file.size() < kHeaderSize) {
     if (file.size() >= kMagic.size() && !std::equal(kMagic.begin(), kMagic.end(), file.begin()))
       return Error{ErrorCode::bad_magic, "not a statepack archive (wrong magic bytes)"};
@@ -433,10 +442,10 @@ Result<Contents> decode(std::span<const uint8_t> file) {
   const uint8_t* h = file.data();
   uint32_t version = get_u32(h + 8), oldest = get_u32(h + 12), header_size = get_u32(h + 16);
   if (oldest > kFormatVersion)
-    return Error{ErrorCode::unsupported_version,
-                 "archive format version " + std::to_string(version) + " needs a reader of version " +
-                     std::to_string(oldest) + " or newer; this reader understands version " +
-                     std::to_string(kFormatVersion)};
+    return Error{ErrorCode::unsupported_version, "archive format version " + std::to_string(version) +
+                                                     " needs a reader of version " + std::to_string(oldest) +
+                                                     " or newer; this reader understands version " +
+                                                     std::to_string(kFormatVersion)};
   uint64_t file_size = get_u64(h + 32);
   if (file_size > file.size())
     return Error{ErrorCode::truncated, "truncated archive: header says " + std::to_string(file_size) +
@@ -463,7 +472,8 @@ Result<Contents> decode(std::span<const uint8_t> file) {
     Section s{get_u32(e + 4), get_u32(e + 8), get_u32(e + 12), true};
     if (s.offset % 4 != 0 || uint64_t(s.offset) + s.size > file.size())
       return corrupt("section " + std::to_string(i) + " lies outside the file");
-    if (!sections.emplace(get_u32(e), s).second) return corrupt("section " + std::to_string(i) + " is repeated");
+    if (!sections.emplace(get_u32(e), s).second)
+      return corrupt("section " + std::to_string(i) + " is repeated");
   }
   auto need = [&](uint32_t tag, const char* name, uint32_t record) -> Result<Section> {
     auto it = sections.find(tag);
@@ -475,10 +485,12 @@ Result<Contents> decode(std::span<const uint8_t> file) {
   auto strings = need(kTagStrings, "STRS", 0), data = need(kTagData, "DATA", 0),
        blobs = need(kTagBlobs, "BLOB", 16), shaders = need(kTagShaders, "SHDR", record_size<Shader>()),
        bindings = need(kTagBindings, "BIND", record_size<Binding>()),
-       set_layouts = need(kTagSetLayouts, "SETL", record_size<SetLayout>()), indices = need(kTagIndices, "IDXS", 4),
+       set_layouts = need(kTagSetLayouts, "SETL", record_size<SetLayout>()),
+       indices = need(kTagIndices, "IDXS", 4),
        graphics = need(kTagGraphics, "GFXS", record_size<GraphicsState>()),
        pipelines = need(kTagPipelines, "PIPE", record_size<Pipeline>());
-  for (auto* r : {&strings, &data, &blobs, &shaders, &bindings, &set_layouts, &indices, &graphics, &pipelines})
+  for (auto* r :
+       {&strings, &data, &blobs, &shaders, &bindings, &set_layouts, &indices, &graphics, &pipelines})
     if (!*r) return r->error();
 
   // Blobs: inside DATA, aligned, a whole number of SPIR-V words, content hash matching.
@@ -490,7 +502,8 @@ Result<Contents> decode(std::span<const uint8_t> file) {
       return corrupt("SPIR-V blob " + std::to_string(i) + " has a bad offset or size");
     std::span<const uint8_t> bytes = file.subspan(offset, size);
     if (hash_bytes(bytes) != get_u64(e + 8))
-      return Error{ErrorCode::checksum_mismatch, "SPIR-V blob " + std::to_string(i) + " content hash mismatch"};
+      return Error{ErrorCode::checksum_mismatch,
+                   "SPIR-V blob " + std::to_string(i) + " content hash mismatch"};
     if (get_u32(bytes.data()) != kSpirvMagic) return corrupt("blob " + std::to_string(i) + " is not SPIR-V");
     c.spirv.emplace_back(reinterpret_cast<const uint32_t*>(bytes.data()), size / 4);
   }

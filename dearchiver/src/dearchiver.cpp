@@ -30,7 +30,9 @@ bool has_stencil(VkFormat format) {
   return format == VK_FORMAT_S8_UINT || format == VK_FORMAT_D16_UNORM_S8_UINT ||
          format == VK_FORMAT_D24_UNORM_S8_UINT || format == VK_FORMAT_D32_SFLOAT_S8_UINT;
 }
-bool has_depth(VkFormat format) { return format != VK_FORMAT_UNDEFINED && format != VK_FORMAT_S8_UINT; }
+bool has_depth(VkFormat format) {
+  return format != VK_FORMAT_UNDEFINED && format != VK_FORMAT_S8_UINT;
+}
 
 PatchableState to_patchable(const format::GraphicsState& g) {
   PatchableState s;
@@ -65,8 +67,8 @@ PatchableState to_patchable(const format::GraphicsState& g) {
                             g.stencil_write_mask,
                             0};
   };
-  s.depth_stencil = {g.depth_test != 0, g.depth_write != 0, static_cast<VkCompareOp>(g.depth_compare),
-                     g.stencil_test != 0, stencil(g.front), stencil(g.back)};
+  s.depth_stencil = {g.depth_test != 0,   g.depth_write != 0, static_cast<VkCompareOp>(g.depth_compare),
+                     g.stencil_test != 0, stencil(g.front),   stencil(g.back)};
   return s;
 }
 
@@ -75,12 +77,13 @@ PatchableState to_patchable(const format::GraphicsState& g) {
 struct Dearchiver::State {
   DeviceContext context;
   std::vector<Archive> archives;
-  std::map<std::pair<size_t, uint32_t>, VkShaderModule> modules;          // (archive, blob)
+  std::map<std::pair<size_t, uint32_t>, VkShaderModule> modules;             // (archive, blob)
   std::map<std::pair<size_t, uint32_t>, VkDescriptorSetLayout> set_layouts;  // (archive, layout)
   VkDescriptorSetLayout empty_set_layout = VK_NULL_HANDLE;  // fills holes in the set numbering
   // (set layouts, push constant size, push constant stages) -> layout
-  std::map<std::tuple<std::vector<VkDescriptorSetLayout>, uint32_t, uint32_t>, VkPipelineLayout> pipeline_layouts;
-  std::deque<UnpackedPipeline> pipelines;                  // stable addresses
+  std::map<std::tuple<std::vector<VkDescriptorSetLayout>, uint32_t, uint32_t>, VkPipelineLayout>
+      pipeline_layouts;
+  std::deque<UnpackedPipeline> pipelines;                                  // stable addresses
   std::map<std::string, const UnpackedPipeline*, std::less<>> unmodified;  // cache by name
   std::mutex mutex;
 
@@ -144,7 +147,8 @@ struct Dearchiver::State {
     if (index == format::kNone) {
       if (!empty_set_layout) {
         VkDescriptorSetLayoutCreateInfo info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-        if (VkResult r = vkCreateDescriptorSetLayout(context.device, &info, context.allocator, &empty_set_layout);
+        if (VkResult r =
+                vkCreateDescriptorSetLayout(context.device, &info, context.allocator, &empty_set_layout);
             r != VK_SUCCESS)
           return vulkan_failure("vkCreateDescriptorSetLayout", r, pipeline);
       }
@@ -155,13 +159,14 @@ struct Dearchiver::State {
     const auto& stored = archives[archive].contents().set_layouts[index];
     std::vector<VkDescriptorSetLayoutBinding> bindings;
     for (const auto& b : stored.bindings)
-      bindings.push_back({b.binding, static_cast<VkDescriptorType>(b.descriptor_type), b.count, b.stage_flags,
-                          nullptr});
+      bindings.push_back(
+          {b.binding, static_cast<VkDescriptorType>(b.descriptor_type), b.count, b.stage_flags, nullptr});
     VkDescriptorSetLayoutCreateInfo info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
     info.bindingCount = static_cast<uint32_t>(bindings.size());
     info.pBindings = bindings.data();
     VkDescriptorSetLayout layout = VK_NULL_HANDLE;
-    if (VkResult r = vkCreateDescriptorSetLayout(context.device, &info, context.allocator, &layout); r != VK_SUCCESS)
+    if (VkResult r = vkCreateDescriptorSetLayout(context.device, &info, context.allocator, &layout);
+        r != VK_SUCCESS)
       return vulkan_failure("vkCreateDescriptorSetLayout", r, pipeline);
     set_layouts.emplace(key, layout);
     return layout;
@@ -189,8 +194,8 @@ struct Dearchiver::State {
       out.set_layouts.push_back(*layout);
       if (p.set_layouts[set] == format::kNone) continue;
       for (const auto& b : contents.set_layouts[p.set_layouts[set]].bindings)
-        out.bindings.push_back(
-            {b.name, set, b.binding, static_cast<VkDescriptorType>(b.descriptor_type), b.count, b.stage_flags});
+        out.bindings.push_back({b.name, set, b.binding, static_cast<VkDescriptorType>(b.descriptor_type),
+                                b.count, b.stage_flags});
     }
     auto layout_key = std::tuple{out.set_layouts, p.push_constant_size, p.push_constant_stages};
     if (auto it = pipeline_layouts.find(layout_key); it != pipeline_layouts.end()) {
@@ -272,7 +277,8 @@ Result<const UnpackedPipeline*> Dearchiver::unpack_compute(std::string_view name
   return state_->keep(std::move(out), true);
 }
 
-Result<const UnpackedPipeline*> Dearchiver::unpack_graphics(std::string_view name, const ModifyCallback& modify) {
+Result<const UnpackedPipeline*> Dearchiver::unpack_graphics(std::string_view name,
+                                                            const ModifyCallback& modify) {
   std::lock_guard lock(state_->mutex);
   if (!modify) {
     if (auto it = state_->unmodified.find(name); it != state_->unmodified.end()) {
@@ -282,8 +288,9 @@ Result<const UnpackedPipeline*> Dearchiver::unpack_graphics(std::string_view nam
   auto found = state_->find(name, format::PipelineKind::graphics);
   if (!found) return found.error();
   if (!state_->context.dynamic_rendering_enabled)
-    return Error{ErrorCode::unsupported, "pipeline '" + std::string(name) +
-                                             "' uses dynamic rendering, which the device was not created with"};
+    return Error{
+        ErrorCode::unsupported,
+        "pipeline '" + std::string(name) + "' uses dynamic rendering, which the device was not created with"};
   auto prepared = state_->prepare(*found);
   if (!prepared) return prepared.error();
   UnpackedPipeline& out = prepared->out;
@@ -294,10 +301,13 @@ Result<const UnpackedPipeline*> Dearchiver::unpack_graphics(std::string_view nam
   if (modify) modify(s);
   if (s.color_count > s.color_formats.size())
     return Error{ErrorCode::invalid_argument, "pipeline '" + out.name + "': the modify callback set " +
-                                                  std::to_string(s.color_count) + " render targets (at most 8)"};
+                                                  std::to_string(s.color_count) +
+                                                  " render targets (at most 8)"};
 
-  VkPipelineVertexInputStateCreateInfo vertex_input{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
-  VkPipelineInputAssemblyStateCreateInfo assembly{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
+  VkPipelineVertexInputStateCreateInfo vertex_input{
+      VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
+  VkPipelineInputAssemblyStateCreateInfo assembly{
+      VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
   assembly.topology = static_cast<VkPrimitiveTopology>(g.topology);
   VkPipelineViewportStateCreateInfo viewport{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
   viewport.viewportCount = 1;
@@ -330,8 +340,8 @@ Result<const UnpackedPipeline*> Dearchiver::unpack_graphics(std::string_view nam
   std::array<VkPipelineColorBlendAttachmentState, 8> attachments{};
   for (uint32_t i = 0; i < s.color_count; ++i) {
     const auto& b = s.blend[i];
-    attachments[i] = {b.enable, b.src_color, b.dst_color, b.color_op, b.src_alpha, b.dst_alpha, b.alpha_op,
-                      b.write_mask};
+    attachments[i] = {b.enable,    b.src_color, b.dst_color, b.color_op,
+                      b.src_alpha, b.dst_alpha, b.alpha_op,  b.write_mask};
   }
   VkPipelineColorBlendStateCreateInfo blend{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
   blend.attachmentCount = s.color_count;
@@ -367,20 +377,34 @@ Result<const UnpackedPipeline*> Dearchiver::unpack_graphics(std::string_view nam
 
 const char* to_string(ErrorCode code) {
   switch (code) {
-    case ErrorCode::io_error: return "io_error";
-    case ErrorCode::bad_magic: return "bad_magic";
-    case ErrorCode::unsupported_version: return "unsupported_version";
-    case ErrorCode::truncated: return "truncated";
-    case ErrorCode::corrupt: return "corrupt";
-    case ErrorCode::checksum_mismatch: return "checksum_mismatch";
-    case ErrorCode::content_version_mismatch: return "content_version_mismatch";
-    case ErrorCode::misaligned_memory: return "misaligned_memory";
-    case ErrorCode::not_found: return "not_found";
-    case ErrorCode::wrong_type: return "wrong_type";
-    case ErrorCode::missing_backend: return "missing_backend";
-    case ErrorCode::unsupported: return "unsupported";
-    case ErrorCode::vulkan_error: return "vulkan_error";
-    case ErrorCode::invalid_argument: return "invalid_argument";
+    case ErrorCode::io_error:
+      return "io_error";
+    case ErrorCode::bad_magic:
+      return "bad_magic";
+    case ErrorCode::unsupported_version:
+      return "unsupported_version";
+    case ErrorCode::truncated:
+      return "truncated";
+    case ErrorCode::corrupt:
+      return "corrupt";
+    case ErrorCode::checksum_mismatch:
+      return "checksum_mismatch";
+    case ErrorCode::content_version_mismatch:
+      return "content_version_mismatch";
+    case ErrorCode::misaligned_memory:
+      return "misaligned_memory";
+    case ErrorCode::not_found:
+      return "not_found";
+    case ErrorCode::wrong_type:
+      return "wrong_type";
+    case ErrorCode::missing_backend:
+      return "missing_backend";
+    case ErrorCode::unsupported:
+      return "unsupported";
+    case ErrorCode::vulkan_error:
+      return "vulkan_error";
+    case ErrorCode::invalid_argument:
+      return "invalid_argument";
   }
   return "unknown";
 }

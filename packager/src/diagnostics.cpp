@@ -38,7 +38,9 @@ size_t Diagnostics::error_count() const {
   return n;
 }
 
-bool Diagnostics::has_errors() const { return error_count() > 0; }
+bool Diagnostics::has_errors() const {
+  return error_count() > 0;
+}
 
 std::vector<Diagnostic> Diagnostics::all() const {
   std::lock_guard lock(mutex_);

@@ -109,7 +109,7 @@ inline constexpr EnumEntry kPipelineTypes[] = {
 inline constexpr EnumEntry kVariableTypes[] = {{"STATIC", 0}, {"MUTABLE", 1}, {"DYNAMIC", 2}};
 
 inline constexpr EnumEntry kSourceLanguages[] = {
-    {"DEFAULT", 0}, {"HLSL", 1}, {"GLSL", 2}, {"GLSL_VERBATIM", 3}, {"MSL", 4},
+    {"DEFAULT", 0},      {"HLSL", 1}, {"GLSL", 2}, {"GLSL_VERBATIM", 3}, {"MSL", 4},
     {"MSL_VERBATIM", 5}, {"MTLB", 6}, {"WGSL", 7}, {"BYTECODE", 8},
 };
 
@@ -182,8 +182,9 @@ inline constexpr EnumEntry kBlendFactors[] = {
 };
 
 inline constexpr EnumEntry kBlendOps[] = {
-    {"UNDEFINED", kUnsupportedValue}, {"ADD", VK_BLEND_OP_ADD}, {"SUBTRACT", VK_BLEND_OP_SUBTRACT},
-    {"REV_SUBTRACT", VK_BLEND_OP_REVERSE_SUBTRACT}, {"MIN", VK_BLEND_OP_MIN}, {"MAX", VK_BLEND_OP_MAX},
+    {"UNDEFINED", kUnsupportedValue},   {"ADD", VK_BLEND_OP_ADD},
+    {"SUBTRACT", VK_BLEND_OP_SUBTRACT}, {"REV_SUBTRACT", VK_BLEND_OP_REVERSE_SUBTRACT},
+    {"MIN", VK_BLEND_OP_MIN},           {"MAX", VK_BLEND_OP_MAX},
 };
 
 // COLOR_MASK is a bit-flag enum.

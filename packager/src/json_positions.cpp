@@ -7,7 +7,8 @@ namespace {
 
 class Scanner {
  public:
-  Scanner(std::string_view text, std::map<std::string, TextPosition, std::less<>>& out) : text_(text), out_(out) {}
+  Scanner(std::string_view text, std::map<std::string, TextPosition, std::less<>>& out)
+      : text_(text), out_(out) {}
 
   void value(const std::string& pointer) {
     skip_space();
@@ -40,8 +41,10 @@ class Scanner {
         if (text_[i_] == ',') advance(), skip_space();
         value(pointer + "/" + std::to_string(index));
         skip_space();
-        if (!at_end() && text_[i_] == ',') advance();
-        else break;
+        if (!at_end() && text_[i_] == ',')
+          advance();
+        else
+          break;
       }
       skip_space();
       advance();
@@ -59,8 +62,10 @@ class Scanner {
   TextPosition position() const { return {line_, column_}; }
   void advance() {
     if (at_end()) return;
-    if (text_[i_] == '\n') ++line_, column_ = 1;
-    else if ((static_cast<unsigned char>(text_[i_]) & 0xC0) != 0x80) ++column_;  // count UTF-8 code points
+    if (text_[i_] == '\n')
+      ++line_, column_ = 1;
+    else if ((static_cast<unsigned char>(text_[i_]) & 0xC0) != 0x80)
+      ++column_;  // count UTF-8 code points
     ++i_;
   }
   void skip_space() {
@@ -97,7 +102,9 @@ class Scanner {
 
 }  // namespace
 
-JsonPositions::JsonPositions(std::string_view text) { Scanner(text, positions_).value(""); }
+JsonPositions::JsonPositions(std::string_view text) {
+  Scanner(text, positions_).value("");
+}
 
 TextPosition JsonPositions::find(std::string_view pointer) const {
   std::string p(pointer);

@@ -28,14 +28,18 @@ std::optional<uint32_t> parse_vulkan_version(const std::string& text) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  // Diligent command lines have no subcommand: "statepack -i a.json ..." means "statepack pack -i a.json ...".
+  // Diligent command lines have no subcommand: "statepack -i a.json ..." means "statepack pack -i a.json
+  // ...".
   std::vector<std::string> args(argv, argv + argc);
-  if (args.size() > 1 && args[1].starts_with("-") && args[1] != "-h" && args[1] != "--help" && args[1] != "--version")
+  if (args.size() > 1 && args[1].starts_with("-") && args[1] != "-h" && args[1] != "--help" &&
+      args[1] != "--version")
     args.insert(args.begin() + 1, "pack");
 
-  CLI::App app{"statepack: packs render-state notation (DRSN JSON) and GLSL/HLSL shaders into one archive of\n"
-               "pre-compiled SPIR-V that libstatepack_dearchiver turns into Vulkan pipelines."};
-  app.set_version_flag("--version", "statepack 0.1.0 (archive format " + std::to_string(statepack::format::kFormatVersion) + ")");
+  CLI::App app{
+      "statepack: packs render-state notation (DRSN JSON) and GLSL/HLSL shaders into one archive of\n"
+      "pre-compiled SPIR-V that libstatepack_dearchiver turns into Vulkan pipelines."};
+  app.set_version_flag("--version", "statepack 0.1.0 (archive format " +
+                                        std::to_string(statepack::format::kFormatVersion) + ")");
   app.require_subcommand(1);
   app.footer("Exit codes: 0 success, 1 input error (notation, shader), 2 usage error, 3 I/O error.");
 
@@ -45,18 +49,24 @@ int main(int argc, char** argv) {
   bool vulkan = false, opengl = false, opengles = false, dx11 = false, dx12 = false, metal_macos = false,
        metal_ios = false, webgpu = false;
   CLI::App* pack = app.add_subcommand("pack", "Pack notation files into an archive (the default command)");
-  pack->add_option("-i,--input", inputs, "Input notation file (repeatable); searched in the CWD, then -r dirs")
+  pack->add_option("-i,--input", inputs,
+                   "Input notation file (repeatable); searched in the CWD, then -r dirs")
       ->required();
-  pack->add_option("-r,--render_state_dir", render_state_dirs, "Directory to search for notation files (repeatable)");
-  pack->add_option("-s,--shader_dir", shader_dirs,
-                   "Directory to search for shader files and #includes after the referring file's own (repeatable)");
+  pack->add_option("-r,--render_state_dir", render_state_dirs,
+                   "Directory to search for notation files (repeatable)");
+  pack->add_option(
+      "-s,--shader_dir", shader_dirs,
+      "Directory to search for shader files and #includes after the referring file's own (repeatable)");
   pack->add_option("-o,--output", output, "Output archive")->required();
   pack->add_option("-t,--thread", options.threads, "Compiler threads (0: all cores)")->capture_default_str();
-  pack->add_option("-v,--content_version", options.content_version, "User content version stored in the header")
+  pack->add_option("-v,--content_version", options.content_version,
+                   "User content version stored in the header")
       ->capture_default_str();
   pack->add_option("-D", defines, "Macro for every shader, NAME=VALUE or NAME (repeatable)");
-  pack->add_option("--depfile", depfile, "Write a Make-style depfile listing every JSON and shader file read");
-  pack->add_option("--vulkan_version", vulkan_version, "Target Vulkan version: 1.0 (SPIR-V 1.0), 1.1, 1.2 or 1.3")
+  pack->add_option("--depfile", depfile,
+                   "Write a Make-style depfile listing every JSON and shader file read");
+  pack->add_option("--vulkan_version", vulkan_version,
+                   "Target Vulkan version: 1.0 (SPIR-V 1.0), 1.1, 1.2 or 1.3")
       ->capture_default_str();
   pack->add_flag("--print_contents", options.print_contents, "Print the archive's contents");
   pack->add_flag("--vulkan", vulkan, "Produce the Vulkan backend (SPIR-V)");
@@ -64,7 +74,8 @@ int main(int argc, char** argv) {
   pack->add_flag("--opengles", opengles, "OpenGL ES backend (not produced: warning)");
   pack->add_flag("--dx11", dx11, "Direct3D 11 backend (not produced on this platform: warning)");
   pack->add_flag("--dx12", dx12, "Direct3D 12 backend (not produced on this platform: warning)");
-  pack->add_flag("--metal_macos", metal_macos, "Metal macOS backend (not produced on this platform: warning)");
+  pack->add_flag("--metal_macos", metal_macos,
+                 "Metal macOS backend (not produced on this platform: warning)");
   pack->add_flag("--metal_ios", metal_ios, "Metal iOS backend (not produced on this platform: warning)");
   pack->add_flag("--webgpu", webgpu, "WebGPU backend (not produced: warning)");
 
@@ -77,16 +88,24 @@ int main(int argc, char** argv) {
     return code == 0 ? kExitSuccess : kExitUsage;
   }
 
-  for (auto [on, flag] : {std::pair{opengl, "--opengl"}, {opengles, "--opengles"}, {dx11, "--dx11"}, {dx12, "--dx12"},
-                          {metal_macos, "--metal_macos"}, {metal_ios, "--metal_ios"}, {webgpu, "--webgpu"}})
-    if (on) std::cerr << "statepack: warning: " << flag << ": this backend cannot be produced by statepack; ignored\n";
+  for (auto [on, flag] : {std::pair{opengl, "--opengl"},
+                          {opengles, "--opengles"},
+                          {dx11, "--dx11"},
+                          {dx12, "--dx12"},
+                          {metal_macos, "--metal_macos"},
+                          {metal_ios, "--metal_ios"},
+                          {webgpu, "--webgpu"}})
+    if (on)
+      std::cerr << "statepack: warning: " << flag
+                << ": this backend cannot be produced by statepack; ignored\n";
   if (!vulkan) {
     std::cerr << "statepack: error: no backend to produce; pass --vulkan\n";
     return kExitUsage;
   }
   auto version = parse_vulkan_version(vulkan_version);
   if (!version) {
-    std::cerr << "statepack: error: --vulkan_version must be 1.0, 1.1, 1.2 or 1.3, not '" << vulkan_version << "'\n";
+    std::cerr << "statepack: error: --vulkan_version must be 1.0, 1.1, 1.2 or 1.3, not '" << vulkan_version
+              << "'\n";
     return kExitUsage;
   }
   options.compile.vulkan_version = *version;

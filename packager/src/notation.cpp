@@ -26,21 +26,35 @@ fs::path resolve_file(const std::string& name, const fs::path& base_dir, const s
   return {};
 }
 
+std::string display_path(const fs::path& path) {
+  std::error_code ec;
+  fs::path relative = path.lexically_relative(fs::current_path(ec));
+  if (ec || relative.empty() || *relative.begin() == "..") return path.string();
+  return relative.string();
+}
+
 namespace {
 
-const char* type_name(const json& j) { return j.type_name(); }
+const char* type_name(const json& j) {
+  return j.type_name();
+}
 
 class FileReader {
  public:
-  FileReader(const fs::path& file, const std::string& text, const NotationOptions& options, Notation& out,
-             Diagnostics& diagnostics)
-      : file_(file), display_(file.string()), positions_(text), options_(options), out_(out), diag_(diagnostics) {}
+  FileReader(const fs::path& file, std::string display, const std::string& text,
+             const NotationOptions& options, Notation& out, Diagnostics& diagnostics)
+      : file_(file),
+        display_(std::move(display)),
+        positions_(text),
+        options_(options),
+        out_(out),
+        diag_(diagnostics) {}
 
   void read(const json& root) {
-    if (!root.is_object()) return error("", std::string("the top level must be an object, but is ") + type_name(root));
-    static const std::vector<std::string> kSections = {"Imports",      "Defaults",           "Shaders",
-                                                       "RenderPasses", "ResourceSignatures", "Pipelines",
-                                                       "Ignore"};
+    if (!root.is_object())
+      return error("", std::string("the top level must be an object, but is ") + type_name(root));
+    static const std::vector<std::string> kSections = {
+        "Imports", "Defaults", "Shaders", "RenderPasses", "ResourceSignatures", "Pipelines", "Ignore"};
     check_keys(root, "", kSections, "top-level section");
     for (const char* later : {"Imports", "Defaults", "RenderPasses", "ResourceSignatures", "Ignore"})
       if (root.contains(later))
@@ -70,16 +84,20 @@ class FileReader {
     TextPosition p = positions_.find(pointer);
     return {display_, p.line, p.column, pointer};
   }
-  void error(const std::string& pointer, std::string message) { diag_.error(at(pointer), std::move(message)); }
-  void warning(const std::string& pointer, std::string message) { diag_.warning(at(pointer), std::move(message)); }
+  void error(const std::string& pointer, std::string message) {
+    diag_.error(at(pointer), std::move(message));
+  }
+  void warning(const std::string& pointer, std::string message) {
+    diag_.warning(at(pointer), std::move(message));
+  }
 
   // Reports keys of `object` not in `allowed`, each with a suggestion.
   void check_keys(const json& object, const std::string& pointer, const std::vector<std::string>& allowed,
                   const char* what) {
     for (const auto& [key, value] : object.items()) {
       if (std::find(allowed.begin(), allowed.end(), key) != allowed.end()) continue;
-      diag_.error(at_key(pointer + "/" + key), "unknown " + std::string(what) + " key '" + key + "'" +
-                                                   did_you_mean(key, allowed));
+      diag_.error(at_key(pointer + "/" + key),
+                  "unknown " + std::string(what) + " key '" + key + "'" + did_you_mean(key, allowed));
     }
   }
   Location at_key(const std::string& pointer) const {
@@ -129,7 +147,8 @@ class FileReader {
                                       const char* enum_name) {
     if (j.is_string()) return enum_value(j, pointer, table, enum_name);
     if (!j.is_array()) {
-      error(pointer, std::string(enum_name) + " must be a string or an array of strings, but is " + type_name(j));
+      error(pointer,
+            std::string(enum_name) + " must be a string or an array of strings, but is " + type_name(j));
       return std::nullopt;
     }
     uint32_t bits = 0;
@@ -158,7 +177,9 @@ class FileReader {
   void boolean(const json& object, const char* key, const std::string& pointer, uint32_t& out) {
     auto it = object.find(key);
     if (it == object.end()) return;
-    if (!it->is_boolean()) return error(pointer + "/" + key, std::string("'") + key + "' must be true or false, but is " + type_name(*it));
+    if (!it->is_boolean())
+      return error(pointer + "/" + key,
+                   std::string("'") + key + "' must be true or false, but is " + type_name(*it));
     out = it->get<bool>() ? 1 : 0;
   }
 
@@ -181,12 +202,16 @@ class FileReader {
       shader.is_reference = true;
       return shader;
     }
-    if (!expect_object(j, pointer, slot_stage ? "a shader slot (a name or an object)" : "a shader")) return std::nullopt;
-    static const std::vector<std::string> kKeys = {
-        "Desc",          "FilePath",      "Source",        "SourceLength", "EntryPoint",
-        "Macros",        "SourceLanguage", "ShaderCompiler", "HLSLVersion",  "GLSLVersion",
-        "GLESSLVersion", "MSLVersion",    "CompileFlags",  "LoadConstantBufferReflection",
-        "GLSLExtensions", "WebGPUEmulatedArrayIndexSuffix"};
+    if (!expect_object(j, pointer, slot_stage ? "a shader slot (a name or an object)" : "a shader"))
+      return std::nullopt;
+    static const std::vector<std::string> kKeys = {"Desc",           "FilePath",
+                                                   "Source",         "SourceLength",
+                                                   "EntryPoint",     "Macros",
+                                                   "SourceLanguage", "ShaderCompiler",
+                                                   "HLSLVersion",    "GLSLVersion",
+                                                   "GLESSLVersion",  "MSLVersion",
+                                                   "CompileFlags",   "LoadConstantBufferReflection",
+                                                   "GLSLExtensions", "WebGPUEmulatedArrayIndexSuffix"};
     check_keys(j, pointer, kKeys, "shader");
     const size_t errors_before = diag_.error_count();
 
@@ -234,7 +259,8 @@ class FileReader {
     }
     uint32_t compiler = 0;
     enum_field(j, "ShaderCompiler", pointer, kShaderCompilers, "shader compiler", compiler);
-    if (compiler >= 2) warning(pointer + "/ShaderCompiler", "statepack compiles with glslang; the compiler choice is ignored");
+    if (compiler >= 2)
+      warning(pointer + "/ShaderCompiler", "statepack compiles with glslang; the compiler choice is ignored");
 
     if (auto macros = j.find("Macros"); macros != j.end()) {
       if (!macros->is_array()) {
@@ -289,11 +315,16 @@ class FileReader {
       return false;
     };
     std::optional<uint32_t> inferred;
-    if (has({"pAS", "pMS"})) inferred = 2;
-    else if (has({"pVS", "pPS", "pDS", "pHS", "pGS"})) inferred = 0;
-    else if (has({"pCS"})) inferred = 1;
-    else if (has({"pTS"})) inferred = 4;
-    else if (has({"pGeneralShaders", "pTriangleHitShaders", "pProceduralHitShaders"})) inferred = 3;
+    if (has({"pAS", "pMS"}))
+      inferred = 2;
+    else if (has({"pVS", "pPS", "pDS", "pHS", "pGS"}))
+      inferred = 0;
+    else if (has({"pCS"}))
+      inferred = 1;
+    else if (has({"pTS"}))
+      inferred = 4;
+    else if (has({"pGeneralShaders", "pTriangleHitShaders", "pProceduralHitShaders"}))
+      inferred = 3;
     std::optional<uint32_t> type = inferred;
     if (auto t = pso_desc->find("PipelineType"); t != pso_desc->end()) {
       auto explicit_type = enum_value(*t, pointer + "/PSODesc/PipelineType", kPipelineTypes, "pipeline type");
@@ -313,12 +344,14 @@ class FileReader {
     if (p.kind == format::PipelineKind::compute) {
       check_keys(j, pointer, {"PSODesc", "Flags", "ppResourceSignatures", "pCS"}, "compute pipeline");
     } else {
-      check_keys(j, pointer,
-                 {"PSODesc", "Flags", "ppResourceSignatures", "GraphicsPipeline", "pVS", "pPS", "pDS", "pHS", "pGS"},
-                 "graphics pipeline");
+      check_keys(
+          j, pointer,
+          {"PSODesc", "Flags", "ppResourceSignatures", "GraphicsPipeline", "pVS", "pPS", "pDS", "pHS", "pGS"},
+          "graphics pipeline");
     }
     if (j.contains("ppResourceSignatures"))
-      error(pointer + "/ppResourceSignatures", "resource signatures are not supported by this version of statepack yet");
+      error(pointer + "/ppResourceSignatures",
+            "resource signatures are not supported by this version of statepack yet");
 
     static const std::pair<const char*, uint32_t> kSlots[] = {
         {"pVS", VK_SHADER_STAGE_VERTEX_BIT},
@@ -330,14 +363,16 @@ class FileReader {
     };
     for (const auto& [slot, stage] : kSlots) {
       if (auto s = j.find(slot); s != j.end())
-        if (auto shader = read_shader(*s, pointer + "/" + slot, stage)) p.shaders.push_back(std::move(*shader));
+        if (auto shader = read_shader(*s, pointer + "/" + slot, stage))
+          p.shaders.push_back(std::move(*shader));
     }
     if (p.kind == format::PipelineKind::graphics && !j.contains("pVS"))
       error(pointer, "graphics pipeline '" + p.name + "' needs a vertex shader ('pVS')");
 
     if (auto layout = pso_desc->find("ResourceLayout"); layout != pso_desc->end())
       read_resource_layout(*layout, pointer + "/PSODesc/ResourceLayout", p);
-    if (auto g = j.find("GraphicsPipeline"); g != j.end()) read_graphics(*g, pointer + "/GraphicsPipeline", p.graphics);
+    if (auto g = j.find("GraphicsPipeline"); g != j.end())
+      read_graphics(*g, pointer + "/GraphicsPipeline", p.graphics);
 
     for (const auto& existing : out_.pipelines)
       if (existing.name == p.name && !p.name.empty())
@@ -348,12 +383,14 @@ class FileReader {
 
   void read_resource_layout(const json& j, const std::string& pointer, PipelineDesc& p) {
     if (!expect_object(j, pointer, "'ResourceLayout'")) return;
-    check_keys(j, pointer, {"DefaultVariableType", "DefaultVariableMergeStages", "Variables", "ImmutableSamplers"},
+    check_keys(j, pointer,
+               {"DefaultVariableType", "DefaultVariableMergeStages", "Variables", "ImmutableSamplers"},
                "ResourceLayout");
     uint32_t ignored = 0;
     enum_field(j, "DefaultVariableType", pointer, kVariableTypes, "variable type", ignored);
     if (auto it = j.find("ImmutableSamplers"); it != j.end() && !(it->is_array() && it->empty()))
-      error(pointer + "/ImmutableSamplers", "immutable samplers are not supported by this version of statepack yet");
+      error(pointer + "/ImmutableSamplers",
+            "immutable samplers are not supported by this version of statepack yet");
     auto vars = j.find("Variables");
     if (vars == j.end()) return;
     if (!vars->is_array()) return error(pointer + "/Variables", "'Variables' must be an array");
@@ -366,7 +403,8 @@ class FileReader {
       var.name = string_field(v, "Name", vp).value_or("");
       if (var.name.empty()) error(vp, "a variable needs a 'Name'");
       if (auto s = v.find("ShaderStages"); s != v.end())
-        if (auto bits = flags_value(*s, vp + "/ShaderStages", kShaderStageFlags, "shader stage")) var.stages = *bits;
+        if (auto bits = flags_value(*s, vp + "/ShaderStages", kShaderStageFlags, "shader stage"))
+          var.stages = *bits;
       if (auto t = v.find("Type"); t != v.end())
         if (enum_value(*t, vp + "/Type", kVariableTypes, "variable type")) var.type = t->get<std::string>();
       p.variables.push_back(std::move(var));
@@ -376,24 +414,28 @@ class FileReader {
   void read_graphics(const json& j, const std::string& pointer, format::GraphicsState& g) {
     if (!expect_object(j, pointer, "'GraphicsPipeline'")) return;
     check_keys(j, pointer,
-               {"BlendDesc", "SampleMask", "RasterizerDesc", "DepthStencilDesc", "InputLayout", "PrimitiveTopology",
-                "NumViewports", "NumRenderTargets", "SubpassIndex", "ShadingRateFlags", "RTVFormats", "DSVFormat",
-                "ReadOnlyDSV", "SmplDesc", "NodeMask", "pRenderPass"},
+               {"BlendDesc", "SampleMask", "RasterizerDesc", "DepthStencilDesc", "InputLayout",
+                "PrimitiveTopology", "NumViewports", "NumRenderTargets", "SubpassIndex", "ShadingRateFlags",
+                "RTVFormats", "DSVFormat", "ReadOnlyDSV", "SmplDesc", "NodeMask", "pRenderPass"},
                "GraphicsPipeline");
     enum_field(j, "PrimitiveTopology", pointer, kTopologies, "primitive topology", g.topology);
     number(j, "SampleMask", pointer, g.sample_mask);
     if (auto it = j.find("InputLayout"); it != j.end()) {
       bool empty = it->is_object() && (!it->contains("LayoutElements") || (*it)["LayoutElements"].empty());
-      if (!empty) error(pointer + "/InputLayout", "vertex input layouts are not supported by this version of statepack yet");
+      if (!empty)
+        error(pointer + "/InputLayout",
+              "vertex input layouts are not supported by this version of statepack yet");
     }
     if (j.contains("pRenderPass"))
-      error(pointer + "/pRenderPass", "render passes are not supported by this version of statepack yet; "
-                                      "leave pRenderPass out to use dynamic rendering");
+      error(pointer + "/pRenderPass",
+            "render passes are not supported by this version of statepack yet; "
+            "leave pRenderPass out to use dynamic rendering");
     uint32_t viewports = 1;
     number(j, "NumViewports", pointer, viewports);
     if (viewports != 1) error(pointer + "/NumViewports", "only one viewport is supported");
 
-    if (auto r = j.find("RasterizerDesc"); r != j.end() && expect_object(*r, pointer + "/RasterizerDesc", "'RasterizerDesc'")) {
+    if (auto r = j.find("RasterizerDesc");
+        r != j.end() && expect_object(*r, pointer + "/RasterizerDesc", "'RasterizerDesc'")) {
       std::string rp = pointer + "/RasterizerDesc";
       check_keys(*r, rp,
                  {"FillMode", "CullMode", "FrontCounterClockwise", "DepthClipEnable", "ScissorEnable",
@@ -414,7 +456,8 @@ class FileReader {
       number(*r, "DepthBiasClamp", rp, g.depth_bias_clamp);
       number(*r, "SlopeScaledDepthBias", rp, g.depth_bias_slope);
     }
-    if (auto d = j.find("DepthStencilDesc"); d != j.end() && expect_object(*d, pointer + "/DepthStencilDesc", "'DepthStencilDesc'")) {
+    if (auto d = j.find("DepthStencilDesc");
+        d != j.end() && expect_object(*d, pointer + "/DepthStencilDesc", "'DepthStencilDesc'")) {
       std::string dp = pointer + "/DepthStencilDesc";
       check_keys(*d, dp,
                  {"DepthEnable", "DepthWriteEnable", "DepthFunc", "StencilEnable", "StencilReadMask",
@@ -430,21 +473,25 @@ class FileReader {
         auto f = d->find(key);
         if (f == d->end() || !expect_object(*f, dp + "/" + key, key)) continue;
         std::string fp = dp + "/" + key;
-        check_keys(*f, fp, {"StencilFailOp", "StencilDepthFailOp", "StencilPassOp", "StencilFunc"}, "stencil op");
+        check_keys(*f, fp, {"StencilFailOp", "StencilDepthFailOp", "StencilPassOp", "StencilFunc"},
+                   "stencil op");
         enum_field(*f, "StencilFailOp", fp, kStencilOps, "stencil op", op->fail_op);
         enum_field(*f, "StencilDepthFailOp", fp, kStencilOps, "stencil op", op->depth_fail_op);
         enum_field(*f, "StencilPassOp", fp, kStencilOps, "stencil op", op->pass_op);
         enum_field(*f, "StencilFunc", fp, kComparisonFuncs, "comparison function", op->compare_op);
       }
     }
-    if (auto b = j.find("BlendDesc"); b != j.end() && expect_object(*b, pointer + "/BlendDesc", "'BlendDesc'"))
+    if (auto b = j.find("BlendDesc");
+        b != j.end() && expect_object(*b, pointer + "/BlendDesc", "'BlendDesc'"))
       read_blend(*b, pointer + "/BlendDesc", g);
 
     int highest_format = -1;
     if (auto f = j.find("RTVFormats"); f != j.end()) {
       // An object keyed by index, as in DRSN (so Defaults can merge per index).
       if (!f->is_object()) {
-        error(pointer + "/RTVFormats", std::string("'RTVFormats' must be an object keyed by index (\"0\": ...), but is ") + type_name(*f));
+        error(pointer + "/RTVFormats",
+              std::string("'RTVFormats' must be an object keyed by index (\"0\": ...), but is ") +
+                  type_name(*f));
       } else {
         for (const auto& [key, value] : f->items()) {
           auto index = parse_index(key, pointer + "/RTVFormats");
@@ -458,7 +505,8 @@ class FileReader {
     }
     g.color_count = static_cast<uint32_t>(highest_format + 1);  // NumRenderTargets inferred when absent
     number(j, "NumRenderTargets", pointer, g.color_count);
-    if (g.color_count > format::kMaxColorTargets) error(pointer + "/NumRenderTargets", "at most 8 render targets");
+    if (g.color_count > format::kMaxColorTargets)
+      error(pointer + "/NumRenderTargets", "at most 8 render targets");
     enum_field(j, "DSVFormat", pointer, kTextureFormats, "texture format", g.depth_stencil_format);
     if (auto s = j.find("SmplDesc"); s != j.end() && expect_object(*s, pointer + "/SmplDesc", "'SmplDesc'")) {
       check_keys(*s, pointer + "/SmplDesc", {"Count", "Quality"}, "SmplDesc");
@@ -482,7 +530,8 @@ class FileReader {
     boolean(b, "IndependentBlendEnable", pointer, independent);
     auto rts = b.find("RenderTargets");
     if (rts == b.end()) return;
-    if (!rts->is_object()) return error(pointer + "/RenderTargets", "'RenderTargets' must be an object keyed by index");
+    if (!rts->is_object())
+      return error(pointer + "/RenderTargets", "'RenderTargets' must be an object keyed by index");
     for (const auto& [key, rt] : rts->items()) {
       auto index = parse_index(key, pointer + "/RenderTargets");
       std::string rp = pointer + "/RenderTargets/" + key;
@@ -495,7 +544,9 @@ class FileReader {
       boolean(rt, "BlendEnable", rp, a.enable);
       uint32_t logic = 0;
       boolean(rt, "LogicOperationEnable", rp, logic);
-      if (logic) error(rp + "/LogicOperationEnable", "logic operations are not supported by this version of statepack yet");
+      if (logic)
+        error(rp + "/LogicOperationEnable",
+              "logic operations are not supported by this version of statepack yet");
       enum_field(rt, "SrcBlend", rp, kBlendFactors, "blend factor", a.src_color);
       enum_field(rt, "DestBlend", rp, kBlendFactors, "blend factor", a.dst_color);
       enum_field(rt, "BlendOp", rp, kBlendOps, "blend operation", a.color_op);
@@ -503,7 +554,8 @@ class FileReader {
       enum_field(rt, "DestBlendAlpha", rp, kBlendFactors, "blend factor", a.dst_alpha);
       enum_field(rt, "BlendOpAlpha", rp, kBlendOps, "blend operation", a.alpha_op);
       if (auto m = rt.find("RenderTargetWriteMask"); m != rt.end())
-        if (auto bits = flags_value(*m, rp + "/RenderTargetWriteMask", kColorMasks, "color mask")) a.write_mask = *bits;
+        if (auto bits = flags_value(*m, rp + "/RenderTargetWriteMask", kColorMasks, "color mask"))
+          a.write_mask = *bits;
     }
     // Without independent blending every target uses target 0's description (D3D semantics).
     if (!independent)
@@ -520,9 +572,11 @@ class FileReader {
 
 }  // namespace
 
-void read_notation(const fs::path& input, const NotationOptions& options, Notation& notation, Diagnostics& diag) {
+void read_notation(const fs::path& input, const NotationOptions& options, Notation& notation,
+                   Diagnostics& diag) {
   fs::path path = resolve_file(input.string(), fs::current_path(), options.render_state_dirs);
-  if (path.empty()) return diag.error({input.string()}, "cannot find render-state file (also searched the -r directories)");
+  if (path.empty())
+    return diag.error({input.string()}, "cannot find render-state file (also searched the -r directories)");
   std::ifstream stream(path, std::ios::binary);
   std::stringstream buffer;
   buffer << stream.rdbuf();
@@ -536,8 +590,10 @@ void read_notation(const fs::path& input, const NotationOptions& options, Notati
     // nlohmann's message has "at line L, column C"; map the byte offset to line and column ourselves.
     int line = 1, column = 1;
     for (size_t i = 0; i + 1 < e.byte && i < text.size(); ++i) {
-      if (text[i] == '\n') ++line, column = 1;
-      else ++column;
+      if (text[i] == '\n')
+        ++line, column = 1;
+      else
+        ++column;
     }
     std::string what = e.what();
     auto colon = what.find("syntax error");
@@ -545,7 +601,9 @@ void read_notation(const fs::path& input, const NotationOptions& options, Notati
                "invalid JSON: " + (colon != std::string::npos ? what.substr(colon) : what));
     return;
   }
-  FileReader(path, text, options, notation, diag).read(root);
+  // Messages name the file as the user wrote it when it was found as written.
+  std::string display = input.is_absolute() ? input.string() : display_path(path);
+  FileReader(path, display, text, options, notation, diag).read(root);
 }
 
 void resolve_references(Notation& notation, Diagnostics& diag) {
@@ -558,8 +616,8 @@ void resolve_references(Notation& notation, Diagnostics& diag) {
       if (!found) {
         std::vector<std::string> names;
         for (const auto& s : notation.shaders) names.push_back(s.name);
-        diag.error(shader.where, "pipeline '" + pipeline.name + "' refers to unknown shader '" + shader.name + "'" +
-                                     did_you_mean(shader.name, names));
+        diag.error(shader.where, "pipeline '" + pipeline.name + "' refers to unknown shader '" + shader.name +
+                                     "'" + did_you_mean(shader.name, names));
         continue;
       }
       if (found->stage != shader.stage) {

@@ -60,6 +60,9 @@ void read_notation(const std::filesystem::path& input, const NotationOptions& op
 // Replaces shader references in pipelines by the named Shaders-section entries.
 void resolve_references(Notation& notation, Diagnostics& diagnostics);
 
+// `path` relative to the working directory when it lies below it, else as it is: for messages.
+std::string display_path(const std::filesystem::path& path);
+
 // Finds `name` next to `base_dir` first, then in `dirs`; returns an empty path when nowhere.
 std::filesystem::path resolve_file(const std::string& name, const std::filesystem::path& base_dir,
                                    const std::vector<std::filesystem::path>& dirs);

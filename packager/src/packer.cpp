@@ -25,8 +25,8 @@ constexpr uint32_t kProducerVersion = (0u << 22) | (1u << 12) | 0u;  // 0.1.0
 
 // Two pipeline slots compile to the same module when everything that feeds glslang is equal.
 std::string compile_key(const ShaderDesc& s) {
-  std::string key = std::to_string(s.stage) + '\0' + std::to_string(int(s.language)) + '\0' + s.entry_point + '\0' +
-                    s.file.string() + '\0' + s.source;
+  std::string key = std::to_string(s.stage) + '\0' + std::to_string(int(s.language)) + '\0' + s.entry_point +
+                    '\0' + s.file.string() + '\0' + s.source;
   for (const auto& [name, value] : s.macros) key += '\0' + name + '=' + value;
   return key;
 }
@@ -38,7 +38,8 @@ struct CompiledUnit {
 };
 
 // Compiles every distinct shader once, on `threads` threads.
-void compile_all(std::vector<CompiledUnit>& units, const CompileOptions& options, uint32_t threads, Diagnostics& diag) {
+void compile_all(std::vector<CompiledUnit>& units, const CompileOptions& options, uint32_t threads,
+                 Diagnostics& diag) {
   std::atomic<size_t> next{0};
   auto worker = [&] {
     for (size_t i = next++; i < units.size(); i = next++) {
@@ -46,8 +47,8 @@ void compile_all(std::vector<CompiledUnit>& units, const CompileOptions& options
       if (units[i].compiled.ok) {
         units[i].reflection = reflect_spirv(units[i].compiled.spirv);
         if (!units[i].reflection.error.empty())
-          diag.error(units[i].desc.where,
-                     "shader '" + units[i].desc.name + "': SPIR-V reflection failed: " + units[i].reflection.error);
+          diag.error(units[i].desc.where, "shader '" + units[i].desc.name +
+                                              "': SPIR-V reflection failed: " + units[i].reflection.error);
       }
     }
   };
@@ -61,12 +62,18 @@ void compile_all(std::vector<CompiledUnit>& units, const CompileOptions& options
 
 const char* stage_name(uint32_t stage) {
   switch (stage) {
-    case VK_SHADER_STAGE_VERTEX_BIT: return "vertex";
-    case VK_SHADER_STAGE_FRAGMENT_BIT: return "pixel";
-    case VK_SHADER_STAGE_COMPUTE_BIT: return "compute";
-    case VK_SHADER_STAGE_GEOMETRY_BIT: return "geometry";
-    case VK_SHADER_STAGE_TESSELLATION_CONTROL_BIT: return "hull";
-    case VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT: return "domain";
+    case VK_SHADER_STAGE_VERTEX_BIT:
+      return "vertex";
+    case VK_SHADER_STAGE_FRAGMENT_BIT:
+      return "pixel";
+    case VK_SHADER_STAGE_COMPUTE_BIT:
+      return "compute";
+    case VK_SHADER_STAGE_GEOMETRY_BIT:
+      return "geometry";
+    case VK_SHADER_STAGE_TESSELLATION_CONTROL_BIT:
+      return "hull";
+    case VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT:
+      return "domain";
   }
   return "unknown";
 }
@@ -87,7 +94,8 @@ class ContentsBuilder {
   uint32_t add_shader(format::Shader shader) {
     for (uint32_t i = 0; i < contents.shaders.size(); ++i) {
       const auto& s = contents.shaders[i];
-      if (s.name == shader.name && s.stage == shader.stage && s.blob == shader.blob && s.entry_point == shader.entry_point)
+      if (s.name == shader.name && s.stage == shader.stage && s.blob == shader.blob &&
+          s.entry_point == shader.entry_point)
         return i;
     }
     contents.shaders.push_back(std::move(shader));
@@ -114,25 +122,27 @@ class ContentsBuilder {
 };
 
 // Merges the shaders' reflected resources into the pipeline's set layouts; checks agreement.
-bool build_layout(const PipelineDesc& p, const std::vector<const CompiledUnit*>& units, ContentsBuilder& builder,
-                  format::Pipeline& out, Diagnostics& diag) {
+bool build_layout(const PipelineDesc& p, const std::vector<const CompiledUnit*>& units,
+                  ContentsBuilder& builder, format::Pipeline& out, Diagnostics& diag) {
   std::map<std::pair<uint32_t, uint32_t>, format::Binding> merged;  // (set, binding)
   std::map<std::pair<uint32_t, uint32_t>, std::string> first_shader;
   bool ok = true;
   for (const CompiledUnit* unit : units) {
     for (const ReflectedBinding& r : unit->reflection.bindings) {
       if (r.count == 0) {
-        diag.error(p.where, "pipeline '" + p.name + "', shader '" + unit->desc.name + "': resource '" + r.name +
-                                "' is a runtime-sized array, which is not supported yet");
+        diag.error(p.where, "pipeline '" + p.name + "', shader '" + unit->desc.name + "': resource '" +
+                                r.name + "' is a runtime-sized array, which is not supported yet");
         ok = false;
         continue;
       }
       auto key = std::pair{r.set, r.binding};
-      auto [it, inserted] = merged.try_emplace(key, format::Binding{r.name, r.binding, r.descriptor_type, r.count, 0});
+      auto [it, inserted] =
+          merged.try_emplace(key, format::Binding{r.name, r.binding, r.descriptor_type, r.count, 0});
       if (!inserted && (it->second.descriptor_type != r.descriptor_type || it->second.count != r.count)) {
-        diag.error(p.where, "pipeline '" + p.name + "': resource '" + r.name + "' (set " + std::to_string(r.set) +
-                                ", binding " + std::to_string(r.binding) + ") has another type or array size in shader '" +
-                                unit->desc.name + "' than in shader '" + first_shader[key] + "'");
+        diag.error(p.where, "pipeline '" + p.name + "': resource '" + r.name + "' (set " +
+                                std::to_string(r.set) + ", binding " + std::to_string(r.binding) +
+                                ") has another type or array size in shader '" + unit->desc.name +
+                                "' than in shader '" + first_shader[key] + "'");
         ok = false;
         continue;
       }
@@ -168,7 +178,8 @@ bool build_layout(const PipelineDesc& p, const std::vector<const CompiledUnit*>&
     format::SetLayout layout;
     for (const auto& [key, b] : merged)
       if (key.first == set) layout.bindings.push_back(b);  // map order: sorted by binding
-    out.set_layouts.push_back(layout.bindings.empty() ? format::kNone : builder.add_set_layout(std::move(layout)));
+    out.set_layouts.push_back(layout.bindings.empty() ? format::kNone
+                                                      : builder.add_set_layout(std::move(layout)));
   }
   return ok;
 }
@@ -191,11 +202,12 @@ void print_contents(const format::Contents& c, size_t archive_size, std::ostream
   for (const auto& p : c.pipelines) sorted.push_back(&p);
   std::ranges::sort(sorted, [](auto* a, auto* b) { return a->name < b->name; });
   for (const auto* p : sorted) {
-    out << "  '" << p->name << "' (" << (p->kind == format::PipelineKind::compute ? "compute" : "graphics") << ")\n";
+    out << "  '" << p->name << "' (" << (p->kind == format::PipelineKind::compute ? "compute" : "graphics")
+        << ")\n";
     for (uint32_t s : p->shaders) {
       const auto& shader = c.shaders[s];
-      out << "    " << stage_name(shader.stage) << " '" << shader.name << "': " << c.spirv[shader.blob].size_bytes()
-          << " bytes SPIR-V\n";
+      out << "    " << stage_name(shader.stage) << " '" << shader.name
+          << "': " << c.spirv[shader.blob].size_bytes() << " bytes SPIR-V\n";
     }
     for (uint32_t set = 0; set < p->set_layouts.size(); ++set) {
       if (p->set_layouts[set] == format::kNone) continue;
@@ -283,7 +295,8 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err) {
         out_pipeline.shaders.push_back(
             builder.add_shader({unit.desc.name, unit.desc.stage, blob, unit.desc.entry_point}));
       }
-      if (build_layout(p, used, builder, out_pipeline, diag)) builder.contents.pipelines.push_back(std::move(out_pipeline));
+      if (build_layout(p, used, builder, out_pipeline, diag))
+        builder.contents.pipelines.push_back(std::move(out_pipeline));
     }
   }
   if (diag.has_errors()) {

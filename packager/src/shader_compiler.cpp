@@ -10,8 +10,8 @@
 #include <vulkan/vulkan_core.h>
 
 #include <fstream>
-#include <optional>
 #include <mutex>
+#include <optional>
 #include <regex>
 #include <sstream>
 
@@ -21,12 +21,18 @@ namespace {
 
 EShLanguage to_glslang_stage(uint32_t stage) {
   switch (stage) {
-    case VK_SHADER_STAGE_VERTEX_BIT: return EShLangVertex;
-    case VK_SHADER_STAGE_TESSELLATION_CONTROL_BIT: return EShLangTessControl;
-    case VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT: return EShLangTessEvaluation;
-    case VK_SHADER_STAGE_GEOMETRY_BIT: return EShLangGeometry;
-    case VK_SHADER_STAGE_FRAGMENT_BIT: return EShLangFragment;
-    default: return EShLangCompute;
+    case VK_SHADER_STAGE_VERTEX_BIT:
+      return EShLangVertex;
+    case VK_SHADER_STAGE_TESSELLATION_CONTROL_BIT:
+      return EShLangTessControl;
+    case VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT:
+      return EShLangTessEvaluation;
+    case VK_SHADER_STAGE_GEOMETRY_BIT:
+      return EShLangGeometry;
+    case VK_SHADER_STAGE_FRAGMENT_BIT:
+      return EShLangFragment;
+    default:
+      return EShLangCompute;
   }
 }
 
@@ -42,7 +48,8 @@ std::optional<std::string> read_text(const fs::path& path) {
 // every file it opens so the depfile can list it.
 class Includer final : public glslang::TShader::Includer {
  public:
-  Includer(const std::vector<fs::path>& dirs, std::vector<fs::path>& files_read) : dirs_(dirs), files_read_(files_read) {}
+  Includer(const std::vector<fs::path>& dirs, std::vector<fs::path>& files_read)
+      : dirs_(dirs), files_read_(files_read) {}
 
   IncludeResult* includeLocal(const char* header, const char* includer, size_t) override {
     fs::path base = fs::path(includer).parent_path();
@@ -72,7 +79,8 @@ class Includer final : public glslang::TShader::Includer {
 };
 
 // glslang logs "ERROR: file:line: message"; turn each into a diagnostic at that file and line.
-void report_log(const std::string& log, const ShaderDesc& shader, Diagnostics& diag, const std::string& fallback_file) {
+void report_log(const std::string& log, const ShaderDesc& shader, Diagnostics& diag,
+                const std::string& fallback_file) {
   static const std::regex kLine(R"(^(ERROR|WARNING): (.*?):(\d+): (.*)$)");
   std::istringstream lines(log);
   std::string line;
@@ -80,10 +88,12 @@ void report_log(const std::string& log, const ShaderDesc& shader, Diagnostics& d
   while (std::getline(lines, line)) {
     std::smatch m;
     if (!std::regex_match(line, m, kLine)) continue;
-    if (m[1] == "WARNING") continue;
+    if (m[1] == "WARNING" || m[4].str().find("compilation terminated") != std::string::npos) continue;
     Location where{m[2].str(), std::stoi(m[3].str()), 0, ""};
     if (where.file.empty() || where.file == "0") where.file = fallback_file;
-    diag.error(where, "shader '" + shader.name + "': " + m[4].str());
+    std::string message = m[4].str();
+    while (!message.empty() && message.back() == ' ') message.pop_back();
+    diag.error(where, "shader '" + shader.name + "': " + message);
     any = true;
   }
   if (!any) {
@@ -96,10 +106,14 @@ void report_log(const std::string& log, const ShaderDesc& shader, Diagnostics& d
 
 spv_target_env target_env(uint32_t vulkan_version) {
   switch (vulkan_version >> 12 & 0x3FF) {  // minor of VK_MAKE_API_VERSION
-    case 0: return SPV_ENV_VULKAN_1_0;
-    case 1: return SPV_ENV_VULKAN_1_1;
-    case 2: return SPV_ENV_VULKAN_1_2;
-    default: return SPV_ENV_VULKAN_1_3;
+    case 0:
+      return SPV_ENV_VULKAN_1_0;
+    case 1:
+      return SPV_ENV_VULKAN_1_1;
+    case 2:
+      return SPV_ENV_VULKAN_1_2;
+    default:
+      return SPV_ENV_VULKAN_1_3;
   }
 }
 
@@ -119,7 +133,7 @@ CompiledShader compile_shader(const ShaderDesc& shader, const CompileOptions& op
       return result;
     }
     source = std::move(*text);
-    file_name = shader.file.string();
+    file_name = display_path(shader.file);
     result.files_read.push_back(fs::absolute(shader.file).lexically_normal());
   }
 
@@ -137,15 +151,16 @@ CompiledShader compile_shader(const ShaderDesc& shader, const CompileOptions& op
   for (const auto& [name, value] : shader.macros) preamble += "#define " + name + " " + value + "\n";
   ts.setPreamble(preamble.c_str());
   const uint32_t minor = options.vulkan_version >> 12 & 0x3FF;
-  const auto client = minor >= 3 ? glslang::EShTargetVulkan_1_3
+  const auto client = minor >= 3   ? glslang::EShTargetVulkan_1_3
                       : minor == 2 ? glslang::EShTargetVulkan_1_2
                       : minor == 1 ? glslang::EShTargetVulkan_1_1
                                    : glslang::EShTargetVulkan_1_0;
-  const auto spirv_version = minor >= 3 ? glslang::EShTargetSpv_1_6
+  const auto spirv_version = minor >= 3   ? glslang::EShTargetSpv_1_6
                              : minor == 2 ? glslang::EShTargetSpv_1_5
                              : minor == 1 ? glslang::EShTargetSpv_1_3
                                           : glslang::EShTargetSpv_1_0;
-  ts.setEnvInput(hlsl ? glslang::EShSourceHlsl : glslang::EShSourceGlsl, stage, glslang::EShClientVulkan, 100);
+  ts.setEnvInput(hlsl ? glslang::EShSourceHlsl : glslang::EShSourceGlsl, stage, glslang::EShClientVulkan,
+                 100);
   ts.setEnvClient(glslang::EShClientVulkan, client);
   ts.setEnvTarget(glslang::EShTargetSpv, spirv_version);
   if (hlsl) {
@@ -153,7 +168,8 @@ CompiledShader compile_shader(const ShaderDesc& shader, const CompileOptions& op
     ts.setEnvTargetHlslFunctionality1();
   }
   ts.setAutoMapBindings(true);  // resources without explicit bindings get one; the layout step finalises them
-  auto messages = static_cast<EShMessages>(EShMsgSpvRules | EShMsgVulkanRules | (hlsl ? int(EShMsgReadHlsl) : 0));
+  auto messages =
+      static_cast<EShMessages>(EShMsgSpvRules | EShMsgVulkanRules | (hlsl ? int(EShMsgReadHlsl) : 0));
   Includer includer(options.include_dirs, result.files_read);
   if (!ts.parse(GetDefaultResources(), 450, false, messages, includer)) {
     report_log(ts.getInfoLog(), shader, diag, file_name);
@@ -176,9 +192,10 @@ CompiledShader compile_shader(const ShaderDesc& shader, const CompileOptions& op
 
   spvtools::SpirvTools tools(target_env(options.vulkan_version));
   std::string validation;
-  tools.SetMessageConsumer([&](spv_message_level_t, const char*, const spv_position_t& pos, const char* message) {
-    validation += "word " + std::to_string(pos.index) + ": " + message + "\n";
-  });
+  tools.SetMessageConsumer(
+      [&](spv_message_level_t, const char*, const spv_position_t& pos, const char* message) {
+        validation += "word " + std::to_string(pos.index) + ": " + message + "\n";
+      });
   if (!tools.Validate(result.spirv)) {
     diag.error(shader.where, "shader '" + shader.name + "': the SPIR-V fails validation: " + validation);
     return result;

@@ -12,7 +12,7 @@
 namespace statepack::packager {
 
 struct CompileOptions {
-  std::vector<std::filesystem::path> include_dirs;                  // -s: searched after the includer's dir
+  std::vector<std::filesystem::path> include_dirs;                 // -s: searched after the includer's dir
   std::vector<std::pair<std::string, std::string>> global_macros;  // -D NAME=VALUE
   uint32_t vulkan_version = 0x00400000;                            // VK_API_VERSION_1_0: SPIR-V 1.0
 };
@@ -24,6 +24,7 @@ struct CompiledShader {
 };
 
 // Compiles one shader. Errors are reported against the shader's own file and line.
-CompiledShader compile_shader(const ShaderDesc& shader, const CompileOptions& options, Diagnostics& diagnostics);
+CompiledShader compile_shader(const ShaderDesc& shader, const CompileOptions& options,
+                              Diagnostics& diagnostics);
 
 }  // namespace statepack::packager

@@ -24,10 +24,11 @@ Reflection reflect_spirv(std::span<const uint32_t> spirv) {
   spvc_resources resources = nullptr;
   if (spvc_context_create(&ctx.handle) != SPVC_SUCCESS ||
       spvc_context_parse_spirv(ctx.handle, spirv.data(), spirv.size(), &ir) != SPVC_SUCCESS ||
-      spvc_context_create_compiler(ctx.handle, SPVC_BACKEND_NONE, ir, SPVC_CAPTURE_MODE_TAKE_OWNERSHIP, &compiler) !=
-          SPVC_SUCCESS ||
+      spvc_context_create_compiler(ctx.handle, SPVC_BACKEND_NONE, ir, SPVC_CAPTURE_MODE_TAKE_OWNERSHIP,
+                                   &compiler) != SPVC_SUCCESS ||
       spvc_compiler_create_shader_resources(compiler, &resources) != SPVC_SUCCESS) {
-    out.error = ctx.handle ? spvc_context_get_last_error_string(ctx.handle) : "cannot create a spirv-cross context";
+    out.error =
+        ctx.handle ? spvc_context_get_last_error_string(ctx.handle) : "cannot create a spirv-cross context";
     return out;
   }
 
@@ -36,14 +37,19 @@ Reflection reflect_spirv(std::span<const uint32_t> spirv) {
     VkDescriptorType descriptor, buffer_descriptor;  // the second for images of dimension Buffer
   };
   const Kind kinds[] = {
-      {SPVC_RESOURCE_TYPE_UNIFORM_BUFFER, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER},
-      {SPVC_RESOURCE_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+      {SPVC_RESOURCE_TYPE_UNIFORM_BUFFER, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER,
+       VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER},
+      {SPVC_RESOURCE_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+       VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
       {SPVC_RESOURCE_TYPE_SAMPLED_IMAGE, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
        VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER},
-      {SPVC_RESOURCE_TYPE_SEPARATE_IMAGE, VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER},
-      {SPVC_RESOURCE_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER},
+      {SPVC_RESOURCE_TYPE_SEPARATE_IMAGE, VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE,
+       VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER},
+      {SPVC_RESOURCE_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
+       VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER},
       {SPVC_RESOURCE_TYPE_SEPARATE_SAMPLERS, VK_DESCRIPTOR_TYPE_SAMPLER, VK_DESCRIPTOR_TYPE_SAMPLER},
-      {SPVC_RESOURCE_TYPE_SUBPASS_INPUT, VK_DESCRIPTOR_TYPE_INPUT_ATTACHMENT, VK_DESCRIPTOR_TYPE_INPUT_ATTACHMENT},
+      {SPVC_RESOURCE_TYPE_SUBPASS_INPUT, VK_DESCRIPTOR_TYPE_INPUT_ATTACHMENT,
+       VK_DESCRIPTOR_TYPE_INPUT_ATTACHMENT},
   };
   for (const Kind& kind : kinds) {
     const spvc_reflected_resource* list = nullptr;
@@ -55,10 +61,12 @@ Reflection reflect_spirv(std::span<const uint32_t> spirv) {
       b.set = spvc_compiler_get_decoration(compiler, list[i].id, SpvDecorationDescriptorSet);
       b.binding = spvc_compiler_get_decoration(compiler, list[i].id, SpvDecorationBinding);
       spvc_type type = spvc_compiler_get_type_handle(compiler, list[i].type_id);
-      bool is_image = kind.type == SPVC_RESOURCE_TYPE_SAMPLED_IMAGE || kind.type == SPVC_RESOURCE_TYPE_SEPARATE_IMAGE ||
+      bool is_image = kind.type == SPVC_RESOURCE_TYPE_SAMPLED_IMAGE ||
+                      kind.type == SPVC_RESOURCE_TYPE_SEPARATE_IMAGE ||
                       kind.type == SPVC_RESOURCE_TYPE_STORAGE_IMAGE;
-      b.descriptor_type = (is_image && spvc_type_get_image_dimension(type) == SpvDimBuffer) ? kind.buffer_descriptor
-                                                                                             : kind.descriptor;
+      b.descriptor_type = (is_image && spvc_type_get_image_dimension(type) == SpvDimBuffer)
+                              ? kind.buffer_descriptor
+                              : kind.descriptor;
       b.count = 1;
       for (unsigned d = 0; d < spvc_type_get_num_array_dimensions(type); ++d)
         b.count *= spvc_type_get_array_dimension(type, d);  // 0 for runtime arrays: caught by the packer
@@ -70,8 +78,8 @@ Reflection reflect_spirv(std::span<const uint32_t> spirv) {
   spvc_resources_get_resource_list_for_type(resources, SPVC_RESOURCE_TYPE_PUSH_CONSTANT, &push, &push_count);
   if (push_count > 0) {
     size_t size = 0;
-    spvc_compiler_get_declared_struct_size(compiler, spvc_compiler_get_type_handle(compiler, push[0].base_type_id),
-                                           &size);
+    spvc_compiler_get_declared_struct_size(
+        compiler, spvc_compiler_get_type_handle(compiler, push[0].base_type_id), &size);
     out.push_constant_size = static_cast<uint32_t>(size);
   }
   return out;

@@ -23,9 +23,11 @@ bool has_layer(const char* name) {
 
 VKAPI_ATTR VkBool32 VKAPI_CALL VulkanContext::on_message(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
                                                          VkDebugUtilsMessageTypeFlagsEXT,
-                                                         const VkDebugUtilsMessengerCallbackDataEXT* data, void* self) {
+                                                         const VkDebugUtilsMessengerCallbackDataEXT* data,
+                                                         void* self) {
   auto* ctx = static_cast<VulkanContext*>(self);
-  std::string text = (severity & VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT) ? "validation error: " : "validation warning: ";
+  std::string text = (severity & VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT) ? "validation error: "
+                                                                                : "validation warning: ";
   text += data->pMessage ? data->pMessage : "(no message)";
   std::lock_guard lock(ctx->mutex_);
   ctx->messages_.push_back(std::move(text));
@@ -36,7 +38,8 @@ Result<std::unique_ptr<VulkanContext>> VulkanContext::create(const VulkanContext
   std::unique_ptr<VulkanContext> ctx(new VulkanContext());
   constexpr const char* kValidationLayer = "VK_LAYER_KHRONOS_validation";
   if (options.validation && !has_layer(kValidationLayer))
-    return Error{ErrorCode::unsupported, "the Vulkan validation layer is missing: apt-get install vulkan-validationlayers"};
+    return Error{ErrorCode::unsupported,
+                 "the Vulkan validation layer is missing: apt-get install vulkan-validationlayers"};
 
   VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
   app.pApplicationName = "statepack";
@@ -67,7 +70,8 @@ Result<std::unique_ptr<VulkanContext>> VulkanContext::create(const VulkanContext
   if (options.validation) {
     auto create_messenger = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
         vkGetInstanceProcAddr(ctx->instance, "vkCreateDebugUtilsMessengerEXT"));
-    if (VkResult r = create_messenger(ctx->instance, &messenger_info, nullptr, &ctx->messenger_); r != VK_SUCCESS)
+    if (VkResult r = create_messenger(ctx->instance, &messenger_info, nullptr, &ctx->messenger_);
+        r != VK_SUCCESS)
       return vk_error("vkCreateDebugUtilsMessengerEXT", r);
   }
 
@@ -89,10 +93,11 @@ Result<std::unique_ptr<VulkanContext>> VulkanContext::create(const VulkanContext
     break;
   }
   if (!ctx->physical_device)
-    return Error{ErrorCode::unsupported,
-                 std::string(options.require_lavapipe ? "no lavapipe device (apt-get install mesa-vulkan-drivers)"
-                                                      : "no Vulkan 1.3 device") +
-                     "; devices seen: " + (seen.empty() ? "none" : seen)};
+    return Error{
+        ErrorCode::unsupported,
+        std::string(options.require_lavapipe ? "no lavapipe device (apt-get install mesa-vulkan-drivers)"
+                                             : "no Vulkan 1.3 device") +
+            "; devices seen: " + (seen.empty() ? "none" : seen)};
 
   vkGetPhysicalDeviceQueueFamilyProperties(ctx->physical_device, &count, nullptr);
   std::vector<VkQueueFamilyProperties> families(count);
@@ -190,7 +195,8 @@ HostBuffer::~HostBuffer() {
   if (memory) vkFreeMemory(device, memory, nullptr);
 }
 
-Result<std::unique_ptr<HostBuffer>> create_host_buffer(VulkanContext& vk, VkDeviceSize size, VkBufferUsageFlags usage) {
+Result<std::unique_ptr<HostBuffer>> create_host_buffer(VulkanContext& vk, VkDeviceSize size,
+                                                       VkBufferUsageFlags usage) {
   auto out = std::make_unique<HostBuffer>();
   out->device = vk.device;
   out->size = size;
@@ -203,9 +209,10 @@ Result<std::unique_ptr<HostBuffer>> create_host_buffer(VulkanContext& vk, VkDevi
   vkGetBufferMemoryRequirements(vk.device, out->buffer, &req);
   VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
   alloc.allocationSize = req.size;
-  alloc.memoryTypeIndex =
-      vk.find_memory_type(req.memoryTypeBits, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
-  if (alloc.memoryTypeIndex == UINT32_MAX) return Error{ErrorCode::unsupported, "no host-visible coherent memory"};
+  alloc.memoryTypeIndex = vk.find_memory_type(
+      req.memoryTypeBits, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT);
+  if (alloc.memoryTypeIndex == UINT32_MAX)
+    return Error{ErrorCode::unsupported, "no host-visible coherent memory"};
   if (VkResult r = vkAllocateMemory(vk.device, &alloc, nullptr, &out->memory); r != VK_SUCCESS)
     return vk_error("vkAllocateMemory", r);
   vkBindBufferMemory(vk.device, out->buffer, out->memory, 0);

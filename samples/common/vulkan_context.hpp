@@ -49,7 +49,8 @@ class VulkanContext {
   VulkanContext() = default;
   static VKAPI_ATTR VkBool32 VKAPI_CALL on_message(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
                                                    VkDebugUtilsMessageTypeFlagsEXT types,
-                                                   const VkDebugUtilsMessengerCallbackDataEXT* data, void* self);
+                                                   const VkDebugUtilsMessengerCallbackDataEXT* data,
+                                                   void* self);
   VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;
   mutable std::mutex mutex_;
   std::vector<std::string> messages_;
@@ -64,6 +65,7 @@ struct HostBuffer {
   VkDeviceSize size = 0;
   ~HostBuffer();
 };
-Result<std::unique_ptr<HostBuffer>> create_host_buffer(VulkanContext& vk, VkDeviceSize size, VkBufferUsageFlags usage);
+Result<std::unique_ptr<HostBuffer>> create_host_buffer(VulkanContext& vk, VkDeviceSize size,
+                                                       VkBufferUsageFlags usage);
 
 }  // namespace statepack::samples

@@ -13,18 +13,26 @@ namespace {
 
 const char* descriptor_type_name(VkDescriptorType type) {
   switch (type) {
-    case VK_DESCRIPTOR_TYPE_SAMPLER: return "sampler";
-    case VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER: return "combined image sampler";
-    case VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE: return "sampled image";
-    case VK_DESCRIPTOR_TYPE_STORAGE_IMAGE: return "storage image";
-    case VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER: return "uniform buffer";
-    case VK_DESCRIPTOR_TYPE_STORAGE_BUFFER: return "storage buffer";
-    default: return "other";
+    case VK_DESCRIPTOR_TYPE_SAMPLER:
+      return "sampler";
+    case VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER:
+      return "combined image sampler";
+    case VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE:
+      return "sampled image";
+    case VK_DESCRIPTOR_TYPE_STORAGE_IMAGE:
+      return "storage image";
+    case VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER:
+      return "uniform buffer";
+    case VK_DESCRIPTOR_TYPE_STORAGE_BUFFER:
+      return "storage buffer";
+    default:
+      return "other";
   }
 }
 
 int fail(const std::string& what, const statepack::Error& e) {
-  std::fprintf(stderr, "unpack_demo: %s: %s (%s)\n", what.c_str(), e.message.c_str(), statepack::to_string(e.code));
+  std::fprintf(stderr, "unpack_demo: %s: %s (%s)\n", what.c_str(), e.message.c_str(),
+               statepack::to_string(e.code));
   return 1;
 }
 
@@ -33,7 +41,8 @@ int run_fill_buffer(statepack::samples::VulkanContext& vk, const statepack::Unpa
   const statepack::BindingInfo* values = pso.find_binding("Values");
   if (!values) return std::fprintf(stderr, "unpack_demo: 'Values' binding missing\n"), 1;
   constexpr uint32_t kCount = 16;
-  auto buffer = statepack::samples::create_host_buffer(vk, kCount * sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  auto buffer = statepack::samples::create_host_buffer(vk, kCount * sizeof(uint32_t),
+                                                       VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
   if (!buffer) return fail("buffer", buffer.error());
   VkDescriptorPoolSize pool_size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1};
   VkDescriptorPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
@@ -59,14 +68,16 @@ int run_fill_buffer(statepack::samples::VulkanContext& vk, const statepack::Unpa
   const uint32_t params[3] = {kCount, 3, 1};
   auto done = vk.submit_and_wait([&](VkCommandBuffer cmd) {
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pso.pipeline);
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pso.layout, values->set, 1, &set, 0, nullptr);
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pso.layout, values->set, 1, &set, 0,
+                            nullptr);
     vkCmdPushConstants(cmd, pso.layout, pso.push_constant_stages, 0, sizeof params, params);
     vkCmdDispatch(cmd, 1, 1, 1);
   });
   vkDestroyDescriptorPool(vk.device, pool, nullptr);
   if (!done) return fail("dispatch", done.error());
   std::printf("  ran '%s': values =", pso.name.c_str());
-  for (uint32_t i = 0; i < kCount; ++i) std::printf(" %u", static_cast<const uint32_t*>((*buffer)->mapped)[i]);
+  for (uint32_t i = 0; i < kCount; ++i)
+    std::printf(" %u", static_cast<const uint32_t*>((*buffer)->mapped)[i]);
   std::printf("\n");
   return 0;
 }
@@ -82,20 +93,23 @@ int main(int argc, char** argv) {
   auto archive = statepack::Archive::from_file(path);
   if (!archive) return fail("load", archive.error());
   const auto& contents = archive->contents();
-  std::printf("archive %s: format v%u, content version %u, %zu pipeline(s), %zu SPIR-V blob(s)\n", path.c_str(),
-              archive->format_version(), archive->content_version(), contents.pipelines.size(), contents.spirv.size());
+  std::printf("archive %s: format v%u, content version %u, %zu pipeline(s), %zu SPIR-V blob(s)\n",
+              path.c_str(), archive->format_version(), archive->content_version(), contents.pipelines.size(),
+              contents.spirv.size());
 
   statepack::samples::VulkanContextOptions options;
   options.validation = true;
   auto vk = statepack::samples::VulkanContext::create(options);
   if (!vk) return fail("Vulkan", vk.error());
-  std::printf("device: %s (%s), validation layer on\n", (*vk)->device_name.c_str(), (*vk)->driver_name.c_str());
+  std::printf("device: %s (%s), validation layer on\n", (*vk)->device_name.c_str(),
+              (*vk)->driver_name.c_str());
 
   auto dearchiver = statepack::Dearchiver::create({(*vk)->physical_device, (*vk)->device});
   if (!dearchiver) return fail("dearchiver", dearchiver.error());
   std::vector<std::pair<std::string, statepack::format::PipelineKind>> pipelines;
   for (const auto& p : contents.pipelines) pipelines.emplace_back(p.name, p.kind);
-  if (auto added = dearchiver->add_archive(std::move(*archive)); !added) return fail("add archive", added.error());
+  if (auto added = dearchiver->add_archive(std::move(*archive)); !added)
+    return fail("add archive", added.error());
 
   int status = 0;
   for (const auto& [name, kind] : pipelines) {
@@ -103,14 +117,15 @@ int main(int argc, char** argv) {
     auto pso = compute ? dearchiver->unpack_compute(name) : dearchiver->unpack_graphics(name);
     if (!pso) return fail("unpack '" + name + "'", pso.error());
     const statepack::UnpackedPipeline& p = **pso;
-    std::printf("unpacked '%s' (%s): VkPipeline 0x%" PRIx64 ", VkPipelineLayout 0x%" PRIx64 ", %zu set layout(s)",
+    std::printf("unpacked '%s' (%s): VkPipeline 0x%" PRIx64 ", VkPipelineLayout 0x%" PRIx64
+                ", %zu set layout(s)",
                 p.name.c_str(), compute ? "compute" : "graphics", reinterpret_cast<uint64_t>(p.pipeline),
                 reinterpret_cast<uint64_t>(p.layout), p.set_layouts.size());
     if (p.push_constant_size) std::printf(", %u bytes of push constants", p.push_constant_size);
     std::printf("\n");
     for (const auto& b : p.bindings)
-      std::printf("  set %u binding %u: '%s' (%s x%u)\n", b.set, b.binding, b.name.c_str(), descriptor_type_name(b.type),
-                  b.count);
+      std::printf("  set %u binding %u: '%s' (%s x%u)\n", b.set, b.binding, b.name.c_str(),
+                  descriptor_type_name(b.type), b.count);
     if (compute && name == "Fill Buffer PSO") status |= run_fill_buffer(**vk, p);
   }
   auto messages = (*vk)->validation_messages();

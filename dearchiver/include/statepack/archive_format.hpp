@@ -88,7 +88,7 @@ struct GraphicsState {
   uint32_t alpha_to_coverage = 0;
   uint32_t color_count = 0;
   std::array<uint32_t, kMaxColorTargets> color_formats{};  // VkFormat
-  uint32_t depth_stencil_format = 0;                      // VkFormat
+  uint32_t depth_stencil_format = 0;                       // VkFormat
   std::array<BlendAttachment, kMaxColorTargets> blend{};
   bool operator==(const GraphicsState&) const = default;
 };
@@ -107,8 +107,8 @@ struct Pipeline {
 // when encoding, the caller keeps the blobs alive and unique (the packager deduplicates them).
 struct Contents {
   uint32_t format_version = kFormatVersion;  // set by decode; encode always writes kFormatVersion
-  uint32_t producer_version = 0;  // packager version, VK_MAKE_API_VERSION-style packing
-  uint32_t content_version = 0;   // user's version (statepack -v)
+  uint32_t producer_version = 0;             // packager version, VK_MAKE_API_VERSION-style packing
+  uint32_t content_version = 0;              // user's version (statepack -v)
   uint32_t backends = kBackendVulkan;
   std::vector<std::span<const uint32_t>> spirv;
   std::vector<Shader> shaders;

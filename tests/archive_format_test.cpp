@@ -1,0 +1,213 @@
+// Archive format v1: round trip, determinism, and clean rejection of damaged bytes.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <fstream>
+
+#include "statepack/archive_format.hpp"
+#include "statepack/dearchiver.hpp"
+
+namespace statepack::format {
+namespace {
+
+// Little-endian helpers to forge headers in tests.
+void put_u32(std::vector<uint8_t>& bytes, size_t at, uint32_t v) {
+  for (int i = 0; i < 4; ++i) bytes[at + i] = uint8_t(v >> (8 * i));
+}
+void put_u64(std::vector<uint8_t>& bytes, size_t at, uint64_t v) {
+  for (int i = 0; i < 8; ++i) bytes[at + i] = uint8_t(v >> (8 * i));
+}
+// Recomputes the whole-archive checksum so a test can reach the structural checks behind it.
+void reseal(std::vector<uint8_t>& bytes) {
+  put_u64(bytes, 40, 0);
+  put_u64(bytes, 40, hash_bytes(bytes));
+}
+
+// Aligned copy of bytes (decode needs 4-byte alignment).
+struct Aligned {
+  explicit Aligned(const std::vector<uint8_t>& bytes) : words((bytes.size() + 3) / 4), size(bytes.size()) {
+    std::memcpy(words.data(), bytes.data(), bytes.size());
+  }
+  std::span<const uint8_t> span() const { return {reinterpret_cast<const uint8_t*>(words.data()), size}; }
+  std::vector<uint32_t> words;
+  size_t size;
+};
+
+struct Fixture {
+  std::vector<uint32_t> spirv_a{0x07230203, 0x00010000, 1, 2, 3};
+  std::vector<uint32_t> spirv_b{0x07230203, 0x00010000, 4, 5, 6, 7};
+  Contents contents;
+  Fixture() {
+    contents.producer_version = 42;
+    contents.content_version = 7;
+    contents.spirv = {spirv_a, spirv_b};
+    contents.shaders = {{"VS", 0x1, 0, "main"}, {"PS", 0x10, 1, "ps_main"}, {"CS", 0x20, 1, "main"}};
+    SetLayout layout;
+    layout.bindings = {{"cbConstants", 0, 6, 1, 0x11}, {"g_Texture", 2, 1, 4, 0x10}};
+    contents.set_layouts = {layout};
+    Pipeline graphics;
+    graphics.name = "Zeta graphics";
+    graphics.kind = PipelineKind::graphics;
+    graphics.shaders = {0, 1};
+    graphics.set_layouts = {kNone, 0};
+    graphics.push_constant_size = 16;
+    graphics.push_constant_stages = 0x1;
+    graphics.graphics.color_count = 2;
+    graphics.graphics.color_formats[0] = 37;
+    graphics.graphics.color_formats[1] = 109;
+    graphics.graphics.depth_bias_slope = 1.5f;
+    graphics.graphics.blend[1].enable = 1;
+    Pipeline compute;
+    compute.name = "Alpha compute";
+    compute.kind = PipelineKind::compute;
+    compute.shaders = {2};
+    contents.pipelines = {graphics, compute};
+  }
+};
+
+TEST(ArchiveFormat, RoundTripKeepsEveryField) {
+  Fixture f;
+  auto bytes = encode(f.contents);
+  Aligned aligned(bytes);
+  auto decoded = decode(aligned.span());
+  ASSERT_TRUE(decoded) << decoded.error().message;
+  const Contents& c = *decoded;
+  EXPECT_EQ(c.format_version, kFormatVersion);
+  EXPECT_EQ(c.producer_version, 42u);
+  EXPECT_EQ(c.content_version, 7u);
+  ASSERT_EQ(c.spirv.size(), 2u);
+  EXPECT_TRUE(std::ranges::equal(c.spirv[1], f.spirv_b));
+  for (auto blob : c.spirv) EXPECT_EQ(reinterpret_cast<uintptr_t>(blob.data()) % kBlobAlignment, 0u);
+  ASSERT_EQ(c.shaders.size(), 3u);
+  EXPECT_EQ(c.shaders[1].entry_point, "ps_main");
+  EXPECT_EQ(c.shaders[1].stage, 0x10u);
+  ASSERT_EQ(c.set_layouts.size(), 1u);
+  EXPECT_EQ(c.set_layouts[0].bindings[1].name, "g_Texture");
+  EXPECT_EQ(c.set_layouts[0].bindings[1].count, 4u);
+  ASSERT_EQ(c.pipelines.size(), 2u);
+  // Pipelines come back sorted by name: the name index is the pipeline table itself.
+  EXPECT_EQ(c.pipelines[0].name, "Alpha compute");
+  EXPECT_EQ(c.pipelines[0].kind, PipelineKind::compute);
+  const Pipeline& g = c.pipelines[1];
+  EXPECT_EQ(g.name, "Zeta graphics");
+  EXPECT_EQ(g.shaders, (std::vector<uint32_t>{0, 1}));
+  EXPECT_EQ(g.set_layouts, (std::vector<uint32_t>{kNone, 0}));
+  EXPECT_EQ(g.push_constant_size, 16u);
+  EXPECT_EQ(g.graphics, f.contents.pipelines[0].graphics);
+}
+
+TEST(ArchiveFormat, EncodingIsDeterministicAndOrderIndependent) {
+  Fixture f;
+  auto first = encode(f.contents);
+  std::swap(f.contents.pipelines[0], f.contents.pipelines[1]);
+  EXPECT_EQ(encode(f.contents), first);
+}
+
+TEST(ArchiveFormat, EveryTruncationIsRejected) {
+  Fixture f;
+  auto bytes = encode(f.contents);
+  for (size_t size = 0; size < bytes.size(); ++size) {
+    std::vector<uint8_t> cut(bytes.begin(), bytes.begin() + size);
+    Aligned aligned(cut);
+    auto decoded = decode(aligned.span());
+    ASSERT_FALSE(decoded) << "accepted a file cut to " << size << " bytes";
+    EXPECT_TRUE(decoded.error().code == ErrorCode::truncated || decoded.error().code == ErrorCode::bad_magic)
+        << size << ": " << decoded.error().message;
+  }
+}
+
+TEST(ArchiveFormat, EverySingleByteFlipIsRejected) {
+  Fixture f;
+  auto bytes = encode(f.contents);
+  for (size_t i = 0; i < bytes.size(); ++i) {
+    for (uint8_t mask : {uint8_t(0x01), uint8_t(0x80)}) {
+      auto damaged = bytes;
+      damaged[i] ^= mask;
+      Aligned aligned(damaged);
+      auto decoded = decode(aligned.span());
+      ASSERT_FALSE(decoded) << "accepted a flip of byte " << i;
+    }
+  }
+}
+
+// Behind the checksum: forged but resealed headers and tables must still be caught, never crash.
+TEST(ArchiveFormat, ResealedStructuralDamageIsRejected) {
+  Fixture f;
+  const auto bytes = encode(f.contents);
+  size_t rejected = 0, total = 0;
+  for (size_t i = 0; i < bytes.size(); ++i) {
+    for (uint8_t value : {uint8_t(0x00), uint8_t(0xFF), uint8_t(0x7F)}) {
+      if (bytes[i] == value) continue;
+      auto damaged = bytes;
+      damaged[i] = value;
+      if (i < 40 || i >= 48) reseal(damaged);
+      Aligned aligned(damaged);
+      auto decoded = decode(aligned.span());  // must return, whatever it decides
+      ++total;
+      rejected += !decoded;
+    }
+  }
+  // Most resealed damage is structural; some (a name letter, a blend factor) is legal content.
+  EXPECT_GT(rejected, total / 3) << rejected << " of " << total;
+}
+
+TEST(ArchiveFormat, NewerFormatIsRefusedWithVersions) {
+  Fixture f;
+  auto bytes = encode(f.contents);
+  put_u32(bytes, 8, 3);   // format_version
+  put_u32(bytes, 12, 2);  // oldest_readable_version
+  reseal(bytes);
+  Aligned aligned(bytes);
+  auto decoded = decode(aligned.span());
+  ASSERT_FALSE(decoded);
+  EXPECT_EQ(decoded.error().code, ErrorCode::unsupported_version);
+  EXPECT_NE(decoded.error().message.find("version 3"), std::string::npos) << decoded.error().message;
+}
+
+TEST(ArchiveFormat, WrongMagicMisalignmentAndTrailingBytes) {
+  Fixture f;
+  auto bytes = encode(f.contents);
+  {
+    auto damaged = bytes;
+    damaged[1] = 'X';
+    Aligned aligned(damaged);
+    auto decoded = decode(aligned.span());
+    ASSERT_FALSE(decoded);
+    EXPECT_EQ(decoded.error().code, ErrorCode::bad_magic);
+  }
+  {
+    std::vector<uint8_t> shifted(bytes.size() + 1);
+    std::memcpy(shifted.data() + 1, bytes.data(), bytes.size());
+    Aligned aligned(shifted);
+    auto decoded = decode(aligned.span().subspan(1));
+    ASSERT_FALSE(decoded);
+    EXPECT_EQ(decoded.error().code, ErrorCode::misaligned_memory);
+  }
+  {
+    auto longer = bytes;
+    longer.push_back(0);
+    Aligned aligned(longer);
+    auto decoded = decode(aligned.span());
+    ASSERT_FALSE(decoded);
+    EXPECT_EQ(decoded.error().code, ErrorCode::corrupt);
+  }
+}
+
+TEST(ArchiveFormat, RequiredContentVersionIsChecked) {
+  auto ok = Archive::from_file(STATEPACK_TEST_ARCHIVE, 0u);
+  ASSERT_TRUE(ok) << ok.error().message;
+  auto wrong = Archive::from_file(STATEPACK_TEST_ARCHIVE, 5u);
+  ASSERT_FALSE(wrong);
+  EXPECT_EQ(wrong.error().code, ErrorCode::content_version_mismatch);
+  EXPECT_NE(wrong.error().message.find(STATEPACK_TEST_ARCHIVE), std::string::npos);
+}
+
+TEST(ArchiveFormat, MissingFileNamesThePath) {
+  auto missing = Archive::from_file("/nonexistent/dir/archive.spk");
+  ASSERT_FALSE(missing);
+  EXPECT_EQ(missing.error().code, ErrorCode::io_error);
+  EXPECT_NE(missing.error().message.find("/nonexistent/dir/archive.spk"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace statepack::format

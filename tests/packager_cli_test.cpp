@@ -1,0 +1,163 @@
+// The statepack CLI as users run it: exit codes, error messages that name the file and place,
+// atomic output, deterministic archives and the depfile.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CliRun {
+  int exit_code = -1;
+  std::string output;  // stdout and stderr together
+};
+
+CliRun statepack(const std::string& args) {
+  std::string command = std::string("'") + STATEPACK_EXE + "' " + args + " 2>&1";
+  CliRun run;
+  FILE* pipe = popen(command.c_str(), "r");
+  if (!pipe) return run;
+  char buffer[4096];
+  while (size_t n = fread(buffer, 1, sizeof buffer, pipe)) run.output.append(buffer, n);
+  int status = pclose(pipe);
+  run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return run;
+}
+
+std::string read_file(const fs::path& path) {
+  std::ifstream file(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>()};
+}
+
+class PackagerCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ =
+        fs::path(STATEPACK_TEST_OUTPUT_DIR) / ::testing::UnitTest::GetInstance()->current_test_info()->name();
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  std::string data(const std::string& name) const {
+    return std::string(STATEPACK_TEST_DATA_DIR) + "/" + name;
+  }
+  std::string pack_args(const std::string& input, const fs::path& output) const {
+    return "pack -i '" + input + "' -s '" + STATEPACK_SHADER_DIR + "' -o '" + output.string() + "' --vulkan";
+  }
+  fs::path dir_;
+};
+
+TEST_F(PackagerCli, HelpAndVersionSucceed) {
+  CliRun help = statepack("--help");
+  EXPECT_EQ(help.exit_code, 0);
+  EXPECT_NE(help.output.find("pack"), std::string::npos);
+  CliRun pack_help = statepack("pack --help");
+  EXPECT_EQ(pack_help.exit_code, 0);
+  EXPECT_NE(pack_help.output.find("--shader_dir"), std::string::npos);
+  EXPECT_NE(pack_help.output.find("--depfile"), std::string::npos);
+  CliRun version = statepack("--version");
+  EXPECT_EQ(version.exit_code, 0);
+  EXPECT_NE(version.output.find("statepack"), std::string::npos);
+}
+
+TEST_F(PackagerCli, PacksTheSliceWithDiligentStyleCommandLine) {
+  fs::path out = dir_ / "slice.spk";
+  // No subcommand, Diligent's flags: still a pack; foreign backends only warn.
+  CliRun run =
+      statepack("-i '" + std::string(STATEPACK_STATES_DIR) + "/slice.json' -s '" + STATEPACK_SHADER_DIR +
+                "' -o '" + out.string() + "' --vulkan --dx12 --print_contents");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_NE(run.output.find("warning: --dx12"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("'Gradient PSO' (graphics)"), std::string::npos) << run.output;
+  EXPECT_TRUE(fs::exists(out));
+}
+
+TEST_F(PackagerCli, NoBackendIsAUsageError) {
+  CliRun run = statepack("pack -i '" + std::string(STATEPACK_STATES_DIR) + "/slice.json' -o '" +
+                         (dir_ / "x.spk").string() + "'");
+  EXPECT_EQ(run.exit_code, 2) << run.output;
+  EXPECT_NE(run.output.find("--vulkan"), std::string::npos) << run.output;
+  CliRun missing_output = statepack("pack -i x.json --vulkan");
+  EXPECT_EQ(missing_output.exit_code, 2) << missing_output.output;
+}
+
+TEST_F(PackagerCli, ArchivesAreByteForByteDeterministic) {
+  std::string input = std::string(STATEPACK_STATES_DIR) + "/slice.json";
+  ASSERT_EQ(statepack(pack_args(input, dir_ / "a.spk")).exit_code, 0);
+  ASSERT_EQ(statepack(pack_args(input, dir_ / "b.spk") + " -t 1").exit_code, 0);
+  std::string a = read_file(dir_ / "a.spk"), b = read_file(dir_ / "b.spk");
+  EXPECT_FALSE(a.empty());
+  EXPECT_EQ(a, b);
+}
+
+TEST_F(PackagerCli, DepfileListsEveryFileRead) {
+  fs::path out = dir_ / "slice.spk";
+  CliRun run = statepack(pack_args(std::string(STATEPACK_STATES_DIR) + "/slice.json", out) + " --depfile '" +
+                         (dir_ / "slice.d").string() + "'");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  std::string depfile = read_file(dir_ / "slice.d");
+  EXPECT_EQ(depfile.rfind(out.string() + ":", 0), 0u) << depfile;
+  for (const char* file : {"slice.json", "fill_buffer.comp", "fullscreen_triangle.vert", "gradient.frag",
+                           "color_ramp.glsl" /* an #include */})
+    EXPECT_NE(depfile.find(file), std::string::npos) << file << " missing from\n" << depfile;
+}
+
+TEST_F(PackagerCli, BadJsonNamesFileLineAndColumn) {
+  CliRun run = statepack(pack_args(data("bad_json.json"), dir_ / "out.spk"));
+  EXPECT_EQ(run.exit_code, 1) << run.output;
+  EXPECT_NE(run.output.find("bad_json.json:6:5: error: invalid JSON"), std::string::npos) << run.output;
+  EXPECT_FALSE(fs::exists(dir_ / "out.spk"));
+}
+
+TEST_F(PackagerCli, MissingShaderFileIsReportedWithPointer) {
+  CliRun run = statepack(pack_args(data("missing_shader.json"), dir_ / "out.spk"));
+  EXPECT_EQ(run.exit_code, 1) << run.output;
+  EXPECT_NE(run.output.find("missing_shader.json:5:"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("'does_not_exist.comp' not found"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("[/Pipelines/0/pCS/FilePath]"), std::string::npos) << run.output;
+}
+
+TEST_F(PackagerCli, GlslErrorPointsIntoTheShaderFile) {
+  CliRun run = statepack(pack_args(data("compile_error.json"), dir_ / "out.spk"));
+  EXPECT_EQ(run.exit_code, 1) << run.output;
+  EXPECT_NE(run.output.find("compile_error.comp:5: error: shader 'Broken CS'"), std::string::npos)
+      << run.output;
+  EXPECT_NE(run.output.find("undefined_variable"), std::string::npos) << run.output;
+}
+
+TEST_F(PackagerCli, UnknownKeysAndEnumsGetSuggestionsAndAllAreReported) {
+  CliRun run = statepack(pack_args(data("unknown_keys.json"), dir_ / "out.spk"));
+  EXPECT_EQ(run.exit_code, 1) << run.output;
+  EXPECT_NE(run.output.find(
+                "unknown_keys.json:6:9: error: unknown GraphicsPipeline key 'PrimitiveTopolgy' (did you "
+                "mean 'PrimitiveTopology'?)"),
+            std::string::npos)
+      << run.output;
+  EXPECT_NE(run.output.find("unknown texture format 'RGBA8_UNROM' (did you mean 'RGBA8_UNORM'"),
+            std::string::npos)
+      << run.output;
+  EXPECT_NE(run.output.find("2 error(s)"), std::string::npos) << run.output;
+}
+
+TEST_F(PackagerCli, FailedPackKeepsThePreviousArchive) {
+  fs::path out = dir_ / "keep.spk";
+  ASSERT_EQ(statepack(pack_args(std::string(STATEPACK_STATES_DIR) + "/slice.json", out)).exit_code, 0);
+  std::string before = read_file(out);
+  EXPECT_EQ(statepack(pack_args(data("compile_error.json"), out)).exit_code, 1);
+  EXPECT_EQ(read_file(out), before);
+  for (const auto& entry : fs::directory_iterator(dir_))
+    EXPECT_EQ(entry.path().string().find(".tmp-"), std::string::npos) << "left behind " << entry.path();
+}
+
+TEST_F(PackagerCli, UnwritableOutputIsAnIoError) {
+  CliRun run =
+      statepack(pack_args(std::string(STATEPACK_STATES_DIR) + "/slice.json", "/nonexistent-dir/out.spk"));
+  EXPECT_EQ(run.exit_code, 3) << run.output;
+  EXPECT_NE(run.output.find("/nonexistent-dir/out.spk"), std::string::npos) << run.output;
+}
+
+}  // namespace

@@ -1,0 +1,249 @@
+// The vertical slice on lavapipe: pipelines from the archive dispatch and draw, and the results are read
+// back and checked.
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <vector>
+
+#include "statepack/archive_format.hpp"
+#include "vulkan_test_fixture.hpp"
+
+namespace statepack::testing {
+namespace {
+
+using samples::create_host_buffer;
+
+class SliceTest : public VulkanTest {
+ protected:
+  // Draws `pso` (a full-screen triangle) into a width x height image of `format` and returns its bytes.
+  std::vector<uint8_t> render(const UnpackedPipeline& pso, VkFormat format, uint32_t width, uint32_t height) {
+    VkImageCreateInfo image_info{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
+    image_info.imageType = VK_IMAGE_TYPE_2D;
+    image_info.format = format;
+    image_info.extent = {width, height, 1};
+    image_info.mipLevels = 1;
+    image_info.arrayLayers = 1;
+    image_info.samples = VK_SAMPLE_COUNT_1_BIT;
+    image_info.tiling = VK_IMAGE_TILING_OPTIMAL;
+    image_info.usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+    VkImage image = VK_NULL_HANDLE;
+    EXPECT_EQ(vkCreateImage(vk_->device, &image_info, nullptr, &image), VK_SUCCESS);
+    VkMemoryRequirements req;
+    vkGetImageMemoryRequirements(vk_->device, image, &req);
+    VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+    alloc.allocationSize = req.size;
+    alloc.memoryTypeIndex = vk_->find_memory_type(req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+    VkDeviceMemory memory = VK_NULL_HANDLE;
+    EXPECT_EQ(vkAllocateMemory(vk_->device, &alloc, nullptr, &memory), VK_SUCCESS);
+    vkBindImageMemory(vk_->device, image, memory, 0);
+    VkImageViewCreateInfo view_info{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+    view_info.image = image;
+    view_info.viewType = VK_IMAGE_VIEW_TYPE_2D;
+    view_info.format = format;
+    view_info.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+    VkImageView view = VK_NULL_HANDLE;
+    EXPECT_EQ(vkCreateImageView(vk_->device, &view_info, nullptr, &view), VK_SUCCESS);
+    auto readback =
+        create_host_buffer(*vk_, VkDeviceSize(width) * height * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT);
+    EXPECT_TRUE(readback);
+
+    auto barrier = [&](VkCommandBuffer cmd, VkImageLayout from, VkImageLayout to, VkAccessFlags src_access,
+                       VkAccessFlags dst_access, VkPipelineStageFlags src_stage,
+                       VkPipelineStageFlags dst_stage) {
+      VkImageMemoryBarrier b{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
+      b.srcAccessMask = src_access;
+      b.dstAccessMask = dst_access;
+      b.oldLayout = from;
+      b.newLayout = to;
+      b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+      b.image = image;
+      b.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+      vkCmdPipelineBarrier(cmd, src_stage, dst_stage, 0, 0, nullptr, 0, nullptr, 1, &b);
+    };
+    auto submitted = vk_->submit_and_wait([&](VkCommandBuffer cmd) {
+      barrier(cmd, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, 0,
+              VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT,
+              VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT);
+      VkRenderingAttachmentInfo color{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+      color.imageView = view;
+      color.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+      color.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+      color.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+      VkRenderingInfo rendering{VK_STRUCTURE_TYPE_RENDERING_INFO};
+      rendering.renderArea = {{0, 0}, {width, height}};
+      rendering.layerCount = 1;
+      rendering.colorAttachmentCount = 1;
+      rendering.pColorAttachments = &color;
+      vkCmdBeginRendering(cmd, &rendering);
+      VkViewport viewport{0, 0, float(width), float(height), 0, 1};
+      VkRect2D scissor{{0, 0}, {width, height}};
+      vkCmdSetViewport(cmd, 0, 1, &viewport);
+      vkCmdSetScissor(cmd, 0, 1, &scissor);
+      vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pso.pipeline);
+      vkCmdDraw(cmd, 3, 1, 0, 0);
+      vkCmdEndRendering(cmd);
+      barrier(cmd, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+              VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, VK_ACCESS_TRANSFER_READ_BIT,
+              VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT);
+      VkBufferImageCopy copy{};
+      copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+      copy.imageExtent = {width, height, 1};
+      vkCmdCopyImageToBuffer(cmd, image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, (*readback)->buffer, 1, &copy);
+    });
+    EXPECT_TRUE(submitted);
+    const auto* bytes = static_cast<const uint8_t*>((*readback)->mapped);
+    std::vector<uint8_t> pixels(bytes, bytes + size_t(width) * height * 4);
+    vkDestroyImageView(vk_->device, view, nullptr);
+    vkDestroyImage(vk_->device, image, nullptr);
+    vkFreeMemory(vk_->device, memory, nullptr);
+    return pixels;
+  }
+
+  // The gradient shader writes (u, v, 0.25, 1) with u, v the pixel centre in 0..1.
+  static std::array<int, 4> expected_rgba(uint32_t x, uint32_t y, uint32_t width, uint32_t height) {
+    auto unorm = [](double v) { return int(std::lround(v * 255.0)); };
+    return {unorm((x + 0.5) / width), unorm((y + 0.5) / height), unorm(0.25), 255};
+  }
+};
+
+TEST_F(SliceTest, ComputePipelineFillsBuffer) {
+  Dearchiver dearchiver = make_dearchiver();
+  auto pso = dearchiver.unpack_compute("Fill Buffer PSO");
+  ASSERT_TRUE(pso) << pso.error().message;
+  const BindingInfo* values = (*pso)->find_binding("Values");
+  ASSERT_NE(values, nullptr);
+  EXPECT_EQ(values->type, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
+  EXPECT_EQ(values->stages, VkShaderStageFlags(VK_SHADER_STAGE_COMPUTE_BIT));
+  EXPECT_EQ((*pso)->push_constant_size, 12u);
+
+  constexpr uint32_t kCount = 1000;  // not a multiple of the 64-wide workgroup: the bound check matters
+  auto buffer =
+      create_host_buffer(*vk_, (kCount + 24) * sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  ASSERT_TRUE(buffer);
+  std::memset((*buffer)->mapped, 0xAB, (*buffer)->size);
+
+  VkDescriptorPoolSize pool_size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1};
+  VkDescriptorPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+  pool_info.maxSets = 1;
+  pool_info.poolSizeCount = 1;
+  pool_info.pPoolSizes = &pool_size;
+  VkDescriptorPool pool = VK_NULL_HANDLE;
+  ASSERT_EQ(vkCreateDescriptorPool(vk_->device, &pool_info, nullptr, &pool), VK_SUCCESS);
+  VkDescriptorSetAllocateInfo alloc{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+  alloc.descriptorPool = pool;
+  alloc.descriptorSetCount = 1;
+  alloc.pSetLayouts = &(*pso)->set_layouts.at(values->set);
+  VkDescriptorSet set = VK_NULL_HANDLE;
+  ASSERT_EQ(vkAllocateDescriptorSets(vk_->device, &alloc, &set), VK_SUCCESS);
+  VkDescriptorBufferInfo buffer_info{(*buffer)->buffer, 0, VK_WHOLE_SIZE};
+  VkWriteDescriptorSet write{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+  write.dstSet = set;
+  write.dstBinding = values->binding;
+  write.descriptorCount = 1;
+  write.descriptorType = values->type;
+  write.pBufferInfo = &buffer_info;
+  vkUpdateDescriptorSets(vk_->device, 1, &write, 0, nullptr);
+
+  const uint32_t params[3] = {kCount, 7, 5};
+  auto done = vk_->submit_and_wait([&](VkCommandBuffer cmd) {
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, (*pso)->pipeline);
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, (*pso)->layout, values->set, 1, &set, 0,
+                            nullptr);
+    vkCmdPushConstants(cmd, (*pso)->layout, (*pso)->push_constant_stages, 0, sizeof params, params);
+    vkCmdDispatch(cmd, (kCount + 63) / 64, 1, 1);
+  });
+  ASSERT_TRUE(done) << done.error().message;
+  const auto* out = static_cast<const uint32_t*>((*buffer)->mapped);
+  for (uint32_t i = 0; i < kCount; ++i) ASSERT_EQ(out[i], i * 7 + 5) << "at index " << i;
+  EXPECT_EQ(out[kCount], 0xABABABABu) << "the shader wrote past params.count";
+  vkDestroyDescriptorPool(vk_->device, pool, nullptr);
+}
+
+TEST_F(SliceTest, GraphicsPipelineDrawsGradient) {
+  Dearchiver dearchiver = make_dearchiver();
+  auto pso = dearchiver.unpack_graphics("Gradient PSO");
+  ASSERT_TRUE(pso) << pso.error().message;
+  constexpr uint32_t kWidth = 64, kHeight = 48;
+  auto pixels = render(**pso, VK_FORMAT_R8G8B8A8_UNORM, kWidth, kHeight);
+  ASSERT_EQ(pixels.size(), size_t(kWidth) * kHeight * 4);
+  for (uint32_t y = 0; y < kHeight; ++y) {
+    for (uint32_t x = 0; x < kWidth; ++x) {
+      auto want = expected_rgba(x, y, kWidth, kHeight);
+      const uint8_t* got = &pixels[(size_t(y) * kWidth + x) * 4];
+      for (int c = 0; c < 4; ++c)
+        ASSERT_NEAR(got[c], want[c], 1) << "pixel (" << x << ", " << y << ") channel " << c;
+    }
+  }
+}
+
+TEST_F(SliceTest, ModifyCallbackPatchesRenderTargetFormat) {
+  Dearchiver dearchiver = make_dearchiver();
+  bool called = false;
+  auto pso = dearchiver.unpack_graphics("Gradient PSO", [&](PatchableState& state) {
+    called = true;
+    EXPECT_EQ(state.color_count, 1u);
+    EXPECT_EQ(state.color_formats[0], VK_FORMAT_R8G8B8A8_UNORM);  // as packed
+    state.color_formats[0] = VK_FORMAT_B8G8R8A8_UNORM;            // what a swapchain often has
+  });
+  ASSERT_TRUE(pso) << pso.error().message;
+  EXPECT_TRUE(called);
+  constexpr uint32_t kWidth = 16, kHeight = 16;
+  auto pixels = render(**pso, VK_FORMAT_B8G8R8A8_UNORM, kWidth, kHeight);
+  // Same colours, stored blue-first: proves the pipeline really targets the patched format.
+  for (uint32_t y = 0; y < kHeight; ++y) {
+    for (uint32_t x = 0; x < kWidth; ++x) {
+      auto want = expected_rgba(x, y, kWidth, kHeight);
+      const uint8_t* got = &pixels[(size_t(y) * kWidth + x) * 4];
+      ASSERT_NEAR(got[0], want[2], 1);
+      ASSERT_NEAR(got[1], want[1], 1);
+      ASSERT_NEAR(got[2], want[0], 1);
+      ASSERT_NEAR(got[3], want[3], 1);
+    }
+  }
+  // A patched pipeline is a new object; the unpatched one is cached and shared.
+  auto plain1 = dearchiver.unpack_graphics("Gradient PSO");
+  auto plain2 = dearchiver.unpack_graphics("Gradient PSO");
+  ASSERT_TRUE(plain1 && plain2);
+  EXPECT_EQ(*plain1, *plain2);
+  EXPECT_NE((*plain1)->pipeline, (*pso)->pipeline);
+}
+
+TEST_F(SliceTest, UnknownNameIsAnErrorWithSuggestion) {
+  Dearchiver dearchiver = make_dearchiver();
+  auto pso = dearchiver.unpack_graphics("Gradient PS0");
+  ASSERT_FALSE(pso);
+  EXPECT_EQ(pso.error().code, ErrorCode::not_found);
+  EXPECT_NE(pso.error().message.find("did you mean 'Gradient PSO'"), std::string::npos)
+      << pso.error().message;
+}
+
+TEST_F(SliceTest, WrongPipelineTypeIsAnError) {
+  Dearchiver dearchiver = make_dearchiver();
+  auto pso = dearchiver.unpack_compute("Gradient PSO");
+  ASSERT_FALSE(pso);
+  EXPECT_EQ(pso.error().code, ErrorCode::wrong_type);
+  EXPECT_NE(pso.error().message.find("graphics"), std::string::npos) << pso.error().message;
+}
+
+TEST_F(SliceTest, ArchiveFromCallerMemoryUnpacks) {
+  std::ifstream file(STATEPACK_TEST_ARCHIVE, std::ios::binary);
+  std::vector<char> chars((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+  std::vector<uint32_t> words((chars.size() + 3) / 4);  // 4-byte aligned, as the API requires
+  std::memcpy(words.data(), chars.data(), chars.size());
+  auto archive = Archive::from_memory({reinterpret_cast<const uint8_t*>(words.data()), chars.size()});
+  ASSERT_TRUE(archive) << archive.error().message;
+  // Zero copy: the SPIR-V the dearchiver hands Vulkan lies inside the caller's buffer.
+  auto blob = archive->contents().spirv.at(0);
+  EXPECT_GE(reinterpret_cast<const uint8_t*>(blob.data()), reinterpret_cast<const uint8_t*>(words.data()));
+  EXPECT_LT(reinterpret_cast<const uint8_t*>(blob.data()),
+            reinterpret_cast<const uint8_t*>(words.data()) + chars.size());
+  auto dearchiver = Dearchiver::create({vk_->physical_device, vk_->device});
+  ASSERT_TRUE(dearchiver);
+  ASSERT_TRUE(dearchiver->add_archive(std::move(*archive)));
+  auto pso = dearchiver->unpack_compute("Fill Buffer PSO");
+  ASSERT_TRUE(pso) << pso.error().message;
+  EXPECT_NE((*pso)->pipeline, VK_NULL_HANDLE);
+}
+
+}  // namespace
+}  // namespace statepack::testing

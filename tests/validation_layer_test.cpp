@@ -1,0 +1,30 @@
+// Proves the test harness can fail: the validation layer is really loaded on lavapipe and the
+// messenger records what it reports. Without this, a silent harness would pass every Vulkan test.
+#include <gtest/gtest.h>
+
+#include "vulkan_context.hpp"
+
+namespace {
+
+TEST(ValidationLayer, InvalidUsageIsRecorded) {
+  statepack::samples::VulkanContextOptions options;
+  options.validation = true;
+  options.require_lavapipe = true;
+  auto vk = statepack::samples::VulkanContext::create(options);
+  ASSERT_TRUE(vk) << vk.error().message;
+  EXPECT_NE((*vk)->driver_name.find("llvmpipe"), std::string::npos) << (*vk)->driver_name;
+  ASSERT_TRUE((*vk)->validation_messages().empty());
+
+  VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
+  info.size = 0;  // VUID-VkBufferCreateInfo-size-00912: size must be greater than 0
+  info.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+  VkBuffer buffer = VK_NULL_HANDLE;
+  vkCreateBuffer((*vk)->device, &info, nullptr, &buffer);
+  if (buffer) vkDestroyBuffer((*vk)->device, buffer, nullptr);
+
+  auto messages = (*vk)->validation_messages();
+  ASSERT_FALSE(messages.empty()) << "the validation layer reported nothing for an invalid call";
+  EXPECT_NE(messages.front().find("00912"), std::string::npos) << messages.front();
+}
+
+}  // namespace
