@@ -122,33 +122,15 @@ TEST_F(SliceTest, ComputePipelineFillsBuffer) {
   ASSERT_TRUE(buffer);
   std::memset((*buffer)->mapped, 0xAB, (*buffer)->size);
 
-  VkDescriptorPoolSize pool_size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1};
-  VkDescriptorPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
-  pool_info.maxSets = 1;
-  pool_info.poolSizeCount = 1;
-  pool_info.pPoolSizes = &pool_size;
-  VkDescriptorPool pool = VK_NULL_HANDLE;
-  ASSERT_EQ(vkCreateDescriptorPool(vk_->device, &pool_info, nullptr, &pool), VK_SUCCESS);
-  VkDescriptorSetAllocateInfo alloc{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
-  alloc.descriptorPool = pool;
-  alloc.descriptorSetCount = 1;
-  alloc.pSetLayouts = &(*pso)->set_layouts.at(values->set);
-  VkDescriptorSet set = VK_NULL_HANDLE;
-  ASSERT_EQ(vkAllocateDescriptorSets(vk_->device, &alloc, &set), VK_SUCCESS);
-  VkDescriptorBufferInfo buffer_info{(*buffer)->buffer, 0, VK_WHOLE_SIZE};
-  VkWriteDescriptorSet write{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
-  write.dstSet = set;
-  write.dstBinding = values->binding;
-  write.descriptorCount = 1;
-  write.descriptorType = values->type;
-  write.pBufferInfo = &buffer_info;
-  vkUpdateDescriptorSets(vk_->device, 1, &write, 0, nullptr);
+  auto set = samples::bind_storage_buffer(*vk_, (*pso)->set_layouts.at(values->set), values->binding,
+                                          (*buffer)->buffer);
+  ASSERT_TRUE(set) << set.error().message;
 
   const uint32_t params[3] = {kCount, 7, 5};
   auto done = vk_->submit_and_wait([&](VkCommandBuffer cmd) {
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, (*pso)->pipeline);
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, (*pso)->layout, values->set, 1, &set, 0,
-                            nullptr);
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, (*pso)->layout, values->set, 1, &(*set)->set,
+                            0, nullptr);
     vkCmdPushConstants(cmd, (*pso)->layout, (*pso)->push_constant_stages, 0, sizeof params, params);
     vkCmdDispatch(cmd, (kCount + 63) / 64, 1, 1);
   });
@@ -156,7 +138,6 @@ TEST_F(SliceTest, ComputePipelineFillsBuffer) {
   const auto* out = static_cast<const uint32_t*>((*buffer)->mapped);
   for (uint32_t i = 0; i < kCount; ++i) ASSERT_EQ(out[i], i * 7 + 5) << "at index " << i;
   EXPECT_EQ(out[kCount], 0xABABABABu) << "the shader wrote past params.count";
-  vkDestroyDescriptorPool(vk_->device, pool, nullptr);
 }
 
 TEST_F(SliceTest, GraphicsPipelineDrawsGradient) {

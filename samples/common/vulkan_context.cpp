@@ -221,4 +221,36 @@ Result<std::unique_ptr<HostBuffer>> create_host_buffer(VulkanContext& vk, VkDevi
   return out;
 }
 
+StorageBufferSet::~StorageBufferSet() {
+  if (pool) vkDestroyDescriptorPool(device, pool, nullptr);  // frees the set too
+}
+
+Result<std::unique_ptr<StorageBufferSet>> bind_storage_buffer(VulkanContext& vk, VkDescriptorSetLayout layout,
+                                                              uint32_t binding, VkBuffer buffer) {
+  auto out = std::make_unique<StorageBufferSet>();
+  out->device = vk.device;
+  VkDescriptorPoolSize pool_size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1};
+  VkDescriptorPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+  pool_info.maxSets = 1;
+  pool_info.poolSizeCount = 1;
+  pool_info.pPoolSizes = &pool_size;
+  if (VkResult r = vkCreateDescriptorPool(vk.device, &pool_info, nullptr, &out->pool); r != VK_SUCCESS)
+    return vk_error("vkCreateDescriptorPool", r);
+  VkDescriptorSetAllocateInfo alloc{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+  alloc.descriptorPool = out->pool;
+  alloc.descriptorSetCount = 1;
+  alloc.pSetLayouts = &layout;
+  if (VkResult r = vkAllocateDescriptorSets(vk.device, &alloc, &out->set); r != VK_SUCCESS)
+    return vk_error("vkAllocateDescriptorSets", r);
+  VkDescriptorBufferInfo buffer_info{buffer, 0, VK_WHOLE_SIZE};
+  VkWriteDescriptorSet write{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+  write.dstSet = out->set;
+  write.dstBinding = binding;
+  write.descriptorCount = 1;
+  write.descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+  write.pBufferInfo = &buffer_info;
+  vkUpdateDescriptorSets(vk.device, 1, &write, 0, nullptr);
+  return out;
+}
+
 }  // namespace statepack::samples

@@ -68,4 +68,14 @@ struct HostBuffer {
 Result<std::unique_ptr<HostBuffer>> create_host_buffer(VulkanContext& vk, VkDeviceSize size,
                                                        VkBufferUsageFlags usage);
 
+// A descriptor pool with one set that binds one storage buffer; both freed on destruction.
+struct StorageBufferSet {
+  VkDevice device = VK_NULL_HANDLE;
+  VkDescriptorPool pool = VK_NULL_HANDLE;
+  VkDescriptorSet set = VK_NULL_HANDLE;
+  ~StorageBufferSet();
+};
+Result<std::unique_ptr<StorageBufferSet>> bind_storage_buffer(VulkanContext& vk, VkDescriptorSetLayout layout,
+                                                              uint32_t binding, VkBuffer buffer);
+
 }  // namespace statepack::samples

@@ -44,36 +44,17 @@ int run_fill_buffer(statepack::samples::VulkanContext& vk, const statepack::Unpa
   auto buffer = statepack::samples::create_host_buffer(vk, kCount * sizeof(uint32_t),
                                                        VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
   if (!buffer) return fail("buffer", buffer.error());
-  VkDescriptorPoolSize pool_size{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1};
-  VkDescriptorPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
-  pool_info.maxSets = 1;
-  pool_info.poolSizeCount = 1;
-  pool_info.pPoolSizes = &pool_size;
-  VkDescriptorPool pool = VK_NULL_HANDLE;
-  vkCreateDescriptorPool(vk.device, &pool_info, nullptr, &pool);
-  VkDescriptorSetAllocateInfo alloc{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
-  alloc.descriptorPool = pool;
-  alloc.descriptorSetCount = 1;
-  alloc.pSetLayouts = &pso.set_layouts[values->set];
-  VkDescriptorSet set = VK_NULL_HANDLE;
-  vkAllocateDescriptorSets(vk.device, &alloc, &set);
-  VkDescriptorBufferInfo buffer_info{(*buffer)->buffer, 0, VK_WHOLE_SIZE};
-  VkWriteDescriptorSet write{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
-  write.dstSet = set;
-  write.dstBinding = values->binding;
-  write.descriptorCount = 1;
-  write.descriptorType = values->type;
-  write.pBufferInfo = &buffer_info;
-  vkUpdateDescriptorSets(vk.device, 1, &write, 0, nullptr);
+  auto set = statepack::samples::bind_storage_buffer(vk, pso.set_layouts[values->set], values->binding,
+                                                     (*buffer)->buffer);
+  if (!set) return fail("descriptor set", set.error());
   const uint32_t params[3] = {kCount, 3, 1};
   auto done = vk.submit_and_wait([&](VkCommandBuffer cmd) {
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pso.pipeline);
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pso.layout, values->set, 1, &set, 0,
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pso.layout, values->set, 1, &(*set)->set, 0,
                             nullptr);
     vkCmdPushConstants(cmd, pso.layout, pso.push_constant_stages, 0, sizeof params, params);
     vkCmdDispatch(cmd, 1, 1, 1);
   });
-  vkDestroyDescriptorPool(vk.device, pool, nullptr);
   if (!done) return fail("dispatch", done.error());
   std::printf("  ran '%s': values =", pso.name.c_str());
   for (uint32_t i = 0; i < kCount; ++i)
