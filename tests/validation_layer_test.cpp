@@ -28,3 +28,24 @@ TEST(ValidationLayer, InvalidUsageIsRecorded) {
 }
 
 }  // namespace
+
+namespace {
+
+// The fixture's leak check: destroying a device with live children is reported by the layer.
+TEST(ValidationLayer, ObjectsLeftAliveAreReportedAtDeviceDestruction) {
+  statepack::samples::VulkanContextOptions options;
+  options.require_lavapipe = true;
+  auto vk = statepack::samples::VulkanContext::create(options);
+  ASSERT_TRUE(vk) << vk.error().message;
+  VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
+  info.size = 64;
+  info.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+  VkBuffer buffer = VK_NULL_HANDLE;
+  ASSERT_EQ(vkCreateBuffer((*vk)->device, &info, nullptr, &buffer), VK_SUCCESS);
+  (*vk)->destroy_device();  // deliberately with the buffer alive
+  auto messages = (*vk)->validation_messages();
+  ASSERT_FALSE(messages.empty());
+  EXPECT_NE(messages.front().find("not been destroyed"), std::string::npos) << messages.front();
+}
+
+}  // namespace

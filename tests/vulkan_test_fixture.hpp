@@ -24,6 +24,7 @@ class VulkanTest : public ::testing::Test {
 
   void TearDown() override {
     if (!vk_) return;
+    vk_->destroy_device();  // the layer reports Vulkan objects the test (or the dearchiver) leaked
     for (const auto& message : vk_->validation_messages()) ADD_FAILURE() << message;
   }
 

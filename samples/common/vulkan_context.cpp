@@ -139,12 +139,17 @@ Result<std::unique_ptr<VulkanContext>> VulkanContext::create(const VulkanContext
   return ctx;
 }
 
+void VulkanContext::destroy_device() {
+  if (!device) return;
+  vkDeviceWaitIdle(device);
+  if (command_pool) vkDestroyCommandPool(device, command_pool, nullptr);
+  vkDestroyDevice(device, nullptr);
+  device = VK_NULL_HANDLE;
+  command_pool = VK_NULL_HANDLE;
+}
+
 VulkanContext::~VulkanContext() {
-  if (device) {
-    vkDeviceWaitIdle(device);
-    if (command_pool) vkDestroyCommandPool(device, command_pool, nullptr);
-    vkDestroyDevice(device, nullptr);
-  }
+  destroy_device();
   if (messenger_) {
     auto destroy = reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(
         vkGetInstanceProcAddr(instance, "vkDestroyDebugUtilsMessengerEXT"));

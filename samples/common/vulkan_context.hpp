@@ -36,6 +36,10 @@ class VulkanContext {
   std::string device_name;
   std::string driver_name;
 
+  // Destroys the device while the messenger still listens, so objects left alive are reported
+  // (tests call this before checking validation_messages()).
+  void destroy_device();
+
   // Every validation warning or error so far (empty when validation is off).
   std::vector<std::string> validation_messages() const;
 
