@@ -23,18 +23,30 @@
 // starts on a 4-byte boundary (DATA on 16) and holds `count` fixed-size records, except STRS and DATA
 // (raw bytes, count = 0). Readers ignore tags they do not know.
 //
-// | tag  | record (bytes)                                                                     |
-// |------|------------------------------------------------------------------------------------|
-// | STRS | string pool; a str is {u32 offset, u32 length} with a NUL at offset+length          |
-// | DATA | SPIR-V blobs, each 16-byte aligned                                                 |
-// | BLOB | {u32 offset (in file), u32 size (bytes), u64 xxh3 of the bytes} (16)               |
-// | SHDR | {str name, u32 stage, u32 blob, str entry_point} (24)                               |
-// | BIND | {str name, u32 binding, u32 descriptor_type, u32 count, u32 stage_flags} (24)       |
-// | SETL | {list<BIND> bindings} (8); a list is {u32 first, u32 count}                         |
-// | IDXS | u32 pool for index lists (4)                                                       |
-// | GFXS | graphics state, 99 u32 fields in the order of visit(GraphicsState) below (396)     |
-// | PIPE | {str name, u32 kind, list<IDXS> shaders, list<IDXS> set_layouts, u32 push_size,     |
-// |      |  u32 push_stages, u32 gfx_state (GFXS index or 0xFFFFFFFF)} (40), sorted by name    |
+// A str is {u32 offset, u32 length} into STRS with a NUL at offset+length; a list<X> is
+// {u32 first, u32 count} into section X. Record layouts are the visit() functions below, in order.
+//
+// | tag  | record                                                                           |
+// |------|----------------------------------------------------------------------------------|
+// | STRS | string pool                                                                      |
+// | DATA | SPIR-V blobs, each 16-byte aligned                                               |
+// | BLOB | u32 offset (in file), u32 size (bytes), u64 xxh3 of the bytes                     |
+// | IDXS | u32 pool for index lists                                                         |
+// | SHDR | shader: str name, u32 stage, u32 blob, str entry_point                            |
+// | SIDX | u32 shader index of each standalone shader, sorted by shader name                |
+// | SAMP | sampler: 15 u32/f32 fields                                                        |
+// | BIND | binding: str name, binding, descriptor_type, count, stage_flags, immutable_sampler |
+// | SETL | set layout: str name, u32 binding_index, list<BIND>                               |
+// | ATCH | attachment: format, samples, load/store ops, stencil ops, layouts                  |
+// | AREF | attachment reference: attachment, layout                                         |
+// | SUBP | subpass: list<AREF> inputs, colors, resolves; AREF depth; list<IDXS> preserve      |
+// | DEPS | dependency: subpasses, stages, access masks, flags                                |
+// | RPAS | render pass: str name, list<ATCH>, list<SUBP>, list<DEPS>                          |
+// | VTXB | vertex binding: binding, stride, input_rate                                       |
+// | VTXA | vertex attribute: location, binding, format, offset                               |
+// | GFXS | graphics state (see visit(GraphicsState))                                         |
+// | PIPE | pipeline: str name, kind, list<IDXS> shaders, list<IDXS> set layouts, push size,   |
+// |      | push stages, u32 GFXS index (0xFFFFFFFF for compute); sorted by name              |
 #include "statepack/archive_format.hpp"
 
 #define XXH_STATIC_LINKING_ONLY  // XXH3_state_t on the stack
@@ -57,27 +69,86 @@ constexpr uint32_t make_tag(const char (&s)[5]) {
          uint32_t(uint8_t(s[3])) << 24;
 }
 constexpr uint32_t kTagStrings = make_tag("STRS"), kTagData = make_tag("DATA"), kTagBlobs = make_tag("BLOB"),
-                   kTagShaders = make_tag("SHDR"), kTagBindings = make_tag("BIND"),
-                   kTagSetLayouts = make_tag("SETL"), kTagIndices = make_tag("IDXS"),
-                   kTagGraphics = make_tag("GFXS"), kTagPipelines = make_tag("PIPE");
+                   kTagIndices = make_tag("IDXS"), kTagStandalone = make_tag("SIDX"),
+                   kTagGraphics = make_tag("GFXS");
 constexpr uint32_t kSpirvMagic = 0x07230203u;
 constexpr size_t kChecksumOffset = 40;
 
+// The section each record type lives in.
+template <class T>
+struct Tag;
+// clang-format off
+template <> struct Tag<Shader> { static constexpr uint32_t value = make_tag("SHDR"); };
+template <> struct Tag<Sampler> { static constexpr uint32_t value = make_tag("SAMP"); };
+template <> struct Tag<Binding> { static constexpr uint32_t value = make_tag("BIND"); };
+template <> struct Tag<SetLayout> { static constexpr uint32_t value = make_tag("SETL"); };
+template <> struct Tag<Attachment> { static constexpr uint32_t value = make_tag("ATCH"); };
+template <> struct Tag<AttachmentRef> { static constexpr uint32_t value = make_tag("AREF"); };
+template <> struct Tag<Subpass> { static constexpr uint32_t value = make_tag("SUBP"); };
+template <> struct Tag<Dependency> { static constexpr uint32_t value = make_tag("DEPS"); };
+template <> struct Tag<RenderPass> { static constexpr uint32_t value = make_tag("RPAS"); };
+template <> struct Tag<VertexBinding> { static constexpr uint32_t value = make_tag("VTXB"); };
+template <> struct Tag<VertexAttribute> { static constexpr uint32_t value = make_tag("VTXA"); };
+template <> struct Tag<GraphicsState> { static constexpr uint32_t value = make_tag("GFXS"); };
+template <> struct Tag<Pipeline> { static constexpr uint32_t value = make_tag("PIPE"); };
+// clang-format on
+
 // --- field order of every record, shared by the size counter, the writer and the reader ----------
 // A visitor V provides u32(uint32_t&), f32(float&), str(std::string&), indices(std::vector<uint32_t>&),
-// bindings(std::vector<Binding>&), and graphics(Pipeline&).
+// list(std::vector<T>&) and graphics(Pipeline&).
 
 template <class V>
 void visit(V& v, Shader& s) {
   v.str(s.name), v.u32(s.stage), v.u32(s.blob), v.str(s.entry_point);
 }
 template <class V>
+void visit(V& v, Sampler& s) {
+  v.u32(s.mag_filter), v.u32(s.min_filter), v.u32(s.mipmap_mode);
+  v.u32(s.address_u), v.u32(s.address_v), v.u32(s.address_w);
+  v.f32(s.mip_lod_bias), v.u32(s.anisotropy_enable), v.f32(s.max_anisotropy);
+  v.u32(s.compare_enable), v.u32(s.compare_op), v.f32(s.min_lod), v.f32(s.max_lod);
+  v.u32(s.border_color), v.u32(s.unnormalized_coordinates);
+}
+template <class V>
 void visit(V& v, Binding& b) {
   v.str(b.name), v.u32(b.binding), v.u32(b.descriptor_type), v.u32(b.count), v.u32(b.stage_flags);
+  v.u32(b.immutable_sampler);
 }
 template <class V>
 void visit(V& v, SetLayout& s) {
-  v.bindings(s.bindings);
+  v.str(s.name), v.u32(s.binding_index), v.list(s.bindings);
+}
+template <class V>
+void visit(V& v, Attachment& a) {
+  v.u32(a.format), v.u32(a.samples), v.u32(a.load_op), v.u32(a.store_op);
+  v.u32(a.stencil_load_op), v.u32(a.stencil_store_op), v.u32(a.initial_layout), v.u32(a.final_layout);
+}
+template <class V>
+void visit(V& v, AttachmentRef& r) {
+  v.u32(r.attachment), v.u32(r.layout);
+}
+template <class V>
+void visit(V& v, Subpass& s) {
+  v.list(s.inputs), v.list(s.colors), v.list(s.resolves);
+  visit(v, s.depth_stencil);
+  v.indices(s.preserve);
+}
+template <class V>
+void visit(V& v, Dependency& d) {
+  v.u32(d.src_subpass), v.u32(d.dst_subpass), v.u32(d.src_stages), v.u32(d.dst_stages);
+  v.u32(d.src_access), v.u32(d.dst_access), v.u32(d.flags);
+}
+template <class V>
+void visit(V& v, RenderPass& r) {
+  v.str(r.name), v.list(r.attachments), v.list(r.subpasses), v.list(r.dependencies);
+}
+template <class V>
+void visit(V& v, VertexBinding& b) {
+  v.u32(b.binding), v.u32(b.stride), v.u32(b.input_rate);
+}
+template <class V>
+void visit(V& v, VertexAttribute& a) {
+  v.u32(a.location), v.u32(a.binding), v.u32(a.format), v.u32(a.offset);
 }
 template <class V>
 void visit(V& v, StencilOpState& s) {
@@ -99,6 +170,8 @@ void visit(V& v, GraphicsState& g) {
   for (auto& f : g.color_formats) v.u32(f);
   v.u32(g.depth_stencil_format);
   for (auto& b : g.blend) visit(v, b);
+  v.list(g.vertex_bindings), v.list(g.vertex_attributes);
+  v.u32(g.render_pass), v.u32(g.subpass);
 }
 template <class V>
 void visit(V& v, Pipeline& p) {
@@ -118,7 +191,10 @@ struct SizeCounter {
   void f32(float&) { bytes += 4; }
   void str(std::string&) { bytes += 8; }
   void indices(std::vector<uint32_t>&) { bytes += 8; }
-  void bindings(std::vector<Binding>&) { bytes += 8; }
+  template <class T>
+  void list(std::vector<T>&) {
+    bytes += 8;
+  }
   void graphics(Pipeline&) { bytes += 4; }
 };
 template <class T>
@@ -127,6 +203,14 @@ uint32_t record_size() {
   T record{};
   visit(counter, record);
   return counter.bytes;
+}
+
+// Every record section, in file order (the pools a list points into included).
+template <class F>
+void for_each_record_type(F&& f) {
+  f(Shader{}), f(Sampler{}), f(Binding{}), f(SetLayout{}), f(Attachment{}), f(AttachmentRef{});
+  f(Subpass{}), f(Dependency{}), f(RenderPass{}), f(VertexBinding{}), f(VertexAttribute{});
+  f(GraphicsState{}), f(Pipeline{});
 }
 
 // --- writing ---------------------------------------------------------------------------------------
@@ -141,12 +225,16 @@ void set_u64(std::vector<uint8_t>& out, size_t at, uint64_t value) {
   for (int i = 0; i < 8; ++i) out[at + i] = uint8_t(value >> (8 * i));
 }
 
+struct PoolOut {
+  std::vector<uint8_t> bytes;
+  uint32_t count = 0;
+};
+
 struct Writer {
   std::vector<uint8_t> strings;
   std::map<std::string, uint32_t> string_offsets;  // identical strings are stored once
-  std::vector<uint8_t> bindings_section, indices_section, graphics_section;
-  uint32_t binding_count = 0, index_count = 0, graphics_count = 0;
-  std::vector<uint8_t>* out = nullptr;  // the record section being written
+  std::map<uint32_t, PoolOut> pools;               // by tag
+  std::vector<uint8_t>* out = nullptr;             // the record being written
 
   void u32(uint32_t& value) { put_u32(*out, value); }
   void f32(float& value) { put_u32(*out, std::bit_cast<uint32_t>(value)); }
@@ -159,41 +247,43 @@ struct Writer {
     put_u32(*out, it->second), put_u32(*out, uint32_t(s.size()));
   }
   void indices(std::vector<uint32_t>& list) {
-    put_u32(*out, index_count), put_u32(*out, uint32_t(list.size()));
-    for (uint32_t i : list) put_u32(indices_section, i);
-    index_count += uint32_t(list.size());
+    PoolOut& pool = pools[kTagIndices];
+    put_u32(*out, pool.count), put_u32(*out, uint32_t(list.size()));
+    for (uint32_t i : list) put_u32(pool.bytes, i);
+    pool.count += uint32_t(list.size());
   }
-  void bindings(std::vector<Binding>& list) {
-    put_u32(*out, binding_count), put_u32(*out, uint32_t(list.size()));
+  template <class T>
+  uint32_t append(T& item) {  // writes one record into T's section, returns its index
+    PoolOut& pool = pools[Tag<T>::value];
     auto* saved = out;
-    out = &bindings_section;
-    for (auto& b : list) visit(*this, b);
+    std::vector<uint8_t> record;
+    out = &record;
+    visit(*this, item);  // nested lists go to other pools, so this record stays contiguous
     out = saved;
-    binding_count += uint32_t(list.size());
+    pool.bytes.insert(pool.bytes.end(), record.begin(), record.end());
+    return pool.count++;
+  }
+  template <class T>
+  void list(std::vector<T>& items) {
+    // Elements of one list must be contiguous: reserve the range before nested records are added.
+    PoolOut& pool = pools[Tag<T>::value];
+    uint32_t first = pool.count;
+    std::vector<std::vector<uint8_t>> records(items.size());
+    pool.count += uint32_t(items.size());
+    auto* saved = out;
+    for (size_t i = 0; i < items.size(); ++i) {
+      out = &records[i];
+      visit(*this, items[i]);
+    }
+    out = saved;
+    PoolOut& same_pool = pools[Tag<T>::value];  // map references stay valid across insertions
+    for (auto& r : records) same_pool.bytes.insert(same_pool.bytes.end(), r.begin(), r.end());
+    put_u32(*out, first), put_u32(*out, uint32_t(items.size()));
   }
   void graphics(Pipeline& p) {
     if (p.kind != PipelineKind::graphics) return put_u32(*out, kNone);
-    put_u32(*out, graphics_count++);
-    auto* saved = out;
-    out = &graphics_section;
-    visit(*this, p.graphics);
-    out = saved;
+    put_u32(*out, append(p.graphics));
   }
-
-  template <class T>
-  std::vector<uint8_t> records(std::vector<T>& items) {
-    std::vector<uint8_t> section;
-    out = &section;
-    for (auto& item : items) visit(*this, item);
-    return section;
-  }
-};
-
-struct SectionOut {
-  uint32_t tag;
-  std::vector<uint8_t> bytes;
-  uint32_t count;
-  uint32_t alignment;
 };
 
 // --- reading ---------------------------------------------------------------------------------------
@@ -207,20 +297,19 @@ uint64_t get_u64(const uint8_t* p) {
 
 struct Section {
   uint32_t offset = 0, size = 0, count = 0;
-  bool present = false;
 };
 
 Error corrupt(std::string message) {
   return Error{ErrorCode::corrupt, "corrupt archive: " + std::move(message)};
 }
 
-// Reads records from one section; remembers the first problem instead of throwing.
+// Reads records; remembers the first problem instead of throwing. Section sizes were checked
+// against their record counts before any record is read, and every list against its section.
 struct Reader {
   std::span<const uint8_t> file;
-  Section strings, bindings_section, indices_section, graphics_section;
+  std::map<uint32_t, Section> sections;
   const uint8_t* cursor = nullptr;
   std::optional<std::string> problem;
-  std::vector<GraphicsState> graphics_states;  // decoded lazily per pipeline
 
   void fail(std::string message) {
     if (!problem) problem = std::move(message);
@@ -233,17 +322,17 @@ struct Reader {
   void u32(uint32_t& value) { value = next(); }
   void f32(float& value) { value = std::bit_cast<float>(next()); }
   void str(std::string& s) {
+    const Section& strings = sections[kTagStrings];
     uint32_t offset = next(), length = next();
     if (uint64_t(offset) + length >= strings.size) return fail("string reference outside the string pool");
     const uint8_t* p = file.data() + strings.offset + offset;
     if (p[length] != 0) return fail("string is not NUL-terminated");
     s.assign(reinterpret_cast<const char*>(p), length);
   }
-  // Checks a {first, count} list against a section of `count` records; returns the first record.
-  std::optional<uint32_t> list(const Section& target, uint32_t& count, const char* what) {
+  std::optional<uint32_t> range(uint32_t tag, uint32_t& count, const char* what) {
     uint32_t first = next();
     count = next();
-    if (uint64_t(first) + count > target.count) {
+    if (uint64_t(first) + count > sections[tag].count) {
       fail(std::string(what) + " list outside its section");
       return std::nullopt;
     }
@@ -251,21 +340,26 @@ struct Reader {
   }
   void indices(std::vector<uint32_t>& out) {
     uint32_t count = 0;
-    auto first = list(indices_section, count, "index");
+    auto first = range(kTagIndices, count, "index");
     if (!first) return;
     out.resize(count);
-    const uint8_t* p = file.data() + indices_section.offset + size_t(*first) * 4;
+    const uint8_t* p = file.data() + sections[kTagIndices].offset + size_t(*first) * 4;
     for (uint32_t i = 0; i < count; ++i) out[i] = get_u32(p + 4 * i);
   }
-  void bindings(std::vector<Binding>& out) {
+  template <class T>
+  void read_at(uint32_t index, T& item) {
+    const uint8_t* saved = cursor;
+    cursor = file.data() + sections[Tag<T>::value].offset + size_t(index) * record_size<T>();
+    visit(*this, item);
+    cursor = saved;
+  }
+  template <class T>
+  void list(std::vector<T>& out) {
     uint32_t count = 0;
-    auto first = list(bindings_section, count, "binding");
+    auto first = range(Tag<T>::value, count, "record");
     if (!first) return;
     out.resize(count);
-    const uint8_t* saved = cursor;
-    cursor = file.data() + bindings_section.offset + size_t(*first) * record_size<Binding>();
-    for (auto& b : out) visit(*this, b);
-    cursor = saved;
+    for (uint32_t i = 0; i < count && !problem; ++i) read_at(*first + i, out[i]);
   }
   void graphics(Pipeline& p) {
     uint32_t index = next();
@@ -273,43 +367,125 @@ struct Reader {
       if (index != kNone) fail("compute pipeline '" + p.name + "' has a graphics state");
       return;
     }
-    if (index >= graphics_section.count)
+    if (index >= sections[kTagGraphics].count)
       return fail("pipeline '" + p.name + "' graphics state index out of range");
-    const uint8_t* saved = cursor;
-    cursor = file.data() + graphics_section.offset + size_t(index) * record_size<GraphicsState>();
-    visit(*this, p.graphics);
-    cursor = saved;
+    read_at(index, p.graphics);
   }
   template <class T>
-  std::vector<T> records(const Section& section) {
-    std::vector<T> items(section.count);
-    cursor = file.data() + section.offset;
-    for (auto& item : items) visit(*this, item);
+  std::vector<T> all() {
+    std::vector<T> items(sections[Tag<T>::value].count);
+    for (uint32_t i = 0; i < items.size() && !problem; ++i) read_at(i, items[i]);
     return items;
   }
 };
 
-bool is_single_stage(uint32_t stage) {
-  constexpr uint32_t kKnownStages = 0x3F;  // VERTEX..COMPUTE
-  return std::has_single_bit(stage) && (stage & kKnownStages) != 0;
+// --- semantic validation: every index and every enum that reaches Vulkan ----------------------------
+
+bool in(uint32_t value, uint32_t low, uint32_t high) {
+  return value >= low && value <= high;
+}
+bool valid_format(uint32_t f) {
+  return f <= 184;
+}  // the core formats of Vulkan 1.0 (all the packager writes)
+bool valid_layout(uint32_t l) {
+  return l <= 8 || l == 1000001002 || l == 1000117000 || l == 1000117001 || in(l, 1000241000, 1000241003) ||
+         l == 1000314000 || l == 1000314001;
+}
+bool valid_samples(uint32_t s) {
+  return std::has_single_bit(s) && s <= 64;
+}
+constexpr uint32_t kAllStages = 0x3F;  // VERTEX..COMPUTE
+
+Result<void> validate_render_pass(const RenderPass& r) {
+  const std::string what = "render pass '" + r.name + "'";
+  for (const auto& a : r.attachments)
+    if (!valid_format(a.format) || !valid_samples(a.samples) || a.load_op > 2 || a.store_op > 1 ||
+        a.stencil_load_op > 2 || a.stencil_store_op > 1 || !valid_layout(a.initial_layout) ||
+        !valid_layout(a.final_layout))
+      return corrupt(what + " has an invalid attachment");
+  if (r.subpasses.empty()) return corrupt(what + " has no subpass");
+  auto ref_ok = [&](const AttachmentRef& ref) {
+    return (ref.attachment == kNone || ref.attachment < r.attachments.size()) && valid_layout(ref.layout);
+  };
+  for (const auto& s : r.subpasses) {
+    for (const auto* list : {&s.inputs, &s.colors, &s.resolves})
+      for (const auto& ref : *list)
+        if (!ref_ok(ref)) return corrupt(what + " has an invalid attachment reference");
+    if (!ref_ok(s.depth_stencil)) return corrupt(what + " has an invalid depth attachment reference");
+    if (!s.resolves.empty() && s.resolves.size() != s.colors.size())
+      return corrupt(what + " has resolve attachments that do not match its color attachments");
+    if (s.colors.size() > kMaxColorTargets) return corrupt(what + " has more than 8 color attachments");
+    for (uint32_t p : s.preserve)
+      if (p >= r.attachments.size()) return corrupt(what + " preserves a missing attachment");
+  }
+  for (const auto& d : r.dependencies)
+    if ((d.src_subpass != kNone && d.src_subpass >= r.subpasses.size()) ||
+        (d.dst_subpass != kNone && d.dst_subpass >= r.subpasses.size()))
+      return corrupt(what + " has a dependency on a missing subpass");
+  return {};
+}
+
+Result<void> validate_graphics(const Contents& c, const Pipeline& p) {
+  const GraphicsState& g = p.graphics;
+  const std::string what = "pipeline '" + p.name + "'";
+  if (g.topology > 10 || g.polygon_mode > 2 || g.cull_mode > 3 || g.front_face > 1 || g.depth_compare > 7 ||
+      !valid_samples(g.samples) || g.color_count > kMaxColorTargets || !valid_format(g.depth_stencil_format))
+    return corrupt(what + " has an invalid graphics state");
+  for (const auto* s : {&g.front, &g.back})
+    if (s->fail_op > 7 || s->pass_op > 7 || s->depth_fail_op > 7 || s->compare_op > 7)
+      return corrupt(what + " has an invalid stencil state");
+  for (uint32_t i = 0; i < kMaxColorTargets; ++i) {
+    const BlendAttachment& b = g.blend[i];
+    if (!valid_format(g.color_formats[i]) || b.src_color > 18 || b.dst_color > 18 || b.src_alpha > 18 ||
+        b.dst_alpha > 18 || b.color_op > 4 || b.alpha_op > 4 || b.write_mask > 0xF)
+      return corrupt(what + " has an invalid render target " + std::to_string(i));
+  }
+  for (const auto& b : g.vertex_bindings)
+    if (b.input_rate > 1) return corrupt(what + " has an invalid vertex input rate");
+  for (const auto& a : g.vertex_attributes) {
+    if (!valid_format(a.format)) return corrupt(what + " has an invalid vertex format");
+    if (std::none_of(g.vertex_bindings.begin(), g.vertex_bindings.end(),
+                     [&](const VertexBinding& b) { return b.binding == a.binding; }))
+      return corrupt(what + " has a vertex attribute without its binding");
+  }
+  if (g.render_pass != kNone) {
+    if (g.render_pass >= c.render_passes.size()) return corrupt(what + " refers to a missing render pass");
+    if (g.subpass >= c.render_passes[g.render_pass].subpasses.size())
+      return corrupt(what + " refers to a missing subpass");
+  }
+  return {};
 }
 
 Result<void> validate(const Contents& c) {
-  constexpr uint32_t kComputeStage = 0x20, kVertexStage = 0x1;
-  for (size_t i = 0; i < c.shaders.size(); ++i) {
-    const Shader& s = c.shaders[i];
-    if (!is_single_stage(s.stage)) return corrupt("shader '" + s.name + "' has an invalid stage");
+  for (const Shader& s : c.shaders) {
+    if (!std::has_single_bit(s.stage) || (s.stage & kAllStages) == 0)
+      return corrupt("shader '" + s.name + "' has an invalid stage");
     if (s.blob >= c.spirv.size()) return corrupt("shader '" + s.name + "' refers to a missing SPIR-V blob");
     if (s.entry_point.empty()) return corrupt("shader '" + s.name + "' has no entry point");
   }
+  for (size_t i = 0; i < c.standalone_shaders.size(); ++i) {
+    uint32_t s = c.standalone_shaders[i];
+    if (s >= c.shaders.size()) return corrupt("standalone shader index out of range");
+    if (i > 0 && c.shaders[c.standalone_shaders[i - 1]].name >= c.shaders[s].name)
+      return corrupt("standalone shader '" + c.shaders[s].name + "' breaks the sorted, unique name index");
+  }
+  for (const Sampler& s : c.samplers)
+    if (s.mag_filter > 1 || s.min_filter > 1 || s.mipmap_mode > 1 || s.address_u > 4 || s.address_v > 4 ||
+        s.address_w > 4 || s.compare_op > 7 || s.border_color > 5)
+      return corrupt("a sampler has an invalid filter, address mode, comparison or border color");
   for (const SetLayout& layout : c.set_layouts) {
     for (size_t i = 0; i < layout.bindings.size(); ++i) {
       const Binding& b = layout.bindings[i];
       if (b.descriptor_type > 10) return corrupt("binding '" + b.name + "' has an unknown descriptor type");
+      if ((b.stage_flags & ~kAllStages) != 0) return corrupt("binding '" + b.name + "' has invalid stages");
       if (i > 0 && layout.bindings[i - 1].binding >= b.binding)
         return corrupt("binding '" + b.name + "' is out of order or duplicated");
+      if (b.immutable_sampler != kNone && (b.immutable_sampler >= c.samplers.size() || b.descriptor_type > 1))
+        return corrupt("binding '" + b.name + "' has an invalid immutable sampler");
     }
   }
+  for (const RenderPass& r : c.render_passes)
+    if (auto valid = validate_render_pass(r); !valid) return valid;
   for (size_t i = 0; i < c.pipelines.size(); ++i) {
     const Pipeline& p = c.pipelines[i];
     if (i > 0 && c.pipelines[i - 1].name >= p.name)
@@ -323,6 +499,7 @@ Result<void> validate(const Contents& c) {
         return corrupt("pipeline '" + p.name + "' has two shaders for one stage");
       stages |= c.shaders[s].stage;
     }
+    constexpr uint32_t kComputeStage = 0x20, kVertexStage = 0x1;
     if (p.kind == PipelineKind::compute && stages != kComputeStage)
       return corrupt("compute pipeline '" + p.name + "' needs exactly one compute shader");
     if (p.kind == PipelineKind::graphics && (!(stages & kVertexStage) || (stages & kComputeStage)))
@@ -330,19 +507,15 @@ Result<void> validate(const Contents& c) {
     for (uint32_t l : p.set_layouts)
       if (l != kNone && l >= c.set_layouts.size())
         return corrupt("pipeline '" + p.name + "' refers to a missing set layout");
-    if (p.graphics.color_count > kMaxColorTargets)
-      return corrupt("pipeline '" + p.name + "' has more than 8 render targets");
+    if ((p.push_constant_stages & ~kAllStages) != 0 || p.push_constant_size % 4 != 0)
+      return corrupt("pipeline '" + p.name + "' has invalid push constants");
+    if (p.kind == PipelineKind::graphics)
+      if (auto valid = validate_graphics(c, p); !valid) return valid;
   }
   return {};
 }
 
-}  // namespace
-
-uint64_t hash_bytes(std::span<const uint8_t> bytes) {
-  return XXH3_64bits(bytes.data(), bytes.size());
-}
-
-static uint64_t archive_checksum(std::span<const uint8_t> file) {
+uint64_t archive_checksum(std::span<const uint8_t> file) {
   XXH3_state_t state;
   XXH3_64bits_reset(&state);
   XXH3_64bits_update(&state, file.data(), kChecksumOffset);
@@ -352,52 +525,67 @@ static uint64_t archive_checksum(std::span<const uint8_t> file) {
   return XXH3_64bits_digest(&state);
 }
 
+}  // namespace
+
+uint64_t hash_bytes(std::span<const uint8_t> bytes) {
+  return XXH3_64bits(bytes.data(), bytes.size());
+}
+
 std::vector<uint8_t> encode(const Contents& input) {
   Contents c = input;  // the visitors take mutable references
   std::sort(c.pipelines.begin(), c.pipelines.end(),
             [](const Pipeline& a, const Pipeline& b) { return a.name < b.name; });
+  std::sort(c.standalone_shaders.begin(), c.standalone_shaders.end(),
+            [&](uint32_t a, uint32_t b) { return c.shaders[a].name < c.shaders[b].name; });
 
+  // Top-level records first, in index order, so their indices are what other records refer to.
   Writer w;
-  std::vector<uint8_t> shaders = w.records(c.shaders);
-  std::vector<uint8_t> set_layouts = w.records(c.set_layouts);
-  std::vector<uint8_t> pipelines = w.records(c.pipelines);
+  for (auto& s : c.shaders) w.append(s);
+  for (auto& s : c.samplers) w.append(s);
+  for (auto& s : c.set_layouts) w.append(s);
+  for (auto& r : c.render_passes) w.append(r);
+  for (auto& p : c.pipelines) w.append(p);
 
+  struct SectionOut {
+    uint32_t tag;
+    std::vector<uint8_t> bytes;
+    uint32_t count;
+  };
   std::vector<SectionOut> sections;
-  sections.push_back({kTagStrings, std::move(w.strings), 0, 4});
-  sections.push_back({kTagBlobs, {}, uint32_t(c.spirv.size()), 4});  // filled once DATA is placed
-  sections.push_back({kTagShaders, std::move(shaders), uint32_t(c.shaders.size()), 4});
-  sections.push_back({kTagBindings, std::move(w.bindings_section), w.binding_count, 4});
-  sections.push_back({kTagSetLayouts, std::move(set_layouts), uint32_t(c.set_layouts.size()), 4});
-  sections.push_back({kTagIndices, std::move(w.indices_section), w.index_count, 4});
-  sections.push_back({kTagGraphics, std::move(w.graphics_section), w.graphics_count, 4});
-  sections.push_back({kTagPipelines, std::move(pipelines), uint32_t(c.pipelines.size()), 4});
-  sections.push_back({kTagData, {}, 0, kBlobAlignment});
+  sections.push_back({kTagStrings, std::move(w.strings), 0});
+  sections.push_back({kTagBlobs, std::vector<uint8_t>(c.spirv.size() * 16), uint32_t(c.spirv.size())});
+  sections.push_back({kTagIndices, std::move(w.pools[kTagIndices].bytes), w.pools[kTagIndices].count});
+  std::vector<uint8_t> standalone;
+  for (uint32_t s : c.standalone_shaders) put_u32(standalone, s);
+  sections.push_back({kTagStandalone, std::move(standalone), uint32_t(c.standalone_shaders.size())});
+  for_each_record_type([&](auto record) {
+    PoolOut& pool = w.pools[Tag<decltype(record)>::value];
+    sections.push_back({Tag<decltype(record)>::value, std::move(pool.bytes), pool.count});
+  });
+  sections.push_back({kTagData, {}, 0});
 
-  // Lay out: header, section table, sections in order. BLOB's size is known before DATA's offsets.
-  sections[1].bytes.resize(c.spirv.size() * 16);
+  // Lay out: header, section table, sections, then DATA with 16-byte aligned blobs.
+  auto align = [](size_t v, size_t a) { return (v + a - 1) / a * a; };
   std::vector<uint32_t> offsets(sections.size());
   size_t cursor = kHeaderSize + sections.size() * 16;
-  auto align = [](size_t v, size_t a) { return (v + a - 1) / a * a; };
   for (size_t i = 0; i + 1 < sections.size(); ++i) {
-    cursor = align(cursor, sections[i].alignment);
+    cursor = align(cursor, 4);
     offsets[i] = uint32_t(cursor);
     cursor += sections[i].bytes.size();
   }
-  // DATA: blobs, each 16-byte aligned in the file.
-  size_t data_start = align(cursor, kBlobAlignment);
+  const size_t data_start = align(cursor, kBlobAlignment);
+  offsets.back() = uint32_t(data_start);
   std::vector<uint8_t>& data = sections.back().bytes;
   std::vector<uint8_t> blob_table;
   for (auto blob : c.spirv) {
     data.resize(align(data.size(), kBlobAlignment));
-    auto bytes = std::as_bytes(blob);
+    const auto* first = reinterpret_cast<const uint8_t*>(blob.data());
     put_u32(blob_table, uint32_t(data_start + data.size()));
-    put_u32(blob_table, uint32_t(bytes.size()));
-    put_u64(blob_table, hash_bytes({reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size()}));
-    const auto* first = reinterpret_cast<const uint8_t*>(bytes.data());
-    data.insert(data.end(), first, first + bytes.size());
+    put_u32(blob_table, uint32_t(blob.size_bytes()));
+    put_u64(blob_table, hash_bytes({first, blob.size_bytes()}));
+    data.insert(data.end(), first, first + blob.size_bytes());
   }
   sections[1].bytes = std::move(blob_table);
-  offsets.back() = uint32_t(data_start);
 
   std::vector<uint8_t> out;
   out.insert(out.end(), kMagic.begin(), kMagic.end());
@@ -431,14 +619,11 @@ Result<Contents> decode(std::span<const uint8_t> file) {
   if (reinterpret_cast<uintptr_t>(file.data()) % 4 != 0)
     return Error{ErrorCode::misaligned_memory,
                  "archive memory must be 4-byte aligned to hand SPIR-V to Vulkan"};
-  if (file.size() < kHeaderSize) {
-    if (file.size() >= kMagic.size() && !std::equal(kMagic.begin(), kMagic.end(), file.begin()))
-      return Error{ErrorCode::bad_magic, "not a statepack archive (wrong magic bytes)"};
+  if (file.size() >= kMagic.size() && !std::equal(kMagic.begin(), kMagic.end(), file.begin()))
+    return Error{ErrorCode::bad_magic, "not a statepack archive (wrong magic bytes)"};
+  if (file.size() < kHeaderSize)
     return Error{ErrorCode::truncated, "truncated archive: " + std::to_string(file.size()) +
                                            " bytes is shorter than the 64-byte header"};
-  }
-  if (!std::equal(kMagic.begin(), kMagic.end(), file.begin()))
-    return Error{ErrorCode::bad_magic, "not a statepack archive (wrong magic bytes)"};
   const uint8_t* h = file.data();
   uint32_t version = get_u32(h + 8), oldest = get_u32(h + 12), header_size = get_u32(h + 16);
   if (oldest > kFormatVersion)
@@ -466,39 +651,43 @@ Result<Contents> decode(std::span<const uint8_t> file) {
   if (table < header_size || table % 4 != 0 || uint64_t(table) + uint64_t(section_count) * 16 > file.size())
     return corrupt("section table outside the file");
 
-  std::map<uint32_t, Section> sections;
+  Reader r{file, {}};
   for (uint32_t i = 0; i < section_count; ++i) {
     const uint8_t* e = file.data() + table + 16 * i;
-    Section s{get_u32(e + 4), get_u32(e + 8), get_u32(e + 12), true};
+    Section s{get_u32(e + 4), get_u32(e + 8), get_u32(e + 12)};
     if (s.offset % 4 != 0 || uint64_t(s.offset) + s.size > file.size())
       return corrupt("section " + std::to_string(i) + " lies outside the file");
-    if (!sections.emplace(get_u32(e), s).second)
+    if (!r.sections.emplace(get_u32(e), s).second)
       return corrupt("section " + std::to_string(i) + " is repeated");
   }
-  auto need = [&](uint32_t tag, const char* name, uint32_t record) -> Result<Section> {
-    auto it = sections.find(tag);
-    if (it == sections.end()) return corrupt(std::string("missing section ") + name);
+  auto check = [&](uint32_t tag, uint32_t record) -> Result<void> {
+    char name[5] = {char(tag), char(tag >> 8), char(tag >> 16), char(tag >> 24), 0};
+    auto it = r.sections.find(tag);
+    if (it == r.sections.end()) return corrupt(std::string("missing section ") + name);
     if (record != 0 && uint64_t(it->second.count) * record != it->second.size)
       return corrupt(std::string("section ") + name + " size does not match its record count");
-    return it->second;
+    return {};
   };
-  auto strings = need(kTagStrings, "STRS", 0), data = need(kTagData, "DATA", 0),
-       blobs = need(kTagBlobs, "BLOB", 16), shaders = need(kTagShaders, "SHDR", record_size<Shader>()),
-       bindings = need(kTagBindings, "BIND", record_size<Binding>()),
-       set_layouts = need(kTagSetLayouts, "SETL", record_size<SetLayout>()),
-       indices = need(kTagIndices, "IDXS", 4),
-       graphics = need(kTagGraphics, "GFXS", record_size<GraphicsState>()),
-       pipelines = need(kTagPipelines, "PIPE", record_size<Pipeline>());
-  for (auto* r :
-       {&strings, &data, &blobs, &shaders, &bindings, &set_layouts, &indices, &graphics, &pipelines})
-    if (!*r) return r->error();
+  Result<void> ok;
+  for (auto [tag, size] : {std::pair{kTagStrings, 0u},
+                           {kTagData, 0u},
+                           {kTagBlobs, 16u},
+                           {kTagIndices, 4u},
+                           {kTagStandalone, 4u}})
+    if (ok = check(tag, size); !ok) return ok.error();
+  for_each_record_type([&](auto record) {
+    if (ok) ok = check(Tag<decltype(record)>::value, record_size<decltype(record)>());
+  });
+  if (!ok) return ok.error();
 
   // Blobs: inside DATA, aligned, a whole number of SPIR-V words, content hash matching.
-  for (uint32_t i = 0; i < blobs->count; ++i) {
-    const uint8_t* e = file.data() + blobs->offset + 16 * i;
+  const Section& data = r.sections[kTagData];
+  const Section& blobs = r.sections[kTagBlobs];
+  for (uint32_t i = 0; i < blobs.count; ++i) {
+    const uint8_t* e = file.data() + blobs.offset + 16 * i;
     uint32_t offset = get_u32(e), size = get_u32(e + 4);
-    if (offset % kBlobAlignment != 0 || size == 0 || size % 4 != 0 || offset < data->offset ||
-        uint64_t(offset) + size > uint64_t(data->offset) + data->size)
+    if (offset % kBlobAlignment != 0 || size == 0 || size % 4 != 0 || offset < data.offset ||
+        uint64_t(offset) + size > uint64_t(data.offset) + data.size)
       return corrupt("SPIR-V blob " + std::to_string(i) + " has a bad offset or size");
     std::span<const uint8_t> bytes = file.subspan(offset, size);
     if (hash_bytes(bytes) != get_u64(e + 8))
@@ -507,11 +696,15 @@ Result<Contents> decode(std::span<const uint8_t> file) {
     if (get_u32(bytes.data()) != kSpirvMagic) return corrupt("blob " + std::to_string(i) + " is not SPIR-V");
     c.spirv.emplace_back(reinterpret_cast<const uint32_t*>(bytes.data()), size / 4);
   }
+  const Section& standalone = r.sections[kTagStandalone];
+  for (uint32_t i = 0; i < standalone.count; ++i)
+    c.standalone_shaders.push_back(get_u32(file.data() + standalone.offset + 4 * i));
 
-  Reader r{file, *strings, *bindings, *indices, *graphics};
-  c.shaders = r.records<Shader>(*shaders);
-  c.set_layouts = r.records<SetLayout>(*set_layouts);
-  c.pipelines = r.records<Pipeline>(*pipelines);
+  c.shaders = r.all<Shader>();
+  c.samplers = r.all<Sampler>();
+  c.set_layouts = r.all<SetLayout>();
+  c.render_passes = r.all<RenderPass>();
+  c.pipelines = r.all<Pipeline>();
   if (r.problem) return corrupt(*r.problem);
   if (auto valid = validate(c); !valid) return valid.error();
   return c;

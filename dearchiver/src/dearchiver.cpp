@@ -79,6 +79,10 @@ struct Dearchiver::State {
   std::vector<Archive> archives;
   std::map<std::pair<size_t, uint32_t>, VkShaderModule> modules;             // (archive, blob)
   std::map<std::pair<size_t, uint32_t>, VkDescriptorSetLayout> set_layouts;  // (archive, layout)
+  std::map<std::pair<size_t, uint32_t>, VkSampler> samplers;                 // (archive, sampler)
+  std::map<std::pair<size_t, uint32_t>, VkRenderPass> render_passes;         // (archive, render pass)
+  std::deque<UnpackedSignature> signatures;
+  std::map<std::pair<size_t, uint32_t>, const UnpackedSignature*> signature_by_layout;
   VkDescriptorSetLayout empty_set_layout = VK_NULL_HANDLE;  // fills holes in the set numbering
   // (set layouts, push constant size, push constant stages) -> layout
   std::map<std::tuple<std::vector<VkDescriptorSetLayout>, uint32_t, uint32_t>, VkPipelineLayout>
@@ -93,6 +97,8 @@ struct Dearchiver::State {
     for (auto& p : pipelines) vkDestroyPipeline(device, p.pipeline, alloc);
     for (auto& [key, layout] : pipeline_layouts) vkDestroyPipelineLayout(device, layout, alloc);
     for (auto& [key, layout] : set_layouts) vkDestroyDescriptorSetLayout(device, layout, alloc);
+    for (auto& [key, sampler] : samplers) vkDestroySampler(device, sampler, alloc);
+    for (auto& [key, pass] : render_passes) vkDestroyRenderPass(device, pass, alloc);
     if (empty_set_layout) vkDestroyDescriptorSetLayout(device, empty_set_layout, alloc);
     for (auto& [key, module] : modules) vkDestroyShaderModule(device, module, alloc);
   }
@@ -170,6 +176,105 @@ struct Dearchiver::State {
       return vulkan_failure("vkCreateDescriptorSetLayout", r, pipeline);
     set_layouts.emplace(key, layout);
     return layout;
+  }
+
+  Result<VkSampler> sampler(size_t archive, uint32_t index, std::string_view binding) {
+    auto key = std::pair{archive, index};
+    if (auto it = samplers.find(key); it != samplers.end()) return it->second;
+    const format::Sampler& s = archives[archive].contents().samplers[index];
+    VkSamplerCreateInfo info{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
+    info.magFilter = static_cast<VkFilter>(s.mag_filter);
+    info.minFilter = static_cast<VkFilter>(s.min_filter);
+    info.mipmapMode = static_cast<VkSamplerMipmapMode>(s.mipmap_mode);
+    info.addressModeU = static_cast<VkSamplerAddressMode>(s.address_u);
+    info.addressModeV = static_cast<VkSamplerAddressMode>(s.address_v);
+    info.addressModeW = static_cast<VkSamplerAddressMode>(s.address_w);
+    info.mipLodBias = s.mip_lod_bias;
+    info.anisotropyEnable = s.anisotropy_enable;
+    info.maxAnisotropy = s.max_anisotropy;
+    info.compareEnable = s.compare_enable;
+    info.compareOp = static_cast<VkCompareOp>(s.compare_op);
+    info.minLod = s.min_lod;
+    info.maxLod = s.max_lod;
+    info.borderColor = static_cast<VkBorderColor>(s.border_color);
+    info.unnormalizedCoordinates = s.unnormalized_coordinates;
+    if (s.anisotropy_enable) {
+      VkPhysicalDeviceFeatures features;
+      vkGetPhysicalDeviceFeatures(context.physical_device, &features);
+      if (!features.samplerAnisotropy)
+        return Error{ErrorCode::unsupported,
+                     "immutable sampler of '" + std::string(binding) +
+                         "' uses anisotropic filtering, which the device does not support"};
+    }
+    VkSampler sampler = VK_NULL_HANDLE;
+    if (VkResult r = vkCreateSampler(context.device, &info, context.allocator, &sampler); r != VK_SUCCESS)
+      return vulkan_failure("vkCreateSampler", r, binding);
+    samplers.emplace(key, sampler);
+    return sampler;
+  }
+
+  Result<VkRenderPass> render_pass(size_t archive, uint32_t index) {
+    auto key = std::pair{archive, index};
+    if (auto it = render_passes.find(key); it != render_passes.end()) return it->second;
+    const format::RenderPass& rp = archives[archive].contents().render_passes[index];
+    std::vector<VkAttachmentDescription> attachments;
+    for (const auto& a : rp.attachments)
+      attachments.push_back(
+          {0, static_cast<VkFormat>(a.format), static_cast<VkSampleCountFlagBits>(a.samples),
+           static_cast<VkAttachmentLoadOp>(a.load_op), static_cast<VkAttachmentStoreOp>(a.store_op),
+           static_cast<VkAttachmentLoadOp>(a.stencil_load_op),
+           static_cast<VkAttachmentStoreOp>(a.stencil_store_op), static_cast<VkImageLayout>(a.initial_layout),
+           static_cast<VkImageLayout>(a.final_layout)});
+    auto refs = [](const std::vector<format::AttachmentRef>& list) {
+      std::vector<VkAttachmentReference> out;
+      for (const auto& r : list) out.push_back({r.attachment, static_cast<VkImageLayout>(r.layout)});
+      return out;
+    };
+    std::deque<std::vector<VkAttachmentReference>> ref_storage;
+    std::deque<VkAttachmentReference> depth_storage;
+    std::vector<VkSubpassDescription> subpasses;
+    for (const auto& sp : rp.subpasses) {
+      VkSubpassDescription d{};
+      d.pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;
+      const auto& inputs = ref_storage.emplace_back(refs(sp.inputs));
+      const auto& colors = ref_storage.emplace_back(refs(sp.colors));
+      const auto& resolves = ref_storage.emplace_back(refs(sp.resolves));
+      d.inputAttachmentCount = static_cast<uint32_t>(inputs.size());
+      d.pInputAttachments = inputs.data();
+      d.colorAttachmentCount = static_cast<uint32_t>(colors.size());
+      d.pColorAttachments = colors.data();
+      d.pResolveAttachments = resolves.empty() ? nullptr : resolves.data();
+      if (sp.depth_stencil.attachment != format::kNone)
+        d.pDepthStencilAttachment = &depth_storage.emplace_back(VkAttachmentReference{
+            sp.depth_stencil.attachment, static_cast<VkImageLayout>(sp.depth_stencil.layout)});
+      d.preserveAttachmentCount = static_cast<uint32_t>(sp.preserve.size());
+      d.pPreserveAttachments = sp.preserve.data();
+      subpasses.push_back(d);
+    }
+    std::vector<VkSubpassDependency> dependencies;
+    for (const auto& d : rp.dependencies)
+      dependencies.push_back(
+          {d.src_subpass, d.dst_subpass, d.src_stages, d.dst_stages, d.src_access, d.dst_access, d.flags});
+    VkRenderPassCreateInfo info{VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO};
+    info.attachmentCount = static_cast<uint32_t>(attachments.size());
+    info.pAttachments = attachments.data();
+    info.subpassCount = static_cast<uint32_t>(subpasses.size());
+    info.pSubpasses = subpasses.data();
+    info.dependencyCount = static_cast<uint32_t>(dependencies.size());
+    info.pDependencies = dependencies.data();
+    VkRenderPass pass = VK_NULL_HANDLE;
+    if (VkResult r = vkCreateRenderPass(context.device, &info, context.allocator, &pass); r != VK_SUCCESS)
+      return vulkan_failure("vkCreateRenderPass", r, rp.name);
+    render_passes.emplace(key, pass);
+    return pass;
+  }
+
+  // The first archive that has an object of that name; `names` lists them all for suggestions.
+  template <class Find>
+  std::optional<std::pair<size_t, uint32_t>> find_named(Find&& find_in) const {
+    for (size_t i = 0; i < archives.size(); ++i)
+      if (auto index = find_in(archives[i].contents())) return std::pair{i, *index};
+    return std::nullopt;
   }
 
   // Everything but the VkPipeline: layout, set layouts, binding table, shader stages.
@@ -287,7 +392,9 @@ Result<const UnpackedPipeline*> Dearchiver::unpack_graphics(std::string_view nam
   }
   auto found = state_->find(name, format::PipelineKind::graphics);
   if (!found) return found.error();
-  if (!state_->context.dynamic_rendering_enabled)
+  const format::GraphicsState& g = found->pipeline->graphics;
+  const bool uses_render_pass = g.render_pass != format::kNone;
+  if (!uses_render_pass && !state_->context.dynamic_rendering_enabled)
     return Error{
         ErrorCode::unsupported,
         "pipeline '" + std::string(name) + "' uses dynamic rendering, which the device was not created with"};
@@ -296,16 +403,41 @@ Result<const UnpackedPipeline*> Dearchiver::unpack_graphics(std::string_view nam
   UnpackedPipeline& out = prepared->out;
   out.bind_point = VK_PIPELINE_BIND_POINT_GRAPHICS;
 
-  const format::GraphicsState& g = found->pipeline->graphics;
   PatchableState s = to_patchable(g);
-  if (modify) modify(s);
+  VkRenderPass render_pass = VK_NULL_HANDLE;
+  if (uses_render_pass) {
+    auto pass = state_->render_pass(found->archive, g.render_pass);
+    if (!pass) return pass.error();
+    render_pass = *pass;
+  }
+  if (modify) {
+    const PatchableState before = s;
+    modify(s);
+    if (uses_render_pass &&
+        (s.color_count != before.color_count || s.color_formats != before.color_formats ||
+         s.depth_stencil_format != before.depth_stencil_format || s.samples != before.samples))
+      return Error{ErrorCode::invalid_argument,
+                   "pipeline '" + out.name +
+                       "' uses a render pass, which fixes its attachment formats and sample count; "
+                       "the modify callback may not change them"};
+  }
   if (s.color_count > s.color_formats.size())
     return Error{ErrorCode::invalid_argument, "pipeline '" + out.name + "': the modify callback set " +
                                                   std::to_string(s.color_count) +
                                                   " render targets (at most 8)"};
 
+  std::vector<VkVertexInputBindingDescription> vertex_bindings;
+  for (const auto& b : g.vertex_bindings)
+    vertex_bindings.push_back({b.binding, b.stride, static_cast<VkVertexInputRate>(b.input_rate)});
+  std::vector<VkVertexInputAttributeDescription> vertex_attributes;
+  for (const auto& a : g.vertex_attributes)
+    vertex_attributes.push_back({a.location, a.binding, static_cast<VkFormat>(a.format), a.offset});
   VkPipelineVertexInputStateCreateInfo vertex_input{
       VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
+  vertex_input.vertexBindingDescriptionCount = static_cast<uint32_t>(vertex_bindings.size());
+  vertex_input.pVertexBindingDescriptions = vertex_bindings.data();
+  vertex_input.vertexAttributeDescriptionCount = static_cast<uint32_t>(vertex_attributes.size());
+  vertex_input.pVertexAttributeDescriptions = vertex_attributes.data();
   VkPipelineInputAssemblyStateCreateInfo assembly{
       VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
   assembly.topology = static_cast<VkPrimitiveTopology>(g.topology);
@@ -357,7 +489,9 @@ Result<const UnpackedPipeline*> Dearchiver::unpack_graphics(std::string_view nam
   rendering.stencilAttachmentFormat = stencil_attachment ? s.depth_stencil_format : VK_FORMAT_UNDEFINED;
 
   VkGraphicsPipelineCreateInfo info{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
-  info.pNext = &rendering;
+  info.pNext = uses_render_pass ? nullptr : &rendering;
+  info.renderPass = render_pass;
+  info.subpass = g.subpass;
   info.stageCount = static_cast<uint32_t>(prepared->stages.size());
   info.pStages = prepared->stages.data();
   info.pVertexInputState = &vertex_input;
@@ -373,6 +507,91 @@ Result<const UnpackedPipeline*> Dearchiver::unpack_graphics(std::string_view nam
                                          state_->context.allocator, &out.pipeline);
   if (r != VK_SUCCESS) return vulkan_failure("vkCreateGraphicsPipelines", r, out.name);
   return state_->keep(std::move(out), !modify);
+}
+
+namespace {
+
+template <class T, class NameOf>
+std::vector<std::string> names_of(const std::vector<T>& items, NameOf&& name_of) {
+  std::vector<std::string> names;
+  for (const auto& item : items)
+    if (auto n = name_of(item); !n.empty()) names.push_back(n);
+  return names;
+}
+
+}  // namespace
+
+Result<const UnpackedSignature*> Dearchiver::unpack_signature(std::string_view name) {
+  std::lock_guard lock(state_->mutex);
+  auto found = state_->find_named([&](const format::Contents& c) -> std::optional<uint32_t> {
+    for (uint32_t i = 0; i < c.set_layouts.size(); ++i)
+      if (!c.set_layouts[i].name.empty() && c.set_layouts[i].name == name) return i;
+    return std::nullopt;
+  });
+  if (!found) {
+    std::vector<std::string> names;
+    for (const auto& a : state_->archives) {
+      auto more = names_of(a.contents().set_layouts, [](const format::SetLayout& l) { return l.name; });
+      names.insert(names.end(), more.begin(), more.end());
+    }
+    return Error{ErrorCode::not_found,
+                 "no resource signature named '" + std::string(name) + "'" + did_you_mean(name, names)};
+  }
+  if (auto it = state_->signature_by_layout.find(*found); it != state_->signature_by_layout.end())
+    return it->second;
+  auto layout = state_->set_layout(found->first, found->second, name);
+  if (!layout) return layout.error();
+  const format::SetLayout& stored = state_->archives[found->first].contents().set_layouts[found->second];
+  UnpackedSignature& sig = state_->signatures.emplace_back();
+  sig.name = stored.name;
+  sig.layout = *layout;
+  sig.set = stored.binding_index;
+  for (const auto& b : stored.bindings)
+    sig.bindings.push_back({b.name, stored.binding_index, b.binding,
+                            static_cast<VkDescriptorType>(b.descriptor_type), b.count, b.stage_flags});
+  state_->signature_by_layout.emplace(*found, &sig);
+  return &sig;
+}
+
+Result<VkRenderPass> Dearchiver::unpack_render_pass(std::string_view name) {
+  std::lock_guard lock(state_->mutex);
+  auto found = state_->find_named([&](const format::Contents& c) -> std::optional<uint32_t> {
+    for (uint32_t i = 0; i < c.render_passes.size(); ++i)
+      if (c.render_passes[i].name == name) return i;
+    return std::nullopt;
+  });
+  if (!found) {
+    std::vector<std::string> names;
+    for (const auto& a : state_->archives) {
+      auto more = names_of(a.contents().render_passes, [](const format::RenderPass& r) { return r.name; });
+      names.insert(names.end(), more.begin(), more.end());
+    }
+    return Error{ErrorCode::not_found,
+                 "no render pass named '" + std::string(name) + "'" + did_you_mean(name, names)};
+  }
+  return state_->render_pass(found->first, found->second);
+}
+
+Result<UnpackedShader> Dearchiver::unpack_shader(std::string_view name) {
+  std::lock_guard lock(state_->mutex);
+  auto found = state_->find_named([&](const format::Contents& c) -> std::optional<uint32_t> {
+    auto it = std::lower_bound(c.standalone_shaders.begin(), c.standalone_shaders.end(), name,
+                               [&](uint32_t s, std::string_view n) { return c.shaders[s].name < n; });
+    if (it != c.standalone_shaders.end() && c.shaders[*it].name == name) return *it;
+    return std::nullopt;
+  });
+  if (!found) {
+    std::vector<std::string> names;
+    for (const auto& a : state_->archives)
+      for (uint32_t s : a.contents().standalone_shaders) names.push_back(a.contents().shaders[s].name);
+    return Error{ErrorCode::not_found,
+                 "no standalone shader named '" + std::string(name) + "'" + did_you_mean(name, names)};
+  }
+  const format::Shader& shader = state_->archives[found->first].contents().shaders[found->second];
+  auto module = state_->module(found->first, shader.blob, shader.name);
+  if (!module) return module.error();
+  return UnpackedShader{shader.name, *module, static_cast<VkShaderStageFlagBits>(shader.stage),
+                        shader.entry_point};
 }
 
 const char* to_string(ErrorCode code) {

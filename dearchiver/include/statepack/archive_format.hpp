@@ -33,16 +33,38 @@ enum Backend : uint32_t {
 
 enum class PipelineKind : uint32_t { graphics = 0, compute = 1 };
 
+struct Sampler {
+  uint32_t mag_filter = 1, min_filter = 1;               // VkFilter (LINEAR)
+  uint32_t mipmap_mode = 1;                              // VkSamplerMipmapMode (LINEAR)
+  uint32_t address_u = 2, address_v = 2, address_w = 2;  // VkSamplerAddressMode (CLAMP_TO_EDGE)
+  float mip_lod_bias = 0;
+  uint32_t anisotropy_enable = 0;
+  float max_anisotropy = 1;
+  uint32_t compare_enable = 0;
+  uint32_t compare_op = 0;  // VkCompareOp
+  float min_lod = 0, max_lod = 3.402823466e+38f;
+  uint32_t border_color = 0;  // VkBorderColor
+  uint32_t unnormalized_coordinates = 0;
+  bool operator==(const Sampler&) const = default;
+};
+
 struct Binding {
   std::string name;  // the shader's resource name (block name or variable name)
   uint32_t binding = 0;
   uint32_t descriptor_type = 0;  // VkDescriptorType
   uint32_t count = 1;
-  uint32_t stage_flags = 0;  // VkShaderStageFlags
+  uint32_t stage_flags = 0;            // VkShaderStageFlags
+  uint32_t immutable_sampler = kNone;  // index into Contents::samplers, used for every array element
+  bool operator==(const Binding&) const = default;
 };
 
+// A descriptor set layout. A named one is a resource signature (unpackable by name); an unnamed
+// one is a pipeline's implicit layout.
 struct SetLayout {
+  std::string name;
+  uint32_t binding_index = 0;     // a signature's set number (DRSN BindingIndex)
   std::vector<Binding> bindings;  // sorted by binding number
+  bool operator==(const SetLayout&) const = default;
 };
 
 struct Shader {
@@ -50,6 +72,56 @@ struct Shader {
   uint32_t stage = 0;  // VkShaderStageFlagBits
   uint32_t blob = 0;   // index into Contents::spirv
   std::string entry_point;
+};
+
+struct VertexBinding {
+  uint32_t binding = 0, stride = 0;
+  uint32_t input_rate = 0;  // VkVertexInputRate
+  bool operator==(const VertexBinding&) const = default;
+};
+
+struct VertexAttribute {
+  uint32_t location = 0, binding = 0;
+  uint32_t format = 0;  // VkFormat
+  uint32_t offset = 0;
+  bool operator==(const VertexAttribute&) const = default;
+};
+
+struct Attachment {
+  uint32_t format = 0, samples = 1;
+  uint32_t load_op = 0, store_op = 0;  // VkAttachmentLoadOp / StoreOp
+  uint32_t stencil_load_op = 2, stencil_store_op = 1;
+  uint32_t initial_layout = 0, final_layout = 0;  // VkImageLayout
+  bool operator==(const Attachment&) const = default;
+};
+
+struct AttachmentRef {
+  uint32_t attachment = kNone;  // VK_ATTACHMENT_UNUSED when kNone
+  uint32_t layout = 0;          // VkImageLayout
+  bool operator==(const AttachmentRef&) const = default;
+};
+
+struct Subpass {
+  std::vector<AttachmentRef> inputs, colors, resolves;  // resolves: empty or one per color
+  AttachmentRef depth_stencil;
+  std::vector<uint32_t> preserve;
+  bool operator==(const Subpass&) const = default;
+};
+
+struct Dependency {
+  uint32_t src_subpass = 0, dst_subpass = 0;  // kNone = VK_SUBPASS_EXTERNAL
+  uint32_t src_stages = 0, dst_stages = 0;    // VkPipelineStageFlags
+  uint32_t src_access = 0, dst_access = 0;    // VkAccessFlags
+  uint32_t flags = 0;                         // VkDependencyFlags
+  bool operator==(const Dependency&) const = default;
+};
+
+struct RenderPass {
+  std::string name;
+  std::vector<Attachment> attachments;
+  std::vector<Subpass> subpasses;
+  std::vector<Dependency> dependencies;
+  bool operator==(const RenderPass&) const = default;
 };
 
 struct BlendAttachment {
@@ -90,6 +162,10 @@ struct GraphicsState {
   std::array<uint32_t, kMaxColorTargets> color_formats{};  // VkFormat
   uint32_t depth_stencil_format = 0;                       // VkFormat
   std::array<BlendAttachment, kMaxColorTargets> blend{};
+  std::vector<VertexBinding> vertex_bindings;
+  std::vector<VertexAttribute> vertex_attributes;
+  uint32_t render_pass = kNone;  // index into Contents::render_passes; kNone: dynamic rendering
+  uint32_t subpass = 0;
   bool operator==(const GraphicsState&) const = default;
 };
 
@@ -112,11 +188,15 @@ struct Contents {
   uint32_t backends = kBackendVulkan;
   std::vector<std::span<const uint32_t>> spirv;
   std::vector<Shader> shaders;
+  std::vector<uint32_t> standalone_shaders;  // indices into shaders, unpackable by name
+  std::vector<Sampler> samplers;
   std::vector<SetLayout> set_layouts;
+  std::vector<RenderPass> render_passes;
   std::vector<Pipeline> pipelines;
 };
 
-// Serialises `contents`, byte for byte deterministic. Pipelines must have unique names.
+// Serialises `contents`, byte for byte deterministic. Pipelines must have unique names, and so must
+// standalone shaders; pipelines and standalone shaders are stored sorted by name.
 std::vector<uint8_t> encode(const Contents& contents);
 
 // Validates every offset, size, count and checksum, then decodes. `bytes` must be 4-byte aligned

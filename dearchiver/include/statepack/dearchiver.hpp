@@ -85,7 +85,9 @@ struct DepthStencilState {
 };
 
 // What the modify callback may change at unpack time. The resource layout is deliberately absent:
-// the stored SPIR-V is bound to it, so it cannot change without recompiling.
+// the stored SPIR-V is bound to it, so it cannot change without recompiling. For a pipeline that
+// uses an explicit render pass the attachment formats and sample count come from the render pass and
+// must stay as they are.
 struct PatchableState {
   uint32_t color_count = 0;
   std::array<VkFormat, 8> color_formats{};
@@ -120,6 +122,22 @@ struct UnpackedPipeline {
   const BindingInfo* find_binding(std::string_view resource_name) const;
 };
 
+// A resource signature: one descriptor set layout, shared by the pipelines that use it.
+struct UnpackedSignature {
+  std::string name;
+  VkDescriptorSetLayout layout = VK_NULL_HANDLE;
+  uint32_t set = 0;  // the set number pipelines bind it at (DRSN BindingIndex)
+  std::vector<BindingInfo> bindings;
+};
+
+// A standalone shader of the archive's Shaders section.
+struct UnpackedShader {
+  std::string name;
+  VkShaderModule module = VK_NULL_HANDLE;
+  VkShaderStageFlagBits stage = VK_SHADER_STAGE_VERTEX_BIT;
+  std::string entry_point;
+};
+
 struct DeviceContext {
   VkPhysicalDevice physical_device = VK_NULL_HANDLE;
   VkDevice device = VK_NULL_HANDLE;
@@ -145,6 +163,11 @@ class Dearchiver {
   // same name twice without a callback returns the same pipeline.
   Result<const UnpackedPipeline*> unpack_graphics(std::string_view name, const ModifyCallback& modify = {});
   Result<const UnpackedPipeline*> unpack_compute(std::string_view name);
+
+  // Unpack the other named objects. Each is created once and owned by the Dearchiver.
+  Result<const UnpackedSignature*> unpack_signature(std::string_view name);
+  Result<VkRenderPass> unpack_render_pass(std::string_view name);
+  Result<UnpackedShader> unpack_shader(std::string_view name);
 
   std::vector<std::string> pipeline_names() const;
 
