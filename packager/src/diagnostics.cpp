@@ -1,6 +1,8 @@
 #include "diagnostics.hpp"
 
+#include <algorithm>
 #include <ostream>
+#include <tuple>
 
 namespace statepack::packager {
 
@@ -48,7 +50,13 @@ std::vector<Diagnostic> Diagnostics::all() const {
 }
 
 void Diagnostics::print(std::ostream& out) const {
-  for (const auto& d : all()) out << format_diagnostic(d) << '\n';
+  // Shaders compile on several threads; sorting keeps the output the same from run to run.
+  auto items = all();
+  std::stable_sort(items.begin(), items.end(), [](const Diagnostic& a, const Diagnostic& b) {
+    return std::tie(a.where.file, a.where.line, a.where.column) <
+           std::tie(b.where.file, b.where.line, b.where.column);
+  });
+  for (const auto& d : items) out << format_diagnostic(d) << '\n';
 }
 
 }  // namespace statepack::packager

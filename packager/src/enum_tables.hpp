@@ -198,4 +198,188 @@ inline constexpr EnumEntry kColorMasks[] = {
     {"ALL", 0xF},
 };
 
+// Resource types of resource signatures; the descriptor type also depends on flags (see signatures.cpp).
+enum ResourceType : uint32_t {
+  kConstantBuffer,
+  kTextureSrv,
+  kBufferSrv,
+  kTextureUav,
+  kBufferUav,
+  kSamplerResource,
+  kInputAttachment,
+};
+inline constexpr EnumEntry kResourceTypes[] = {
+    {"UNKNOWN", kUnsupportedValue},      {"CONSTANT_BUFFER", kConstantBuffer},
+    {"TEXTURE_SRV", kTextureSrv},        {"BUFFER_SRV", kBufferSrv},
+    {"TEXTURE_UAV", kTextureUav},        {"BUFFER_UAV", kBufferUav},
+    {"SAMPLER", kSamplerResource},       {"INPUT_ATTACHMENT", kInputAttachment},
+    {"ACCEL_STRUCT", kUnsupportedValue},
+};
+
+enum ResourceFlag : uint32_t {
+  kNoDynamicBuffers = 1,
+  kCombinedSampler = 2,
+  kFormattedBuffer = 4,
+  kRuntimeArray = 8,
+  kGeneralInputAttachment = 16,
+};
+inline constexpr EnumEntry kResourceFlags[] = {
+    {"NONE", 0},
+    {"NO_DYNAMIC_BUFFERS", kNoDynamicBuffers},
+    {"COMBINED_SAMPLER", kCombinedSampler},
+    {"FORMATTED_BUFFER", kFormattedBuffer},
+    {"RUNTIME_ARRAY", kRuntimeArray},
+    {"GENERAL_INPUT_ATTACHMENT", kGeneralInputAttachment},
+};
+
+// Variable flags of ResourceLayout.Variables: accepted; none changes the Vulkan layout.
+inline constexpr EnumEntry kVariableFlags[] = {
+    {"NONE", 0},
+    {"NO_DYNAMIC_BUFFERS", 1},
+    {"INLINE_CONSTANTS", 2},
+    {"GENERAL_INPUT_ATTACHMENT_VK", 4},
+    {"UNFILTERABLE_FLOAT_TEXTURE_WEBGPU", 8},
+    {"NON_FILTERING_SAMPLER_WEBGPU", 16},
+};
+
+enum PipelineFlag : uint32_t {
+  kIgnoreMissingVariables = 1,
+  kIgnoreMissingImmutableSamplers = 2,
+  kDontRemapShaderResources = 4,
+  kAsynchronous = 8,
+};
+inline constexpr EnumEntry kPipelineFlags[] = {
+    {"NONE", 0},
+    {"IGNORE_MISSING_VARIABLES", kIgnoreMissingVariables},
+    {"IGNORE_MISSING_IMMUTABLE_SAMPLERS", kIgnoreMissingImmutableSamplers},
+    {"DONT_REMAP_SHADER_RESOURCES", kDontRemapShaderResources},
+    {"ASYNCHRONOUS", kAsynchronous},
+};
+
+// FILTER_TYPE: the low bits are the VkFilter; comparison filters also enable comparison.
+inline constexpr uint32_t kFilterComparison = 0x100;
+inline constexpr uint32_t kFilterAnisotropic = 0x200;
+inline constexpr EnumEntry kFilterTypes[] = {
+    {"UNKNOWN", kUnsupportedValue},
+    {"POINT", VK_FILTER_NEAREST},
+    {"LINEAR", VK_FILTER_LINEAR},
+    {"ANISOTROPIC", VK_FILTER_LINEAR | kFilterAnisotropic},
+    {"COMPARISON_POINT", VK_FILTER_NEAREST | kFilterComparison},
+    {"COMPARISON_LINEAR", VK_FILTER_LINEAR | kFilterComparison},
+    {"COMPARISON_ANISOTROPIC", VK_FILTER_LINEAR | kFilterComparison | kFilterAnisotropic},
+    {"MINIMUM_POINT", kUnsupportedValue},
+    {"MINIMUM_LINEAR", kUnsupportedValue},
+    {"MINIMUM_ANISOTROPIC", kUnsupportedValue},
+    {"MAXIMUM_POINT", kUnsupportedValue},
+    {"MAXIMUM_LINEAR", kUnsupportedValue},
+    {"MAXIMUM_ANISOTROPIC", kUnsupportedValue},
+};
+
+inline constexpr EnumEntry kAddressModes[] = {
+    {"UNKNOWN", kUnsupportedValue},
+    {"WRAP", VK_SAMPLER_ADDRESS_MODE_REPEAT},
+    {"MIRROR", VK_SAMPLER_ADDRESS_MODE_MIRRORED_REPEAT},
+    {"CLAMP", VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE},
+    {"BORDER", VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_BORDER},
+    {"MIRROR_ONCE", VK_SAMPLER_ADDRESS_MODE_MIRROR_CLAMP_TO_EDGE},
+};
+
+inline constexpr EnumEntry kSamplerFlags[] = {
+    {"NONE", 0}, {"SUBSAMPLED", kUnsupportedValue}, {"SUBSAMPLED_COARSE_RECONSTRUCTION", kUnsupportedValue}};
+
+inline constexpr EnumEntry kLoadOps[] = {
+    {"LOAD", VK_ATTACHMENT_LOAD_OP_LOAD},
+    {"CLEAR", VK_ATTACHMENT_LOAD_OP_CLEAR},
+    {"DISCARD", VK_ATTACHMENT_LOAD_OP_DONT_CARE},
+};
+inline constexpr EnumEntry kStoreOps[] = {
+    {"STORE", VK_ATTACHMENT_STORE_OP_STORE},
+    {"DISCARD", VK_ATTACHMENT_STORE_OP_DONT_CARE},
+};
+
+// RESOURCE_STATE names as image layouts (the states a render pass attachment can be in).
+inline constexpr EnumEntry kResourceStates[] = {
+    {"UNKNOWN", VK_IMAGE_LAYOUT_UNDEFINED},
+    {"UNDEFINED", VK_IMAGE_LAYOUT_UNDEFINED},
+    {"RENDER_TARGET", VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL},
+    {"UNORDERED_ACCESS", VK_IMAGE_LAYOUT_GENERAL},
+    {"DEPTH_WRITE", VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL},
+    {"DEPTH_READ", VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL},
+    {"SHADER_RESOURCE", VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL},
+    {"INPUT_ATTACHMENT", VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL},
+    {"COPY_SOURCE", VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL},
+    {"COPY_DEST", VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL},
+    {"RESOLVE_SOURCE", VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL},
+    {"RESOLVE_DEST", VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL},
+    {"PRESENT", VK_IMAGE_LAYOUT_PRESENT_SRC_KHR},
+    {"COMMON", VK_IMAGE_LAYOUT_GENERAL},
+    {"GENERIC_READ", VK_IMAGE_LAYOUT_GENERAL},
+    {"VERTEX_BUFFER", kUnsupportedValue},
+    {"CONSTANT_BUFFER", kUnsupportedValue},
+    {"INDEX_BUFFER", kUnsupportedValue},
+    {"STREAM_OUT", kUnsupportedValue},
+    {"INDIRECT_ARGUMENT", kUnsupportedValue},
+    {"SHADING_RATE", kUnsupportedValue},
+};
+
+inline constexpr EnumEntry kPipelineStages[] = {
+    {"UNDEFINED", 0},
+    {"TOP_OF_PIPE", VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT},
+    {"DRAW_INDIRECT", VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT},
+    {"VERTEX_INPUT", VK_PIPELINE_STAGE_VERTEX_INPUT_BIT},
+    {"VERTEX_SHADER", VK_PIPELINE_STAGE_VERTEX_SHADER_BIT},
+    {"HULL_SHADER", VK_PIPELINE_STAGE_TESSELLATION_CONTROL_SHADER_BIT},
+    {"DOMAIN_SHADER", VK_PIPELINE_STAGE_TESSELLATION_EVALUATION_SHADER_BIT},
+    {"GEOMETRY_SHADER", VK_PIPELINE_STAGE_GEOMETRY_SHADER_BIT},
+    {"PIXEL_SHADER", VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT},
+    {"EARLY_FRAGMENT_TESTS", VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT},
+    {"LATE_FRAGMENT_TESTS", VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT},
+    {"RENDER_TARGET", VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT},
+    {"COMPUTE_SHADER", VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT},
+    {"TRANSFER", VK_PIPELINE_STAGE_TRANSFER_BIT},
+    {"BOTTOM_OF_PIPE", VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT},
+    {"HOST", VK_PIPELINE_STAGE_HOST_BIT},
+    {"ALL_GRAPHICS", VK_PIPELINE_STAGE_ALL_GRAPHICS_BIT},
+    {"ALL_COMMANDS", VK_PIPELINE_STAGE_ALL_COMMANDS_BIT},
+};
+
+inline constexpr EnumEntry kAccessFlags[] = {
+    {"NONE", 0},
+    {"INDIRECT_COMMAND_READ", VK_ACCESS_INDIRECT_COMMAND_READ_BIT},
+    {"INDEX_READ", VK_ACCESS_INDEX_READ_BIT},
+    {"VERTEX_READ", VK_ACCESS_VERTEX_ATTRIBUTE_READ_BIT},
+    {"UNIFORM_READ", VK_ACCESS_UNIFORM_READ_BIT},
+    {"INPUT_ATTACHMENT_READ", VK_ACCESS_INPUT_ATTACHMENT_READ_BIT},
+    {"SHADER_READ", VK_ACCESS_SHADER_READ_BIT},
+    {"SHADER_WRITE", VK_ACCESS_SHADER_WRITE_BIT},
+    {"RENDER_TARGET_READ", VK_ACCESS_COLOR_ATTACHMENT_READ_BIT},
+    {"RENDER_TARGET_WRITE", VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT},
+    {"DEPTH_STENCIL_READ", VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT},
+    {"DEPTH_STENCIL_WRITE", VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT},
+    {"COPY_SRC", VK_ACCESS_TRANSFER_READ_BIT},
+    {"COPY_DST", VK_ACCESS_TRANSFER_WRITE_BIT},
+    {"HOST_READ", VK_ACCESS_HOST_READ_BIT},
+    {"HOST_WRITE", VK_ACCESS_HOST_WRITE_BIT},
+    {"MEMORY_READ", VK_ACCESS_MEMORY_READ_BIT},
+    {"MEMORY_WRITE", VK_ACCESS_MEMORY_WRITE_BIT},
+};
+
+// VALUE_TYPE of input layout elements: bytes per component.
+inline constexpr EnumEntry kValueTypes[] = {
+    {"UNDEFINED", kUnsupportedValue},
+    {"INT8", 1},
+    {"INT16", 2},
+    {"INT32", 3},
+    {"UINT8", 4},
+    {"UINT16", 5},
+    {"UINT32", 6},
+    {"FLOAT16", 7},
+    {"FLOAT32", 8},
+    {"FLOAT64", kUnsupportedValue},
+};
+
+inline constexpr EnumEntry kInputFrequencies[] = {{"UNDEFINED", kUnsupportedValue},
+                                                  {"PER_VERTEX", VK_VERTEX_INPUT_RATE_VERTEX},
+                                                  {"PER_INSTANCE", VK_VERTEX_INPUT_RATE_INSTANCE}};
+
 }  // namespace statepack::packager

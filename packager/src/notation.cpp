@@ -1,28 +1,26 @@
-// Reads DRSN JSON strictly: unknown keys and enum strings are errors with a suggestion, every error
-// carries file:line:col and the JSON pointer, and reading goes on to report all errors of a file.
+// Reads notation files: imports (relative to the importing file, then -r dirs, cycles reported with
+// their chain), file-local Defaults merged key by key, named objects with identical redefinition
+// allowed, and pipelines whose inline shaders, signatures and render passes are registered by name.
 #include "notation.hpp"
 
 #include <fstream>
-#include <nlohmann/json.hpp>
 #include <optional>
 #include <sstream>
 
-#include "enum_tables.hpp"
-#include "json_positions.hpp"
+#include "json_reader.hpp"
+#include "notation_objects.hpp"
 #include "suggest.hpp"
 
 namespace statepack::packager {
-
-using nlohmann::json;
 namespace fs = std::filesystem;
 
 fs::path resolve_file(const std::string& name, const fs::path& base_dir, const std::vector<fs::path>& dirs) {
   fs::path p(name);
   std::error_code ec;
-  if (p.is_absolute()) return fs::is_regular_file(p, ec) ? p : fs::path{};
+  if (p.is_absolute()) return fs::is_regular_file(p, ec) ? p.lexically_normal() : fs::path{};
   if (fs::is_regular_file(base_dir / p, ec)) return (base_dir / p).lexically_normal();
   for (const auto& dir : dirs)
-    if (fs::is_regular_file(dir / p, ec)) return (dir / p).lexically_normal();
+    if (fs::is_regular_file(dir / p, ec)) return fs::absolute(dir / p).lexically_normal();
   return {};
 }
 
@@ -35,323 +33,295 @@ std::string display_path(const fs::path& path) {
 
 namespace {
 
-const char* type_name(const json& j) {
-  return j.type_name();
+// DRSN's merge: objects merge key by key, recursively; anything else (arrays included) replaces.
+Json merge(const Json& base, const Json& over) {
+  if (!base.is_object() || !over.is_object()) return over;
+  Json out = base;
+  for (const auto& [key, value] : over.items()) out[key] = out.contains(key) ? merge(out[key], value) : value;
+  return out;
 }
+
+struct Defaults {
+  Json shader = Json::object(), render_pass = Json::object(), signature = Json::object(),
+       pipeline = Json::object();
+};
 
 class FileReader {
  public:
-  FileReader(const fs::path& file, std::string display, const std::string& text,
+  FileReader(const fs::path& file, const std::string& display, const std::string& text,
              const NotationOptions& options, Notation& out, Diagnostics& diagnostics)
-      : file_(file),
-        display_(std::move(display)),
-        positions_(text),
-        options_(options),
+      : json_(display, text, diagnostics),
+        ctx_{json_, file.parent_path(), options},
         out_(out),
-        diag_(diagnostics) {}
+        options_(options) {}
 
-  void read(const json& root) {
+  void read(const Json& root) {
     if (!root.is_object())
-      return error("", std::string("the top level must be an object, but is ") + type_name(root));
-    static const std::vector<std::string> kSections = {
-        "Imports", "Defaults", "Shaders", "RenderPasses", "ResourceSignatures", "Pipelines", "Ignore"};
-    check_keys(root, "", kSections, "top-level section");
-    for (const char* later : {"Imports", "Defaults", "RenderPasses", "ResourceSignatures", "Ignore"})
-      if (root.contains(later))
-        error("/" + std::string(later),
-              "section '" + std::string(later) + "' is not supported by this version of statepack yet");
-    if (auto it = root.find("Shaders"); it != root.end()) {
-      if (!it->is_array()) {
-        error("/Shaders", std::string("'Shaders' must be an array, but is ") + type_name(*it));
-      } else {
-        for (size_t i = 0; i < it->size(); ++i) {
-          std::string ptr = "/Shaders/" + std::to_string(i);
-          if (auto shader = read_shader((*it)[i], ptr, 0)) out_.shaders.push_back(std::move(*shader));
-        }
-      }
-    }
-    if (auto it = root.find("Pipelines"); it != root.end()) {
-      if (!it->is_array()) {
-        error("/Pipelines", std::string("'Pipelines' must be an array, but is ") + type_name(*it));
-      } else {
-        for (size_t i = 0; i < it->size(); ++i) read_pipeline((*it)[i], "/Pipelines/" + std::to_string(i));
-      }
-    }
+      return json_.error("", std::string("the top level must be an object, but is ") + root.type_name());
+    json_.check_keys(
+        root, "",
+        {"Imports", "Defaults", "Shaders", "RenderPasses", "ResourceSignatures", "Pipelines", "Ignore"},
+        "top-level section");
+    // Imports first, fully, with their own (empty) defaults: DRSN's defaults are file-local.
+    if (auto it = root.find("Imports"); it != root.end()) read_imports(*it);
+    if (auto it = root.find("Ignore"); it != root.end()) read_ignore(*it);
+    if (auto it = root.find("Defaults"); it != root.end()) read_defaults(*it);
+    for_each_item(root, "Shaders", [&](const Json& j, const std::string& p) { shader_object(j, p, 0); });
+    for_each_item(root, "RenderPasses",
+                  [&](const Json& j, const std::string& p) { render_pass_object(j, p); });
+    for_each_item(root, "ResourceSignatures",
+                  [&](const Json& j, const std::string& p) { signature_object(j, p); });
+    for_each_item(root, "Pipelines", [&](const Json& j, const std::string& p) { pipeline(j, p); });
   }
 
  private:
-  Location at(const std::string& pointer) const {
-    TextPosition p = positions_.find(pointer);
-    return {display_, p.line, p.column, pointer};
-  }
-  void error(const std::string& pointer, std::string message) {
-    diag_.error(at(pointer), std::move(message));
-  }
-  void warning(const std::string& pointer, std::string message) {
-    diag_.warning(at(pointer), std::move(message));
-  }
-
-  // Reports keys of `object` not in `allowed`, each with a suggestion.
-  void check_keys(const json& object, const std::string& pointer, const std::vector<std::string>& allowed,
-                  const char* what) {
-    for (const auto& [key, value] : object.items()) {
-      if (std::find(allowed.begin(), allowed.end(), key) != allowed.end()) continue;
-      diag_.error(at_key(pointer + "/" + key),
-                  "unknown " + std::string(what) + " key '" + key + "'" + did_you_mean(key, allowed));
-    }
-  }
-  Location at_key(const std::string& pointer) const {
-    TextPosition p = positions_.find(pointer + "#key");
-    return {display_, p.line, p.column, pointer};
-  }
-
-  bool expect_object(const json& j, const std::string& pointer, const char* what) {
-    if (j.is_object()) return true;
-    error(pointer, std::string(what) + " must be an object, but is " + type_name(j));
-    return false;
-  }
-
-  std::optional<std::string> string_field(const json& object, const char* key, const std::string& pointer) {
-    auto it = object.find(key);
-    if (it == object.end()) return std::nullopt;
-    if (!it->is_string()) {
-      error(pointer + "/" + key, std::string("'") + key + "' must be a string, but is " + type_name(*it));
-      return std::nullopt;
-    }
-    return it->get<std::string>();
-  }
-
-  std::optional<uint32_t> enum_value(const json& j, const std::string& pointer, EnumTable table,
-                                     const char* enum_name) {
-    if (!j.is_string()) {
-      error(pointer, std::string(enum_name) + " must be a string, but is " + type_name(j));
-      return std::nullopt;
-    }
-    const auto& s = j.get_ref<const std::string&>();
-    for (const auto& [name, value] : table) {
-      if (name != s) continue;
-      if (value == kUnsupportedValue) {
-        error(pointer, std::string(enum_name) + " '" + s + "' is not supported by the Vulkan backend");
-        return std::nullopt;
-      }
-      return value;
-    }
-    std::vector<std::string> names;
-    for (const auto& [name, value] : table) names.emplace_back(name);
-    error(pointer, "unknown " + std::string(enum_name) + " '" + s + "'" + did_you_mean(s, names));
-    return std::nullopt;
-  }
-
-  // Bit-flag enums take one string or an array of strings, ORed together.
-  std::optional<uint32_t> flags_value(const json& j, const std::string& pointer, EnumTable table,
-                                      const char* enum_name) {
-    if (j.is_string()) return enum_value(j, pointer, table, enum_name);
-    if (!j.is_array()) {
-      error(pointer,
-            std::string(enum_name) + " must be a string or an array of strings, but is " + type_name(j));
-      return std::nullopt;
-    }
-    uint32_t bits = 0;
-    for (size_t i = 0; i < j.size(); ++i) {
-      auto v = enum_value(j[i], pointer + "/" + std::to_string(i), table, enum_name);
-      if (!v) return std::nullopt;
-      bits |= *v;
-    }
-    return bits;
-  }
-
-  template <class T>
-  void number(const json& object, const char* key, const std::string& pointer, T& out) {
-    auto it = object.find(key);
-    if (it == object.end()) return;
-    bool ok = std::is_floating_point_v<T> ? it->is_number() : it->is_number_unsigned();
-    if (!ok) {
-      error(pointer + "/" + key, std::string("'") + key + "' must be a " +
-                                     (std::is_floating_point_v<T> ? "number" : "non-negative integer") +
-                                     ", but is " + type_name(*it));
+  template <class F>
+  void for_each_item(const Json& root, const char* section, F&& f) {
+    auto it = root.find(section);
+    std::string pointer = std::string("/") + section;
+    if (it == root.end() || !json_.expect_array(*it, pointer, (std::string("'") + section + "'").c_str()))
       return;
-    }
-    out = it->get<T>();
+    for (size_t i = 0; i < it->size(); ++i) f((*it)[i], pointer + "/" + std::to_string(i));
   }
 
-  void boolean(const json& object, const char* key, const std::string& pointer, uint32_t& out) {
-    auto it = object.find(key);
-    if (it == object.end()) return;
-    if (!it->is_boolean())
-      return error(pointer + "/" + key,
-                   std::string("'") + key + "' must be true or false, but is " + type_name(*it));
-    out = it->get<bool>() ? 1 : 0;
-  }
-
-  void enum_field(const json& object, const char* key, const std::string& pointer, EnumTable table,
-                  const char* enum_name, uint32_t& out) {
-    auto it = object.find(key);
-    if (it == object.end()) return;
-    if (auto v = enum_value(*it, pointer + "/" + key, table, enum_name)) out = *v;
-  }
-
-  // --- shaders ------------------------------------------------------------------------------------
-
-  // `slot_stage` is the stage a pipeline slot requires (0 for the Shaders section).
-  std::optional<ShaderDesc> read_shader(const json& j, const std::string& pointer, uint32_t slot_stage) {
-    ShaderDesc shader;
-    shader.where = at(pointer);
-    shader.stage = slot_stage;
-    if (j.is_string() && slot_stage != 0) {
-      shader.name = j.get<std::string>();
-      shader.is_reference = true;
-      return shader;
-    }
-    if (!expect_object(j, pointer, slot_stage ? "a shader slot (a name or an object)" : "a shader"))
-      return std::nullopt;
-    static const std::vector<std::string> kKeys = {"Desc",           "FilePath",
-                                                   "Source",         "SourceLength",
-                                                   "EntryPoint",     "Macros",
-                                                   "SourceLanguage", "ShaderCompiler",
-                                                   "HLSLVersion",    "GLSLVersion",
-                                                   "GLESSLVersion",  "MSLVersion",
-                                                   "CompileFlags",   "LoadConstantBufferReflection",
-                                                   "GLSLExtensions", "WebGPUEmulatedArrayIndexSuffix"};
-    check_keys(j, pointer, kKeys, "shader");
-    const size_t errors_before = diag_.error_count();
-
-    if (auto desc = j.find("Desc"); desc != j.end() && expect_object(*desc, pointer + "/Desc", "'Desc'")) {
-      static const std::vector<std::string> kDescKeys = {"Name", "ShaderType", "UseCombinedTextureSamplers",
-                                                         "CombinedSamplerSuffix"};
-      check_keys(*desc, pointer + "/Desc", kDescKeys, "shader Desc");
-      shader.name = string_field(*desc, "Name", pointer + "/Desc").value_or("");
-      if (auto type = desc->find("ShaderType"); type != desc->end()) {
-        if (auto stage = enum_value(*type, pointer + "/Desc/ShaderType", kShaderTypes, "shader type")) {
-          if (slot_stage != 0 && *stage != slot_stage)
-            error(pointer + "/Desc/ShaderType", "the shader type does not match the pipeline slot it is in");
-          shader.stage = *stage;
-        }
+  void read_imports(const Json& imports) {
+    if (!json_.expect_array(imports, "/Imports", "'Imports'")) return;
+    for (size_t i = 0; i < imports.size(); ++i) {
+      std::string pointer = "/Imports/" + std::to_string(i);
+      if (!imports[i].is_string()) {
+        json_.error(pointer, std::string("an import must be a file name, but is ") + imports[i].type_name());
+        continue;
       }
-    }
-    if (shader.name.empty()) error(pointer, "a shader needs a name ('Desc.Name')");
-    if (shader.stage == 0) error(pointer, "shader '" + shader.name + "' needs 'Desc.ShaderType'");
-
-    shader.entry_point = string_field(j, "EntryPoint", pointer).value_or("main");
-    auto file_path = string_field(j, "FilePath", pointer);
-    auto source = string_field(j, "Source", pointer);
-    if (file_path && source) error(pointer, "shader '" + shader.name + "' has both 'FilePath' and 'Source'");
-    if (!file_path && !source) error(pointer, "shader '" + shader.name + "' needs 'FilePath' or 'Source'");
-    if (source) shader.source = *source;
-    if (file_path) {
-      shader.file_display = *file_path;
-      shader.file = resolve_file(*file_path, file_.parent_path(), options_.shader_dirs);
-      if (shader.file.empty())
-        error(pointer + "/FilePath", "shader file '" + *file_path + "' not found next to " + display_ +
-                                         " or in any shader directory (-s)");
-    }
-
-    uint32_t language = 0;
-    enum_field(j, "SourceLanguage", pointer, kSourceLanguages, "source language", language);
-    if (language == 1) {
-      shader.language = SourceLanguage::hlsl;
-    } else if (language == 2 || language == 3) {
-      shader.language = SourceLanguage::glsl;
-    } else if (language == 0) {
-      shader.language = language_from_extension(file_path.value_or(""));
-    } else {
-      error(pointer + "/SourceLanguage", "source language '" + j["SourceLanguage"].get<std::string>() +
-                                             "' is not supported by the Vulkan backend (use GLSL or HLSL)");
-    }
-    uint32_t compiler = 0;
-    enum_field(j, "ShaderCompiler", pointer, kShaderCompilers, "shader compiler", compiler);
-    if (compiler >= 2)
-      warning(pointer + "/ShaderCompiler", "statepack compiles with glslang; the compiler choice is ignored");
-
-    if (auto macros = j.find("Macros"); macros != j.end()) {
-      if (!macros->is_array()) {
-        error(pointer + "/Macros", std::string("'Macros' must be an array, but is ") + type_name(*macros));
-      } else {
-        for (size_t i = 0; i < macros->size(); ++i) {
-          std::string mp = pointer + "/Macros/" + std::to_string(i);
-          const json& m = (*macros)[i];
-          if (!expect_object(m, mp, "a macro")) continue;
-          check_keys(m, mp, {"Name", "Definition"}, "macro");
-          auto name = string_field(m, "Name", mp);
-          if (!name || name->empty()) {
-            error(mp, "a macro needs a 'Name'");
-            continue;
-          }
-          shader.macros.emplace_back(*name, string_field(m, "Definition", mp).value_or(""));
-        }
+      std::string name = imports[i].get<std::string>();
+      fs::path path = resolve_file(name, ctx_.base_dir, options_.render_state_dirs);
+      if (path.empty()) {
+        json_.error(pointer, "imported file '" + name + "' not found next to " + json_.file() +
+                                 " or in any render-state directory (-r)");
+        continue;
       }
+      read_file(path, display_path(path), out_, options_, json_.diagnostics(), json_.at(pointer));
     }
-    if (diag_.error_count() != errors_before) return std::nullopt;
+  }
+
+  void read_ignore(const Json& ignore) {
+    if (!json_.expect_object(ignore, "/Ignore", "'Ignore'")) return;
+    json_.check_keys(ignore, "/Ignore", {"Signatures"}, "Ignore");
+    auto names = ignore.find("Signatures");
+    if (names == ignore.end() || !json_.expect_array(*names, "/Ignore/Signatures", "'Signatures'")) return;
+    for (size_t i = 0; i < names->size(); ++i) {
+      if ((*names)[i].is_string())
+        out_.ignored_signatures.insert((*names)[i].get<std::string>());
+      else
+        json_.error("/Ignore/Signatures/" + std::to_string(i), "a signature name must be a string");
+    }
+  }
+
+  // Each default block is checked on its own (so its errors are reported once, at its place);
+  // a block with errors is not applied.
+  void read_defaults(const Json& defaults) {
+    if (!json_.expect_object(defaults, "/Defaults", "'Defaults'")) return;
+    json_.check_keys(defaults, "/Defaults", {"Shader", "RenderPass", "ResourceSignature", "Pipeline"},
+                     "Defaults");
+    ReadContext lenient = ctx_;
+    lenient.defaults_mode = true;
+    auto checked = [&](const char* key, auto&& check) -> Json {
+      auto it = defaults.find(key);
+      if (it == defaults.end()) return Json::object();
+      std::string pointer = std::string("/Defaults/") + key;
+      if (!json_.expect_object(*it, pointer, key)) return Json::object();
+      size_t before = json_.error_count();
+      check(*it, pointer);
+      return json_.error_count() == before ? *it : Json::object();
+    };
+    defaults_.shader =
+        checked("Shader", [&](const Json& j, const std::string& p) { read_shader(lenient, j, p, 0); });
+    defaults_.render_pass =
+        checked("RenderPass", [&](const Json& j, const std::string& p) { read_render_pass(lenient, j, p); });
+    defaults_.signature = checked(
+        "ResourceSignature", [&](const Json& j, const std::string& p) { read_signature(lenient, j, p); });
+    defaults_.pipeline = checked("Pipeline", [&](const Json& j, const std::string& p) {
+      json_.check_keys(j, p, {"PSODesc", "Flags", "ppResourceSignatures", "GraphicsPipeline"},
+                       "default pipeline");
+      if (auto d = j.find("PSODesc"); d != j.end() && json_.expect_object(*d, p + "/PSODesc", "'PSODesc'")) {
+        json_.check_keys(*d, p + "/PSODesc",
+                         {"ResourceLayout", "SRBAllocationGranularity", "ImmediateContextMask"},
+                         "default PSODesc");
+        PipelineDesc scratch;
+        if (auto layout = d->find("ResourceLayout"); layout != d->end())
+          resource_layout(*layout, p + "/PSODesc/ResourceLayout", scratch);
+      }
+      uint32_t flags = 0;
+      json_.flags_field(j, "Flags", p, kPipelineFlags, "pipeline flag", flags);
+      if (auto g = j.find("GraphicsPipeline"); g != j.end()) {
+        format::GraphicsState scratch;
+        read_graphics_state(lenient, *g, p + "/GraphicsPipeline", scratch);
+        if (g->contains("pRenderPass"))
+          json_.error(p + "/GraphicsPipeline/pRenderPass", "a render pass cannot be a default");
+      }
+      if (auto s = j.find("ppResourceSignatures"); s != j.end())
+        signature_list(*s, p + "/ppResourceSignatures");
+    });
+  }
+
+  // --- named objects -------------------------------------------------------------------------------
+
+  template <class T, class NameOf>
+  void add_named(std::vector<T>& list, T object, NameOf&& name_of, const char* kind) {
+    for (const T& existing : list) {
+      if (name_of(existing) != name_of(object)) continue;
+      if (!existing.same_as(object))
+        json_.diagnostics().error(object.where, std::string(kind) + " '" + name_of(object) +
+                                                    "' is defined again differently (first at " +
+                                                    location_text(existing.where) + ")");
+      return;  // an identical redefinition is allowed, as in DRSN
+    }
+    list.push_back(std::move(object));
+  }
+
+  std::optional<ShaderDesc> shader_object(const Json& j, const std::string& pointer, uint32_t slot_stage) {
+    if (!j.is_object()) return read_shader(ctx_, j, pointer, slot_stage);  // reports the type error
+    auto shader = read_shader(ctx_, merge(defaults_.shader, j), pointer, slot_stage);
+    if (shader && slot_stage == 0)
+      add_named(
+          out_.shaders, *shader, [](const ShaderDesc& s) { return s.name; }, "shader");
     return shader;
   }
 
-  static SourceLanguage language_from_extension(const std::string& path) {
-    static const char* kGlsl[] = {".glsl", ".vert", ".frag", ".comp", ".geom", ".tesc", ".tese"};
-    std::string ext = fs::path(path).extension().string();
-    for (const char* e : kGlsl)
-      if (ext == e) return SourceLanguage::glsl;
-    return SourceLanguage::hlsl;  // Diligent's DEFAULT means HLSL
+  std::optional<std::string> render_pass_object(const Json& j, const std::string& pointer) {
+    if (j.is_string()) return j.get<std::string>();
+    if (!j.is_object()) {
+      json_.error(pointer, std::string("a render pass must be a name or an object, but is ") + j.type_name());
+      return std::nullopt;
+    }
+    auto pass = read_render_pass(ctx_, merge(defaults_.render_pass, j), pointer);
+    if (!pass) return std::nullopt;
+    std::string name = pass->pass.name;
+    add_named(
+        out_.render_passes, std::move(*pass), [](const RenderPassDesc& r) { return r.pass.name; },
+        "render pass");
+    return name;
   }
 
-  // --- pipelines ----------------------------------------------------------------------------------
+  std::optional<std::string> signature_object(const Json& j, const std::string& pointer) {
+    if (j.is_string()) return j.get<std::string>();
+    if (!j.is_object()) {
+      json_.error(pointer,
+                  std::string("a resource signature must be a name or an object, but is ") + j.type_name());
+      return std::nullopt;
+    }
+    auto sig = read_signature(ctx_, merge(defaults_.signature, j), pointer);
+    if (!sig) return std::nullopt;
+    std::string name = sig->name;
+    add_named(
+        out_.signatures, std::move(*sig), [](const SignatureDesc& s) { return s.name; },
+        "resource signature");
+    return name;
+  }
 
-  void read_pipeline(const json& j, const std::string& pointer) {
-    if (!expect_object(j, pointer, "a pipeline")) return;
+  std::vector<std::string> signature_list(const Json& j, const std::string& pointer) {
+    std::vector<std::string> names;
+    if (!json_.expect_array(j, pointer, "'ppResourceSignatures'")) return names;
+    for (size_t i = 0; i < j.size(); ++i)
+      if (auto name = signature_object(j[i], pointer + "/" + std::to_string(i))) names.push_back(*name);
+    return names;
+  }
+
+  // --- pipelines -----------------------------------------------------------------------------------
+
+  void resource_layout(const Json& j, const std::string& pointer, PipelineDesc& p) {
+    if (!json_.expect_object(j, pointer, "'ResourceLayout'")) return;
+    json_.check_keys(j, pointer,
+                     {"DefaultVariableType", "DefaultVariableMergeStages", "Variables", "NumVariables",
+                      "ImmutableSamplers", "NumImmutableSamplers"},
+                     "ResourceLayout");
+    uint32_t unused = 0;
+    json_.enum_field(j, "DefaultVariableType", pointer, kVariableTypes, "variable type", unused);
+    json_.flags_field(j, "DefaultVariableMergeStages", pointer, kShaderStageFlags, "shader stage", unused);
+    json_.unsigned_number(j, "NumVariables", pointer, unused);
+    json_.unsigned_number(j, "NumImmutableSamplers", pointer, unused);
+    if (auto it = j.find("ImmutableSamplers"); it != j.end())
+      p.immutable_samplers = read_immutable_samplers(ctx_, *it, pointer + "/ImmutableSamplers");
+    auto vars = j.find("Variables");
+    if (vars == j.end() || !json_.expect_array(*vars, pointer + "/Variables", "'Variables'")) return;
+    for (size_t i = 0; i < vars->size(); ++i) {
+      std::string vp = pointer + "/Variables/" + std::to_string(i);
+      const Json& v = (*vars)[i];
+      if (!json_.expect_object(v, vp, "a variable")) continue;
+      json_.check_keys(v, vp, {"Name", "ShaderStages", "Type", "Flags"}, "variable");
+      ResourceVariable var;
+      var.name = json_.string(v, "Name", vp).value_or("");
+      if (var.name.empty()) json_.error(vp, "a variable needs a 'Name'");
+      json_.flags_field(v, "ShaderStages", vp, kShaderStageFlags, "shader stage", var.stages);
+      json_.enum_field(v, "Type", vp, kVariableTypes, "variable type", unused);
+      json_.flags_field(v, "Flags", vp, kVariableFlags, "variable flag", unused);
+      p.variables.push_back(std::move(var));
+    }
+  }
+
+  void pipeline(const Json& raw, const std::string& pointer) {
+    if (!json_.expect_object(raw, pointer, "a pipeline")) return;
     PipelineDesc p;
-    p.where = at(pointer);
-    auto pso_desc = j.find("PSODesc");
-    if (pso_desc == j.end()) return error(pointer, "a pipeline needs 'PSODesc' with a 'Name'");
-    if (!expect_object(*pso_desc, pointer + "/PSODesc", "'PSODesc'")) return;
-    check_keys(*pso_desc, pointer + "/PSODesc",
-               {"Name", "PipelineType", "ResourceLayout", "SRBAllocationGranularity", "ImmediateContextMask"},
-               "PSODesc");
-    p.name = string_field(*pso_desc, "Name", pointer + "/PSODesc").value_or("");
-    if (p.name.empty()) error(pointer + "/PSODesc", "a pipeline needs a name ('PSODesc.Name')");
-    p.where.pointer = pointer;
-
+    p.where = json_.at(pointer);
     // The type comes from the shader slots present, as in DRSN; an explicit PipelineType must agree.
     auto has = [&](std::initializer_list<const char*> keys) {
       for (const char* k : keys)
-        if (j.contains(k)) return true;
+        if (raw.contains(k)) return true;
       return false;
     };
-    std::optional<uint32_t> inferred;
+    std::optional<uint32_t> type;
     if (has({"pAS", "pMS"}))
-      inferred = 2;
+      type = 2;
     else if (has({"pVS", "pPS", "pDS", "pHS", "pGS"}))
-      inferred = 0;
+      type = 0;
     else if (has({"pCS"}))
-      inferred = 1;
+      type = 1;
     else if (has({"pTS"}))
-      inferred = 4;
+      type = 4;
     else if (has({"pGeneralShaders", "pTriangleHitShaders", "pProceduralHitShaders"}))
-      inferred = 3;
-    std::optional<uint32_t> type = inferred;
+      type = 3;
+    // Defaults apply before reading; a compute pipeline takes no GraphicsPipeline defaults.
+    Json defaults = defaults_.pipeline;
+    if (type && *type != 0) defaults.erase("GraphicsPipeline");
+    const Json j = merge(defaults, raw);
+
+    auto pso_desc = j.find("PSODesc");
+    if (pso_desc == j.end()) return json_.error(pointer, "a pipeline needs 'PSODesc' with a 'Name'");
+    if (!json_.expect_object(*pso_desc, pointer + "/PSODesc", "'PSODesc'")) return;
+    json_.check_keys(
+        *pso_desc, pointer + "/PSODesc",
+        {"Name", "PipelineType", "ResourceLayout", "SRBAllocationGranularity", "ImmediateContextMask"},
+        "PSODesc");
+    p.name = json_.string(*pso_desc, "Name", pointer + "/PSODesc").value_or("");
+    if (p.name.empty()) json_.error(pointer + "/PSODesc", "a pipeline needs a name ('PSODesc.Name')");
+    uint32_t unused = 0;
+    json_.unsigned_number(*pso_desc, "SRBAllocationGranularity", pointer + "/PSODesc", unused);
+    json_.unsigned_number(*pso_desc, "ImmediateContextMask", pointer + "/PSODesc", unused);
     if (auto t = pso_desc->find("PipelineType"); t != pso_desc->end()) {
-      auto explicit_type = enum_value(*t, pointer + "/PSODesc/PipelineType", kPipelineTypes, "pipeline type");
-      if (explicit_type && inferred && *explicit_type != *inferred)
-        return error(pointer + "/PSODesc/PipelineType",
-                     "pipeline '" + p.name + "': PipelineType contradicts the shader slots given");
+      auto explicit_type =
+          json_.enum_value(*t, pointer + "/PSODesc/PipelineType", kPipelineTypes, "pipeline type");
+      if (explicit_type && type && *explicit_type != *type)
+        return json_.error(pointer + "/PSODesc/PipelineType",
+                           "pipeline '" + p.name + "': PipelineType contradicts the shader slots given");
       if (explicit_type) type = explicit_type;
     }
-    if (!type) return error(pointer, "pipeline '" + p.name + "' has no shaders, so its type is unknown");
+    if (!type)
+      return json_.error(pointer, "pipeline '" + p.name + "' has no shaders, so its type is unknown");
     if (*type >= 2) {
       const char* kinds[] = {"", "", "mesh", "ray-tracing", "tile"};
-      return error(pointer, "pipeline '" + p.name + "': " + kinds[*type] +
-                                " pipelines are not supported by the Vulkan backend of statepack");
+      return json_.error(pointer, "pipeline '" + p.name + "': " + kinds[*type] +
+                                      " pipelines are not supported by the Vulkan backend of statepack");
     }
     p.kind = *type == 1 ? format::PipelineKind::compute : format::PipelineKind::graphics;
-
-    if (p.kind == format::PipelineKind::compute) {
-      check_keys(j, pointer, {"PSODesc", "Flags", "ppResourceSignatures", "pCS"}, "compute pipeline");
-    } else {
-      check_keys(
+    if (p.kind == format::PipelineKind::compute)
+      json_.check_keys(j, pointer, {"PSODesc", "Flags", "ppResourceSignatures", "pCS"}, "compute pipeline");
+    else
+      json_.check_keys(
           j, pointer,
           {"PSODesc", "Flags", "ppResourceSignatures", "GraphicsPipeline", "pVS", "pPS", "pDS", "pHS", "pGS"},
           "graphics pipeline");
-    }
-    if (j.contains("ppResourceSignatures"))
-      error(pointer + "/ppResourceSignatures",
-            "resource signatures are not supported by this version of statepack yet");
+    json_.flags_field(j, "Flags", pointer, kPipelineFlags, "pipeline flag", p.flags);
+    if (auto s = j.find("ppResourceSignatures"); s != j.end())
+      p.signatures = signature_list(*s, pointer + "/ppResourceSignatures");
 
     static const std::pair<const char*, uint32_t> kSlots[] = {
         {"pVS", VK_SHADER_STAGE_VERTEX_BIT},
@@ -362,212 +332,90 @@ class FileReader {
         {"pCS", VK_SHADER_STAGE_COMPUTE_BIT},
     };
     for (const auto& [slot, stage] : kSlots) {
-      if (auto s = j.find(slot); s != j.end())
-        if (auto shader = read_shader(*s, pointer + "/" + slot, stage))
-          p.shaders.push_back(std::move(*shader));
+      auto s = j.find(slot);
+      if (s == j.end()) continue;
+      std::string sp = pointer + "/" + slot;
+      if (s->is_string()) {  // a name from the Shaders section, resolved after all files are read
+        ShaderDesc ref;
+        ref.name = s->get<std::string>();
+        ref.stage = stage;
+        ref.is_reference = true;
+        ref.where = json_.at(sp);
+        p.shaders.push_back(std::move(ref));
+      } else if (auto shader = shader_object(*s, sp, stage)) {
+        p.shaders.push_back(std::move(*shader));
+      }
     }
     if (p.kind == format::PipelineKind::graphics && !j.contains("pVS"))
-      error(pointer, "graphics pipeline '" + p.name + "' needs a vertex shader ('pVS')");
+      json_.error(pointer, "graphics pipeline '" + p.name + "' needs a vertex shader ('pVS')");
 
     if (auto layout = pso_desc->find("ResourceLayout"); layout != pso_desc->end())
-      read_resource_layout(*layout, pointer + "/PSODesc/ResourceLayout", p);
-    if (auto g = j.find("GraphicsPipeline"); g != j.end())
-      read_graphics(*g, pointer + "/GraphicsPipeline", p.graphics);
+      resource_layout(*layout, pointer + "/PSODesc/ResourceLayout", p);
+    if (auto g = j.find("GraphicsPipeline"); g != j.end()) {
+      read_graphics_state(ctx_, *g, pointer + "/GraphicsPipeline", p.graphics);
+      if (auto rp = g->find("pRenderPass"); rp != g->end())
+        if (auto name = render_pass_object(*rp, pointer + "/GraphicsPipeline/pRenderPass"))
+          p.render_pass = *name;
+    }
 
     for (const auto& existing : out_.pipelines)
       if (existing.name == p.name && !p.name.empty())
-        return error(pointer, "pipeline '" + p.name + "' is defined twice (first at " +
-                                  location_text(existing.where) + ")");
+        return json_.error(pointer, "pipeline '" + p.name + "' is defined twice (first at " +
+                                        location_text(existing.where) + ")");
     out_.pipelines.push_back(std::move(p));
   }
 
-  void read_resource_layout(const json& j, const std::string& pointer, PipelineDesc& p) {
-    if (!expect_object(j, pointer, "'ResourceLayout'")) return;
-    check_keys(j, pointer,
-               {"DefaultVariableType", "DefaultVariableMergeStages", "Variables", "ImmutableSamplers"},
-               "ResourceLayout");
-    uint32_t ignored = 0;
-    enum_field(j, "DefaultVariableType", pointer, kVariableTypes, "variable type", ignored);
-    if (auto it = j.find("ImmutableSamplers"); it != j.end() && !(it->is_array() && it->empty()))
-      error(pointer + "/ImmutableSamplers",
-            "immutable samplers are not supported by this version of statepack yet");
-    auto vars = j.find("Variables");
-    if (vars == j.end()) return;
-    if (!vars->is_array()) return error(pointer + "/Variables", "'Variables' must be an array");
-    for (size_t i = 0; i < vars->size(); ++i) {
-      std::string vp = pointer + "/Variables/" + std::to_string(i);
-      const json& v = (*vars)[i];
-      if (!expect_object(v, vp, "a variable")) continue;
-      check_keys(v, vp, {"Name", "ShaderStages", "Type", "Flags"}, "variable");
-      ResourceVariable var;
-      var.name = string_field(v, "Name", vp).value_or("");
-      if (var.name.empty()) error(vp, "a variable needs a 'Name'");
-      if (auto s = v.find("ShaderStages"); s != v.end())
-        if (auto bits = flags_value(*s, vp + "/ShaderStages", kShaderStageFlags, "shader stage"))
-          var.stages = *bits;
-      if (auto t = v.find("Type"); t != v.end())
-        if (enum_value(*t, vp + "/Type", kVariableTypes, "variable type")) var.type = t->get<std::string>();
-      p.variables.push_back(std::move(var));
+ public:
+  // Reads one file (once), reporting import cycles with their chain.
+  static void read_file(const fs::path& path, const std::string& display, Notation& out,
+                        const NotationOptions& options, Diagnostics& diag, const Location& imported_at) {
+    std::error_code ec;
+    fs::path canonical = fs::weakly_canonical(path, ec);
+    if (ec) canonical = fs::absolute(path).lexically_normal();
+    if (std::find(out.import_stack.begin(), out.import_stack.end(), canonical) != out.import_stack.end()) {
+      std::string chain;
+      auto first = std::find(out.import_stack.begin(), out.import_stack.end(), canonical);
+      for (auto it = first; it != out.import_stack.end(); ++it) chain += display_path(*it) + " -> ";
+      diag.error(imported_at, "import cycle: " + chain + display_path(canonical));
+      return;
     }
-  }
-
-  void read_graphics(const json& j, const std::string& pointer, format::GraphicsState& g) {
-    if (!expect_object(j, pointer, "'GraphicsPipeline'")) return;
-    check_keys(j, pointer,
-               {"BlendDesc", "SampleMask", "RasterizerDesc", "DepthStencilDesc", "InputLayout",
-                "PrimitiveTopology", "NumViewports", "NumRenderTargets", "SubpassIndex", "ShadingRateFlags",
-                "RTVFormats", "DSVFormat", "ReadOnlyDSV", "SmplDesc", "NodeMask", "pRenderPass"},
-               "GraphicsPipeline");
-    enum_field(j, "PrimitiveTopology", pointer, kTopologies, "primitive topology", g.topology);
-    number(j, "SampleMask", pointer, g.sample_mask);
-    if (auto it = j.find("InputLayout"); it != j.end()) {
-      bool empty = it->is_object() && (!it->contains("LayoutElements") || (*it)["LayoutElements"].empty());
-      if (!empty)
-        error(pointer + "/InputLayout",
-              "vertex input layouts are not supported by this version of statepack yet");
-    }
-    if (j.contains("pRenderPass"))
-      error(pointer + "/pRenderPass",
-            "render passes are not supported by this version of statepack yet; "
-            "leave pRenderPass out to use dynamic rendering");
-    uint32_t viewports = 1;
-    number(j, "NumViewports", pointer, viewports);
-    if (viewports != 1) error(pointer + "/NumViewports", "only one viewport is supported");
-
-    if (auto r = j.find("RasterizerDesc");
-        r != j.end() && expect_object(*r, pointer + "/RasterizerDesc", "'RasterizerDesc'")) {
-      std::string rp = pointer + "/RasterizerDesc";
-      check_keys(*r, rp,
-                 {"FillMode", "CullMode", "FrontCounterClockwise", "DepthClipEnable", "ScissorEnable",
-                  "AntialiasedLineEnable", "DepthBias", "DepthBiasClamp", "SlopeScaledDepthBias"},
-                 "RasterizerDesc");
-      enum_field(*r, "FillMode", rp, kFillModes, "fill mode", g.polygon_mode);
-      enum_field(*r, "CullMode", rp, kCullModes, "cull mode", g.cull_mode);
-      uint32_t ccw = 0, depth_clip = 1, unused = 0;
-      boolean(*r, "FrontCounterClockwise", rp, ccw);
-      g.front_face = ccw ? VK_FRONT_FACE_COUNTER_CLOCKWISE : VK_FRONT_FACE_CLOCKWISE;
-      boolean(*r, "DepthClipEnable", rp, depth_clip);
-      g.depth_clamp = depth_clip ? 0 : 1;
-      boolean(*r, "ScissorEnable", rp, unused);  // scissor is always dynamic in Vulkan
-      boolean(*r, "AntialiasedLineEnable", rp, unused);
-      int32_t bias = 0;
-      number(*r, "DepthBias", rp, bias);
-      g.depth_bias = static_cast<float>(bias);
-      number(*r, "DepthBiasClamp", rp, g.depth_bias_clamp);
-      number(*r, "SlopeScaledDepthBias", rp, g.depth_bias_slope);
-    }
-    if (auto d = j.find("DepthStencilDesc");
-        d != j.end() && expect_object(*d, pointer + "/DepthStencilDesc", "'DepthStencilDesc'")) {
-      std::string dp = pointer + "/DepthStencilDesc";
-      check_keys(*d, dp,
-                 {"DepthEnable", "DepthWriteEnable", "DepthFunc", "StencilEnable", "StencilReadMask",
-                  "StencilWriteMask", "FrontFace", "BackFace"},
-                 "DepthStencilDesc");
-      boolean(*d, "DepthEnable", dp, g.depth_test);
-      boolean(*d, "DepthWriteEnable", dp, g.depth_write);
-      enum_field(*d, "DepthFunc", dp, kComparisonFuncs, "comparison function", g.depth_compare);
-      boolean(*d, "StencilEnable", dp, g.stencil_test);
-      number(*d, "StencilReadMask", dp, g.stencil_read_mask);
-      number(*d, "StencilWriteMask", dp, g.stencil_write_mask);
-      for (auto [key, op] : {std::pair{"FrontFace", &g.front}, std::pair{"BackFace", &g.back}}) {
-        auto f = d->find(key);
-        if (f == d->end() || !expect_object(*f, dp + "/" + key, key)) continue;
-        std::string fp = dp + "/" + key;
-        check_keys(*f, fp, {"StencilFailOp", "StencilDepthFailOp", "StencilPassOp", "StencilFunc"},
-                   "stencil op");
-        enum_field(*f, "StencilFailOp", fp, kStencilOps, "stencil op", op->fail_op);
-        enum_field(*f, "StencilDepthFailOp", fp, kStencilOps, "stencil op", op->depth_fail_op);
-        enum_field(*f, "StencilPassOp", fp, kStencilOps, "stencil op", op->pass_op);
-        enum_field(*f, "StencilFunc", fp, kComparisonFuncs, "comparison function", op->compare_op);
+    if (out.files_done.count(canonical)) return;  // imported before (diamond or repeated -i): read once
+    std::ifstream stream(path, std::ios::binary);
+    std::stringstream buffer;
+    buffer << stream.rdbuf();
+    if (!stream) return diag.error({display}, "cannot read render-state file");
+    out.files_read.push_back(canonical);
+    out.import_stack.push_back(canonical);
+    std::string text = buffer.str();
+    Json root;
+    try {
+      root = Json::parse(text);
+    } catch (const Json::parse_error& e) {
+      // nlohmann gives the byte offset of the failure; turn it into line and column.
+      int line = 1, column = 1;
+      for (size_t i = 0; i + 1 < e.byte && i < text.size(); ++i) {
+        if (text[i] == '\n')
+          line++, column = 1;
+        else
+          column++;
       }
+      std::string what = e.what();
+      auto syntax = what.find("syntax error");
+      diag.error({display, line, column, ""},
+                 "invalid JSON: " + (syntax != std::string::npos ? what.substr(syntax) : what));
+      root = Json::object();
     }
-    if (auto b = j.find("BlendDesc");
-        b != j.end() && expect_object(*b, pointer + "/BlendDesc", "'BlendDesc'"))
-      read_blend(*b, pointer + "/BlendDesc", g);
-
-    int highest_format = -1;
-    if (auto f = j.find("RTVFormats"); f != j.end()) {
-      // An object keyed by index, as in DRSN (so Defaults can merge per index).
-      if (!f->is_object()) {
-        error(pointer + "/RTVFormats",
-              std::string("'RTVFormats' must be an object keyed by index (\"0\": ...), but is ") +
-                  type_name(*f));
-      } else {
-        for (const auto& [key, value] : f->items()) {
-          auto index = parse_index(key, pointer + "/RTVFormats");
-          if (!index) continue;
-          if (auto v = enum_value(value, pointer + "/RTVFormats/" + key, kTextureFormats, "texture format")) {
-            g.color_formats[*index] = *v;
-            if (*v != VK_FORMAT_UNDEFINED) highest_format = std::max(highest_format, int(*index));
-          }
-        }
-      }
-    }
-    g.color_count = static_cast<uint32_t>(highest_format + 1);  // NumRenderTargets inferred when absent
-    number(j, "NumRenderTargets", pointer, g.color_count);
-    if (g.color_count > format::kMaxColorTargets)
-      error(pointer + "/NumRenderTargets", "at most 8 render targets");
-    enum_field(j, "DSVFormat", pointer, kTextureFormats, "texture format", g.depth_stencil_format);
-    if (auto s = j.find("SmplDesc"); s != j.end() && expect_object(*s, pointer + "/SmplDesc", "'SmplDesc'")) {
-      check_keys(*s, pointer + "/SmplDesc", {"Count", "Quality"}, "SmplDesc");
-      number(*s, "Count", pointer + "/SmplDesc", g.samples);
-      if (!std::has_single_bit(g.samples) || g.samples > 64)
-        error(pointer + "/SmplDesc/Count", "the sample count must be 1, 2, 4, 8, 16, 32 or 64");
-    }
+    if (!root.empty()) FileReader(canonical, display, text, options, out, diag).read(root);
+    out.import_stack.pop_back();
+    out.files_done.insert(canonical);
   }
 
-  std::optional<uint32_t> parse_index(const std::string& key, const std::string& pointer) {
-    if (key.size() == 1 && key[0] >= '0' && key[0] < '0' + int(format::kMaxColorTargets))
-      return static_cast<uint32_t>(key[0] - '0');
-    diag_.error(at_key(pointer + "/" + key), "render-target index '" + key + "' must be \"0\" to \"7\"");
-    return std::nullopt;
-  }
-
-  void read_blend(const json& b, const std::string& pointer, format::GraphicsState& g) {
-    check_keys(b, pointer, {"AlphaToCoverageEnable", "IndependentBlendEnable", "RenderTargets"}, "BlendDesc");
-    boolean(b, "AlphaToCoverageEnable", pointer, g.alpha_to_coverage);
-    uint32_t independent = 0;
-    boolean(b, "IndependentBlendEnable", pointer, independent);
-    auto rts = b.find("RenderTargets");
-    if (rts == b.end()) return;
-    if (!rts->is_object())
-      return error(pointer + "/RenderTargets", "'RenderTargets' must be an object keyed by index");
-    for (const auto& [key, rt] : rts->items()) {
-      auto index = parse_index(key, pointer + "/RenderTargets");
-      std::string rp = pointer + "/RenderTargets/" + key;
-      if (!index || !expect_object(rt, rp, "a render-target blend description")) continue;
-      check_keys(rt, rp,
-                 {"BlendEnable", "LogicOperationEnable", "SrcBlend", "DestBlend", "BlendOp", "SrcBlendAlpha",
-                  "DestBlendAlpha", "BlendOpAlpha", "LogicOp", "RenderTargetWriteMask"},
-                 "render-target blend");
-      format::BlendAttachment& a = g.blend[*index];
-      boolean(rt, "BlendEnable", rp, a.enable);
-      uint32_t logic = 0;
-      boolean(rt, "LogicOperationEnable", rp, logic);
-      if (logic)
-        error(rp + "/LogicOperationEnable",
-              "logic operations are not supported by this version of statepack yet");
-      enum_field(rt, "SrcBlend", rp, kBlendFactors, "blend factor", a.src_color);
-      enum_field(rt, "DestBlend", rp, kBlendFactors, "blend factor", a.dst_color);
-      enum_field(rt, "BlendOp", rp, kBlendOps, "blend operation", a.color_op);
-      enum_field(rt, "SrcBlendAlpha", rp, kBlendFactors, "blend factor", a.src_alpha);
-      enum_field(rt, "DestBlendAlpha", rp, kBlendFactors, "blend factor", a.dst_alpha);
-      enum_field(rt, "BlendOpAlpha", rp, kBlendOps, "blend operation", a.alpha_op);
-      if (auto m = rt.find("RenderTargetWriteMask"); m != rt.end())
-        if (auto bits = flags_value(*m, rp + "/RenderTargetWriteMask", kColorMasks, "color mask"))
-          a.write_mask = *bits;
-    }
-    // Without independent blending every target uses target 0's description (D3D semantics).
-    if (!independent)
-      for (size_t i = 1; i < g.blend.size(); ++i) g.blend[i] = g.blend[0];
-  }
-
-  fs::path file_;
-  std::string display_;
-  JsonPositions positions_;
-  const NotationOptions& options_;
+ private:
+  JsonReader json_;
+  ReadContext ctx_;
   Notation& out_;
-  Diagnostics& diag_;
+  const NotationOptions& options_;
+  Defaults defaults_;
 };
 
 }  // namespace
@@ -577,47 +425,23 @@ void read_notation(const fs::path& input, const NotationOptions& options, Notati
   fs::path path = resolve_file(input.string(), fs::current_path(), options.render_state_dirs);
   if (path.empty())
     return diag.error({input.string()}, "cannot find render-state file (also searched the -r directories)");
-  std::ifstream stream(path, std::ios::binary);
-  std::stringstream buffer;
-  buffer << stream.rdbuf();
-  if (!stream) return diag.error({input.string()}, "cannot read render-state file");
-  notation.files_read.push_back(fs::absolute(path).lexically_normal());
-  std::string text = buffer.str();
-  json root;
-  try {
-    root = json::parse(text);
-  } catch (const json::parse_error& e) {
-    // nlohmann's message has "at line L, column C"; map the byte offset to line and column ourselves.
-    int line = 1, column = 1;
-    for (size_t i = 0; i + 1 < e.byte && i < text.size(); ++i) {
-      if (text[i] == '\n')
-        ++line, column = 1;
-      else
-        ++column;
-    }
-    std::string what = e.what();
-    auto colon = what.find("syntax error");
-    diag.error({input.string(), line, column, ""},
-               "invalid JSON: " + (colon != std::string::npos ? what.substr(colon) : what));
-    return;
-  }
-  // Messages name the file as the user wrote it when it was found as written.
   std::string display = input.is_absolute() ? input.string() : display_path(path);
-  FileReader(path, display, text, options, notation, diag).read(root);
+  FileReader::read_file(path, display, notation, options, diag, {input.string()});
 }
 
 void resolve_references(Notation& notation, Diagnostics& diag) {
+  std::vector<std::string> shader_names, signature_names, pass_names;
+  for (const auto& s : notation.shaders) shader_names.push_back(s.name);
+  for (const auto& s : notation.signatures) signature_names.push_back(s.name);
+  for (const auto& r : notation.render_passes) pass_names.push_back(r.pass.name);
   for (auto& pipeline : notation.pipelines) {
     for (auto& shader : pipeline.shaders) {
       if (!shader.is_reference) continue;
-      const ShaderDesc* found = nullptr;
-      for (const auto& s : notation.shaders)
-        if (s.name == shader.name) found = &s;
-      if (!found) {
-        std::vector<std::string> names;
-        for (const auto& s : notation.shaders) names.push_back(s.name);
+      auto found = std::find_if(notation.shaders.begin(), notation.shaders.end(),
+                                [&](const ShaderDesc& s) { return s.name == shader.name; });
+      if (found == notation.shaders.end()) {
         diag.error(shader.where, "pipeline '" + pipeline.name + "' refers to unknown shader '" + shader.name +
-                                     "'" + did_you_mean(shader.name, names));
+                                     "'" + did_you_mean(shader.name, shader_names));
         continue;
       }
       if (found->stage != shader.stage) {
@@ -629,7 +453,19 @@ void resolve_references(Notation& notation, Diagnostics& diag) {
       shader = *found;
       shader.where = where;
     }
+    for (const auto& name : pipeline.signatures)
+      if (std::find(signature_names.begin(), signature_names.end(), name) == signature_names.end())
+        diag.error(pipeline.where, "pipeline '" + pipeline.name + "' refers to unknown resource signature '" +
+                                       name + "'" + did_you_mean(name, signature_names));
+    if (!pipeline.render_pass.empty() &&
+        std::find(pass_names.begin(), pass_names.end(), pipeline.render_pass) == pass_names.end())
+      diag.error(pipeline.where, "pipeline '" + pipeline.name + "' refers to unknown render pass '" +
+                                     pipeline.render_pass + "'" +
+                                     did_you_mean(pipeline.render_pass, pass_names));
   }
+  for (const auto& name : notation.ignored_signatures)
+    if (std::find(signature_names.begin(), signature_names.end(), name) == signature_names.end())
+      diag.warning({}, "Ignore.Signatures names '" + name + "', which no file defines");
 }
 
 }  // namespace statepack::packager

@@ -3,6 +3,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <set>
 #include <string>
 #include <utility>
 #include <vector>
@@ -19,18 +20,56 @@ struct ShaderDesc {
   uint32_t stage = 0;  // VkShaderStageFlagBits
   SourceLanguage language = SourceLanguage::glsl;
   std::filesystem::path file;  // resolved path of FilePath, empty for inline Source
-  std::string file_display;    // FilePath as written, for messages
   std::string source;          // inline Source
   std::string entry_point = "main";
   std::vector<std::pair<std::string, std::string>> macros;
   bool is_reference = false;  // a pipeline slot that names a shader of the Shaders section
   Location where;
+
+  // Same compilation input (the location does not count): identical redefinitions are allowed.
+  bool same_as(const ShaderDesc& o) const {
+    return name == o.name && stage == o.stage && language == o.language && file == o.file &&
+           source == o.source && entry_point == o.entry_point && macros == o.macros;
+  }
+};
+
+struct ImmutableSamplerDesc {
+  uint32_t stages = 0;  // VkShaderStageFlags, 0 = all
+  std::string name;     // SamplerOrTextureName
+  format::Sampler sampler;
+  bool operator==(const ImmutableSamplerDesc&) const = default;
+};
+
+struct SignatureResource {
+  std::string name;
+  uint32_t stages = 0;  // VkShaderStageFlags
+  uint32_t array_size = 1;
+  uint32_t descriptor_type = 0;  // VkDescriptorType
+  bool operator==(const SignatureResource&) const = default;
+};
+
+struct SignatureDesc {
+  std::string name;
+  uint32_t binding_index = 0;
+  std::vector<SignatureResource> resources;
+  std::vector<ImmutableSamplerDesc> immutable_samplers;
+  std::string combined_sampler_suffix = "_sampler";
+  Location where;
+  bool same_as(const SignatureDesc& o) const {
+    return name == o.name && binding_index == o.binding_index && resources == o.resources &&
+           immutable_samplers == o.immutable_samplers && combined_sampler_suffix == o.combined_sampler_suffix;
+  }
+};
+
+struct RenderPassDesc {
+  format::RenderPass pass;  // pass.name is the name
+  Location where;
+  bool same_as(const RenderPassDesc& o) const { return pass == o.pass; }
 };
 
 struct ResourceVariable {
   std::string name;
   uint32_t stages = 0;  // VkShaderStageFlags; 0 = all stages of the pipeline
-  std::string type;     // STATIC / MUTABLE / DYNAMIC (kept for reflection; Vulkan needs no difference)
 };
 
 struct PipelineDesc {
@@ -38,14 +77,24 @@ struct PipelineDesc {
   format::PipelineKind kind = format::PipelineKind::graphics;
   std::vector<ShaderDesc> shaders;  // one per stage
   format::GraphicsState graphics;
+  std::string render_pass;              // name; empty: dynamic rendering
+  std::vector<std::string> signatures;  // names; empty: implicit layout
   std::vector<ResourceVariable> variables;
+  std::vector<ImmutableSamplerDesc> immutable_samplers;
+  std::string combined_sampler_suffix = "_sampler";
+  uint32_t flags = 0;  // PipelineFlag bits
   Location where;
 };
 
 struct Notation {
-  std::vector<ShaderDesc> shaders;  // the Shaders section (standalone)
+  std::vector<ShaderDesc> shaders;  // the Shaders section: archived as standalone shaders
+  std::vector<SignatureDesc> signatures;
+  std::vector<RenderPassDesc> render_passes;
   std::vector<PipelineDesc> pipelines;
-  std::vector<std::filesystem::path> files_read;  // every JSON file, for the depfile
+  std::set<std::string> ignored_signatures;         // Ignore.Signatures
+  std::vector<std::filesystem::path> files_read;    // every JSON file, for the depfile
+  std::set<std::filesystem::path> files_done;       // canonical paths already read (imports once)
+  std::vector<std::filesystem::path> import_stack;  // canonical paths being read (cycle detection)
 };
 
 struct NotationOptions {
@@ -53,11 +102,12 @@ struct NotationOptions {
   std::vector<std::filesystem::path> shader_dirs;        // -s
 };
 
-// Reads `input` and adds its objects to `notation`; problems go to `diagnostics`.
+// Reads `input` (and what it imports) and adds its objects to `notation`.
 void read_notation(const std::filesystem::path& input, const NotationOptions& options, Notation& notation,
                    Diagnostics& diagnostics);
 
-// Replaces shader references in pipelines by the named Shaders-section entries.
+// Replaces shader references in pipelines by the named Shaders-section entries and checks that
+// every named signature and render pass exists.
 void resolve_references(Notation& notation, Diagnostics& diagnostics);
 
 // `path` relative to the working directory when it lies below it, else as it is: for messages.

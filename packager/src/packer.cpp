@@ -5,25 +5,25 @@
 
 #include <algorithm>
 #include <atomic>
-#include <cstdio>
-#include <deque>
 #include <fstream>
 #include <map>
+#include <mutex>
 #include <ostream>
 #include <set>
 #include <thread>
 
+#include "contents_builder.hpp"
+#include "pipeline_layout.hpp"
 #include "spirv_reflect.hpp"
 #include "statepack/archive_format.hpp"
-#include "suggest.hpp"
 
 namespace statepack::packager {
 namespace fs = std::filesystem;
 namespace {
 
-constexpr uint32_t kProducerVersion = (0u << 22) | (1u << 12) | 0u;  // 0.1.0
+constexpr uint32_t kProducerVersion = (0u << 22) | (2u << 12) | 0u;  // 0.2.0
 
-// Two pipeline slots compile to the same module when everything that feeds glslang is equal.
+// Two slots compile to the same module when everything that feeds glslang is equal.
 std::string compile_key(const ShaderDesc& s) {
   std::string key = std::to_string(s.stage) + '\0' + std::to_string(int(s.language)) + '\0' + s.entry_point +
                     '\0' + s.file.string() + '\0' + s.source;
@@ -37,23 +37,15 @@ struct CompiledUnit {
   Reflection reflection;
 };
 
-// Compiles every distinct shader once, on `threads` threads.
-void compile_all(std::vector<CompiledUnit>& units, const CompileOptions& options, uint32_t threads,
-                 Diagnostics& diag) {
+// Runs `work(i)` for i in [0, count) on `threads` threads (0: all cores).
+template <class Work>
+void parallel_for(size_t count, uint32_t threads, Work&& work) {
   std::atomic<size_t> next{0};
   auto worker = [&] {
-    for (size_t i = next++; i < units.size(); i = next++) {
-      units[i].compiled = compile_shader(units[i].desc, options, diag);
-      if (units[i].compiled.ok) {
-        units[i].reflection = reflect_spirv(units[i].compiled.spirv);
-        if (!units[i].reflection.error.empty())
-          diag.error(units[i].desc.where, "shader '" + units[i].desc.name +
-                                              "': SPIR-V reflection failed: " + units[i].reflection.error);
-      }
-    }
+    for (size_t i = next++; i < count; i = next++) work(i);
   };
   uint32_t n = threads ? threads : std::max(1u, std::thread::hardware_concurrency());
-  n = std::min<uint32_t>(n, static_cast<uint32_t>(std::max<size_t>(units.size(), 1)));
+  n = static_cast<uint32_t>(std::min<size_t>(n, std::max<size_t>(count, 1)));
   std::vector<std::thread> pool;
   for (uint32_t i = 1; i < n; ++i) pool.emplace_back(worker);
   worker();
@@ -78,112 +70,6 @@ const char* stage_name(uint32_t stage) {
   return "unknown";
 }
 
-class ContentsBuilder {
- public:
-  uint32_t add_blob(const std::vector<uint32_t>& words) {
-    auto bytes = std::as_bytes(std::span(words));
-    uint64_t hash = format::hash_bytes({reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size()});
-    for (auto [it, end] = blob_by_hash_.equal_range(hash); it != end; ++it)
-      if (std::ranges::equal(contents.spirv[it->second], words)) return it->second;  // hash + byte compare
-    blobs_.push_back(words);
-    contents.spirv.emplace_back(blobs_.back());
-    uint32_t index = static_cast<uint32_t>(contents.spirv.size() - 1);
-    blob_by_hash_.emplace(hash, index);
-    return index;
-  }
-  uint32_t add_shader(format::Shader shader) {
-    for (uint32_t i = 0; i < contents.shaders.size(); ++i) {
-      const auto& s = contents.shaders[i];
-      if (s.name == shader.name && s.stage == shader.stage && s.blob == shader.blob &&
-          s.entry_point == shader.entry_point)
-        return i;
-    }
-    contents.shaders.push_back(std::move(shader));
-    return static_cast<uint32_t>(contents.shaders.size() - 1);
-  }
-  uint32_t add_set_layout(format::SetLayout layout) {
-    for (uint32_t i = 0; i < contents.set_layouts.size(); ++i) {
-      const auto& l = contents.set_layouts[i].bindings;
-      if (std::ranges::equal(l, layout.bindings, [](const format::Binding& a, const format::Binding& b) {
-            return a.name == b.name && a.binding == b.binding && a.descriptor_type == b.descriptor_type &&
-                   a.count == b.count && a.stage_flags == b.stage_flags;
-          }))
-        return i;
-    }
-    contents.set_layouts.push_back(std::move(layout));
-    return static_cast<uint32_t>(contents.set_layouts.size() - 1);
-  }
-
-  format::Contents contents;
-
- private:
-  std::deque<std::vector<uint32_t>> blobs_;  // stable storage behind contents.spirv
-  std::multimap<uint64_t, uint32_t> blob_by_hash_;
-};
-
-// Merges the shaders' reflected resources into the pipeline's set layouts; checks agreement.
-bool build_layout(const PipelineDesc& p, const std::vector<const CompiledUnit*>& units,
-                  ContentsBuilder& builder, format::Pipeline& out, Diagnostics& diag) {
-  std::map<std::pair<uint32_t, uint32_t>, format::Binding> merged;  // (set, binding)
-  std::map<std::pair<uint32_t, uint32_t>, std::string> first_shader;
-  bool ok = true;
-  for (const CompiledUnit* unit : units) {
-    for (const ReflectedBinding& r : unit->reflection.bindings) {
-      if (r.count == 0) {
-        diag.error(p.where, "pipeline '" + p.name + "', shader '" + unit->desc.name + "': resource '" +
-                                r.name + "' is a runtime-sized array, which is not supported yet");
-        ok = false;
-        continue;
-      }
-      auto key = std::pair{r.set, r.binding};
-      auto [it, inserted] =
-          merged.try_emplace(key, format::Binding{r.name, r.binding, r.descriptor_type, r.count, 0});
-      if (!inserted && (it->second.descriptor_type != r.descriptor_type || it->second.count != r.count)) {
-        diag.error(p.where, "pipeline '" + p.name + "': resource '" + r.name + "' (set " +
-                                std::to_string(r.set) + ", binding " + std::to_string(r.binding) +
-                                ") has another type or array size in shader '" + unit->desc.name +
-                                "' than in shader '" + first_shader[key] + "'");
-        ok = false;
-        continue;
-      }
-      if (inserted) first_shader[key] = unit->desc.name;
-      it->second.stage_flags |= unit->desc.stage;
-    }
-    out.push_constant_size = std::max(out.push_constant_size, unit->reflection.push_constant_size);
-    if (unit->reflection.push_constant_size > 0) out.push_constant_stages |= unit->desc.stage;
-  }
-  // Every ResourceLayout variable must name a resource of the pipeline's shaders, in the stages given.
-  for (const ResourceVariable& v : p.variables) {
-    std::vector<std::string> names;
-    bool found = false;
-    for (const auto& [key, b] : merged) {
-      names.push_back(b.name);
-      if (b.name != v.name) continue;
-      found = true;
-      if (v.stages != 0 && (b.stage_flags & v.stages) == 0) {
-        diag.error(p.where, "pipeline '" + p.name + "': variable '" + v.name +
-                                "' is declared for stages its shaders do not use it in");
-        ok = false;
-      }
-    }
-    if (!found) {
-      diag.error(p.where, "pipeline '" + p.name + "': ResourceLayout variable '" + v.name +
-                              "' is not used by any of its shaders" + did_you_mean(v.name, names));
-      ok = false;
-    }
-  }
-  uint32_t set_count = 0;
-  for (const auto& [key, b] : merged) set_count = std::max(set_count, key.first + 1);
-  for (uint32_t set = 0; set < set_count; ++set) {
-    format::SetLayout layout;
-    for (const auto& [key, b] : merged)
-      if (key.first == set) layout.bindings.push_back(b);  // map order: sorted by binding
-    out.set_layouts.push_back(layout.bindings.empty() ? format::kNone
-                                                      : builder.add_set_layout(std::move(layout)));
-  }
-  return ok;
-}
-
 std::string depfile_escape(const std::string& path) {
   std::string out;
   for (char c : path) {
@@ -192,6 +78,93 @@ std::string depfile_escape(const std::string& path) {
     out += c;
   }
   return out;
+}
+
+// A file name from an object name: keeps letters, digits, space, '-', '_' and '.'.
+std::string file_name_of(const std::string& name) {
+  std::string out;
+  for (char c : name)
+    out += (std::isalnum(static_cast<unsigned char>(c)) || c == ' ' || c == '-' || c == '_') ? c : '_';
+  return out.empty() ? "_" : out;
+}
+
+// Optimises, strips and validates each distinct module once; the same patched module used by
+// several pipelines is finalised once.
+class Finalizer {
+ public:
+  Finalizer(const CompileOptions& options, ContentsBuilder& builder) : options_(options), builder_(builder) {}
+  // Returns the blob index, or nullopt with `error` set.
+  std::optional<uint32_t> add(std::vector<uint32_t> words, std::string& error,
+                              std::vector<uint32_t>* final_words) {
+    std::string key(reinterpret_cast<const char*>(words.data()), words.size() * 4);
+    auto it = done_.find(key);
+    if (it == done_.end()) {
+      std::string problem = finalize_spirv(words, options_);
+      if (!problem.empty()) {
+        error = problem;
+        return std::nullopt;
+      }
+      it = done_.emplace(std::move(key), std::move(words)).first;
+    }
+    if (final_words) *final_words = it->second;
+    return builder_.add_blob(it->second);
+  }
+
+ private:
+  const CompileOptions& options_;
+  ContentsBuilder& builder_;
+  std::map<std::string, std::vector<uint32_t>> done_;
+};
+
+class Dumper {
+ public:
+  Dumper(std::optional<fs::path> dir, const CompileOptions& options)
+      : dir_(std::move(dir)), options_(options) {}
+  void write(const fs::path& relative, const std::vector<uint32_t>& words, std::string& error) {
+    if (!dir_ || !error.empty()) return;
+    fs::path base = *dir_ / "Vulkan" / relative;
+    std::error_code ec;
+    fs::create_directories(base.parent_path(), ec);
+    std::ofstream spv(fs::path(base) += ".spv", std::ios::binary);
+    spv.write(reinterpret_cast<const char*>(words.data()), static_cast<std::streamsize>(words.size() * 4));
+    std::ofstream text(fs::path(base) += ".spvasm");
+    text << disassemble_spirv(words, options_);
+    if (!spv || !text) error = "cannot write the dump under '" + dir_->string() + "'";
+  }
+
+ private:
+  std::optional<fs::path> dir_;
+  const CompileOptions& options_;
+};
+
+// Formats and sample count of a pipeline's subpass, which the render pass decides.
+void apply_render_pass(const format::RenderPass& rp, format::GraphicsState& g, const PipelineDesc& p,
+                       Diagnostics& diag) {
+  if (g.subpass >= rp.subpasses.size()) {
+    diag.error(p.where, "pipeline '" + p.name + "': render pass '" + rp.name + "' has no subpass " +
+                            std::to_string(g.subpass));
+    return;
+  }
+  const format::Subpass& sp = rp.subpasses[g.subpass];
+  std::array<uint32_t, format::kMaxColorTargets> formats{};
+  uint32_t samples = 0;
+  for (size_t i = 0; i < sp.colors.size(); ++i) {
+    if (sp.colors[i].attachment == format::kNone) continue;
+    formats[i] = rp.attachments[sp.colors[i].attachment].format;
+    samples = rp.attachments[sp.colors[i].attachment].samples;
+  }
+  uint32_t depth = 0;
+  if (sp.depth_stencil.attachment != format::kNone) {
+    depth = rp.attachments[sp.depth_stencil.attachment].format;
+    samples = rp.attachments[sp.depth_stencil.attachment].samples;
+  }
+  if (g.color_count != 0 && (g.color_count != sp.colors.size() || g.color_formats != formats))
+    diag.error(p.where, "pipeline '" + p.name + "': RTVFormats/NumRenderTargets disagree with subpass " +
+                            std::to_string(g.subpass) + " of render pass '" + rp.name + "'");
+  g.color_count = static_cast<uint32_t>(sp.colors.size());
+  g.color_formats = formats;
+  g.depth_stencil_format = depth;
+  if (samples != 0) g.samples = samples;
 }
 
 void print_contents(const format::Contents& c, size_t archive_size, std::ostream& out) {
@@ -211,11 +184,21 @@ void print_contents(const format::Contents& c, size_t archive_size, std::ostream
     }
     for (uint32_t set = 0; set < p->set_layouts.size(); ++set) {
       if (p->set_layouts[set] == format::kNone) continue;
-      for (const auto& b : c.set_layouts[p->set_layouts[set]].bindings)
+      const auto& layout = c.set_layouts[p->set_layouts[set]];
+      if (!layout.name.empty()) out << "    set " << set << ": signature '" << layout.name << "'\n";
+      for (const auto& b : layout.bindings)
         out << "    set " << set << " binding " << b.binding << ": '" << b.name << "' (descriptor type "
             << b.descriptor_type << ", count " << b.count << ")\n";
     }
   }
+  for (const auto& layout : c.set_layouts)
+    if (!layout.name.empty())
+      out << "Resource signature '" << layout.name << "': " << layout.bindings.size() << " bindings\n";
+  for (const auto& rp : c.render_passes)
+    out << "Render pass '" << rp.name << "': " << rp.attachments.size() << " attachments, "
+        << rp.subpasses.size() << " subpasses\n";
+  for (uint32_t s : c.standalone_shaders)
+    out << "Standalone shader '" << c.shaders[s].name << "' (" << stage_name(c.shaders[s].stage) << ")\n";
   size_t spirv_bytes = 0;
   for (auto blob : c.spirv) spirv_bytes += blob.size_bytes();
   out << "SPIR-V blobs: " << c.spirv.size() << " unique, " << spirv_bytes << " bytes\n";
@@ -256,10 +239,11 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err) {
   Notation notation;
   for (const auto& input : options.inputs) read_notation(input, options.notation, notation, diag);
   resolve_references(notation, diag);
-  if (notation.pipelines.empty() && !diag.has_errors())
-    diag.error({options.inputs.empty() ? "" : options.inputs.front().string()}, "no pipelines to pack");
+  if (notation.pipelines.empty() && notation.shaders.empty() && notation.signatures.empty() &&
+      notation.render_passes.empty() && !diag.has_errors())
+    diag.error({options.inputs.empty() ? "" : options.inputs.front().string()}, "nothing to pack");
 
-  // Distinct shaders, each compiled once.
+  // Distinct shaders, each compiled once, in parallel.
   std::vector<CompiledUnit> units;
   std::map<std::string, size_t> unit_by_key;
   auto unit_for = [&](const ShaderDesc& s) {
@@ -273,30 +257,85 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err) {
     for (const auto& s : p.shaders)
       if (!s.is_reference) pipeline_units.back().push_back(unit_for(s));
   }
-  for (const auto& s : notation.shaders) unit_for(s);  // standalone shaders are checked too
-  if (!diag.has_errors()) compile_all(units, options.compile, options.threads, diag);
+  std::vector<size_t> standalone_units;
+  for (const auto& s : notation.shaders) standalone_units.push_back(unit_for(s));
+  if (!diag.has_errors()) {
+    parallel_for(units.size(), options.threads, [&](size_t i) {
+      CompiledUnit& u = units[i];
+      u.compiled = compile_shader(u.desc, options.compile, diag);
+      if (!u.compiled.ok) return;
+      u.reflection = reflect_spirv(u.compiled.spirv, u.desc.stage);
+      if (!u.reflection.error.empty())
+        diag.error(u.desc.where,
+                   "shader '" + u.desc.name + "': SPIR-V reflection failed: " + u.reflection.error);
+    });
+  }
 
   ContentsBuilder builder;
   builder.contents.producer_version = kProducerVersion;
   builder.contents.content_version = options.content_version;
   builder.contents.backends = format::kBackendVulkan;
+  Finalizer finalizer(options.compile, builder);
+  Dumper dumper(options.dump_dir, options.compile);
+  std::string io_error;
   if (!diag.has_errors()) {
+    // Every signature and render pass is archived by name, used or not; Ignore.Signatures are not.
+    for (const auto& sig : notation.signatures)
+      if (!notation.ignored_signatures.count(sig.name))
+        builder.add_set_layout(signature_set_layout(sig, true, builder));
+    std::map<std::string, uint32_t> pass_index;
+    for (const auto& rp : notation.render_passes) pass_index[rp.pass.name] = builder.add_render_pass(rp.pass);
+
+    for (size_t s = 0; s < notation.shaders.size(); ++s) {
+      const CompiledUnit& unit = units[standalone_units[s]];
+      std::string error;
+      std::vector<uint32_t> final_words;
+      auto blob = finalizer.add(unit.compiled.spirv, error, &final_words);
+      if (!blob) {
+        diag.error(unit.desc.where, "shader '" + unit.desc.name + "': " + error);
+        continue;
+      }
+      dumper.write(fs::path("Shaders") / file_name_of(unit.desc.name), final_words, io_error);
+      builder.contents.standalone_shaders.push_back(
+          builder.add_shader({unit.desc.name, unit.desc.stage, *blob, unit.desc.entry_point}));
+    }
+
     for (size_t i = 0; i < notation.pipelines.size(); ++i) {
       const PipelineDesc& p = notation.pipelines[i];
+      std::vector<StageInput> stages;
+      for (size_t u : pipeline_units[i])
+        stages.push_back({&units[u].desc, &units[u].compiled.spirv, &units[u].reflection});
+      PipelineLayout layout;
+      if (!build_pipeline_layout(p, stages, notation, builder, layout, diag)) continue;
       format::Pipeline out_pipeline;
       out_pipeline.name = p.name;
       out_pipeline.kind = p.kind;
       out_pipeline.graphics = p.graphics;
-      std::vector<const CompiledUnit*> used;
-      for (size_t u : pipeline_units[i]) {
-        const CompiledUnit& unit = units[u];
-        used.push_back(&unit);
-        uint32_t blob = builder.add_blob(unit.compiled.spirv);
-        out_pipeline.shaders.push_back(
-            builder.add_shader({unit.desc.name, unit.desc.stage, blob, unit.desc.entry_point}));
+      out_pipeline.set_layouts = layout.set_layouts;
+      out_pipeline.push_constant_size = layout.push_constant_size;
+      out_pipeline.push_constant_stages = layout.push_constant_stages;
+      if (!p.render_pass.empty()) {
+        out_pipeline.graphics.render_pass = pass_index.at(p.render_pass);
+        apply_render_pass(builder.contents.render_passes[out_pipeline.graphics.render_pass],
+                          out_pipeline.graphics, p, diag);
       }
-      if (build_layout(p, used, builder, out_pipeline, diag))
-        builder.contents.pipelines.push_back(std::move(out_pipeline));
+      bool ok = true;
+      for (size_t s = 0; s < stages.size(); ++s) {
+        std::string error;
+        std::vector<uint32_t> final_words;
+        auto blob = finalizer.add(std::move(layout.patched_spirv[s]), error, &final_words);
+        if (!blob) {
+          diag.error(p.where, "pipeline '" + p.name + "', shader '" + stages[s].desc->name + "': " + error);
+          ok = false;
+          continue;
+        }
+        const std::string kind = p.kind == format::PipelineKind::compute ? "Compute" : "Graphics";
+        dumper.write(fs::path(kind) / file_name_of(p.name) / file_name_of(stages[s].desc->name), final_words,
+                     io_error);
+        out_pipeline.shaders.push_back(builder.add_shader(
+            {stages[s].desc->name, stages[s].desc->stage, *blob, stages[s].desc->entry_point}));
+      }
+      if (ok) builder.contents.pipelines.push_back(std::move(out_pipeline));
     }
   }
   if (diag.has_errors()) {
@@ -305,6 +344,10 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err) {
     return kExitInputError;
   }
   diag.print(err);  // warnings
+  if (!io_error.empty()) {
+    err << "statepack: error: " << io_error << '\n';
+    return kExitIoError;
+  }
 
   std::vector<uint8_t> bytes = format::encode(builder.contents);
   std::string error;
@@ -313,7 +356,7 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err) {
     return kExitIoError;
   }
   if (options.depfile) {
-    // Make syntax: "<output>: <every JSON and shader file read>", one dependency per line.
+    // Make syntax: "<output>: <every JSON and shader file read>".
     std::set<std::string> deps;
     for (const auto& f : notation.files_read) deps.insert(f.string());
     for (const auto& u : units)

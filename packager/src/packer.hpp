@@ -23,6 +23,7 @@ struct PackOptions {
   CompileOptions compile;
   std::filesystem::path output;
   std::optional<std::filesystem::path> depfile;
+  std::optional<std::filesystem::path> dump_dir;  // SPIR-V and disassembly per pipeline and shader
   uint32_t content_version = 0;
   uint32_t threads = 0;  // 0: all cores
   bool print_contents = false;

@@ -6,6 +6,7 @@
 #include <glslang/Public/ShaderLang.h>
 #include <glslang/SPIRV/GlslangToSpv.h>
 #include <spirv-tools/libspirv.hpp>
+#include <spirv-tools/optimizer.hpp>
 
 #include <vulkan/vulkan_core.h>
 
@@ -190,18 +191,39 @@ CompiledShader compile_shader(const ShaderDesc& shader, const CompileOptions& op
     return result;
   }
 
-  spvtools::SpirvTools tools(target_env(options.vulkan_version));
-  std::string validation;
-  tools.SetMessageConsumer(
-      [&](spv_message_level_t, const char*, const spv_position_t& pos, const char* message) {
-        validation += "word " + std::to_string(pos.index) + ": " + message + "\n";
-      });
-  if (!tools.Validate(result.spirv)) {
-    diag.error(shader.where, "shader '" + shader.name + "': the SPIR-V fails validation: " + validation);
-    return result;
-  }
   result.ok = true;
   return result;
+}
+
+std::string finalize_spirv(std::vector<uint32_t>& spirv, const CompileOptions& options) {
+  const spv_target_env env = target_env(options.vulkan_version);
+  std::string messages;
+  auto consumer = [&](spv_message_level_t, const char*, const spv_position_t& pos, const char* message) {
+    messages += "word " + std::to_string(pos.index) + ": " + message + "\n";
+  };
+  if (options.optimization != Optimization::none || options.strip_debug_info) {
+    spvtools::Optimizer optimizer(env);
+    optimizer.SetMessageConsumer(consumer);
+    if (options.optimization == Optimization::speed) optimizer.RegisterPerformancePasses();
+    if (options.optimization == Optimization::size) optimizer.RegisterSizePasses();
+    if (options.strip_debug_info) optimizer.RegisterPass(spvtools::CreateStripDebugInfoPass());
+    std::vector<uint32_t> optimized;
+    if (!optimizer.Run(spirv.data(), spirv.size(), &optimized))
+      return "the SPIR-V optimizer failed: " + messages;
+    spirv = std::move(optimized);
+  }
+  spvtools::SpirvTools tools(env);
+  tools.SetMessageConsumer(consumer);
+  if (!tools.Validate(spirv)) return "the SPIR-V fails validation: " + messages;
+  return "";
+}
+
+std::string disassemble_spirv(const std::vector<uint32_t>& spirv, const CompileOptions& options) {
+  spvtools::SpirvTools tools(target_env(options.vulkan_version));
+  std::string text;
+  tools.Disassemble(spirv, &text,
+                    SPV_BINARY_TO_TEXT_OPTION_FRIENDLY_NAMES | SPV_BINARY_TO_TEXT_OPTION_INDENT);
+  return text;
 }
 
 }  // namespace statepack::packager

@@ -11,10 +11,14 @@
 
 namespace statepack::packager {
 
+enum class Optimization { none, speed, size };
+
 struct CompileOptions {
   std::vector<std::filesystem::path> include_dirs;                 // -s: searched after the includer's dir
   std::vector<std::pair<std::string, std::string>> global_macros;  // -D NAME=VALUE
   uint32_t vulkan_version = 0x00400000;                            // VK_API_VERSION_1_0: SPIR-V 1.0
+  Optimization optimization = Optimization::none;
+  bool strip_debug_info = false;  // OpName, OpLine, ...: names the archive keeps in its binding table
 };
 
 struct CompiledShader {
@@ -26,5 +30,12 @@ struct CompiledShader {
 // Compiles one shader. Errors are reported against the shader's own file and line.
 CompiledShader compile_shader(const ShaderDesc& shader, const CompileOptions& options,
                               Diagnostics& diagnostics);
+
+// Optimises and strips `spirv` as the options say, then validates it with SPIRV-Tools.
+// Returns an empty string on success, else the reason.
+std::string finalize_spirv(std::vector<uint32_t>& spirv, const CompileOptions& options);
+
+// SPIR-V assembly text of `spirv`, for --dump_dir.
+std::string disassemble_spirv(const std::vector<uint32_t>& spirv, const CompileOptions& options);
 
 }  // namespace statepack::packager

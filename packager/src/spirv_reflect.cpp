@@ -16,7 +16,7 @@ struct Context {
 
 }  // namespace
 
-Reflection reflect_spirv(std::span<const uint32_t> spirv) {
+Reflection reflect_spirv(std::span<const uint32_t> spirv, uint32_t stage) {
   Reflection out;
   Context ctx;
   spvc_parsed_ir ir = nullptr;
@@ -60,6 +60,13 @@ Reflection reflect_spirv(std::span<const uint32_t> spirv) {
       b.name = list[i].name;
       b.set = spvc_compiler_get_decoration(compiler, list[i].id, SpvDecorationDescriptorSet);
       b.binding = spvc_compiler_get_decoration(compiler, list[i].id, SpvDecorationBinding);
+      b.stage = stage;
+      unsigned word = 0;
+      if (spvc_compiler_get_binary_offset_for_decoration(compiler, list[i].id, SpvDecorationDescriptorSet,
+                                                         &word))
+        b.set_word = word;
+      if (spvc_compiler_get_binary_offset_for_decoration(compiler, list[i].id, SpvDecorationBinding, &word))
+        b.binding_word = word;
       spvc_type type = spvc_compiler_get_type_handle(compiler, list[i].type_id);
       bool is_image = kind.type == SPVC_RESOURCE_TYPE_SAMPLED_IMAGE ||
                       kind.type == SPVC_RESOURCE_TYPE_SEPARATE_IMAGE ||

@@ -14,6 +14,9 @@ struct ReflectedBinding {
   uint32_t binding = 0;
   uint32_t descriptor_type = 0;  // VkDescriptorType
   uint32_t count = 1;
+  uint32_t stage = 0;  // VkShaderStageFlagBits of the module
+  // Word offsets of the DescriptorSet and Binding literals, for patching (0 when absent).
+  uint32_t set_word = 0, binding_word = 0;
 };
 
 struct Reflection {
@@ -22,6 +25,6 @@ struct Reflection {
   std::string error;  // non-empty when reflection failed
 };
 
-Reflection reflect_spirv(std::span<const uint32_t> spirv);
+Reflection reflect_spirv(std::span<const uint32_t> spirv, uint32_t stage);
 
 }  // namespace statepack::packager

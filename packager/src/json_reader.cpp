@@ -1,0 +1,150 @@
+#include "json_reader.hpp"
+
+#include <algorithm>
+
+#include "suggest.hpp"
+
+namespace statepack::packager {
+
+Location JsonReader::at(const std::string& pointer) const {
+  TextPosition p = positions_.find(pointer);
+  return {display_, p.line, p.column, pointer};
+}
+
+Location JsonReader::at_key(const std::string& pointer) const {
+  TextPosition p = positions_.find(pointer + "#key");
+  return {display_, p.line, p.column, pointer};
+}
+
+void JsonReader::error(const std::string& pointer, std::string message) {
+  diag_.error(at(pointer), std::move(message));
+}
+
+void JsonReader::warning(const std::string& pointer, std::string message) {
+  diag_.warning(at(pointer), std::move(message));
+}
+
+void JsonReader::check_keys(const Json& object, const std::string& pointer,
+                            const std::vector<std::string>& allowed, const char* what) {
+  for (const auto& [key, value] : object.items()) {
+    if (std::find(allowed.begin(), allowed.end(), key) != allowed.end()) continue;
+    diag_.error(at_key(pointer + "/" + key),
+                "unknown " + std::string(what) + " key '" + key + "'" + did_you_mean(key, allowed));
+  }
+}
+
+bool JsonReader::expect_object(const Json& j, const std::string& pointer, const char* what) {
+  if (j.is_object()) return true;
+  error(pointer, std::string(what) + " must be an object, but is " + j.type_name());
+  return false;
+}
+
+bool JsonReader::expect_array(const Json& j, const std::string& pointer, const char* what) {
+  if (j.is_array()) return true;
+  error(pointer, std::string(what) + " must be an array, but is " + j.type_name());
+  return false;
+}
+
+std::optional<std::string> JsonReader::string(const Json& object, const char* key,
+                                              const std::string& pointer) {
+  auto it = object.find(key);
+  if (it == object.end()) return std::nullopt;
+  if (!it->is_string()) {
+    error(pointer + "/" + key, std::string("'") + key + "' must be a string, but is " + it->type_name());
+    return std::nullopt;
+  }
+  return it->get<std::string>();
+}
+
+std::optional<uint32_t> JsonReader::enum_value(const Json& j, const std::string& pointer, EnumTable table,
+                                               const char* enum_name) {
+  if (!j.is_string()) {
+    error(pointer, std::string(enum_name) + " must be a string, but is " + j.type_name());
+    return std::nullopt;
+  }
+  const auto& s = j.get_ref<const std::string&>();
+  for (const auto& [name, value] : table) {
+    if (name != s) continue;
+    if (value == kUnsupportedValue) {
+      error(pointer, std::string(enum_name) + " '" + s + "' is not supported by the Vulkan backend");
+      return std::nullopt;
+    }
+    return value;
+  }
+  std::vector<std::string> names;
+  for (const auto& [name, value] : table) names.emplace_back(name);
+  error(pointer, "unknown " + std::string(enum_name) + " '" + s + "'" + did_you_mean(s, names));
+  return std::nullopt;
+}
+
+std::optional<uint32_t> JsonReader::flags_value(const Json& j, const std::string& pointer, EnumTable table,
+                                                const char* enum_name) {
+  if (j.is_string()) return enum_value(j, pointer, table, enum_name);
+  if (!j.is_array()) {
+    error(pointer,
+          std::string(enum_name) + " must be a string or an array of strings, but is " + j.type_name());
+    return std::nullopt;
+  }
+  uint32_t bits = 0;
+  bool ok = true;
+  for (size_t i = 0; i < j.size(); ++i) {
+    auto v = enum_value(j[i], pointer + "/" + std::to_string(i), table, enum_name);
+    if (v) bits |= *v;
+    ok = ok && v.has_value();
+  }
+  return ok ? std::optional<uint32_t>(bits) : std::nullopt;
+}
+
+void JsonReader::enum_field(const Json& object, const char* key, const std::string& pointer, EnumTable table,
+                            const char* enum_name, uint32_t& out) {
+  auto it = object.find(key);
+  if (it == object.end()) return;
+  if (auto v = enum_value(*it, pointer + "/" + key, table, enum_name)) out = *v;
+}
+
+void JsonReader::flags_field(const Json& object, const char* key, const std::string& pointer, EnumTable table,
+                             const char* enum_name, uint32_t& out) {
+  auto it = object.find(key);
+  if (it == object.end()) return;
+  if (auto v = flags_value(*it, pointer + "/" + key, table, enum_name)) out = *v;
+}
+
+void JsonReader::boolean(const Json& object, const char* key, const std::string& pointer, uint32_t& out) {
+  auto it = object.find(key);
+  if (it == object.end()) return;
+  if (!it->is_boolean())
+    return error(pointer + "/" + key,
+                 std::string("'") + key + "' must be true or false, but is " + it->type_name());
+  out = it->get<bool>() ? 1 : 0;
+}
+
+void JsonReader::unsigned_number(const Json& object, const char* key, const std::string& pointer,
+                                 uint32_t& out) {
+  auto it = object.find(key);
+  if (it == object.end()) return;
+  if (!it->is_number_unsigned() || it->get<uint64_t>() > 0xFFFFFFFFull)
+    return error(pointer + "/" + key,
+                 std::string("'") + key + "' must be an integer from 0 to 4294967295, but is " + it->dump());
+  out = it->get<uint32_t>();
+}
+
+void JsonReader::signed_number(const Json& object, const char* key, const std::string& pointer,
+                               int32_t& out) {
+  auto it = object.find(key);
+  if (it == object.end()) return;
+  if (!it->is_number_integer() || it->get<int64_t>() < INT32_MIN || it->get<int64_t>() > INT32_MAX)
+    return error(pointer + "/" + key,
+                 std::string("'") + key + "' must be a 32-bit integer, but is " + it->dump());
+  out = it->get<int32_t>();
+}
+
+void JsonReader::float_number(const Json& object, const char* key, const std::string& pointer, float& out) {
+  auto it = object.find(key);
+  if (it == object.end()) return;
+  if (!it->is_number())
+    return error(pointer + "/" + key,
+                 std::string("'") + key + "' must be a number, but is " + it->type_name());
+  out = it->get<float>();
+}
+
+}  // namespace statepack::packager

@@ -1,0 +1,662 @@
+#include "notation_objects.hpp"
+
+#include <array>
+#include <bit>
+#include <cfloat>
+#include <map>
+
+namespace statepack::packager {
+namespace fs = std::filesystem;
+namespace {
+
+SourceLanguage language_from_extension(const std::string& path) {
+  static const char* kGlsl[] = {".glsl", ".vert", ".frag", ".comp", ".geom", ".tesc", ".tese"};
+  std::string ext = fs::path(path).extension().string();
+  for (const char* e : kGlsl)
+    if (ext == e) return SourceLanguage::glsl;
+  return SourceLanguage::hlsl;  // Diligent's DEFAULT means HLSL
+}
+
+std::optional<uint32_t> parse_index(JsonReader& json, const std::string& key, const std::string& pointer) {
+  if (key.size() == 1 && key[0] >= '0' && key[0] < '0' + int(format::kMaxColorTargets))
+    return static_cast<uint32_t>(key[0] - '0');
+  json.diagnostics().error(json.at_key(pointer + "/" + key),
+                           "render-target index '" + key + "' must be \"0\" to \"7\"");
+  return std::nullopt;
+}
+
+// (value type, component count, normalized) -> VkFormat; 0 when Vulkan has none.
+uint32_t vertex_format(uint32_t value_type, uint32_t components, bool normalized) {
+  // Rows: VALUE_TYPE 1..8 (INT8 .. FLOAT32); columns: 1..4 components; [0] integer, [1] normalized.
+  static constexpr uint32_t kFormats[8][2][4] = {
+      {{VK_FORMAT_R8_SINT, VK_FORMAT_R8G8_SINT, VK_FORMAT_R8G8B8_SINT, VK_FORMAT_R8G8B8A8_SINT},
+       {VK_FORMAT_R8_SNORM, VK_FORMAT_R8G8_SNORM, VK_FORMAT_R8G8B8_SNORM, VK_FORMAT_R8G8B8A8_SNORM}},
+      {{VK_FORMAT_R16_SINT, VK_FORMAT_R16G16_SINT, VK_FORMAT_R16G16B16_SINT, VK_FORMAT_R16G16B16A16_SINT},
+       {VK_FORMAT_R16_SNORM, VK_FORMAT_R16G16_SNORM, VK_FORMAT_R16G16B16_SNORM,
+        VK_FORMAT_R16G16B16A16_SNORM}},
+      {{VK_FORMAT_R32_SINT, VK_FORMAT_R32G32_SINT, VK_FORMAT_R32G32B32_SINT, VK_FORMAT_R32G32B32A32_SINT},
+       {VK_FORMAT_R32_SINT, VK_FORMAT_R32G32_SINT, VK_FORMAT_R32G32B32_SINT, VK_FORMAT_R32G32B32A32_SINT}},
+      {{VK_FORMAT_R8_UINT, VK_FORMAT_R8G8_UINT, VK_FORMAT_R8G8B8_UINT, VK_FORMAT_R8G8B8A8_UINT},
+       {VK_FORMAT_R8_UNORM, VK_FORMAT_R8G8_UNORM, VK_FORMAT_R8G8B8_UNORM, VK_FORMAT_R8G8B8A8_UNORM}},
+      {{VK_FORMAT_R16_UINT, VK_FORMAT_R16G16_UINT, VK_FORMAT_R16G16B16_UINT, VK_FORMAT_R16G16B16A16_UINT},
+       {VK_FORMAT_R16_UNORM, VK_FORMAT_R16G16_UNORM, VK_FORMAT_R16G16B16_UNORM,
+        VK_FORMAT_R16G16B16A16_UNORM}},
+      {{VK_FORMAT_R32_UINT, VK_FORMAT_R32G32_UINT, VK_FORMAT_R32G32B32_UINT, VK_FORMAT_R32G32B32A32_UINT},
+       {VK_FORMAT_R32_UINT, VK_FORMAT_R32G32_UINT, VK_FORMAT_R32G32B32_UINT, VK_FORMAT_R32G32B32A32_UINT}},
+      {{VK_FORMAT_R16_SFLOAT, VK_FORMAT_R16G16_SFLOAT, VK_FORMAT_R16G16B16_SFLOAT,
+        VK_FORMAT_R16G16B16A16_SFLOAT},
+       {VK_FORMAT_R16_SFLOAT, VK_FORMAT_R16G16_SFLOAT, VK_FORMAT_R16G16B16_SFLOAT,
+        VK_FORMAT_R16G16B16A16_SFLOAT}},
+      {{VK_FORMAT_R32_SFLOAT, VK_FORMAT_R32G32_SFLOAT, VK_FORMAT_R32G32B32_SFLOAT,
+        VK_FORMAT_R32G32B32A32_SFLOAT},
+       {VK_FORMAT_R32_SFLOAT, VK_FORMAT_R32G32_SFLOAT, VK_FORMAT_R32G32B32_SFLOAT,
+        VK_FORMAT_R32G32B32A32_SFLOAT}},
+  };
+  if (value_type < 1 || value_type > 8 || components < 1 || components > 4) return 0;
+  return kFormats[value_type - 1][normalized ? 1 : 0][components - 1];
+}
+
+uint32_t component_size(uint32_t value_type) {
+  static constexpr uint32_t kSizes[] = {0, 1, 2, 4, 1, 2, 4, 2, 4};
+  return value_type < 9 ? kSizes[value_type] : 0;
+}
+
+void read_input_layout(ReadContext& ctx, const Json& j, const std::string& pointer,
+                       format::GraphicsState& g) {
+  JsonReader& json = ctx.json;
+  if (!json.expect_object(j, pointer, "'InputLayout'")) return;
+  json.check_keys(j, pointer, {"LayoutElements", "NumElements"}, "InputLayout");
+  auto elements = j.find("LayoutElements");
+  if (elements == j.end() || !json.expect_array(*elements, pointer + "/LayoutElements", "'LayoutElements'"))
+    return;
+  constexpr uint32_t kAuto = 0xFFFFFFFFu;
+  std::map<uint32_t, uint32_t> slot_size;        // buffer slot -> running offset
+  std::map<uint32_t, uint32_t> explicit_stride;  // buffer slot -> Stride given
+  std::map<uint32_t, uint32_t> slot_rate;
+  g.vertex_attributes.clear();
+  g.vertex_bindings.clear();
+  for (size_t i = 0; i < elements->size(); ++i) {
+    std::string ep = pointer + "/LayoutElements/" + std::to_string(i);
+    const Json& e = (*elements)[i];
+    if (!json.expect_object(e, ep, "a layout element")) continue;
+    json.check_keys(e, ep,
+                    {"HLSLSemantic", "InputIndex", "BufferSlot", "NumComponents", "ValueType", "IsNormalized",
+                     "RelativeOffset", "Stride", "Frequency", "InstanceDataStepRate"},
+                    "layout element");
+    uint32_t location = 0, slot = 0, components = 0, value_type = 8, normalized = 1, offset = kAuto,
+             stride = kAuto, rate = VK_VERTEX_INPUT_RATE_VERTEX, step = 1;
+    json.string(e, "HLSLSemantic", ep);
+    json.unsigned_number(e, "InputIndex", ep, location);
+    json.unsigned_number(e, "BufferSlot", ep, slot);
+    json.unsigned_number(e, "NumComponents", ep, components);
+    json.enum_field(e, "ValueType", ep, kValueTypes, "value type", value_type);
+    json.boolean(e, "IsNormalized", ep, normalized);
+    json.unsigned_number(e, "RelativeOffset", ep, offset);
+    json.unsigned_number(e, "Stride", ep, stride);
+    json.enum_field(e, "Frequency", ep, kInputFrequencies, "input frequency", rate);
+    json.unsigned_number(e, "InstanceDataStepRate", ep, step);
+    if (components < 1 || components > 4) {
+      json.error(ep, "'NumComponents' must be 1 to 4");
+      continue;
+    }
+    if (step != 1)
+      json.error(ep + "/InstanceDataStepRate", "instance step rates other than 1 are not supported");
+    uint32_t& running = slot_size[slot];
+    if (offset == kAuto) offset = running;
+    running = std::max(running, offset + components * component_size(value_type));
+    if (stride != kAuto) {
+      auto [it, inserted] = explicit_stride.emplace(slot, stride);
+      if (!inserted && it->second != stride)
+        json.error(ep + "/Stride", "buffer slot " + std::to_string(slot) + " has two different strides");
+    }
+    auto [rate_it, new_slot] = slot_rate.emplace(slot, rate);
+    if (!new_slot && rate_it->second != rate)
+      json.error(ep + "/Frequency",
+                 "buffer slot " + std::to_string(slot) + " mixes per-vertex and per-instance data");
+    g.vertex_attributes.push_back(
+        {location, slot, vertex_format(value_type, components, normalized != 0), offset});
+  }
+  for (const auto& [slot, size] : slot_size) {
+    auto stride = explicit_stride.find(slot);
+    g.vertex_bindings.push_back(
+        {slot, stride != explicit_stride.end() ? stride->second : size, slot_rate[slot]});
+  }
+}
+
+void read_blend(ReadContext& ctx, const Json& b, const std::string& pointer, format::GraphicsState& g) {
+  JsonReader& json = ctx.json;
+  json.check_keys(b, pointer, {"AlphaToCoverageEnable", "IndependentBlendEnable", "RenderTargets"},
+                  "BlendDesc");
+  json.boolean(b, "AlphaToCoverageEnable", pointer, g.alpha_to_coverage);
+  uint32_t independent = 0;
+  json.boolean(b, "IndependentBlendEnable", pointer, independent);
+  auto rts = b.find("RenderTargets");
+  if (rts != b.end() &&
+      json.expect_object(*rts, pointer + "/RenderTargets", "'RenderTargets' (keyed by index)")) {
+    for (const auto& [key, rt] : rts->items()) {
+      auto index = parse_index(json, key, pointer + "/RenderTargets");
+      std::string rp = pointer + "/RenderTargets/" + key;
+      if (!index || !json.expect_object(rt, rp, "a render-target blend description")) continue;
+      json.check_keys(rt, rp,
+                      {"BlendEnable", "LogicOperationEnable", "SrcBlend", "DestBlend", "BlendOp",
+                       "SrcBlendAlpha", "DestBlendAlpha", "BlendOpAlpha", "LogicOp", "RenderTargetWriteMask"},
+                      "render-target blend");
+      format::BlendAttachment& a = g.blend[*index];
+      json.boolean(rt, "BlendEnable", rp, a.enable);
+      uint32_t logic = 0;
+      json.boolean(rt, "LogicOperationEnable", rp, logic);
+      if (logic)
+        json.error(rp + "/LogicOperationEnable", "logic operations are not supported by statepack yet");
+      json.enum_field(rt, "SrcBlend", rp, kBlendFactors, "blend factor", a.src_color);
+      json.enum_field(rt, "DestBlend", rp, kBlendFactors, "blend factor", a.dst_color);
+      json.enum_field(rt, "BlendOp", rp, kBlendOps, "blend operation", a.color_op);
+      json.enum_field(rt, "SrcBlendAlpha", rp, kBlendFactors, "blend factor", a.src_alpha);
+      json.enum_field(rt, "DestBlendAlpha", rp, kBlendFactors, "blend factor", a.dst_alpha);
+      json.enum_field(rt, "BlendOpAlpha", rp, kBlendOps, "blend operation", a.alpha_op);
+      json.flags_field(rt, "RenderTargetWriteMask", rp, kColorMasks, "color mask", a.write_mask);
+    }
+  }
+  // Without independent blending every target uses target 0's description (D3D semantics).
+  if (!independent)
+    for (size_t i = 1; i < g.blend.size(); ++i) g.blend[i] = g.blend[0];
+}
+
+}  // namespace
+
+std::optional<ShaderDesc> read_shader(ReadContext& ctx, const Json& j, const std::string& pointer,
+                                      uint32_t slot_stage) {
+  JsonReader& json = ctx.json;
+  ShaderDesc shader;
+  shader.where = json.at(pointer);
+  shader.stage = slot_stage;
+  if (!json.expect_object(j, pointer, slot_stage ? "a shader slot (a name or an object)" : "a shader"))
+    return std::nullopt;
+  json.check_keys(
+      j, pointer,
+      {"Desc", "FilePath", "Source", "SourceLength", "EntryPoint", "Macros", "SourceLanguage",
+       "ShaderCompiler", "HLSLVersion", "GLSLVersion", "GLESSLVersion", "MSLVersion", "CompileFlags",
+       "LoadConstantBufferReflection", "GLSLExtensions", "WebGPUEmulatedArrayIndexSuffix", "ByteCode"},
+      "shader");
+  const size_t errors_before = json.error_count();
+  if (j.contains("ByteCode"))
+    json.error(pointer + "/ByteCode", "'ByteCode' is not supported: give GLSL or HLSL source");
+
+  if (auto desc = j.find("Desc"); desc != j.end() && json.expect_object(*desc, pointer + "/Desc", "'Desc'")) {
+    json.check_keys(*desc, pointer + "/Desc",
+                    {"Name", "ShaderType", "UseCombinedTextureSamplers", "CombinedSamplerSuffix"},
+                    "shader Desc");
+    shader.name = json.string(*desc, "Name", pointer + "/Desc").value_or("");
+    uint32_t ignored = 0;
+    json.boolean(*desc, "UseCombinedTextureSamplers", pointer + "/Desc", ignored);
+    json.string(*desc, "CombinedSamplerSuffix", pointer + "/Desc");
+    if (auto type = desc->find("ShaderType"); type != desc->end()) {
+      if (auto stage = json.enum_value(*type, pointer + "/Desc/ShaderType", kShaderTypes, "shader type")) {
+        if (slot_stage != 0 && *stage != slot_stage)
+          json.error(pointer + "/Desc/ShaderType",
+                     "the shader type does not match the pipeline slot it is in");
+        shader.stage = *stage;
+      }
+    }
+  }
+  shader.entry_point = json.string(j, "EntryPoint", pointer).value_or("main");
+  auto file_path = json.string(j, "FilePath", pointer);
+  auto source = json.string(j, "Source", pointer);
+  if (!ctx.defaults_mode) {
+    if (shader.name.empty()) json.error(pointer, "a shader needs a name ('Desc.Name')");
+    if (shader.stage == 0) json.error(pointer, "shader '" + shader.name + "' needs 'Desc.ShaderType'");
+    if (file_path && source)
+      json.error(pointer, "shader '" + shader.name + "' has both 'FilePath' and 'Source'");
+    if (!file_path && !source)
+      json.error(pointer, "shader '" + shader.name + "' needs 'FilePath' or 'Source'");
+  }
+  if (source) shader.source = *source;
+  if (file_path && !ctx.defaults_mode) {
+    shader.file = resolve_file(*file_path, ctx.base_dir, ctx.options.shader_dirs);
+    if (shader.file.empty())
+      json.error(pointer + "/FilePath", "shader file '" + *file_path + "' not found next to " + json.file() +
+                                            " or in any shader directory (-s)");
+  }
+
+  uint32_t language = 0;
+  json.enum_field(j, "SourceLanguage", pointer, kSourceLanguages, "source language", language);
+  if (language == 1) {
+    shader.language = SourceLanguage::hlsl;
+  } else if (language == 2 || language == 3) {
+    shader.language = SourceLanguage::glsl;
+  } else if (language == 0) {
+    shader.language = language_from_extension(file_path.value_or(""));
+  } else {
+    json.error(pointer + "/SourceLanguage",
+               "source language '" + j["SourceLanguage"].get<std::string>() +
+                   "' is not supported by the Vulkan backend (use GLSL or HLSL)");
+  }
+  uint32_t compiler = 0;
+  json.enum_field(j, "ShaderCompiler", pointer, kShaderCompilers, "shader compiler", compiler);
+  if (compiler >= 2)
+    json.warning(pointer + "/ShaderCompiler",
+                 "statepack compiles with glslang; the compiler choice is ignored");
+
+  if (auto macros = j.find("Macros");
+      macros != j.end() && json.expect_array(*macros, pointer + "/Macros", "'Macros'")) {
+    for (size_t i = 0; i < macros->size(); ++i) {
+      std::string mp = pointer + "/Macros/" + std::to_string(i);
+      const Json& m = (*macros)[i];
+      if (!json.expect_object(m, mp, "a macro")) continue;
+      json.check_keys(m, mp, {"Name", "Definition"}, "macro");
+      auto name = json.string(m, "Name", mp);
+      if (!name || name->empty()) {
+        json.error(mp, "a macro needs a 'Name'");
+        continue;
+      }
+      shader.macros.emplace_back(*name, json.string(m, "Definition", mp).value_or(""));
+    }
+  }
+  if (json.error_count() != errors_before) return std::nullopt;
+  return shader;
+}
+
+void read_graphics_state(ReadContext& ctx, const Json& j, const std::string& pointer,
+                         format::GraphicsState& g) {
+  JsonReader& json = ctx.json;
+  if (!json.expect_object(j, pointer, "'GraphicsPipeline'")) return;
+  json.check_keys(
+      j, pointer,
+      {"BlendDesc", "SampleMask", "RasterizerDesc", "DepthStencilDesc", "InputLayout", "PrimitiveTopology",
+       "NumViewports", "NumRenderTargets", "SubpassIndex", "ShadingRateFlags", "RTVFormats", "DSVFormat",
+       "ReadOnlyDSV", "SmplDesc", "NodeMask", "pRenderPass"},
+      "GraphicsPipeline");
+  json.enum_field(j, "PrimitiveTopology", pointer, kTopologies, "primitive topology", g.topology);
+  json.unsigned_number(j, "SampleMask", pointer, g.sample_mask);
+  json.unsigned_number(j, "SubpassIndex", pointer, g.subpass);
+  if (auto it = j.find("InputLayout"); it != j.end())
+    read_input_layout(ctx, *it, pointer + "/InputLayout", g);
+  uint32_t viewports = 1, unused = 0;
+  json.unsigned_number(j, "NumViewports", pointer, viewports);
+  if (viewports != 1) json.error(pointer + "/NumViewports", "only one viewport is supported");
+  json.boolean(j, "ReadOnlyDSV", pointer, unused);
+  json.unsigned_number(j, "NodeMask", pointer, unused);
+  if (auto it = j.find("ShadingRateFlags");
+      it != j.end() && !(it->is_string() && *it == "NONE") && !(it->is_array() && it->empty()))
+    json.error(pointer + "/ShadingRateFlags", "variable-rate shading is not supported by statepack yet");
+
+  if (auto r = j.find("RasterizerDesc");
+      r != j.end() && json.expect_object(*r, pointer + "/RasterizerDesc", "'RasterizerDesc'")) {
+    std::string rp = pointer + "/RasterizerDesc";
+    json.check_keys(*r, rp,
+                    {"FillMode", "CullMode", "FrontCounterClockwise", "DepthClipEnable", "ScissorEnable",
+                     "AntialiasedLineEnable", "DepthBias", "DepthBiasClamp", "SlopeScaledDepthBias"},
+                    "RasterizerDesc");
+    json.enum_field(*r, "FillMode", rp, kFillModes, "fill mode", g.polygon_mode);
+    json.enum_field(*r, "CullMode", rp, kCullModes, "cull mode", g.cull_mode);
+    uint32_t ccw = g.front_face == VK_FRONT_FACE_COUNTER_CLOCKWISE, depth_clip = !g.depth_clamp;
+    json.boolean(*r, "FrontCounterClockwise", rp, ccw);
+    g.front_face = ccw ? VK_FRONT_FACE_COUNTER_CLOCKWISE : VK_FRONT_FACE_CLOCKWISE;
+    json.boolean(*r, "DepthClipEnable", rp, depth_clip);
+    g.depth_clamp = depth_clip ? 0 : 1;
+    json.boolean(*r, "ScissorEnable", rp, unused);  // scissor is always dynamic in Vulkan
+    json.boolean(*r, "AntialiasedLineEnable", rp, unused);
+    int32_t bias = static_cast<int32_t>(g.depth_bias);
+    json.signed_number(*r, "DepthBias", rp, bias);
+    g.depth_bias = static_cast<float>(bias);
+    json.float_number(*r, "DepthBiasClamp", rp, g.depth_bias_clamp);
+    json.float_number(*r, "SlopeScaledDepthBias", rp, g.depth_bias_slope);
+  }
+  if (auto d = j.find("DepthStencilDesc");
+      d != j.end() && json.expect_object(*d, pointer + "/DepthStencilDesc", "'DepthStencilDesc'")) {
+    std::string dp = pointer + "/DepthStencilDesc";
+    json.check_keys(*d, dp,
+                    {"DepthEnable", "DepthWriteEnable", "DepthFunc", "StencilEnable", "StencilReadMask",
+                     "StencilWriteMask", "FrontFace", "BackFace"},
+                    "DepthStencilDesc");
+    json.boolean(*d, "DepthEnable", dp, g.depth_test);
+    json.boolean(*d, "DepthWriteEnable", dp, g.depth_write);
+    json.enum_field(*d, "DepthFunc", dp, kComparisonFuncs, "comparison function", g.depth_compare);
+    json.boolean(*d, "StencilEnable", dp, g.stencil_test);
+    json.unsigned_number(*d, "StencilReadMask", dp, g.stencil_read_mask);
+    json.unsigned_number(*d, "StencilWriteMask", dp, g.stencil_write_mask);
+    for (auto [key, op] : {std::pair{"FrontFace", &g.front}, std::pair{"BackFace", &g.back}}) {
+      auto f = d->find(key);
+      std::string fp = dp + "/" + key;
+      if (f == d->end() || !json.expect_object(*f, fp, key)) continue;
+      json.check_keys(*f, fp, {"StencilFailOp", "StencilDepthFailOp", "StencilPassOp", "StencilFunc"},
+                      "stencil op");
+      json.enum_field(*f, "StencilFailOp", fp, kStencilOps, "stencil op", op->fail_op);
+      json.enum_field(*f, "StencilDepthFailOp", fp, kStencilOps, "stencil op", op->depth_fail_op);
+      json.enum_field(*f, "StencilPassOp", fp, kStencilOps, "stencil op", op->pass_op);
+      json.enum_field(*f, "StencilFunc", fp, kComparisonFuncs, "comparison function", op->compare_op);
+    }
+  }
+  if (auto b = j.find("BlendDesc");
+      b != j.end() && json.expect_object(*b, pointer + "/BlendDesc", "'BlendDesc'"))
+    read_blend(ctx, *b, pointer + "/BlendDesc", g);
+
+  if (auto f = j.find("RTVFormats"); f != j.end()) {
+    // An object keyed by index, as in DRSN (so Defaults can merge per index).
+    if (json.expect_object(*f, pointer + "/RTVFormats", "'RTVFormats' (keyed by index, \"0\": ...)")) {
+      for (const auto& [key, value] : f->items()) {
+        auto index = parse_index(json, key, pointer + "/RTVFormats");
+        if (!index) continue;
+        if (auto v =
+                json.enum_value(value, pointer + "/RTVFormats/" + key, kTextureFormats, "texture format"))
+          g.color_formats[*index] = *v;
+      }
+    }
+  }
+  // NumRenderTargets is inferred from the highest index with a format when absent.
+  int highest = -1;
+  for (size_t i = 0; i < g.color_formats.size(); ++i)
+    if (g.color_formats[i] != VK_FORMAT_UNDEFINED) highest = int(i);
+  g.color_count = static_cast<uint32_t>(highest + 1);
+  json.unsigned_number(j, "NumRenderTargets", pointer, g.color_count);
+  if (g.color_count > format::kMaxColorTargets)
+    json.error(pointer + "/NumRenderTargets", "at most 8 render targets");
+  json.enum_field(j, "DSVFormat", pointer, kTextureFormats, "texture format", g.depth_stencil_format);
+  if (auto s = j.find("SmplDesc");
+      s != j.end() && json.expect_object(*s, pointer + "/SmplDesc", "'SmplDesc'")) {
+    json.check_keys(*s, pointer + "/SmplDesc", {"Count", "Quality"}, "SmplDesc");
+    json.unsigned_number(*s, "Count", pointer + "/SmplDesc", g.samples);
+    json.unsigned_number(*s, "Quality", pointer + "/SmplDesc", unused);
+    if (!std::has_single_bit(g.samples) || g.samples > 64)
+      json.error(pointer + "/SmplDesc/Count", "the sample count must be 1, 2, 4, 8, 16, 32 or 64");
+  }
+}
+
+std::optional<format::Sampler> read_sampler(ReadContext& ctx, const Json& j, const std::string& pointer) {
+  JsonReader& json = ctx.json;
+  if (!json.expect_object(j, pointer, "a sampler description")) return std::nullopt;
+  const size_t errors_before = json.error_count();
+  json.check_keys(j, pointer,
+                  {"Name", "MinFilter", "MagFilter", "MipFilter", "AddressU", "AddressV", "AddressW", "Flags",
+                   "UnnormalizedCoords", "MipLODBias", "MaxAnisotropy", "ComparisonFunc", "BorderColor",
+                   "MinLOD", "MaxLOD"},
+                  "sampler");
+  format::Sampler s;
+  uint32_t min = VK_FILTER_LINEAR, mag = VK_FILTER_LINEAR, mip = VK_FILTER_LINEAR, flags = 0, anisotropy = 0;
+  json.string(j, "Name", pointer);
+  json.enum_field(j, "MinFilter", pointer, kFilterTypes, "filter type", min);
+  json.enum_field(j, "MagFilter", pointer, kFilterTypes, "filter type", mag);
+  json.enum_field(j, "MipFilter", pointer, kFilterTypes, "filter type", mip);
+  json.enum_field(j, "AddressU", pointer, kAddressModes, "address mode", s.address_u);
+  json.enum_field(j, "AddressV", pointer, kAddressModes, "address mode", s.address_v);
+  json.enum_field(j, "AddressW", pointer, kAddressModes, "address mode", s.address_w);
+  json.flags_field(j, "Flags", pointer, kSamplerFlags, "sampler flag", flags);
+  json.boolean(j, "UnnormalizedCoords", pointer, s.unnormalized_coordinates);
+  json.float_number(j, "MipLODBias", pointer, s.mip_lod_bias);
+  json.unsigned_number(j, "MaxAnisotropy", pointer, anisotropy);
+  json.enum_field(j, "ComparisonFunc", pointer, kComparisonFuncs, "comparison function", s.compare_op);
+  json.float_number(j, "MinLOD", pointer, s.min_lod);
+  json.float_number(j, "MaxLOD", pointer, s.max_lod);
+  s.min_filter = min & 1;
+  s.mag_filter = mag & 1;
+  s.mipmap_mode = mip & 1;  // VkSamplerMipmapMode NEAREST = 0, LINEAR = 1
+  s.compare_enable = (min & kFilterComparison) ? 1 : 0;
+  s.anisotropy_enable = (min & kFilterAnisotropic) ? 1 : 0;
+  s.max_anisotropy = s.anisotropy_enable ? static_cast<float>(std::max(1u, anisotropy)) : 1.0f;
+  if (auto border = j.find("BorderColor"); border != j.end()) {
+    // Vulkan's core border colors: transparent black, opaque black, opaque white.
+    std::array<float, 4> c{};
+    bool ok = border->is_array() && border->size() == 4;
+    for (size_t i = 0; ok && i < 4; ++i) {
+      ok = (*border)[i].is_number();
+      if (ok) c[i] = (*border)[i].get<float>();
+    }
+    if (ok && c == std::array<float, 4>{0, 0, 0, 0})
+      s.border_color = VK_BORDER_COLOR_FLOAT_TRANSPARENT_BLACK;
+    else if (ok && c == std::array<float, 4>{0, 0, 0, 1})
+      s.border_color = VK_BORDER_COLOR_FLOAT_OPAQUE_BLACK;
+    else if (ok && c == std::array<float, 4>{1, 1, 1, 1})
+      s.border_color = VK_BORDER_COLOR_FLOAT_OPAQUE_WHITE;
+    else
+      json.error(pointer + "/BorderColor",
+                 "'BorderColor' must be [0,0,0,0], [0,0,0,1] or [1,1,1,1] (Vulkan's core border colors)");
+  }
+  if (json.error_count() != errors_before) return std::nullopt;
+  return s;
+}
+
+std::vector<ImmutableSamplerDesc> read_immutable_samplers(ReadContext& ctx, const Json& j,
+                                                          const std::string& pointer) {
+  JsonReader& json = ctx.json;
+  std::vector<ImmutableSamplerDesc> out;
+  if (!json.expect_array(j, pointer, "'ImmutableSamplers'")) return out;
+  for (size_t i = 0; i < j.size(); ++i) {
+    std::string sp = pointer + "/" + std::to_string(i);
+    const Json& e = j[i];
+    if (!json.expect_object(e, sp, "an immutable sampler")) continue;
+    json.check_keys(e, sp, {"ShaderStages", "SamplerOrTextureName", "Desc"}, "immutable sampler");
+    ImmutableSamplerDesc desc;
+    json.flags_field(e, "ShaderStages", sp, kShaderStageFlags, "shader stage", desc.stages);
+    desc.name = json.string(e, "SamplerOrTextureName", sp).value_or("");
+    if (desc.name.empty()) json.error(sp, "an immutable sampler needs 'SamplerOrTextureName'");
+    if (auto d = e.find("Desc"); d != e.end()) {
+      auto sampler = read_sampler(ctx, *d, sp + "/Desc");
+      if (!sampler) continue;
+      desc.sampler = *sampler;
+    }
+    if (!desc.name.empty()) out.push_back(std::move(desc));
+  }
+  return out;
+}
+
+std::optional<SignatureDesc> read_signature(ReadContext& ctx, const Json& j, const std::string& pointer) {
+  JsonReader& json = ctx.json;
+  if (!json.expect_object(j, pointer, "a resource signature")) return std::nullopt;
+  const size_t errors_before = json.error_count();
+  json.check_keys(
+      j, pointer,
+      {"Name", "Resources", "NumResources", "ImmutableSamplers", "NumImmutableSamplers", "BindingIndex",
+       "UseCombinedTextureSamplers", "CombinedSamplerSuffix", "SRBAllocationGranularity"},
+      "resource signature");
+  SignatureDesc sig;
+  sig.where = json.at(pointer);
+  sig.name = json.string(j, "Name", pointer).value_or("");
+  if (sig.name.empty() && !ctx.defaults_mode) json.error(pointer, "a resource signature needs a 'Name'");
+  json.unsigned_number(j, "BindingIndex", pointer, sig.binding_index);
+  if (sig.binding_index >= 8) json.error(pointer + "/BindingIndex", "'BindingIndex' must be 0 to 7");
+  uint32_t combined = 0, unused = 0;
+  json.boolean(j, "UseCombinedTextureSamplers", pointer, combined);
+  if (auto suffix = json.string(j, "CombinedSamplerSuffix", pointer)) sig.combined_sampler_suffix = *suffix;
+  if (!combined) sig.combined_sampler_suffix.clear();  // the suffix only matters for combined samplers
+  json.unsigned_number(j, "SRBAllocationGranularity", pointer, unused);
+  json.unsigned_number(j, "NumResources", pointer, unused);
+  json.unsigned_number(j, "NumImmutableSamplers", pointer, unused);
+  if (auto samplers = j.find("ImmutableSamplers"); samplers != j.end())
+    sig.immutable_samplers = read_immutable_samplers(ctx, *samplers, pointer + "/ImmutableSamplers");
+
+  auto resources = j.find("Resources");
+  if (resources != j.end() && json.expect_array(*resources, pointer + "/Resources", "'Resources'")) {
+    for (size_t i = 0; i < resources->size(); ++i) {
+      std::string rp = pointer + "/Resources/" + std::to_string(i);
+      const Json& r = (*resources)[i];
+      if (!json.expect_object(r, rp, "a resource")) continue;
+      json.check_keys(
+          r, rp, {"Name", "ShaderStages", "ArraySize", "ResourceType", "VarType", "Flags", "WebGPUAttribs"},
+          "resource");
+      SignatureResource res;
+      res.name = json.string(r, "Name", rp).value_or("");
+      if (res.name.empty()) json.error(rp, "a resource needs a 'Name'");
+      json.flags_field(r, "ShaderStages", rp, kShaderStageFlags, "shader stage", res.stages);
+      if (res.stages == 0) json.error(rp, "resource '" + res.name + "' needs 'ShaderStages'");
+      json.unsigned_number(r, "ArraySize", rp, res.array_size);
+      if (res.array_size == 0) json.error(rp + "/ArraySize", "'ArraySize' must be at least 1");
+      uint32_t var_type = 0, flags = 0, type = kUnsupportedValue;
+      json.enum_field(r, "VarType", rp, kVariableTypes, "variable type", var_type);
+      json.flags_field(r, "Flags", rp, kResourceFlags, "resource flag", flags);
+      if (!r.contains("ResourceType")) json.error(rp, "resource '" + res.name + "' needs 'ResourceType'");
+      json.enum_field(r, "ResourceType", rp, kResourceTypes, "resource type", type);
+      if (flags & kRuntimeArray)
+        json.error(rp + "/Flags", "runtime-sized arrays are not supported by statepack yet");
+      switch (type) {
+        case kConstantBuffer:
+          res.descriptor_type = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+          break;
+        case kTextureSrv:
+          res.descriptor_type = (flags & kCombinedSampler) ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER
+                                                           : VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE;
+          break;
+        case kBufferSrv:
+          res.descriptor_type = (flags & kFormattedBuffer) ? VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER
+                                                           : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+          break;
+        case kTextureUav:
+          res.descriptor_type = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
+          break;
+        case kBufferUav:
+          res.descriptor_type = (flags & kFormattedBuffer) ? VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER
+                                                           : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+          break;
+        case kSamplerResource:
+          res.descriptor_type = VK_DESCRIPTOR_TYPE_SAMPLER;
+          break;
+        case kInputAttachment:
+          res.descriptor_type = VK_DESCRIPTOR_TYPE_INPUT_ATTACHMENT;
+          break;
+        default:
+          break;
+      }
+      for (const auto& other : sig.resources)
+        if (other.name == res.name) json.error(rp + "/Name", "resource '" + res.name + "' is listed twice");
+      sig.resources.push_back(std::move(res));
+    }
+  }
+  if (json.error_count() != errors_before) return std::nullopt;
+  return sig;
+}
+
+std::optional<RenderPassDesc> read_render_pass(ReadContext& ctx, const Json& j, const std::string& pointer) {
+  JsonReader& json = ctx.json;
+  if (!json.expect_object(j, pointer, "a render pass")) return std::nullopt;
+  const size_t errors_before = json.error_count();
+  json.check_keys(j, pointer,
+                  {"Name", "pAttachments", "AttachmentCount", "pSubpasses", "SubpassCount", "pDependencies",
+                   "DependencyCount"},
+                  "render pass");
+  RenderPassDesc desc;
+  desc.where = json.at(pointer);
+  format::RenderPass& rp = desc.pass;
+  rp.name = json.string(j, "Name", pointer).value_or("");
+  if (rp.name.empty() && !ctx.defaults_mode) json.error(pointer, "a render pass needs a 'Name'");
+  uint32_t unused = 0;
+  for (const char* count : {"AttachmentCount", "SubpassCount", "DependencyCount"})
+    json.unsigned_number(j, count, pointer, unused);
+
+  if (auto list = j.find("pAttachments");
+      list != j.end() && json.expect_array(*list, pointer + "/pAttachments", "'pAttachments'")) {
+    for (size_t i = 0; i < list->size(); ++i) {
+      std::string ap = pointer + "/pAttachments/" + std::to_string(i);
+      const Json& a = (*list)[i];
+      if (!json.expect_object(a, ap, "an attachment")) continue;
+      json.check_keys(a, ap,
+                      {"Format", "SampleCount", "LoadOp", "StoreOp", "StencilLoadOp", "StencilStoreOp",
+                       "InitialState", "FinalState"},
+                      "attachment");
+      format::Attachment att;
+      att.load_op = VK_ATTACHMENT_LOAD_OP_LOAD;
+      att.store_op = VK_ATTACHMENT_STORE_OP_STORE;
+      att.stencil_load_op = VK_ATTACHMENT_LOAD_OP_LOAD;
+      att.stencil_store_op = VK_ATTACHMENT_STORE_OP_STORE;
+      if (!a.contains("Format")) json.error(ap, "an attachment needs a 'Format'");
+      json.enum_field(a, "Format", ap, kTextureFormats, "texture format", att.format);
+      json.unsigned_number(a, "SampleCount", ap, att.samples);
+      if (!std::has_single_bit(att.samples) || att.samples > 64)
+        json.error(ap + "/SampleCount", "the sample count must be 1, 2, 4, 8, 16, 32 or 64");
+      json.enum_field(a, "LoadOp", ap, kLoadOps, "load op", att.load_op);
+      json.enum_field(a, "StoreOp", ap, kStoreOps, "store op", att.store_op);
+      json.enum_field(a, "StencilLoadOp", ap, kLoadOps, "load op", att.stencil_load_op);
+      json.enum_field(a, "StencilStoreOp", ap, kStoreOps, "store op", att.stencil_store_op);
+      json.enum_field(a, "InitialState", ap, kResourceStates, "resource state", att.initial_layout);
+      json.enum_field(a, "FinalState", ap, kResourceStates, "resource state", att.final_layout);
+      if (att.final_layout == VK_IMAGE_LAYOUT_UNDEFINED)
+        json.error(ap, "an attachment needs a 'FinalState' (Vulkan cannot end a render pass in UNDEFINED)");
+      rp.attachments.push_back(att);
+    }
+  }
+  auto reference = [&](const Json& r, const std::string& rp_ptr, format::AttachmentRef& out) {
+    if (!json.expect_object(r, rp_ptr, "an attachment reference")) return;
+    json.check_keys(r, rp_ptr, {"AttachmentIndex", "State"}, "attachment reference");
+    json.unsigned_number(r, "AttachmentIndex", rp_ptr, out.attachment);
+    json.enum_field(r, "State", rp_ptr, kResourceStates, "resource state", out.layout);
+    if (out.attachment != format::kNone && out.attachment >= rp.attachments.size())
+      json.error(rp_ptr + "/AttachmentIndex",
+                 "attachment " + std::to_string(out.attachment) + " does not exist");
+  };
+  auto references = [&](const Json& s, const char* key, const std::string& sp,
+                        std::vector<format::AttachmentRef>& out) {
+    auto list = s.find(key);
+    if (list == s.end() || !json.expect_array(*list, sp + "/" + key, key)) return;
+    for (size_t i = 0; i < list->size(); ++i)
+      reference((*list)[i], sp + "/" + key + "/" + std::to_string(i), out.emplace_back());
+  };
+  if (auto list = j.find("pSubpasses");
+      list != j.end() && json.expect_array(*list, pointer + "/pSubpasses", "'pSubpasses'")) {
+    for (size_t i = 0; i < list->size(); ++i) {
+      std::string sp = pointer + "/pSubpasses/" + std::to_string(i);
+      const Json& s = (*list)[i];
+      if (!json.expect_object(s, sp, "a subpass")) continue;
+      json.check_keys(s, sp,
+                      {"pInputAttachments", "InputAttachmentCount", "pRenderTargetAttachments",
+                       "RenderTargetAttachmentCount", "pResolveAttachments", "pDepthStencilAttachment",
+                       "pPreserveAttachments", "PreserveAttachmentCount", "pShadingRateAttachment"},
+                      "subpass");
+      for (const char* count :
+           {"InputAttachmentCount", "RenderTargetAttachmentCount", "PreserveAttachmentCount"})
+        json.unsigned_number(s, count, sp, unused);
+      format::Subpass subpass;
+      references(s, "pInputAttachments", sp, subpass.inputs);
+      references(s, "pRenderTargetAttachments", sp, subpass.colors);
+      references(s, "pResolveAttachments", sp, subpass.resolves);
+      if (auto d = s.find("pDepthStencilAttachment"); d != s.end())
+        reference(*d, sp + "/pDepthStencilAttachment", subpass.depth_stencil);
+      if (s.contains("pShadingRateAttachment"))
+        json.error(sp + "/pShadingRateAttachment",
+                   "shading-rate attachments are not supported by statepack yet");
+      if (!subpass.resolves.empty() && subpass.resolves.size() != subpass.colors.size())
+        json.error(sp + "/pResolveAttachments", "needs one resolve attachment per render target");
+      if (subpass.colors.size() > format::kMaxColorTargets)
+        json.error(sp + "/pRenderTargetAttachments", "at most 8 render targets");
+      if (auto preserve = s.find("pPreserveAttachments");
+          preserve != s.end() &&
+          json.expect_array(*preserve, sp + "/pPreserveAttachments", "'pPreserveAttachments'")) {
+        for (size_t k = 0; k < preserve->size(); ++k) {
+          const Json& p = (*preserve)[k];
+          if (!p.is_number_unsigned() || p.get<uint64_t>() >= rp.attachments.size())
+            json.error(sp + "/pPreserveAttachments/" + std::to_string(k), "not an attachment index");
+          else
+            subpass.preserve.push_back(p.get<uint32_t>());
+        }
+      }
+      rp.subpasses.push_back(std::move(subpass));
+    }
+  }
+  if (rp.subpasses.empty() && !ctx.defaults_mode)
+    json.error(pointer, "render pass '" + rp.name + "' needs a subpass");
+  if (auto list = j.find("pDependencies");
+      list != j.end() && json.expect_array(*list, pointer + "/pDependencies", "'pDependencies'")) {
+    for (size_t i = 0; i < list->size(); ++i) {
+      std::string dp = pointer + "/pDependencies/" + std::to_string(i);
+      const Json& d = (*list)[i];
+      if (!json.expect_object(d, dp, "a dependency")) continue;
+      json.check_keys(
+          d, dp,
+          {"SrcSubpass", "DstSubpass", "SrcStageMask", "DstStageMask", "SrcAccessMask", "DstAccessMask"},
+          "dependency");
+      format::Dependency dep;
+      json.unsigned_number(d, "SrcSubpass", dp, dep.src_subpass);
+      json.unsigned_number(d, "DstSubpass", dp, dep.dst_subpass);
+      json.flags_field(d, "SrcStageMask", dp, kPipelineStages, "pipeline stage", dep.src_stages);
+      json.flags_field(d, "DstStageMask", dp, kPipelineStages, "pipeline stage", dep.dst_stages);
+      json.flags_field(d, "SrcAccessMask", dp, kAccessFlags, "access flag", dep.src_access);
+      json.flags_field(d, "DstAccessMask", dp, kAccessFlags, "access flag", dep.dst_access);
+      for (auto [key, index] :
+           {std::pair{"SrcSubpass", dep.src_subpass}, std::pair{"DstSubpass", dep.dst_subpass}})
+        if (index != format::kNone && index >= rp.subpasses.size())
+          json.error(dp + "/" + key,
+                     "subpass " + std::to_string(index) + " does not exist (4294967295 is external)");
+      rp.dependencies.push_back(dep);
+    }
+  }
+  if (json.error_count() != errors_before) return std::nullopt;
+  return desc;
+}
+
+}  // namespace statepack::packager
