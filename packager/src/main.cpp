@@ -3,6 +3,7 @@
 
 #include <iostream>
 
+#include "inspect.hpp"
 #include "packer.hpp"
 #include "statepack/archive_format.hpp"
 
@@ -45,7 +46,8 @@ int main(int argc, char** argv) {
 
   PackOptions options;
   std::vector<std::string> inputs, render_state_dirs, shader_dirs, defines;
-  std::string output, vulkan_version = "1.0", depfile;
+  std::string output, vulkan_version = "1.0", depfile, dump_dir, optimize = "none";
+  bool strip_debug = false;
   bool vulkan = false, opengl = false, opengles = false, dx11 = false, dx12 = false, metal_macos = false,
        metal_ios = false, webgpu = false;
   CLI::App* pack = app.add_subcommand("pack", "Pack notation files into an archive (the default command)");
@@ -68,6 +70,12 @@ int main(int argc, char** argv) {
   pack->add_option("--vulkan_version", vulkan_version,
                    "Target Vulkan version: 1.0 (SPIR-V 1.0), 1.1, 1.2 or 1.3")
       ->capture_default_str();
+  pack->add_option(
+      "-d,--dump_dir", dump_dir,
+      "Write each pipeline's final SPIR-V and its disassembly under DIR/Vulkan/<kind>/<pipeline>/");
+  pack->add_option("--optimize", optimize, "SPIR-V optimisation: none, speed or size")->capture_default_str();
+  pack->add_flag("--strip_debug,--strip_reflection", strip_debug,
+                 "Strip debug information (names, lines) from the SPIR-V; binding names stay in the archive");
   pack->add_flag("--print_contents", options.print_contents, "Print the archive's contents");
   pack->add_flag("--vulkan", vulkan, "Produce the Vulkan backend (SPIR-V)");
   pack->add_flag("--opengl", opengl, "OpenGL backend (not produced yet: warning)");
@@ -79,6 +87,13 @@ int main(int argc, char** argv) {
   pack->add_flag("--metal_ios", metal_ios, "Metal iOS backend (not produced on this platform: warning)");
   pack->add_flag("--webgpu", webgpu, "WebGPU backend (not produced: warning)");
 
+  std::string inspect_path;
+  bool inspect_json = false;
+  CLI::App* inspect =
+      app.add_subcommand("inspect", "Print every object of an archive: sizes, layouts, bindings");
+  inspect->add_option("archive", inspect_path, "The archive")->required();
+  inspect->add_flag("--json", inspect_json, "Print JSON instead of text");
+
   try {
     std::vector<char*> raw;
     for (auto& a : args) raw.push_back(a.data());
@@ -87,6 +102,8 @@ int main(int argc, char** argv) {
     int code = app.exit(e);
     return code == 0 ? kExitSuccess : kExitUsage;
   }
+
+  if (inspect->parsed()) return run_inspect(inspect_path, inspect_json, std::cout, std::cerr);
 
   for (auto [on, flag] : {std::pair{opengl, "--opengl"},
                           {opengles, "--opengles"},
@@ -117,6 +134,16 @@ int main(int argc, char** argv) {
   }
   for (auto& d : defines) options.compile.global_macros.push_back(parse_define(d));
   options.output = output;
+  if (!dump_dir.empty()) options.dump_dir = dump_dir;
+  options.compile.strip_debug_info = strip_debug;
+  if (optimize == "speed")
+    options.compile.optimization = Optimization::speed;
+  else if (optimize == "size")
+    options.compile.optimization = Optimization::size;
+  else if (optimize != "none") {
+    std::cerr << "statepack: error: --optimize must be none, speed or size, not '" << optimize << "'\n";
+    return kExitUsage;
+  }
   if (!depfile.empty()) options.depfile = depfile;
   return run_pack(options, std::cout, std::cerr);
 }

@@ -164,10 +164,9 @@ CompiledShader compile_shader(const ShaderDesc& shader, const CompileOptions& op
                  100);
   ts.setEnvClient(glslang::EShClientVulkan, client);
   ts.setEnvTarget(glslang::EShTargetSpv, spirv_version);
-  if (hlsl) {
-    ts.setHlslIoMapping(true);
-    ts.setEnvTargetHlslFunctionality1();
-  }
+  // No setEnvTargetHlslFunctionality1: its SPV_GOOGLE_hlsl_functionality1 decorations need a device
+  // extension that many drivers (lavapipe included) lack, and Vulkan does not use them.
+  if (hlsl) ts.setHlslIoMapping(true);
   ts.setAutoMapBindings(true);  // resources without explicit bindings get one; the layout step finalises them
   auto messages =
       static_cast<EShMessages>(EShMsgSpvRules | EShMsgVulkanRules | (hlsl ? int(EShMsgReadHlsl) : 0));

@@ -1,0 +1,260 @@
+// statepack inspect: every object of an archive, as text or as JSON.
+#include "inspect.hpp"
+
+#include <cinttypes>
+#include <cstdio>
+#include <nlohmann/json.hpp>
+#include <ostream>
+#include <vulkan/vulkan.hpp>  // vk::to_string: Vulkan's own enum names, kept up to date by the SDK
+
+#include "packer.hpp"
+#include "statepack/archive_format.hpp"
+#include "statepack/dearchiver.hpp"
+
+namespace statepack::packager {
+namespace {
+
+using Json = nlohmann::ordered_json;  // keys in insertion order: stable, readable output
+
+std::string version_text(uint32_t v) {
+  return std::to_string(v >> 22) + "." + std::to_string((v >> 12) & 0x3FF) + "." + std::to_string(v & 0xFFF);
+}
+std::string hex64(uint64_t v) {
+  char text[19];
+  std::snprintf(text, sizeof text, "%016" PRIx64, v);
+  return text;
+}
+std::string none_or(uint32_t index) {
+  return index == format::kNone ? "none" : std::to_string(index);
+}
+
+Json stages_json(uint32_t flags) {
+  Json out = Json::array();
+  for (uint32_t bit = 1; bit <= VK_SHADER_STAGE_COMPUTE_BIT; bit <<= 1)
+    if (flags & bit) out.push_back(vk::to_string(vk::ShaderStageFlagBits(bit)));
+  return out;
+}
+
+Json binding_json(const format::Binding& b) {
+  Json j;
+  j["name"] = b.name;
+  j["binding"] = b.binding;
+  j["type"] = vk::to_string(vk::DescriptorType(b.descriptor_type));
+  j["count"] = b.count;
+  j["stages"] = stages_json(b.stage_flags);
+  if (b.immutable_sampler != format::kNone) j["immutable_sampler"] = b.immutable_sampler;
+  return j;
+}
+
+Json graphics_json(const format::Contents& c, const format::GraphicsState& g) {
+  Json j;
+  j["topology"] = vk::to_string(vk::PrimitiveTopology(g.topology));
+  j["polygon_mode"] = vk::to_string(vk::PolygonMode(g.polygon_mode));
+  j["cull_mode"] = g.cull_mode == 0 ? "None" : vk::to_string(vk::CullModeFlagBits(g.cull_mode));
+  j["front_face"] = vk::to_string(vk::FrontFace(g.front_face));
+  j["depth_test"] = g.depth_test != 0;
+  j["depth_write"] = g.depth_write != 0;
+  j["depth_compare"] = vk::to_string(vk::CompareOp(g.depth_compare));
+  j["stencil_test"] = g.stencil_test != 0;
+  j["samples"] = g.samples;
+  Json formats = Json::array();
+  for (uint32_t i = 0; i < g.color_count; ++i) {
+    Json target;
+    target["format"] = vk::to_string(vk::Format(g.color_formats[i]));
+    target["blend"] = g.blend[i].enable != 0;
+    if (g.blend[i].enable) {
+      target["color"] = vk::to_string(vk::BlendFactor(g.blend[i].src_color)) + " " +
+                        vk::to_string(vk::BlendOp(g.blend[i].color_op)) + " " +
+                        vk::to_string(vk::BlendFactor(g.blend[i].dst_color));
+      target["alpha"] = vk::to_string(vk::BlendFactor(g.blend[i].src_alpha)) + " " +
+                        vk::to_string(vk::BlendOp(g.blend[i].alpha_op)) + " " +
+                        vk::to_string(vk::BlendFactor(g.blend[i].dst_alpha));
+    }
+    target["write_mask"] = g.blend[i].write_mask;
+    formats.push_back(target);
+  }
+  j["render_targets"] = formats;
+  j["depth_stencil_format"] = vk::to_string(vk::Format(g.depth_stencil_format));
+  Json bindings = Json::array(), attributes = Json::array();
+  for (const auto& b : g.vertex_bindings)
+    bindings.push_back({{"binding", b.binding},
+                        {"stride", b.stride},
+                        {"rate", vk::to_string(vk::VertexInputRate(b.input_rate))}});
+  for (const auto& a : g.vertex_attributes)
+    attributes.push_back({{"location", a.location},
+                          {"binding", a.binding},
+                          {"format", vk::to_string(vk::Format(a.format))},
+                          {"offset", a.offset}});
+  if (!bindings.empty()) j["vertex_bindings"] = bindings;
+  if (!attributes.empty()) j["vertex_attributes"] = attributes;
+  j["render_pass"] = g.render_pass == format::kNone ? "none" : c.render_passes[g.render_pass].name;
+  if (g.render_pass != format::kNone) j["subpass"] = g.subpass;
+  return j;
+}
+
+Json contents_json(const format::Contents& c, size_t size) {
+  Json j;
+  j["format_version"] = c.format_version;
+  j["producer_version"] = version_text(c.producer_version);
+  j["content_version"] = c.content_version;
+  j["backends"] = (c.backends & format::kBackendVulkan) ? Json::array({"vulkan"}) : Json::array();
+  j["size"] = size;
+  Json blobs = Json::array();
+  for (auto blob : c.spirv)
+    blobs.push_back({{"size", blob.size_bytes()},
+                     {"xxh3", hex64(format::hash_bytes(
+                                  {reinterpret_cast<const uint8_t*>(blob.data()), blob.size_bytes()}))}});
+  j["spirv_blobs"] = blobs;
+  Json shaders = Json::array();
+  for (const auto& s : c.shaders)
+    shaders.push_back({{"name", s.name},
+                       {"stage", vk::to_string(vk::ShaderStageFlagBits(s.stage))},
+                       {"entry_point", s.entry_point},
+                       {"blob", s.blob}});
+  j["shaders"] = shaders;
+  Json standalone = Json::array();
+  for (uint32_t s : c.standalone_shaders) standalone.push_back(c.shaders[s].name);
+  j["standalone_shaders"] = standalone;
+  Json samplers = Json::array();
+  for (const auto& s : c.samplers)
+    samplers.push_back(
+        {{"filter", vk::to_string(vk::Filter(s.min_filter)) + "/" + vk::to_string(vk::Filter(s.mag_filter)) +
+                        "/" + vk::to_string(vk::SamplerMipmapMode(s.mipmap_mode))},
+         {"address", vk::to_string(vk::SamplerAddressMode(s.address_u)) + "/" +
+                         vk::to_string(vk::SamplerAddressMode(s.address_v)) + "/" +
+                         vk::to_string(vk::SamplerAddressMode(s.address_w))},
+         {"anisotropy", s.anisotropy_enable ? s.max_anisotropy : 0.0f},
+         {"compare", s.compare_enable ? vk::to_string(vk::CompareOp(s.compare_op)) : "none"}});
+  j["samplers"] = samplers;
+  Json signatures = Json::array();
+  for (const auto& l : c.set_layouts) {
+    if (l.name.empty()) continue;
+    Json sig{{"name", l.name}, {"set", l.binding_index}};
+    Json bindings = Json::array();
+    for (const auto& b : l.bindings) bindings.push_back(binding_json(b));
+    sig["bindings"] = bindings;
+    signatures.push_back(sig);
+  }
+  j["resource_signatures"] = signatures;
+  Json passes = Json::array();
+  for (const auto& rp : c.render_passes) {
+    Json pass{{"name", rp.name}};
+    Json attachments = Json::array();
+    for (const auto& a : rp.attachments)
+      attachments.push_back({{"format", vk::to_string(vk::Format(a.format))},
+                             {"samples", a.samples},
+                             {"load", vk::to_string(vk::AttachmentLoadOp(a.load_op))},
+                             {"store", vk::to_string(vk::AttachmentStoreOp(a.store_op))},
+                             {"initial_layout", vk::to_string(vk::ImageLayout(a.initial_layout))},
+                             {"final_layout", vk::to_string(vk::ImageLayout(a.final_layout))}});
+    pass["attachments"] = attachments;
+    Json subpasses = Json::array();
+    for (const auto& s : rp.subpasses) {
+      auto refs = [](const std::vector<format::AttachmentRef>& list) {
+        Json out = Json::array();
+        for (const auto& r : list) out.push_back(none_or(r.attachment));
+        return out;
+      };
+      subpasses.push_back({{"inputs", refs(s.inputs)},
+                           {"colors", refs(s.colors)},
+                           {"resolves", refs(s.resolves)},
+                           {"depth_stencil", none_or(s.depth_stencil.attachment)}});
+    }
+    pass["subpasses"] = subpasses;
+    pass["dependencies"] = rp.dependencies.size();
+    passes.push_back(pass);
+  }
+  j["render_passes"] = passes;
+  Json pipelines = Json::array();
+  for (const auto& p : c.pipelines) {
+    Json pj{{"name", p.name}, {"kind", p.kind == format::PipelineKind::compute ? "compute" : "graphics"}};
+    Json stages = Json::array();
+    for (uint32_t s : p.shaders)
+      stages.push_back({{"stage", vk::to_string(vk::ShaderStageFlagBits(c.shaders[s].stage))},
+                        {"shader", c.shaders[s].name},
+                        {"size", c.spirv[c.shaders[s].blob].size_bytes()}});
+    pj["shaders"] = stages;
+    Json sets = Json::array();
+    for (uint32_t set = 0; set < p.set_layouts.size(); ++set) {
+      Json sj{{"set", set}};
+      if (p.set_layouts[set] != format::kNone) {
+        const auto& layout = c.set_layouts[p.set_layouts[set]];
+        if (!layout.name.empty()) sj["signature"] = layout.name;
+        Json bindings = Json::array();
+        for (const auto& b : layout.bindings) bindings.push_back(binding_json(b));
+        sj["bindings"] = bindings;
+      }
+      sets.push_back(sj);
+    }
+    pj["sets"] = sets;
+    if (p.push_constant_size)
+      pj["push_constants"] = {{"size", p.push_constant_size},
+                              {"stages", stages_json(p.push_constant_stages)}};
+    if (p.kind == format::PipelineKind::graphics) pj["graphics"] = graphics_json(c, p.graphics);
+    pipelines.push_back(pj);
+  }
+  j["pipelines"] = pipelines;
+  return j;
+}
+
+void print_text(const Json& j, std::ostream& out) {
+  out << "format v" << j["format_version"].get<uint32_t>() << ", made by statepack "
+      << j["producer_version"].get<std::string>() << ", content version "
+      << j["content_version"].get<uint32_t>() << ", " << j["size"].get<size_t>()
+      << " bytes, backends: " << j["backends"].dump() << "\n";
+  out << j["spirv_blobs"].size() << " SPIR-V blob(s), " << j["shaders"].size() << " shader record(s), "
+      << j["samplers"].size() << " sampler(s)\n";
+  for (const auto& p : j["pipelines"]) {
+    out << "pipeline '" << p["name"].get<std::string>() << "' (" << p["kind"].get<std::string>() << ")\n";
+    for (const auto& s : p["shaders"])
+      out << "  " << s["stage"].get<std::string>() << ": '" << s["shader"].get<std::string>() << "', "
+          << s["size"].get<size_t>() << " bytes\n";
+    for (const auto& set : p["sets"]) {
+      if (!set.contains("bindings")) continue;
+      out << "  set " << set["set"].get<uint32_t>();
+      if (set.contains("signature")) out << " (signature '" << set["signature"].get<std::string>() << "')";
+      out << "\n";
+      for (const auto& b : set["bindings"])
+        out << "    binding " << b["binding"].get<uint32_t>() << ": '" << b["name"].get<std::string>() << "' "
+            << b["type"].get<std::string>() << " x" << b["count"].get<uint32_t>() << " " << b["stages"].dump()
+            << "\n";
+    }
+    if (p.contains("push_constants"))
+      out << "  push constants: " << p["push_constants"]["size"].get<uint32_t>() << " bytes\n";
+    if (p.contains("graphics")) {
+      const auto& g = p["graphics"];
+      out << "  " << g["topology"].get<std::string>() << ", cull " << g["cull_mode"].get<std::string>()
+          << ", depth test " << (g["depth_test"].get<bool>() ? "on" : "off") << ", targets:";
+      for (const auto& t : g["render_targets"]) out << " " << t["format"].get<std::string>();
+      if (g["render_pass"] != "none") out << ", render pass '" << g["render_pass"].get<std::string>() << "'";
+      out << "\n";
+    }
+  }
+  for (const auto& s : j["resource_signatures"])
+    out << "resource signature '" << s["name"].get<std::string>() << "' (set " << s["set"].get<uint32_t>()
+        << ", " << s["bindings"].size() << " bindings)\n";
+  for (const auto& r : j["render_passes"])
+    out << "render pass '" << r["name"].get<std::string>() << "' (" << r["attachments"].size()
+        << " attachments, " << r["subpasses"].size() << " subpasses)\n";
+  for (const auto& s : j["standalone_shaders"]) out << "standalone shader '" << s.get<std::string>() << "'\n";
+}
+
+}  // namespace
+
+int run_inspect(const std::string& path, bool as_json, std::ostream& out, std::ostream& err) {
+  auto archive = Archive::from_file(path);
+  if (!archive) {
+    err << "statepack: error: " << archive.error().message << '\n';
+    return archive.error().code == ErrorCode::io_error ? kExitIoError : kExitInputError;
+  }
+  std::error_code ec;
+  auto size = static_cast<size_t>(std::filesystem::file_size(path, ec));
+  Json j = contents_json(archive->contents(), size);
+  if (as_json)
+    out << j.dump(2) << '\n';
+  else
+    print_text(j, out);
+  return kExitSuccess;
+}
+
+}  // namespace statepack::packager

@@ -1,0 +1,1 @@
+float4 shade(float4 albedo, float4 tint) { return albedo * tint; }

@@ -1,0 +1,91 @@
+// Every object of every corpus archive becomes a valid Vulkan object on lavapipe: pipelines (with
+// signatures, render passes, immutable samplers, vertex input), signatures, render passes and
+// standalone shaders, with the validation layer silent.
+#include <sstream>
+
+#include "statepack/archive_format.hpp"
+#include "vulkan_test_fixture.hpp"
+
+namespace statepack::testing {
+namespace {
+
+std::vector<std::string> corpus_archives() {
+  std::vector<std::string> out;
+  std::istringstream list(STATEPACK_CORPUS_ARCHIVES);
+  for (std::string path; std::getline(list, path, '|');)
+    if (!path.empty()) out.push_back(path);
+  return out;
+}
+
+class CorpusUnpack : public VulkanTest {};
+
+TEST_F(CorpusUnpack, EveryObjectOfEveryArchiveUnpacks) {
+  auto archives = corpus_archives();
+  ASSERT_GE(archives.size(), 5u);
+  size_t pipelines = 0, signatures = 0, passes = 0, shaders = 0;
+  for (const auto& path : archives) {
+    SCOPED_TRACE(path);
+    auto archive = Archive::from_file(path);
+    ASSERT_TRUE(archive) << archive.error().message;
+    format::Contents contents = archive->contents();  // names only; the archive moves below
+    auto dearchiver = Dearchiver::create({vk_->physical_device, vk_->device});
+    ASSERT_TRUE(dearchiver);
+    ASSERT_TRUE(dearchiver->add_archive(std::move(*archive)));
+    for (const auto& p : contents.pipelines) {
+      auto pso = p.kind == format::PipelineKind::compute ? dearchiver->unpack_compute(p.name)
+                                                         : dearchiver->unpack_graphics(p.name);
+      ASSERT_TRUE(pso) << p.name << ": " << pso.error().message;
+      EXPECT_NE((*pso)->pipeline, VK_NULL_HANDLE);
+      EXPECT_EQ((*pso)->set_layouts.size(), p.set_layouts.size());
+      ++pipelines;
+    }
+    for (const auto& layout : contents.set_layouts) {
+      if (layout.name.empty()) continue;
+      auto sig = dearchiver->unpack_signature(layout.name);
+      ASSERT_TRUE(sig) << sig.error().message;
+      EXPECT_EQ((*sig)->set, layout.binding_index);
+      EXPECT_EQ((*sig)->bindings.size(), layout.bindings.size());
+      ++signatures;
+    }
+    for (const auto& rp : contents.render_passes) {
+      auto pass = dearchiver->unpack_render_pass(rp.name);
+      ASSERT_TRUE(pass) << pass.error().message;
+      ++passes;
+    }
+    for (uint32_t s : contents.standalone_shaders) {
+      auto shader = dearchiver->unpack_shader(contents.shaders[s].name);
+      ASSERT_TRUE(shader) << shader.error().message;
+      EXPECT_EQ(shader->stage, static_cast<VkShaderStageFlagBits>(contents.shaders[s].stage));
+      ++shaders;
+    }
+  }
+  // The corpus covers every kind of object.
+  EXPECT_GT(pipelines, 5u);
+  EXPECT_GT(signatures, 0u);
+  EXPECT_GT(passes, 0u);
+  EXPECT_GT(shaders, 0u);
+}
+
+TEST_F(CorpusUnpack, RenderPassPipelinesRejectFormatPatches) {
+  for (const auto& path : corpus_archives()) {
+    if (path.find("render_pass") == std::string::npos) continue;
+    auto archive = Archive::from_file(path);
+    ASSERT_TRUE(archive);
+    auto dearchiver = Dearchiver::create({vk_->physical_device, vk_->device});
+    ASSERT_TRUE(dearchiver->add_archive(std::move(*archive)));
+    auto pso = dearchiver->unpack_graphics(
+        "Depth Tested PSO", [](PatchableState& s) { s.color_formats[0] = VK_FORMAT_B8G8R8A8_UNORM; });
+    ASSERT_FALSE(pso);
+    EXPECT_EQ(pso.error().code, ErrorCode::invalid_argument);
+    EXPECT_NE(pso.error().message.find("render pass"), std::string::npos) << pso.error().message;
+    auto unknown = dearchiver->unpack_render_pass("Main Pas");
+    ASSERT_FALSE(unknown);
+    EXPECT_NE(unknown.error().message.find("did you mean 'Main Pass'"), std::string::npos)
+        << unknown.error().message;
+    return;
+  }
+  FAIL() << "no render_pass corpus archive";
+}
+
+}  // namespace
+}  // namespace statepack::testing

@@ -1,0 +1,95 @@
+// The notation corpus: every file under tests/corpus/valid packs, and its archive's
+// `statepack inspect --json` matches the golden beside it; every file under tests/corpus/invalid
+// with a .expected sidecar fails with exit code 1 and prints each line of that sidecar.
+// Regenerate goldens after an intended change with: STATEPACK_UPDATE_GOLDENS=1 ctest -R NotationCorpus
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CliRun {
+  int exit_code = -1;
+  std::string output;
+};
+
+CliRun run_in(const fs::path& dir, const std::string& args) {
+  std::string command = "cd '" + dir.string() + "' && '" + STATEPACK_EXE + "' " + args + " 2>&1";
+  CliRun run;
+  FILE* pipe = popen(command.c_str(), "r");
+  if (!pipe) return run;
+  char buffer[4096];
+  while (size_t n = fread(buffer, 1, sizeof buffer, pipe)) run.output.append(buffer, n);
+  int status = pclose(pipe);
+  run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return run;
+}
+
+std::string read_file(const fs::path& path) {
+  std::ifstream file(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>()};
+}
+
+std::vector<fs::path> files(const fs::path& dir, const std::string& extension) {
+  std::vector<fs::path> out;
+  for (const auto& entry : fs::directory_iterator(dir))
+    if (entry.is_regular_file() && entry.path().extension() == extension) out.push_back(entry.path());
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+const fs::path kCorpus = STATEPACK_CORPUS_DIR;
+const fs::path kOutput = fs::path(STATEPACK_TEST_OUTPUT_DIR) / "corpus";
+
+TEST(NotationCorpus, ValidFilesPackAndMatchTheirGoldens) {
+  fs::create_directories(kOutput);
+  const bool update = std::getenv("STATEPACK_UPDATE_GOLDENS") != nullptr;
+  auto inputs = files(kCorpus / "valid", ".json");
+  ASSERT_GE(inputs.size(), 5u);
+  for (const fs::path& input : inputs) {
+    SCOPED_TRACE(input.filename().string());
+    fs::path archive = kOutput / (input.stem().string() + ".spk");
+    CliRun pack = run_in(input.parent_path(), "pack -i '" + input.filename().string() +
+                                                  "' -s ../shaders -o '" + archive.string() + "' --vulkan");
+    ASSERT_EQ(pack.exit_code, 0) << pack.output;
+    CliRun inspect = run_in(kOutput, "inspect --json '" + archive.string() + "'");
+    ASSERT_EQ(inspect.exit_code, 0) << inspect.output;
+    fs::path golden = input;
+    golden.replace_extension(".golden");
+    if (update) {
+      std::ofstream(golden, std::ios::binary) << inspect.output;
+      continue;
+    }
+    ASSERT_TRUE(fs::exists(golden)) << "no golden; create it with STATEPACK_UPDATE_GOLDENS=1";
+    EXPECT_EQ(inspect.output, read_file(golden)) << "inspect --json differs from " << golden;
+  }
+}
+
+TEST(NotationCorpus, InvalidFilesFailWithTheExpectedErrors) {
+  auto expectations = files(kCorpus / "invalid", ".expected");
+  ASSERT_GE(expectations.size(), 8u);
+  for (const fs::path& expected : expectations) {
+    fs::path input = expected;
+    input.replace_extension(".json");
+    SCOPED_TRACE(input.filename().string());
+    CliRun pack =
+        run_in(input.parent_path(), "pack -i '" + input.filename().string() + "' -s ../shaders -o '" +
+                                        (kOutput / "invalid.spk").string() + "' --vulkan");
+    EXPECT_EQ(pack.exit_code, 1) << pack.output;
+    std::istringstream lines(read_file(expected));
+    std::string line;
+    while (std::getline(lines, line)) {
+      if (line.empty()) continue;
+      EXPECT_NE(pack.output.find(line), std::string::npos) << "missing: " << line << "\n" << pack.output;
+    }
+  }
+}
+
+}  // namespace
