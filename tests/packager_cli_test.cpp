@@ -161,3 +161,64 @@ TEST_F(PackagerCli, UnwritableOutputIsAnIoError) {
 }
 
 }  // namespace
+
+namespace {
+
+class PackagerOptions : public PackagerCli {};
+
+TEST_F(PackagerOptions, DumpDirHoldsSpirvAndDisassemblyPerPipeline) {
+  fs::path dump = dir_ / "dump";
+  CliRun run = statepack(pack_args(std::string(STATEPACK_STATES_DIR) + "/slice.json", dir_ / "a.spk") +
+                         " -d '" + dump.string() + "'");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  fs::path spv = dump / "Vulkan" / "Compute" / "Fill Buffer PSO" / "Fill Buffer CS.spv";
+  fs::path text = dump / "Vulkan" / "Graphics" / "Gradient PSO" / "Gradient PS.spvasm";
+  ASSERT_TRUE(fs::exists(spv)) << spv;
+  std::string words = read_file(spv);
+  ASSERT_GE(words.size(), 20u);
+  EXPECT_EQ(static_cast<uint8_t>(words[0]), 0x03);  // SPIR-V magic 0x07230203, little-endian
+  EXPECT_EQ(static_cast<uint8_t>(words[3]), 0x07);
+  EXPECT_NE(read_file(text).find("OpEntryPoint Fragment"), std::string::npos);
+}
+
+TEST_F(PackagerOptions, StripAndOptimizeShrinkTheArchiveAndKeepBindingNames) {
+  std::string input = std::string(STATEPACK_STATES_DIR) + "/slice.json";
+  ASSERT_EQ(statepack(pack_args(input, dir_ / "plain.spk")).exit_code, 0);
+  CliRun stripped = statepack(pack_args(input, dir_ / "small.spk") + " --strip_debug --optimize size");
+  ASSERT_EQ(stripped.exit_code, 0) << stripped.output;
+  EXPECT_LT(fs::file_size(dir_ / "small.spk"), fs::file_size(dir_ / "plain.spk"));
+  CliRun inspect = statepack("inspect --json '" + (dir_ / "small.spk").string() + "'");
+  ASSERT_EQ(inspect.exit_code, 0) << inspect.output;
+  EXPECT_NE(inspect.output.find("\"name\": \"Values\""), std::string::npos)
+      << "binding names must survive stripping";
+  EXPECT_EQ(statepack(pack_args(input, dir_ / "x.spk") + " --optimize fast").exit_code, 2);
+}
+
+TEST_F(PackagerOptions, InspectReportsDamageAndMissingFiles) {
+  std::string input = std::string(STATEPACK_STATES_DIR) + "/slice.json";
+  ASSERT_EQ(statepack(pack_args(input, dir_ / "a.spk")).exit_code, 0);
+  CliRun text = statepack("inspect '" + (dir_ / "a.spk").string() + "'");
+  EXPECT_EQ(text.exit_code, 0);
+  EXPECT_NE(text.output.find("pipeline 'Gradient PSO' (graphics)"), std::string::npos) << text.output;
+  std::string bytes = read_file(dir_ / "a.spk");
+  bytes[bytes.size() / 2] ^= 0x40;
+  std::ofstream(dir_ / "damaged.spk", std::ios::binary) << bytes;
+  CliRun damaged = statepack("inspect '" + (dir_ / "damaged.spk").string() + "'");
+  EXPECT_EQ(damaged.exit_code, 1);
+  EXPECT_NE(damaged.output.find("checksum mismatch"), std::string::npos) << damaged.output;
+  EXPECT_EQ(statepack("inspect '" + (dir_ / "none.spk").string() + "'").exit_code, 3);
+}
+
+TEST_F(PackagerOptions, DepfileFollowsImportsAndHlslIncludes) {
+  fs::path out = dir_ / "c.spk";
+  std::string corpus = std::string(STATEPACK_CORPUS_DIR);
+  CliRun run = statepack("pack -i '" + corpus + "/valid/imports_and_defaults.json' -i '" + corpus +
+                         "/valid/diligent_style.json' -s '" + corpus + "/shaders' -o '" + out.string() +
+                         "' --vulkan --depfile '" + (dir_ / "c.d").string() + "'");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  std::string depfile = read_file(dir_ / "c.d");
+  for (const char* file : {"common/defaults.json", "tri.vert", "shade.hlsl", "shade_common.hlsli"})
+    EXPECT_NE(depfile.find(file), std::string::npos) << file << " missing from\n" << depfile;
+}
+
+}  // namespace

@@ -17,7 +17,9 @@ std::string location_text(const Location& where) {
 
 std::string format_diagnostic(const Diagnostic& d) {
   std::string text = location_text(d.where);
-  text += d.severity == Diagnostic::Severity::error ? ": error: " : ": warning: ";
+  text += d.severity == Diagnostic::Severity::error     ? ": error: "
+          : d.severity == Diagnostic::Severity::warning ? ": warning: "
+                                                        : ": note: ";
   text += d.message;
   if (!d.where.pointer.empty()) text += " [" + d.where.pointer + "]";
   return text;
@@ -31,6 +33,11 @@ void Diagnostics::error(Location where, std::string message) {
 void Diagnostics::warning(Location where, std::string message) {
   std::lock_guard lock(mutex_);
   items_.push_back({Diagnostic::Severity::warning, std::move(where), std::move(message)});
+}
+
+void Diagnostics::note(Location where, std::string message) {
+  std::lock_guard lock(mutex_);
+  items_.push_back({Diagnostic::Severity::note, std::move(where), std::move(message)});
 }
 
 size_t Diagnostics::error_count() const {

@@ -17,7 +17,7 @@ struct Location {
 };
 
 struct Diagnostic {
-  enum class Severity { error, warning } severity = Severity::error;
+  enum class Severity { error, warning, note } severity = Severity::error;
   Location where;
   std::string message;
 };
@@ -29,6 +29,7 @@ class Diagnostics {
  public:
   void error(Location where, std::string message);
   void warning(Location where, std::string message);
+  void note(Location where, std::string message);
   bool has_errors() const;
   size_t error_count() const;
   std::vector<Diagnostic> all() const;

@@ -338,6 +338,21 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err) {
       if (ok) builder.contents.pipelines.push_back(std::move(out_pipeline));
     }
   }
+  // Objects no pipeline uses are still archived (unpackable by name); say so, as they may be typos.
+  if (!diag.has_errors()) {
+    std::set<std::string> used_passes, used_signatures;
+    for (const auto& p : notation.pipelines) {
+      used_passes.insert(p.render_pass);
+      used_signatures.insert(p.signatures.begin(), p.signatures.end());
+    }
+    for (const auto& rp : notation.render_passes)
+      if (!used_passes.count(rp.pass.name))
+        diag.note(rp.where, "render pass '" + rp.pass.name + "' is used by no pipeline (archived anyway)");
+    for (const auto& sig : notation.signatures)
+      if (!used_signatures.count(sig.name))
+        diag.note(sig.where,
+                  "resource signature '" + sig.name + "' is used by no pipeline (archived anyway)");
+  }
   if (diag.has_errors()) {
     diag.print(err);
     err << "statepack: " << diag.error_count() << " error(s); no archive written\n";
