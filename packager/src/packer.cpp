@@ -88,32 +88,32 @@ std::string file_name_of(const std::string& name) {
   return out.empty() ? "_" : out;
 }
 
-// Optimises, strips and validates each distinct module once; the same patched module used by
-// several pipelines is finalised once.
+// Optimises, strips and validates each distinct module once, on all cores: the same patched module
+// used by several pipelines is finalised once.
 class Finalizer {
  public:
-  Finalizer(const CompileOptions& options, ContentsBuilder& builder) : options_(options), builder_(builder) {}
-  // Returns the blob index, or nullopt with `error` set.
-  std::optional<uint32_t> add(std::vector<uint32_t> words, std::string& error,
-                              std::vector<uint32_t>* final_words) {
+  explicit Finalizer(const CompileOptions& options) : options_(options) {}
+  size_t request(std::vector<uint32_t> words) {
     std::string key(reinterpret_cast<const char*>(words.data()), words.size() * 4);
-    auto it = done_.find(key);
-    if (it == done_.end()) {
-      std::string problem = finalize_spirv(words, options_);
-      if (!problem.empty()) {
-        error = problem;
-        return std::nullopt;
-      }
-      it = done_.emplace(std::move(key), std::move(words)).first;
-    }
-    if (final_words) *final_words = it->second;
-    return builder_.add_blob(it->second);
+    auto [it, inserted] = job_by_content_.try_emplace(std::move(key), jobs_.size());
+    if (inserted) jobs_.push_back({std::move(words), {}});
+    return it->second;
   }
+  void run(uint32_t threads) {
+    parallel_for(jobs_.size(), threads,
+                 [&](size_t i) { jobs_[i].error = finalize_spirv(jobs_[i].words, options_); });
+  }
+  const std::vector<uint32_t>& words(size_t job) const { return jobs_[job].words; }
+  const std::string& error(size_t job) const { return jobs_[job].error; }
 
  private:
+  struct Job {
+    std::vector<uint32_t> words;
+    std::string error;
+  };
   const CompileOptions& options_;
-  ContentsBuilder& builder_;
-  std::map<std::string, std::vector<uint32_t>> done_;
+  std::map<std::string, size_t> job_by_content_;
+  std::vector<Job> jobs_;
 };
 
 class Dumper {
@@ -275,7 +275,7 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err) {
   builder.contents.producer_version = kProducerVersion;
   builder.contents.content_version = options.content_version;
   builder.contents.backends = format::kBackendVulkan;
-  Finalizer finalizer(options.compile, builder);
+  Finalizer finalizer(options.compile);
   Dumper dumper(options.dump_dir, options.compile);
   std::string io_error;
   if (!diag.has_errors()) {
@@ -286,20 +286,16 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err) {
     std::map<std::string, uint32_t> pass_index;
     for (const auto& rp : notation.render_passes) pass_index[rp.pass.name] = builder.add_render_pass(rp.pass);
 
-    for (size_t s = 0; s < notation.shaders.size(); ++s) {
-      const CompiledUnit& unit = units[standalone_units[s]];
-      std::string error;
-      std::vector<uint32_t> final_words;
-      auto blob = finalizer.add(unit.compiled.spirv, error, &final_words);
-      if (!blob) {
-        diag.error(unit.desc.where, "shader '" + unit.desc.name + "': " + error);
-        continue;
-      }
-      dumper.write(fs::path("Shaders") / file_name_of(unit.desc.name), final_words, io_error);
-      builder.contents.standalone_shaders.push_back(
-          builder.add_shader({unit.desc.name, unit.desc.stage, *blob, unit.desc.entry_point}));
-    }
-
+    // Layouts first (serial, cheap): each yields patched modules to finalise.
+    std::vector<size_t> standalone_jobs;
+    for (size_t u : standalone_units) standalone_jobs.push_back(finalizer.request(units[u].compiled.spirv));
+    struct PendingPipeline {
+      format::Pipeline pipeline;
+      std::vector<const ShaderDesc*> stages;
+      std::vector<size_t> jobs;
+      const PipelineDesc* desc;
+    };
+    std::vector<PendingPipeline> pending;
     for (size_t i = 0; i < notation.pipelines.size(); ++i) {
       const PipelineDesc& p = notation.pipelines[i];
       std::vector<StageInput> stages;
@@ -307,7 +303,8 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err) {
         stages.push_back({&units[u].desc, &units[u].compiled.spirv, &units[u].reflection});
       PipelineLayout layout;
       if (!build_pipeline_layout(p, stages, notation, builder, layout, diag)) continue;
-      format::Pipeline out_pipeline;
+      PendingPipeline pp{{}, {}, {}, &p};
+      format::Pipeline& out_pipeline = pp.pipeline;
       out_pipeline.name = p.name;
       out_pipeline.kind = p.kind;
       out_pipeline.graphics = p.graphics;
@@ -319,23 +316,48 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err) {
         apply_render_pass(builder.contents.render_passes[out_pipeline.graphics.render_pass],
                           out_pipeline.graphics, p, diag);
       }
-      bool ok = true;
       for (size_t s = 0; s < stages.size(); ++s) {
-        std::string error;
-        std::vector<uint32_t> final_words;
-        auto blob = finalizer.add(std::move(layout.patched_spirv[s]), error, &final_words);
-        if (!blob) {
-          diag.error(p.where, "pipeline '" + p.name + "', shader '" + stages[s].desc->name + "': " + error);
+        pp.stages.push_back(stages[s].desc);
+        pp.jobs.push_back(finalizer.request(std::move(layout.patched_spirv[s])));
+      }
+      pending.push_back(std::move(pp));
+    }
+
+    // Optimise and validate every distinct module in parallel.
+    if (!diag.has_errors()) finalizer.run(options.threads);
+
+    // Assemble in notation order, so the archive does not depend on thread timing.
+    for (size_t s = 0; s < notation.shaders.size(); ++s) {
+      const CompiledUnit& unit = units[standalone_units[s]];
+      size_t job = standalone_jobs[s];
+      if (!finalizer.error(job).empty()) {
+        diag.error(unit.desc.where, "shader '" + unit.desc.name + "': " + finalizer.error(job));
+        continue;
+      }
+      dumper.write(fs::path("Shaders") / file_name_of(unit.desc.name), finalizer.words(job), io_error);
+      uint32_t blob = builder.add_blob(finalizer.words(job));
+      builder.contents.standalone_shaders.push_back(
+          builder.add_shader({unit.desc.name, unit.desc.stage, blob, unit.desc.entry_point}));
+    }
+    for (PendingPipeline& pp : pending) {
+      const PipelineDesc& p = *pp.desc;
+      bool ok = true;
+      for (size_t s = 0; s < pp.stages.size(); ++s) {
+        size_t job = pp.jobs[s];
+        if (!finalizer.error(job).empty()) {
+          diag.error(p.where, "pipeline '" + p.name + "', shader '" + pp.stages[s]->name +
+                                  "': " + finalizer.error(job));
           ok = false;
           continue;
         }
         const std::string kind = p.kind == format::PipelineKind::compute ? "Compute" : "Graphics";
-        dumper.write(fs::path(kind) / file_name_of(p.name) / file_name_of(stages[s].desc->name), final_words,
-                     io_error);
-        out_pipeline.shaders.push_back(builder.add_shader(
-            {stages[s].desc->name, stages[s].desc->stage, *blob, stages[s].desc->entry_point}));
+        dumper.write(fs::path(kind) / file_name_of(p.name) / file_name_of(pp.stages[s]->name),
+                     finalizer.words(job), io_error);
+        uint32_t blob = builder.add_blob(finalizer.words(job));
+        pp.pipeline.shaders.push_back(
+            builder.add_shader({pp.stages[s]->name, pp.stages[s]->stage, blob, pp.stages[s]->entry_point}));
       }
-      if (ok) builder.contents.pipelines.push_back(std::move(out_pipeline));
+      if (ok) builder.contents.pipelines.push_back(std::move(pp.pipeline));
     }
   }
   // Objects no pipeline uses are still archived (unpackable by name); say so, as they may be typos.
