@@ -3,6 +3,8 @@
 
 #include <cstring>
 #include <fstream>
+#include <map>
+#include <set>
 
 #include "statepack/archive_format.hpp"
 
@@ -41,9 +43,26 @@ struct Fixture {
     contents.content_version = 7;
     contents.spirv = {spirv_a, spirv_b};
     contents.shaders = {{"VS", 0x1, 0, "main"}, {"PS", 0x10, 1, "ps_main"}, {"CS", 0x20, 1, "main"}};
+    contents.standalone_shaders = {2, 0};
+    Sampler sampler;
+    sampler.address_u = 0;
+    sampler.max_lod = 8.5f;
+    contents.samplers = {sampler};
     SetLayout layout;
-    layout.bindings = {{"cbConstants", 0, 6, 1, 0x11}, {"g_Texture", 2, 1, 4, 0x10}};
+    layout.name = "Material";
+    layout.binding_index = 1;
+    layout.bindings = {{"cbConstants", 0, 6, 1, 0x11, kNone}, {"g_Texture", 2, 1, 4, 0x10, 0}};
     contents.set_layouts = {layout};
+    RenderPass pass;
+    pass.name = "Main";
+    pass.attachments = {{37, 1, 1, 0, 2, 1, 0, 6}, {126, 1, 1, 1, 2, 1, 0, 3}};
+    Subpass subpass;
+    subpass.colors = {{0, 2}};
+    subpass.depth_stencil = {1, 3};
+    subpass.preserve = {};
+    pass.subpasses = {subpass};
+    pass.dependencies = {{0, kNone, 0x400, 0x1000, 0x100, 0x800, 0}};
+    contents.render_passes = {pass};
     Pipeline graphics;
     graphics.name = "Zeta graphics";
     graphics.kind = PipelineKind::graphics;
@@ -56,6 +75,10 @@ struct Fixture {
     graphics.graphics.color_formats[1] = 109;
     graphics.graphics.depth_bias_slope = 1.5f;
     graphics.graphics.blend[1].enable = 1;
+    graphics.graphics.vertex_bindings = {{0, 20, 0}, {1, 16, 1}};
+    graphics.graphics.vertex_attributes = {{0, 0, 106, 0}, {1, 0, 103, 12}, {2, 1, 109, 0}};
+    graphics.graphics.render_pass = 0;
+    graphics.graphics.subpass = 0;
     Pipeline compute;
     compute.name = "Alpha compute";
     compute.kind = PipelineKind::compute;
@@ -81,8 +104,11 @@ TEST(ArchiveFormat, RoundTripKeepsEveryField) {
   EXPECT_EQ(c.shaders[1].entry_point, "ps_main");
   EXPECT_EQ(c.shaders[1].stage, 0x10u);
   ASSERT_EQ(c.set_layouts.size(), 1u);
-  EXPECT_EQ(c.set_layouts[0].bindings[1].name, "g_Texture");
-  EXPECT_EQ(c.set_layouts[0].bindings[1].count, 4u);
+  EXPECT_EQ(c.set_layouts[0], f.contents.set_layouts[0]);
+  EXPECT_EQ(c.samplers, f.contents.samplers);
+  EXPECT_EQ(c.render_passes, f.contents.render_passes);
+  // Standalone shaders come back sorted by name: CS, VS.
+  EXPECT_EQ(c.standalone_shaders, (std::vector<uint32_t>{2, 0}));
   ASSERT_EQ(c.pipelines.size(), 2u);
   // Pipelines come back sorted by name: the name index is the pipeline table itself.
   EXPECT_EQ(c.pipelines[0].name, "Alpha compute");
@@ -93,6 +119,29 @@ TEST(ArchiveFormat, RoundTripKeepsEveryField) {
   EXPECT_EQ(g.set_layouts, (std::vector<uint32_t>{kNone, 0}));
   EXPECT_EQ(g.push_constant_size, 16u);
   EXPECT_EQ(g.graphics, f.contents.pipelines[0].graphics);
+}
+
+// docs/archive-format.md gives every record's size; the encoder must agree with it.
+TEST(ArchiveFormat, SectionRecordSizesMatchTheSpec) {
+  const std::map<std::string, uint32_t> spec = {{"BLOB", 16}, {"IDXS", 4},  {"SIDX", 4},   {"SHDR", 24},
+                                                {"SAMP", 60}, {"BIND", 28}, {"SETL", 20},  {"ATCH", 32},
+                                                {"AREF", 8},  {"SUBP", 40}, {"DEPS", 28},  {"RPAS", 32},
+                                                {"VTXB", 12}, {"VTXA", 16}, {"GFXS", 420}, {"PIPE", 40}};
+  Fixture f;
+  auto bytes = encode(f.contents);
+  auto u32 = [&](size_t at) {
+    return uint32_t(bytes[at]) | uint32_t(bytes[at + 1]) << 8 | uint32_t(bytes[at + 2]) << 16 |
+           uint32_t(bytes[at + 3]) << 24;
+  };
+  std::set<std::string> seen;
+  for (uint32_t i = 0; i < u32(48); ++i) {
+    size_t entry = u32(52) + 16 * i;
+    std::string tag(reinterpret_cast<const char*>(&bytes[entry]), 4);
+    seen.insert(tag);
+    if (!spec.count(tag)) continue;  // STRS and DATA are raw bytes
+    EXPECT_EQ(u32(entry + 8), u32(entry + 12) * spec.at(tag)) << tag;
+  }
+  for (const auto& [tag, size] : spec) EXPECT_TRUE(seen.count(tag)) << "section " << tag << " missing";
 }
 
 TEST(ArchiveFormat, EncodingIsDeterministicAndOrderIndependent) {
