@@ -6,7 +6,7 @@
 #include <map>
 #include <set>
 
-#include "statepack/archive_format.hpp"
+#include "archive_format.hpp"
 
 namespace statepack::format {
 namespace {

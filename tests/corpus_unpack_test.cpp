@@ -3,7 +3,7 @@
 // standalone shaders, with the validation layer silent.
 #include <sstream>
 
-#include "statepack/archive_format.hpp"
+#include "archive_format.hpp"
 #include "vulkan_test_fixture.hpp"
 
 namespace statepack::testing {

@@ -5,7 +5,7 @@
 #include <fstream>
 #include <vector>
 
-#include "statepack/archive_format.hpp"
+#include "archive_format.hpp"
 #include "vulkan_test_fixture.hpp"
 
 namespace statepack::testing {

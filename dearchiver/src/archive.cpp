@@ -1,7 +1,7 @@
 // Archive: loads bytes (owned or borrowed) and keeps their validated, decoded contents.
 #include <fstream>
 
-#include "statepack/archive_format.hpp"
+#include "archive_format.hpp"
 #include "statepack/dearchiver.hpp"
 
 namespace statepack {
@@ -63,10 +63,17 @@ const format::Contents& Archive::contents() const {
   return state_->contents;
 }
 
-std::vector<std::string> Archive::pipeline_names() const {
-  std::vector<std::string> names;
-  for (const auto& p : state_->contents.pipelines) names.push_back(p.name);
-  return names;
+std::vector<ObjectInfo> Archive::objects() const {
+  const format::Contents& c = state_->contents;
+  std::vector<ObjectInfo> out;
+  for (const auto& p : c.pipelines)
+    out.push_back({p.name, p.kind == format::PipelineKind::compute ? ObjectKind::compute_pipeline
+                                                                   : ObjectKind::graphics_pipeline});
+  for (const auto& l : c.set_layouts)
+    if (!l.name.empty()) out.push_back({l.name, ObjectKind::resource_signature});
+  for (const auto& r : c.render_passes) out.push_back({r.name, ObjectKind::render_pass});
+  for (uint32_t s : c.standalone_shaders) out.push_back({c.shaders[s].name, ObjectKind::shader});
+  return out;
 }
 
 }  // namespace statepack

@@ -47,7 +47,7 @@
 // | GFXS | graphics state (see visit(GraphicsState))                                         |
 // | PIPE | pipeline: str name, kind, list<IDXS> shaders, list<IDXS> set layouts, push size,   |
 // |      | push stages, u32 GFXS index (0xFFFFFFFF for compute); sorted by name              |
-#include "statepack/archive_format.hpp"
+#include "archive_format.hpp"
 
 #define XXH_STATIC_LINKING_ONLY  // XXH3_state_t on the stack
 #include <xxhash.h>

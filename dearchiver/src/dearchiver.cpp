@@ -7,7 +7,7 @@
 #include <mutex>
 #include <tuple>
 
-#include "statepack/archive_format.hpp"
+#include "archive_format.hpp"
 #include "suggest.hpp"
 #include "vk_result_string.hpp"
 

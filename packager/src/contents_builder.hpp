@@ -7,7 +7,7 @@
 #include <span>
 #include <vector>
 
-#include "statepack/archive_format.hpp"
+#include "archive_format.hpp"
 
 namespace statepack::packager {
 

@@ -7,8 +7,8 @@
 #include <ostream>
 #include <vulkan/vulkan.hpp>  // vk::to_string: Vulkan's own enum names, kept up to date by the SDK
 
+#include "archive_format.hpp"
 #include "packer.hpp"
-#include "statepack/archive_format.hpp"
 #include "statepack/dearchiver.hpp"
 
 namespace statepack::packager {

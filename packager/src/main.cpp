@@ -3,9 +3,9 @@
 
 #include <iostream>
 
+#include "archive_format.hpp"
 #include "inspect.hpp"
 #include "packer.hpp"
-#include "statepack/archive_format.hpp"
 
 namespace {
 

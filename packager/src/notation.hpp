@@ -8,8 +8,8 @@
 #include <utility>
 #include <vector>
 
+#include "archive_format.hpp"
 #include "diagnostics.hpp"
-#include "statepack/archive_format.hpp"
 
 namespace statepack::packager {
 

@@ -12,10 +12,10 @@
 #include <set>
 #include <thread>
 
+#include "archive_format.hpp"
 #include "contents_builder.hpp"
 #include "pipeline_layout.hpp"
 #include "spirv_reflect.hpp"
-#include "statepack/archive_format.hpp"
 
 namespace statepack::packager {
 namespace fs = std::filesystem;

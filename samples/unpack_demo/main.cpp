@@ -5,7 +5,6 @@
 #include <cstdio>
 #include <string>
 
-#include "statepack/archive_format.hpp"
 #include "statepack/dearchiver.hpp"
 #include "vulkan_context.hpp"
 
@@ -73,10 +72,9 @@ int main(int argc, char** argv) {
   }
   auto archive = statepack::Archive::from_file(path);
   if (!archive) return fail("load", archive.error());
-  const auto& contents = archive->contents();
-  std::printf("archive %s: format v%u, content version %u, %zu pipeline(s), %zu SPIR-V blob(s)\n",
-              path.c_str(), archive->format_version(), archive->content_version(), contents.pipelines.size(),
-              contents.spirv.size());
+  const std::vector<statepack::ObjectInfo> objects = archive->objects();
+  std::printf("archive %s: format v%u, content version %u, %zu named object(s)\n", path.c_str(),
+              archive->format_version(), archive->content_version(), objects.size());
 
   statepack::samples::VulkanContextOptions options;
   options.validation = true;
@@ -87,14 +85,14 @@ int main(int argc, char** argv) {
 
   auto dearchiver = statepack::Dearchiver::create({(*vk)->physical_device, (*vk)->device});
   if (!dearchiver) return fail("dearchiver", dearchiver.error());
-  std::vector<std::pair<std::string, statepack::format::PipelineKind>> pipelines;
-  for (const auto& p : contents.pipelines) pipelines.emplace_back(p.name, p.kind);
   if (auto added = dearchiver->add_archive(std::move(*archive)); !added)
     return fail("add archive", added.error());
 
   int status = 0;
-  for (const auto& [name, kind] : pipelines) {
-    bool compute = kind == statepack::format::PipelineKind::compute;
+  for (const auto& [name, kind] : objects) {
+    if (kind != statepack::ObjectKind::compute_pipeline && kind != statepack::ObjectKind::graphics_pipeline)
+      continue;
+    bool compute = kind == statepack::ObjectKind::compute_pipeline;
     auto pso = compute ? dearchiver->unpack_compute(name) : dearchiver->unpack_graphics(name);
     if (!pso) return fail("unpack '" + name + "'", pso.error());
     const statepack::UnpackedPipeline& p = **pso;

@@ -34,6 +34,14 @@ namespace format {
 struct Contents;
 }
 
+enum class ObjectKind { graphics_pipeline, compute_pipeline, resource_signature, render_pass, shader };
+
+// A named object of an archive, as unpack_* calls name it.
+struct ObjectInfo {
+  std::string name;
+  ObjectKind kind;
+};
+
 // A loaded, fully validated archive. Owns its bytes (from_file) or borrows them (from_memory).
 class Archive {
  public:
@@ -51,7 +59,11 @@ class Archive {
 
   uint32_t content_version() const;
   uint32_t format_version() const;
-  std::vector<std::string> pipeline_names() const;
+  // Every named object: pipelines, resource signatures, render passes, standalone shaders.
+  std::vector<ObjectInfo> objects() const;
+
+  // The decoded tables (declared in the library's internal archive_format.hpp; for statepack's own
+  // tools and tests).
   const format::Contents& contents() const;
 
  private:
