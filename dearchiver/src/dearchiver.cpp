@@ -2,9 +2,15 @@
 #include "statepack/dearchiver.hpp"
 
 #include <algorithm>
+#include <array>
+#include <atomic>
+#include <cstring>
 #include <deque>
 #include <map>
 #include <mutex>
+#include <optional>
+#include <set>
+#include <thread>
 #include <tuple>
 
 #include "archive_format.hpp"
@@ -76,6 +82,7 @@ PatchableState to_patchable(const format::GraphicsState& g) {
 
 struct Dearchiver::State {
   DeviceContext context;
+  VkPhysicalDeviceFeatures features{};  // enabled (as the caller says) or supported ones
   std::vector<Archive> archives;
   std::map<std::pair<size_t, uint32_t>, VkShaderModule> modules;             // (archive, blob)
   std::map<std::pair<size_t, uint32_t>, VkDescriptorSetLayout> set_layouts;  // (archive, layout)
@@ -199,8 +206,6 @@ struct Dearchiver::State {
     info.borderColor = static_cast<VkBorderColor>(s.border_color);
     info.unnormalizedCoordinates = s.unnormalized_coordinates;
     if (s.anisotropy_enable) {
-      VkPhysicalDeviceFeatures features;
-      vkGetPhysicalDeviceFeatures(context.physical_device, &features);
       if (!features.samplerAnisotropy)
         return Error{ErrorCode::unsupported,
                      "immutable sampler of '" + std::string(binding) +
@@ -277,19 +282,42 @@ struct Dearchiver::State {
     return std::nullopt;
   }
 
-  // Everything but the VkPipeline: layout, set layouts, binding table, shader stages.
-  struct Prepared {
+  // A pipeline ready to create: every shared object exists and every create-info field is filled.
+  // Heap-allocated so the pointers between the structs stay valid.
+  struct Plan {
     UnpackedPipeline out;
+    bool cacheable = true;
     std::vector<VkPipelineShaderStageCreateInfo> stages;
+    VkComputePipelineCreateInfo compute{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
+    PatchableState state;
+    std::vector<VkVertexInputBindingDescription> vertex_bindings;
+    std::vector<VkVertexInputAttributeDescription> vertex_attributes;
+    VkPipelineVertexInputStateCreateInfo vertex_input{
+        VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
+    VkPipelineInputAssemblyStateCreateInfo assembly{
+        VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
+    VkPipelineViewportStateCreateInfo viewport{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
+    VkPipelineRasterizationStateCreateInfo raster{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
+    VkPipelineMultisampleStateCreateInfo multisample{
+        VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
+    VkSampleMask sample_mask = 0xFFFFFFFFu;
+    VkPipelineDepthStencilStateCreateInfo depth{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
+    std::array<VkPipelineColorBlendAttachmentState, 8> attachments{};
+    VkPipelineColorBlendStateCreateInfo blend{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
+    std::array<VkDynamicState, 2> dynamic_states{VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
+    VkPipelineDynamicStateCreateInfo dynamic{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
+    VkPipelineRenderingCreateInfo rendering{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
+    VkGraphicsPipelineCreateInfo graphics{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
   };
 
-  Result<Prepared> prepare(const Found& found) {
+  // Layout, set layouts, binding table and shader stages: what both kinds of pipeline need.
+  Result<std::unique_ptr<Plan>> plan_common(const Found& found) {
     const format::Pipeline& p = *found.pipeline;
     const auto& contents = archives[found.archive].contents();
     if (!(contents.backends & format::kBackendVulkan))
       return Error{ErrorCode::missing_backend, "pipeline '" + p.name + "': the archive has no Vulkan data"};
-    Prepared prepared;
-    UnpackedPipeline& out = prepared.out;
+    auto plan = std::make_unique<Plan>();
+    UnpackedPipeline& out = plan->out;
     out.name = p.name;
     out.push_constant_size = p.push_constant_size;
     out.push_constant_stages = p.push_constant_stages;
@@ -317,6 +345,7 @@ struct Dearchiver::State {
         return vulkan_failure("vkCreatePipelineLayout", r, p.name);
       pipeline_layouts.emplace(std::move(layout_key), out.layout);
     }
+    uint32_t stages = 0;
     for (uint32_t s : p.shaders) {
       const format::Shader& shader = contents.shaders[s];
       auto module = this->module(found.archive, shader.blob, shader.name);
@@ -325,16 +354,204 @@ struct Dearchiver::State {
       stage.stage = static_cast<VkShaderStageFlagBits>(shader.stage);
       stage.module = *module;
       stage.pName = shader.entry_point.c_str();
-      prepared.stages.push_back(stage);
+      plan->stages.push_back(stage);
+      stages |= shader.stage;
     }
-    return prepared;
+    if ((stages & VK_SHADER_STAGE_GEOMETRY_BIT) && !features.geometryShader)
+      return missing_feature(p.name, "geometryShader");
+    if ((stages & (VK_SHADER_STAGE_TESSELLATION_CONTROL_BIT | VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT)) &&
+        !features.tessellationShader)
+      return missing_feature(p.name, "tessellationShader");
+    return plan;
   }
 
-  const UnpackedPipeline* keep(UnpackedPipeline pipeline, bool cacheable) {
-    pipelines.push_back(std::move(pipeline));
+  static Error missing_feature(std::string_view pipeline, const char* feature) {
+    return Error{ErrorCode::unsupported, "pipeline '" + std::string(pipeline) +
+                                             "' needs the device feature '" + feature +
+                                             "', which is not enabled"};
+  }
+
+  Result<std::unique_ptr<Plan>> plan_compute(const Found& found) {
+    auto plan = plan_common(found);
+    if (!plan) return plan.error();
+    Plan& pl = **plan;
+    pl.out.bind_point = VK_PIPELINE_BIND_POINT_COMPUTE;
+    pl.compute.stage = pl.stages.at(0);
+    pl.compute.layout = pl.out.layout;
+    return plan;
+  }
+
+  Result<std::unique_ptr<Plan>> plan_graphics(const Found& found, const ModifyCallback& modify) {
+    const format::GraphicsState& g = found.pipeline->graphics;
+    const std::string& name = found.pipeline->name;
+    const bool uses_render_pass = g.render_pass != format::kNone;
+    if (!uses_render_pass && !context.dynamic_rendering_enabled)
+      return Error{ErrorCode::unsupported,
+                   "pipeline '" + name + "' uses dynamic rendering, which the device was not created with"};
+    auto planned = plan_common(found);
+    if (!planned) return planned.error();
+    Plan& pl = **planned;
+    pl.out.bind_point = VK_PIPELINE_BIND_POINT_GRAPHICS;
+    pl.cacheable = !modify;
+
+    PatchableState& s = pl.state;
+    s = to_patchable(g);
+    VkRenderPass render_pass = VK_NULL_HANDLE;
+    if (uses_render_pass) {
+      auto pass = this->render_pass(found.archive, g.render_pass);
+      if (!pass) return pass.error();
+      render_pass = *pass;
+    }
+    if (modify) {
+      const PatchableState before = s;
+      modify(s);
+      if (uses_render_pass &&
+          (s.color_count != before.color_count || s.color_formats != before.color_formats ||
+           s.depth_stencil_format != before.depth_stencil_format || s.samples != before.samples))
+        return Error{ErrorCode::invalid_argument,
+                     "pipeline '" + name +
+                         "' uses a render pass, which fixes its attachment formats and "
+                         "sample count; the modify callback may not change them"};
+    }
+    if (s.color_count > s.color_formats.size())
+      return Error{ErrorCode::invalid_argument, "pipeline '" + name + "': the modify callback set " +
+                                                    std::to_string(s.color_count) +
+                                                    " render targets (at most 8)"};
+    if (auto missing = check_features(name, s)) return *missing;
+
+    for (const auto& b : g.vertex_bindings)
+      pl.vertex_bindings.push_back({b.binding, b.stride, static_cast<VkVertexInputRate>(b.input_rate)});
+    for (const auto& a : g.vertex_attributes)
+      pl.vertex_attributes.push_back({a.location, a.binding, static_cast<VkFormat>(a.format), a.offset});
+    pl.vertex_input.vertexBindingDescriptionCount = static_cast<uint32_t>(pl.vertex_bindings.size());
+    pl.vertex_input.pVertexBindingDescriptions = pl.vertex_bindings.data();
+    pl.vertex_input.vertexAttributeDescriptionCount = static_cast<uint32_t>(pl.vertex_attributes.size());
+    pl.vertex_input.pVertexAttributeDescriptions = pl.vertex_attributes.data();
+    pl.assembly.topology = static_cast<VkPrimitiveTopology>(g.topology);
+    pl.viewport.viewportCount = 1;
+    pl.viewport.scissorCount = 1;
+    pl.raster.depthClampEnable = s.rasterizer.depth_clamp;
+    pl.raster.polygonMode = s.rasterizer.polygon_mode;
+    pl.raster.cullMode = s.rasterizer.cull_mode;
+    pl.raster.frontFace = s.rasterizer.front_face;
+    pl.raster.depthBiasEnable = s.rasterizer.depth_bias != 0 || s.rasterizer.depth_bias_slope != 0;
+    pl.raster.depthBiasConstantFactor = s.rasterizer.depth_bias;
+    pl.raster.depthBiasClamp = s.rasterizer.depth_bias_clamp;
+    pl.raster.depthBiasSlopeFactor = s.rasterizer.depth_bias_slope;
+    pl.raster.lineWidth = 1.0f;
+    pl.multisample.rasterizationSamples = s.samples;
+    pl.sample_mask = g.sample_mask;
+    pl.multisample.pSampleMask = &pl.sample_mask;
+    pl.multisample.alphaToCoverageEnable = g.alpha_to_coverage;
+    const bool depth_attachment = has_depth(s.depth_stencil_format);
+    const bool stencil_attachment = has_stencil(s.depth_stencil_format);
+    pl.depth.depthTestEnable = depth_attachment && s.depth_stencil.depth_test;
+    pl.depth.depthWriteEnable = depth_attachment && s.depth_stencil.depth_write;
+    pl.depth.depthCompareOp = s.depth_stencil.depth_compare;
+    pl.depth.stencilTestEnable = stencil_attachment && s.depth_stencil.stencil_test;
+    pl.depth.front = s.depth_stencil.front;
+    pl.depth.back = s.depth_stencil.back;
+    pl.depth.maxDepthBounds = 1.0f;
+    for (uint32_t i = 0; i < s.color_count; ++i) {
+      const auto& b = s.blend[i];
+      pl.attachments[i] = {b.enable,    b.src_color, b.dst_color, b.color_op,
+                           b.src_alpha, b.dst_alpha, b.alpha_op,  b.write_mask};
+    }
+    pl.blend.attachmentCount = s.color_count;
+    pl.blend.pAttachments = pl.attachments.data();
+    pl.dynamic.dynamicStateCount = static_cast<uint32_t>(pl.dynamic_states.size());
+    pl.dynamic.pDynamicStates = pl.dynamic_states.data();
+    pl.rendering.colorAttachmentCount = s.color_count;
+    pl.rendering.pColorAttachmentFormats = s.color_formats.data();
+    pl.rendering.depthAttachmentFormat = depth_attachment ? s.depth_stencil_format : VK_FORMAT_UNDEFINED;
+    pl.rendering.stencilAttachmentFormat = stencil_attachment ? s.depth_stencil_format : VK_FORMAT_UNDEFINED;
+
+    VkGraphicsPipelineCreateInfo& info = pl.graphics;
+    info.pNext = uses_render_pass ? nullptr : &pl.rendering;
+    info.renderPass = render_pass;
+    info.subpass = g.subpass;
+    info.stageCount = static_cast<uint32_t>(pl.stages.size());
+    info.pStages = pl.stages.data();
+    info.pVertexInputState = &pl.vertex_input;
+    info.pInputAssemblyState = &pl.assembly;
+    info.pViewportState = &pl.viewport;
+    info.pRasterizationState = &pl.raster;
+    info.pMultisampleState = &pl.multisample;
+    info.pDepthStencilState = &pl.depth;
+    info.pColorBlendState = &pl.blend;
+    info.pDynamicState = &pl.dynamic;
+    info.layout = pl.out.layout;
+    return planned;
+  }
+
+  // The device features a graphics state needs, checked against the enabled ones.
+  std::optional<Error> check_features(const std::string& name, const PatchableState& s) {
+    if (s.rasterizer.depth_clamp && !features.depthClamp) return missing_feature(name, "depthClamp");
+    if (s.rasterizer.polygon_mode != VK_POLYGON_MODE_FILL && !features.fillModeNonSolid)
+      return missing_feature(name, "fillModeNonSolid");
+    if (s.rasterizer.depth_bias_clamp != 0 && !features.depthBiasClamp)
+      return missing_feature(name, "depthBiasClamp");
+    for (uint32_t i = 0; i < s.color_count; ++i) {
+      const auto& b = s.blend[i];
+      auto dual = [](VkBlendFactor f) {
+        return f >= VK_BLEND_FACTOR_SRC1_COLOR && f <= VK_BLEND_FACTOR_ONE_MINUS_SRC1_ALPHA;
+      };
+      if (b.enable && (dual(b.src_color) || dual(b.dst_color) || dual(b.src_alpha) || dual(b.dst_alpha)) &&
+          !features.dualSrcBlend)
+        return missing_feature(name, "dualSrcBlend");
+      if (i > 0 && !features.independentBlend &&
+          std::memcmp(&s.blend[i], &s.blend[0], sizeof(BlendAttachmentState)) != 0)
+        return missing_feature(name, "independentBlend");
+    }
+    VkPhysicalDeviceProperties properties;
+    vkGetPhysicalDeviceProperties(context.physical_device, &properties);
+    const VkSampleCountFlags counts = s.color_count > 0
+                                          ? properties.limits.framebufferColorSampleCounts
+                                          : properties.limits.framebufferNoAttachmentsSampleCounts;
+    if (!(counts & s.samples))
+      return Error{ErrorCode::unsupported, "pipeline '" + name + "' renders with " +
+                                               std::to_string(s.samples) +
+                                               " samples, which the device does not support"};
+    return std::nullopt;
+  }
+
+  // Creates the pipeline of a plan; safe to call for different plans on several threads.
+  Result<void> create(Plan& plan) const {
+    VkResult r = plan.out.bind_point == VK_PIPELINE_BIND_POINT_COMPUTE
+                     ? vkCreateComputePipelines(context.device, context.pipeline_cache, 1, &plan.compute,
+                                                context.allocator, &plan.out.pipeline)
+                     : vkCreateGraphicsPipelines(context.device, context.pipeline_cache, 1, &plan.graphics,
+                                                 context.allocator, &plan.out.pipeline);
+    if (r != VK_SUCCESS)
+      return vulkan_failure(plan.out.bind_point == VK_PIPELINE_BIND_POINT_COMPUTE
+                                ? "vkCreateComputePipelines"
+                                : "vkCreateGraphicsPipelines",
+                            r, plan.out.name);
+    return {};
+  }
+
+  const UnpackedPipeline* keep(Plan& plan) {
+    pipelines.push_back(std::move(plan.out));
     const UnpackedPipeline* kept = &pipelines.back();
-    if (cacheable) unmodified.emplace(kept->name, kept);
+    if (plan.cacheable) unmodified.emplace(kept->name, kept);
     return kept;
+  }
+
+  // Cached, or planned, created and kept.
+  Result<const UnpackedPipeline*> unpack(std::string_view name, format::PipelineKind kind,
+                                         const ModifyCallback& modify) {
+    const VkPipelineBindPoint bind_point = kind == format::PipelineKind::compute
+                                               ? VK_PIPELINE_BIND_POINT_COMPUTE
+                                               : VK_PIPELINE_BIND_POINT_GRAPHICS;
+    if (!modify)
+      if (auto it = unmodified.find(name); it != unmodified.end() && it->second->bind_point == bind_point)
+        return it->second;
+    auto found = find(name, kind);
+    if (!found) return found.error();
+    auto plan = kind == format::PipelineKind::compute ? plan_compute(*found) : plan_graphics(*found, modify);
+    if (!plan) return plan.error();
+    if (auto created = create(**plan); !created) return created.error();
+    return keep(**plan);
   }
 };
 
@@ -348,6 +565,10 @@ Result<Dearchiver> Dearchiver::create(const DeviceContext& context) {
     return Error{ErrorCode::invalid_argument, "Dearchiver::create needs a VkPhysicalDevice and a VkDevice"};
   auto state = std::make_unique<State>();
   state->context = context;
+  if (context.enabled_features)
+    state->features = *context.enabled_features;
+  else
+    vkGetPhysicalDeviceFeatures(context.physical_device, &state->features);
   return Dearchiver(std::move(state));
 }
 
@@ -364,149 +585,85 @@ std::vector<std::string> Dearchiver::pipeline_names() const {
 
 Result<const UnpackedPipeline*> Dearchiver::unpack_compute(std::string_view name) {
   std::lock_guard lock(state_->mutex);
-  if (auto it = state_->unmodified.find(name); it != state_->unmodified.end()) {
-    if (it->second->bind_point == VK_PIPELINE_BIND_POINT_COMPUTE) return it->second;
-  }
-  auto found = state_->find(name, format::PipelineKind::compute);
-  if (!found) return found.error();
-  auto prepared = state_->prepare(*found);
-  if (!prepared) return prepared.error();
-  UnpackedPipeline& out = prepared->out;
-  out.bind_point = VK_PIPELINE_BIND_POINT_COMPUTE;
-  VkComputePipelineCreateInfo info{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
-  info.stage = prepared->stages.at(0);
-  info.layout = out.layout;
-  VkResult r = vkCreateComputePipelines(state_->context.device, state_->context.pipeline_cache, 1, &info,
-                                        state_->context.allocator, &out.pipeline);
-  if (r != VK_SUCCESS) return vulkan_failure("vkCreateComputePipelines", r, out.name);
-  return state_->keep(std::move(out), true);
+  return state_->unpack(name, format::PipelineKind::compute, {});
 }
 
 Result<const UnpackedPipeline*> Dearchiver::unpack_graphics(std::string_view name,
                                                             const ModifyCallback& modify) {
   std::lock_guard lock(state_->mutex);
-  if (!modify) {
-    if (auto it = state_->unmodified.find(name); it != state_->unmodified.end()) {
-      if (it->second->bind_point == VK_PIPELINE_BIND_POINT_GRAPHICS) return it->second;
+  return state_->unpack(name, format::PipelineKind::graphics, modify);
+}
+
+Result<std::vector<const UnpackedPipeline*>> Dearchiver::unpack_all(uint32_t threads) {
+  auto pipelines = unpack_all_pipelines(threads);
+  if (!pipelines) return pipelines.error();
+  // The other named objects too, so that everything is ready.
+  std::vector<ObjectInfo> objects;
+  {
+    std::lock_guard lock(state_->mutex);
+    for (const auto& archive : state_->archives) {
+      auto more = archive.objects();
+      objects.insert(objects.end(), more.begin(), more.end());
     }
   }
-  auto found = state_->find(name, format::PipelineKind::graphics);
-  if (!found) return found.error();
-  const format::GraphicsState& g = found->pipeline->graphics;
-  const bool uses_render_pass = g.render_pass != format::kNone;
-  if (!uses_render_pass && !state_->context.dynamic_rendering_enabled)
-    return Error{
-        ErrorCode::unsupported,
-        "pipeline '" + std::string(name) + "' uses dynamic rendering, which the device was not created with"};
-  auto prepared = state_->prepare(*found);
-  if (!prepared) return prepared.error();
-  UnpackedPipeline& out = prepared->out;
-  out.bind_point = VK_PIPELINE_BIND_POINT_GRAPHICS;
-
-  PatchableState s = to_patchable(g);
-  VkRenderPass render_pass = VK_NULL_HANDLE;
-  if (uses_render_pass) {
-    auto pass = state_->render_pass(found->archive, g.render_pass);
-    if (!pass) return pass.error();
-    render_pass = *pass;
+  for (const auto& [name, kind] : objects) {
+    Result<void> ok;
+    if (kind == ObjectKind::resource_signature) {
+      if (auto r = unpack_signature(name); !r) ok = r.error();
+    } else if (kind == ObjectKind::render_pass) {
+      if (auto r = unpack_render_pass(name); !r) ok = r.error();
+    } else if (kind == ObjectKind::shader) {
+      if (auto r = unpack_shader(name); !r) ok = r.error();
+    }
+    if (!ok) return ok.error();
   }
-  if (modify) {
-    const PatchableState before = s;
-    modify(s);
-    if (uses_render_pass &&
-        (s.color_count != before.color_count || s.color_formats != before.color_formats ||
-         s.depth_stencil_format != before.depth_stencil_format || s.samples != before.samples))
-      return Error{ErrorCode::invalid_argument,
-                   "pipeline '" + out.name +
-                       "' uses a render pass, which fixes its attachment formats and sample count; "
-                       "the modify callback may not change them"};
-  }
-  if (s.color_count > s.color_formats.size())
-    return Error{ErrorCode::invalid_argument, "pipeline '" + out.name + "': the modify callback set " +
-                                                  std::to_string(s.color_count) +
-                                                  " render targets (at most 8)"};
+  return pipelines;
+}
 
-  std::vector<VkVertexInputBindingDescription> vertex_bindings;
-  for (const auto& b : g.vertex_bindings)
-    vertex_bindings.push_back({b.binding, b.stride, static_cast<VkVertexInputRate>(b.input_rate)});
-  std::vector<VkVertexInputAttributeDescription> vertex_attributes;
-  for (const auto& a : g.vertex_attributes)
-    vertex_attributes.push_back({a.location, a.binding, static_cast<VkFormat>(a.format), a.offset});
-  VkPipelineVertexInputStateCreateInfo vertex_input{
-      VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
-  vertex_input.vertexBindingDescriptionCount = static_cast<uint32_t>(vertex_bindings.size());
-  vertex_input.pVertexBindingDescriptions = vertex_bindings.data();
-  vertex_input.vertexAttributeDescriptionCount = static_cast<uint32_t>(vertex_attributes.size());
-  vertex_input.pVertexAttributeDescriptions = vertex_attributes.data();
-  VkPipelineInputAssemblyStateCreateInfo assembly{
-      VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
-  assembly.topology = static_cast<VkPrimitiveTopology>(g.topology);
-  VkPipelineViewportStateCreateInfo viewport{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
-  viewport.viewportCount = 1;
-  viewport.scissorCount = 1;
-  VkPipelineRasterizationStateCreateInfo raster{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
-  raster.depthClampEnable = s.rasterizer.depth_clamp;
-  raster.polygonMode = s.rasterizer.polygon_mode;
-  raster.cullMode = s.rasterizer.cull_mode;
-  raster.frontFace = s.rasterizer.front_face;
-  raster.depthBiasEnable = s.rasterizer.depth_bias != 0 || s.rasterizer.depth_bias_slope != 0;
-  raster.depthBiasConstantFactor = s.rasterizer.depth_bias;
-  raster.depthBiasClamp = s.rasterizer.depth_bias_clamp;
-  raster.depthBiasSlopeFactor = s.rasterizer.depth_bias_slope;
-  raster.lineWidth = 1.0f;
-  VkPipelineMultisampleStateCreateInfo multisample{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
-  multisample.rasterizationSamples = s.samples;
-  VkSampleMask sample_mask = g.sample_mask;
-  multisample.pSampleMask = &sample_mask;
-  multisample.alphaToCoverageEnable = g.alpha_to_coverage;
-  const bool depth_attachment = has_depth(s.depth_stencil_format);
-  const bool stencil_attachment = has_stencil(s.depth_stencil_format);
-  VkPipelineDepthStencilStateCreateInfo depth{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
-  depth.depthTestEnable = depth_attachment && s.depth_stencil.depth_test;
-  depth.depthWriteEnable = depth_attachment && s.depth_stencil.depth_write;
-  depth.depthCompareOp = s.depth_stencil.depth_compare;
-  depth.stencilTestEnable = stencil_attachment && s.depth_stencil.stencil_test;
-  depth.front = s.depth_stencil.front;
-  depth.back = s.depth_stencil.back;
-  depth.maxDepthBounds = 1.0f;
-  std::array<VkPipelineColorBlendAttachmentState, 8> attachments{};
-  for (uint32_t i = 0; i < s.color_count; ++i) {
-    const auto& b = s.blend[i];
-    attachments[i] = {b.enable,    b.src_color, b.dst_color, b.color_op,
-                      b.src_alpha, b.dst_alpha, b.alpha_op,  b.write_mask};
+Result<std::vector<const UnpackedPipeline*>> Dearchiver::unpack_all_pipelines(uint32_t threads) {
+  std::lock_guard lock(state_->mutex);
+  // Plan every pipeline not yet unpacked (serially: shared objects are created once), then create the
+  // pipelines on `threads` threads: the driver's compile is the expensive part.
+  std::vector<std::unique_ptr<State::Plan>> plans;
+  std::vector<const UnpackedPipeline*> done;
+  std::set<std::string, std::less<>> seen;
+  for (size_t a = 0; a < state_->archives.size(); ++a) {
+    for (const auto& p : state_->archives[a].contents().pipelines) {
+      if (!seen.insert(p.name).second) continue;  // the earliest archive wins
+      if (auto it = state_->unmodified.find(p.name); it != state_->unmodified.end()) {
+        done.push_back(it->second);
+        continue;
+      }
+      State::Found found{a, &p};
+      auto plan = p.kind == format::PipelineKind::compute ? state_->plan_compute(found)
+                                                          : state_->plan_graphics(found, {});
+      if (!plan) return plan.error();
+      plans.push_back(std::move(plan.value()));
+    }
   }
-  VkPipelineColorBlendStateCreateInfo blend{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
-  blend.attachmentCount = s.color_count;
-  blend.pAttachments = attachments.data();
-  const VkDynamicState dynamic_states[] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
-  VkPipelineDynamicStateCreateInfo dynamic{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
-  dynamic.dynamicStateCount = 2;
-  dynamic.pDynamicStates = dynamic_states;
-  VkPipelineRenderingCreateInfo rendering{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
-  rendering.colorAttachmentCount = s.color_count;
-  rendering.pColorAttachmentFormats = s.color_formats.data();
-  rendering.depthAttachmentFormat = depth_attachment ? s.depth_stencil_format : VK_FORMAT_UNDEFINED;
-  rendering.stencilAttachmentFormat = stencil_attachment ? s.depth_stencil_format : VK_FORMAT_UNDEFINED;
-
-  VkGraphicsPipelineCreateInfo info{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
-  info.pNext = uses_render_pass ? nullptr : &rendering;
-  info.renderPass = render_pass;
-  info.subpass = g.subpass;
-  info.stageCount = static_cast<uint32_t>(prepared->stages.size());
-  info.pStages = prepared->stages.data();
-  info.pVertexInputState = &vertex_input;
-  info.pInputAssemblyState = &assembly;
-  info.pViewportState = &viewport;
-  info.pRasterizationState = &raster;
-  info.pMultisampleState = &multisample;
-  info.pDepthStencilState = &depth;
-  info.pColorBlendState = &blend;
-  info.pDynamicState = &dynamic;
-  info.layout = out.layout;
-  VkResult r = vkCreateGraphicsPipelines(state_->context.device, state_->context.pipeline_cache, 1, &info,
-                                         state_->context.allocator, &out.pipeline);
-  if (r != VK_SUCCESS) return vulkan_failure("vkCreateGraphicsPipelines", r, out.name);
-  return state_->keep(std::move(out), !modify);
+  std::vector<std::optional<Error>> failures(plans.size());
+  std::atomic<size_t> next{0};
+  auto worker = [&] {
+    for (size_t i = next++; i < plans.size(); i = next++)
+      if (auto created = state_->create(*plans[i]); !created) failures[i] = created.error();
+  };
+  const uint32_t n =
+      std::max<uint32_t>(1, std::min<uint32_t>(threads ? threads : std::thread::hardware_concurrency(),
+                                               static_cast<uint32_t>(plans.size())));
+  std::vector<std::thread> pool;
+  for (uint32_t i = 1; i < n; ++i) pool.emplace_back(worker);
+  worker();
+  for (auto& t : pool) t.join();
+  std::optional<Error> first_failure;
+  for (size_t i = 0; i < plans.size(); ++i) {
+    if (failures[i]) {
+      if (!first_failure) first_failure = failures[i];
+      continue;
+    }
+    done.push_back(state_->keep(*plans[i]));  // kept, so destroyed with the dearchiver even on failure
+  }
+  if (first_failure) return *first_failure;
+  return done;
 }
 
 namespace {

@@ -158,6 +158,10 @@ struct DeviceContext {
   // Graphics pipelines without render passes need dynamic rendering (Vulkan 1.3 core, or
   // VK_KHR_dynamic_rendering); say whether the device was created with the feature enabled.
   bool dynamic_rendering_enabled = true;
+  // The core features the device was created with, to report pipelines that need others (geometry or
+  // tessellation shaders, depth clamp, wireframe, dual-source or independent blending, anisotropy)
+  // as errors. Null: assume every feature the device supports is enabled.
+  const VkPhysicalDeviceFeatures* enabled_features = nullptr;
 };
 
 class Dearchiver {
@@ -176,6 +180,11 @@ class Dearchiver {
   Result<const UnpackedPipeline*> unpack_graphics(std::string_view name, const ModifyCallback& modify = {});
   Result<const UnpackedPipeline*> unpack_compute(std::string_view name);
 
+  // Unpacks every pipeline of every added archive (the earliest archive wins a name), creating the
+  // pipelines on `threads` threads (0: all cores), then every signature, render pass and standalone
+  // shader. Returns the pipelines.
+  Result<std::vector<const UnpackedPipeline*>> unpack_all(uint32_t threads = 0);
+
   // Unpack the other named objects. Each is created once and owned by the Dearchiver.
   Result<const UnpackedSignature*> unpack_signature(std::string_view name);
   Result<VkRenderPass> unpack_render_pass(std::string_view name);
@@ -186,6 +195,7 @@ class Dearchiver {
  private:
   struct State;
   explicit Dearchiver(std::unique_ptr<State> state);
+  Result<std::vector<const UnpackedPipeline*>> unpack_all_pipelines(uint32_t threads);
   std::unique_ptr<State> state_;
 };
 

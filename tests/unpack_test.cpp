@@ -1,0 +1,129 @@
+// Dearchiver behaviour beyond the slice: unpacking everything on several threads, names across
+// several archives, device features, and missing backends.
+#include <cstring>
+#include <set>
+#include <sstream>
+
+#include "archive_format.hpp"
+#include "vulkan_test_fixture.hpp"
+
+namespace statepack::testing {
+namespace {
+
+std::vector<std::string> corpus_paths() {
+  std::vector<std::string> out;
+  std::istringstream list(STATEPACK_CORPUS_ARCHIVES);
+  for (std::string path; std::getline(list, path, '|');)
+    if (!path.empty()) out.push_back(path);
+  return out;
+}
+
+// Re-encodes a modified copy of an archive's contents into aligned memory.
+struct ForgedArchive {
+  std::vector<uint32_t> words;
+  size_t size = 0;
+  explicit ForgedArchive(const format::Contents& contents) {
+    auto bytes = format::encode(contents);
+    size = bytes.size();
+    words.resize((size + 3) / 4);
+    std::memcpy(words.data(), bytes.data(), size);
+  }
+  std::span<const uint8_t> span() const { return {reinterpret_cast<const uint8_t*>(words.data()), size}; }
+};
+
+class Unpack : public VulkanTest {};
+
+TEST_F(Unpack, EverythingOnSeveralThreadsMatchesOneByOne) {
+  auto dearchiver = Dearchiver::create({vk_->physical_device, vk_->device});
+  ASSERT_TRUE(dearchiver);
+  std::set<std::string> expected;
+  for (const auto& path : corpus_paths()) {
+    auto archive = Archive::from_file(path);
+    ASSERT_TRUE(archive) << archive.error().message;
+    for (const auto& o : archive->objects())
+      if (o.kind == ObjectKind::graphics_pipeline || o.kind == ObjectKind::compute_pipeline)
+        expected.insert(o.name);
+    ASSERT_TRUE(dearchiver->add_archive(std::move(*archive)));
+  }
+  auto one = dearchiver->unpack_compute("Blur PSO");  // already unpacked ones are reused
+  ASSERT_TRUE(one) << one.error().message;
+  auto all = dearchiver->unpack_all(4);
+  ASSERT_TRUE(all) << all.error().message;
+  std::set<std::string> names;
+  for (const UnpackedPipeline* p : *all) {
+    EXPECT_NE(p->pipeline, VK_NULL_HANDLE) << p->name;
+    names.insert(p->name);
+  }
+  EXPECT_EQ(names, expected);
+  EXPECT_NE(std::find(all->begin(), all->end(), *one), all->end());
+  // A second call creates nothing new.
+  auto again = dearchiver->unpack_all(2);
+  ASSERT_TRUE(again);
+  EXPECT_EQ(std::set<const UnpackedPipeline*>(again->begin(), again->end()),
+            std::set<const UnpackedPipeline*>(all->begin(), all->end()));
+}
+
+TEST_F(Unpack, NamesResolveAcrossArchivesAndTheFirstWins) {
+  auto first = Archive::from_file(STATEPACK_TEST_ARCHIVE);
+  ASSERT_TRUE(first);
+  format::Contents renamed = first->contents();
+  for (auto& p : renamed.pipelines)
+    if (p.name == "Fill Buffer PSO") p.name = "Only In Second";
+  ForgedArchive second_bytes(renamed);
+  auto second = Archive::from_memory(second_bytes.span());
+  ASSERT_TRUE(second) << second.error().message;
+  auto dearchiver = Dearchiver::create({vk_->physical_device, vk_->device});
+  ASSERT_TRUE(dearchiver->add_archive(std::move(*first)));
+  ASSERT_TRUE(dearchiver->add_archive(std::move(*second)));
+  auto from_second = dearchiver->unpack_compute("Only In Second");
+  ASSERT_TRUE(from_second) << from_second.error().message;
+  auto shared = dearchiver->unpack_graphics("Gradient PSO");
+  ASSERT_TRUE(shared);
+  // Both archives hold "Gradient PSO"; the first added one is used, and unpack_all keeps one of each.
+  auto all = dearchiver->unpack_all();
+  ASSERT_TRUE(all) << all.error().message;
+  EXPECT_EQ(all->size(), 3u);
+}
+
+TEST_F(Unpack, PipelineNeedingADisabledFeatureIsAnError) {
+  auto archive = Archive::from_file(STATEPACK_TEST_ARCHIVE);
+  ASSERT_TRUE(archive);
+  format::Contents wireframe = archive->contents();
+  for (auto& p : wireframe.pipelines) p.graphics.polygon_mode = VK_POLYGON_MODE_LINE;
+  ForgedArchive bytes(wireframe);
+  auto forged = Archive::from_memory(bytes.span());
+  ASSERT_TRUE(forged) << forged.error().message;
+  VkPhysicalDeviceFeatures none{};  // the fixture's device enables no core features
+  DeviceContext context{vk_->physical_device, vk_->device};
+  context.enabled_features = &none;
+  auto dearchiver = Dearchiver::create(context);
+  ASSERT_TRUE(dearchiver->add_archive(std::move(*forged)));
+  auto pso = dearchiver->unpack_graphics("Gradient PSO");
+  ASSERT_FALSE(pso);
+  EXPECT_EQ(pso.error().code, ErrorCode::unsupported);
+  EXPECT_NE(pso.error().message.find("fillModeNonSolid"), std::string::npos) << pso.error().message;
+}
+
+TEST_F(Unpack, ArchiveWithoutVulkanDataIsAnError) {
+  auto archive = Archive::from_file(STATEPACK_TEST_ARCHIVE);
+  ASSERT_TRUE(archive);
+  format::Contents other = archive->contents();
+  other.backends = format::kBackendOpenGL;
+  ForgedArchive bytes(other);
+  auto forged = Archive::from_memory(bytes.span());
+  ASSERT_TRUE(forged);
+  auto dearchiver = Dearchiver::create({vk_->physical_device, vk_->device});
+  ASSERT_TRUE(dearchiver->add_archive(std::move(*forged)));
+  auto pso = dearchiver->unpack_compute("Fill Buffer PSO");
+  ASSERT_FALSE(pso);
+  EXPECT_EQ(pso.error().code, ErrorCode::missing_backend);
+}
+
+TEST_F(Unpack, InvalidCreateArgumentsAreErrors) {
+  auto missing = Dearchiver::create({});
+  ASSERT_FALSE(missing);
+  EXPECT_EQ(missing.error().code, ErrorCode::invalid_argument);
+}
+
+}  // namespace
+}  // namespace statepack::testing
