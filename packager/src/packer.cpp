@@ -1,6 +1,5 @@
 #include "packer.hpp"
 
-#include <unistd.h>
 #include <vulkan/vulkan_core.h>
 
 #include <algorithm>
@@ -14,6 +13,7 @@
 
 #include "archive_format.hpp"
 #include "contents_builder.hpp"
+#include "file_io.hpp"
 #include "pipeline_layout.hpp"
 #include "spirv_reflect.hpp"
 
@@ -206,34 +206,6 @@ void print_contents(const format::Contents& c, size_t archive_size, std::ostream
 
 }  // namespace
 
-bool write_file_atomically(const fs::path& path, const std::string& bytes, std::string& error) {
-  fs::path temp = path;
-  temp += ".tmp-" + std::to_string(::getpid());
-  {
-    std::ofstream file(temp, std::ios::binary | std::ios::trunc);
-    if (!file) {
-      error = "cannot create '" + temp.string() + "'";
-      return false;
-    }
-    file.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-    file.flush();
-    if (!file) {
-      error = "cannot write '" + temp.string() + "'";
-      std::error_code ec;
-      fs::remove(temp, ec);
-      return false;
-    }
-  }
-  std::error_code ec;
-  fs::rename(temp, path, ec);
-  if (ec) {
-    error = "cannot rename '" + temp.string() + "' to '" + path.string() + "': " + ec.message();
-    fs::remove(temp, ec);
-    return false;
-  }
-  return true;
-}
-
 int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err) {
   Diagnostics diag;
   Notation notation;
@@ -387,8 +359,7 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err) {
   }
 
   std::vector<uint8_t> bytes = format::encode(builder.contents);
-  std::string error;
-  if (!write_file_atomically(options.output, std::string(bytes.begin(), bytes.end()), error)) {
+  if (std::string error = write_file_atomically(options.output, bytes); !error.empty()) {
     err << "statepack: error: " << error << '\n';
     return kExitIoError;
   }
@@ -401,7 +372,8 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err) {
     std::string text = depfile_escape(options.output.string()) + ":";
     for (const auto& d : deps) text += " \\\n  " + depfile_escape(d);
     text += "\n";
-    if (!write_file_atomically(*options.depfile, text, error)) {
+    std::span<const uint8_t> text_bytes(reinterpret_cast<const uint8_t*>(text.data()), text.size());
+    if (std::string error = write_file_atomically(*options.depfile, text_bytes); !error.empty()) {
       err << "statepack: error: " << error << '\n';
       return kExitIoError;
     }

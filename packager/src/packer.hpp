@@ -32,8 +32,4 @@ struct PackOptions {
 // Runs a whole pack; returns an ExitCode. Diagnostics are printed to `err`, progress to `out`.
 int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err);
 
-// Writes `bytes` to a temporary file beside `path`, then renames it over `path`: a failed write
-// never leaves a half file or destroys the previous one.
-bool write_file_atomically(const std::filesystem::path& path, const std::string& bytes, std::string& error);
-
 }  // namespace statepack::packager

@@ -199,4 +199,19 @@ class Dearchiver {
   std::unique_ptr<State> state_;
 };
 
+// A VkPipelineCache restored from a file written by save_pipeline_cache. The file's own header
+// (vendor, device, driver version and ID, pipeline-cache and device UUIDs, driver info, pointer size,
+// data hash) is checked against the device first; on any mismatch the stale data is ignored, the cache
+// starts empty, and `reason` says why. Needs Vulkan 1.2 for the driver fields (zero before).
+struct PipelineCacheLoad {
+  VkPipelineCache cache = VK_NULL_HANDLE;  // always created on success; the caller destroys it
+  bool reused = false;                     // the saved data was handed to the driver
+  std::string reason;                      // why not, when not
+};
+Result<PipelineCacheLoad> load_pipeline_cache(const DeviceContext& context,
+                                              const std::filesystem::path& path);
+// Writes the cache's data behind that header, atomically (temporary file, then rename).
+Result<void> save_pipeline_cache(const DeviceContext& context, VkPipelineCache cache,
+                                 const std::filesystem::path& path);
+
 }  // namespace statepack

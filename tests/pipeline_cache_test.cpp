@@ -1,0 +1,84 @@
+// Pipeline caches behind statepack's header: reused on the same device and driver, and ignored with
+// a reason when the file comes from another device, another driver, or is damaged.
+#include <filesystem>
+#include <fstream>
+
+#include "vulkan_test_fixture.hpp"
+
+namespace statepack::testing {
+namespace {
+
+namespace fs = std::filesystem;
+
+class PipelineCache : public VulkanTest {
+ protected:
+  fs::path path_ = fs::path(STATEPACK_TEST_OUTPUT_DIR) /
+                   (std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) + ".cache");
+
+  void save_one() {
+    fs::create_directories(path_.parent_path());
+    DeviceContext context{vk_->physical_device, vk_->device};
+    auto loaded = load_pipeline_cache(context, path_.string() + ".missing");
+    ASSERT_TRUE(loaded) << loaded.error().message;
+    EXPECT_FALSE(loaded->reused);
+    EXPECT_NE(loaded->reason.find("no pipeline cache file"), std::string::npos) << loaded->reason;
+    context.pipeline_cache = loaded->cache;
+    {
+      auto dearchiver = Dearchiver::create(context);
+      auto archive = Archive::from_file(STATEPACK_TEST_ARCHIVE);
+      ASSERT_TRUE(archive);
+      ASSERT_TRUE(dearchiver->add_archive(std::move(*archive)));
+      auto all = dearchiver->unpack_all();
+      ASSERT_TRUE(all) << all.error().message;
+    }
+    auto saved = save_pipeline_cache(context, loaded->cache, path_);
+    ASSERT_TRUE(saved) << saved.error().message;
+    vkDestroyPipelineCache(vk_->device, loaded->cache, nullptr);
+  }
+
+  // Loads the file after `edit` changed it; returns the reason it was not reused.
+  std::string reload_after(size_t offset, uint8_t value) {
+    std::fstream file(path_, std::ios::in | std::ios::out | std::ios::binary);
+    file.seekp(static_cast<std::streamoff>(offset));
+    file.put(static_cast<char>(value));
+    file.close();
+    auto loaded = load_pipeline_cache({vk_->physical_device, vk_->device}, path_);
+    EXPECT_TRUE(loaded);
+    EXPECT_FALSE(loaded->reused);
+    EXPECT_NE(loaded->cache, VK_NULL_HANDLE);  // an empty cache, still usable
+    vkDestroyPipelineCache(vk_->device, loaded->cache, nullptr);
+    return loaded->reason;
+  }
+};
+
+TEST_F(PipelineCache, SavedCacheIsReusedOnTheSameDevice) {
+  save_one();
+  auto loaded = load_pipeline_cache({vk_->physical_device, vk_->device}, path_);
+  ASSERT_TRUE(loaded) << loaded.error().message;
+  EXPECT_TRUE(loaded->reused) << loaded->reason;
+  vkDestroyPipelineCache(vk_->device, loaded->cache, nullptr);
+}
+
+TEST_F(PipelineCache, AnotherDeviceIsRejectedWithAMessage) {
+  save_one();
+  EXPECT_NE(reload_after(16, 0x42).find("another device"), std::string::npos);  // vendorID
+}
+
+TEST_F(PipelineCache, AnotherDriverVersionIsRejectedWithAMessage) {
+  save_one();
+  EXPECT_NE(reload_after(24, 0x77).find("driver version"), std::string::npos);
+}
+
+TEST_F(PipelineCache, AnotherDriverBuildIsRejectedWithAMessage) {
+  save_one();
+  EXPECT_NE(reload_after(64, 0x01).find("driver info"), std::string::npos);  // driver info hash
+}
+
+TEST_F(PipelineCache, DamagedDataAndForeignFilesAreRejected) {
+  save_one();
+  EXPECT_NE(reload_after(fs::file_size(path_) - 1, 0x5A).find("damaged"), std::string::npos);
+  EXPECT_NE(reload_after(0, 'X').find("not a statepack pipeline cache"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace statepack::testing
