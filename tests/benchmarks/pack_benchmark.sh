@@ -9,26 +9,7 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 cores=$(nproc)
 
-# A pipeline set: N/2 graphics pipelines (shared VS, own PS) and N/2 compute pipelines (own CS).
-mkdir -p "$work/gen"
-cp "$root/shaders/fullscreen_triangle.vert" "$root/shaders/gradient.frag" "$root/shaders/color_ramp.glsl" \
-   "$root/shaders/fill_buffer.comp" "$work/gen/"
-{
-  echo '{ "Defaults": { "Pipeline": { "GraphicsPipeline": { "RTVFormats": { "0": "RGBA8_UNORM" },'
-  echo '  "DepthStencilDesc": { "DepthEnable": false }, "RasterizerDesc": { "CullMode": "NONE" } } } },'
-  echo '  "Pipelines": ['
-  for ((i = 0; i < count; i++)); do
-    [[ $i -gt 0 ]] && echo ','
-    if ((i % 2 == 0)); then
-      printf '{ "PSODesc": { "Name": "Graphics %d" }, "pVS": { "Desc": { "Name": "VS" }, "FilePath": "fullscreen_triangle.vert" },' "$i"
-      printf ' "pPS": { "Desc": { "Name": "PS %d" }, "FilePath": "gradient.frag", "Macros": [{ "Name": "VARIANT", "Definition": "%d" }] } }' "$i" "$i"
-    else
-      printf '{ "PSODesc": { "Name": "Compute %d" }, "pCS": { "Desc": { "Name": "CS %d" }, "FilePath": "fill_buffer.comp",' "$i" "$i"
-      printf ' "Macros": [{ "Name": "VARIANT", "Definition": "%d" }] } }' "$i"
-    fi
-  done
-  echo '] }'
-} > "$work/gen/generated.json"
+bash "$(dirname "$0")/generate_pipelines.sh" "$root" "$work/gen" "$count"
 
 # Median wall time in milliseconds of `repeats` runs of a pack.
 median_ms() {

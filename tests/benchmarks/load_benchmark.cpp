@@ -1,0 +1,249 @@
+// Load benchmark: archive bytes -> ready VkPipelines, against
+//   (b) the driver's own limit: the same pipelines created with bare Vulkan calls from SPIR-V already
+//       in memory (layouts and states known, nothing parsed or checked), and
+//   (a) compiling the same GLSL/HLSL at run time with glslang, then creating the pipelines as in (b).
+// Prints a Markdown table of median milliseconds. Run through tests/benchmarks/load_benchmark.sh.
+// Usage: load_benchmark <archive.spk> <notation.json> <shader dir> [repeats]
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <functional>
+#include <iostream>
+#include <map>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "archive_format.hpp"
+#include "file_io.hpp"
+#include "notation.hpp"
+#include "shader_compiler.hpp"
+#include "statepack/dearchiver.hpp"
+#include "vulkan_context.hpp"
+
+namespace {
+
+using namespace statepack;
+using Clock = std::chrono::steady_clock;
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+
+double time_ms(const std::function<void()>& work) {
+  auto start = Clock::now();
+  work();
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+// (b): the minimum a loader must do, with every input already decoded: modules, set layouts,
+// pipeline layouts and pipelines, each shared object once, with plain Vulkan calls.
+class BareCreator {
+ public:
+  BareCreator(VkDevice device, const format::Contents& c) : device_(device), c_(c) {}
+  ~BareCreator() {
+    for (auto p : pipelines_) vkDestroyPipeline(device_, p, nullptr);
+    for (auto l : pipeline_layouts_) vkDestroyPipelineLayout(device_, l, nullptr);
+    for (auto l : set_layouts_) vkDestroyDescriptorSetLayout(device_, l, nullptr);
+    for (auto m : modules_) vkDestroyShaderModule(device_, m, nullptr);
+  }
+
+  // `spirv` per blob index: the archive's own, or freshly compiled ones for (a).
+  void create_all(const std::vector<std::vector<uint32_t>>& spirv) {
+    for (const auto& words : spirv) {
+      VkShaderModuleCreateInfo info{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+      info.codeSize = words.size() * 4;
+      info.pCode = words.data();
+      vkCreateShaderModule(device_, &info, nullptr, &modules_.emplace_back());
+    }
+    VkDescriptorSetLayoutCreateInfo empty{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+    vkCreateDescriptorSetLayout(device_, &empty, nullptr, &empty_layout_);
+    set_layouts_.push_back(empty_layout_);
+    std::vector<VkDescriptorSetLayout> by_index;
+    for (const auto& l : c_.set_layouts) {
+      std::vector<VkDescriptorSetLayoutBinding> bindings;
+      for (const auto& b : l.bindings)
+        bindings.push_back({b.binding, VkDescriptorType(b.descriptor_type), b.count, b.stage_flags, nullptr});
+      VkDescriptorSetLayoutCreateInfo info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+      info.bindingCount = static_cast<uint32_t>(bindings.size());
+      info.pBindings = bindings.data();
+      vkCreateDescriptorSetLayout(device_, &info, nullptr, &by_index.emplace_back());
+      set_layouts_.push_back(by_index.back());
+    }
+    std::map<std::tuple<std::vector<VkDescriptorSetLayout>, uint32_t, uint32_t>, VkPipelineLayout> layouts;
+    for (const auto& p : c_.pipelines) {
+      std::vector<VkDescriptorSetLayout> sets;
+      for (uint32_t l : p.set_layouts) sets.push_back(l == format::kNone ? empty_layout_ : by_index[l]);
+      auto key = std::tuple{sets, p.push_constant_size, p.push_constant_stages};
+      auto it = layouts.find(key);
+      if (it == layouts.end()) {
+        VkPushConstantRange range{p.push_constant_stages, 0, p.push_constant_size};
+        VkPipelineLayoutCreateInfo info{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+        info.setLayoutCount = static_cast<uint32_t>(sets.size());
+        info.pSetLayouts = sets.data();
+        info.pushConstantRangeCount = p.push_constant_size ? 1 : 0;
+        info.pPushConstantRanges = &range;
+        VkPipelineLayout layout;
+        vkCreatePipelineLayout(device_, &info, nullptr, &layout);
+        pipeline_layouts_.push_back(layout);
+        it = layouts.emplace(key, layout).first;
+      }
+      create_pipeline(p, it->second);
+    }
+  }
+
+ private:
+  void create_pipeline(const format::Pipeline& p, VkPipelineLayout layout) {
+    std::vector<VkPipelineShaderStageCreateInfo> stages;
+    for (uint32_t s : p.shaders) {
+      VkPipelineShaderStageCreateInfo stage{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
+      stage.stage = VkShaderStageFlagBits(c_.shaders[s].stage);
+      stage.module = modules_[c_.shaders[s].blob];
+      stage.pName = c_.shaders[s].entry_point.c_str();
+      stages.push_back(stage);
+    }
+    VkPipeline pipeline = VK_NULL_HANDLE;
+    if (p.kind == format::PipelineKind::compute) {
+      VkComputePipelineCreateInfo info{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
+      info.stage = stages[0];
+      info.layout = layout;
+      vkCreateComputePipelines(device_, VK_NULL_HANDLE, 1, &info, nullptr, &pipeline);
+    } else {
+      const format::GraphicsState& g = p.graphics;
+      VkPipelineVertexInputStateCreateInfo vertex{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
+      VkPipelineInputAssemblyStateCreateInfo assembly{
+          VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
+      assembly.topology = VkPrimitiveTopology(g.topology);
+      VkPipelineViewportStateCreateInfo viewport{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
+      viewport.viewportCount = viewport.scissorCount = 1;
+      VkPipelineRasterizationStateCreateInfo raster{
+          VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
+      raster.cullMode = g.cull_mode;
+      raster.frontFace = VkFrontFace(g.front_face);
+      raster.lineWidth = 1;
+      VkPipelineMultisampleStateCreateInfo multisample{
+          VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
+      multisample.rasterizationSamples = VkSampleCountFlagBits(g.samples);
+      VkPipelineDepthStencilStateCreateInfo depth{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
+      std::vector<VkPipelineColorBlendAttachmentState> attachments(g.color_count);
+      for (auto& a : attachments) a.colorWriteMask = 0xF;
+      VkPipelineColorBlendStateCreateInfo blend{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
+      blend.attachmentCount = g.color_count;
+      blend.pAttachments = attachments.data();
+      VkDynamicState dynamic_states[] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
+      VkPipelineDynamicStateCreateInfo dynamic{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
+      dynamic.dynamicStateCount = 2;
+      dynamic.pDynamicStates = dynamic_states;
+      std::vector<VkFormat> formats;
+      for (uint32_t i = 0; i < g.color_count; ++i) formats.push_back(VkFormat(g.color_formats[i]));
+      VkPipelineRenderingCreateInfo rendering{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
+      rendering.colorAttachmentCount = g.color_count;
+      rendering.pColorAttachmentFormats = formats.data();
+      VkGraphicsPipelineCreateInfo info{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
+      info.pNext = &rendering;
+      info.stageCount = static_cast<uint32_t>(stages.size());
+      info.pStages = stages.data();
+      info.pVertexInputState = &vertex;
+      info.pInputAssemblyState = &assembly;
+      info.pViewportState = &viewport;
+      info.pRasterizationState = &raster;
+      info.pMultisampleState = &multisample;
+      info.pDepthStencilState = &depth;
+      info.pColorBlendState = &blend;
+      info.pDynamicState = &dynamic;
+      info.layout = layout;
+      vkCreateGraphicsPipelines(device_, VK_NULL_HANDLE, 1, &info, nullptr, &pipeline);
+    }
+    pipelines_.push_back(pipeline);
+  }
+
+  VkDevice device_;
+  const format::Contents& c_;
+  VkDescriptorSetLayout empty_layout_ = VK_NULL_HANDLE;
+  std::vector<VkShaderModule> modules_;
+  std::vector<VkDescriptorSetLayout> set_layouts_;
+  std::vector<VkPipelineLayout> pipeline_layouts_;
+  std::vector<VkPipeline> pipelines_;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 4) {
+    std::fprintf(stderr, "usage: load_benchmark <archive.spk> <notation.json> <shader dir> [repeats]\n");
+    return 2;
+  }
+  const std::string archive_path = argv[1];
+  const int repeats = argc > 4 ? std::max(1, std::atoi(argv[4])) : 5;
+  auto file = read_file(archive_path);
+  if (!file) return std::fprintf(stderr, "cannot read %s\n", archive_path.c_str()), 1;
+  std::vector<uint32_t> aligned((file->size() + 3) / 4);
+  std::memcpy(aligned.data(), file->data(), file->size());
+  std::span<const uint8_t> bytes(reinterpret_cast<const uint8_t*>(aligned.data()), file->size());
+
+  samples::VulkanContextOptions options;
+  options.validation = false;  // timing the driver, not the layer
+  auto vk = samples::VulkanContext::create(options);
+  if (!vk) return std::fprintf(stderr, "Vulkan: %s\n", vk.error().message.c_str()), 1;
+  VkDevice device = (*vk)->device;
+
+  auto decoded = format::decode(bytes);
+  if (!decoded) return std::fprintf(stderr, "%s\n", decoded.error().message.c_str()), 1;
+  const format::Contents& contents = *decoded;
+  std::vector<std::vector<uint32_t>> archived_spirv;
+  for (auto blob : contents.spirv) archived_spirv.emplace_back(blob.begin(), blob.end());
+
+  // (a) needs the sources: read the notation and compile each distinct shader with glslang.
+  packager::Notation notation;
+  packager::Diagnostics diag;
+  packager::NotationOptions notation_options;
+  notation_options.shader_dirs.emplace_back(argv[3]);
+  packager::read_notation(argv[2], notation_options, notation, diag);
+  packager::resolve_references(notation, diag);
+  if (diag.has_errors()) return diag.print(std::cerr), 1;
+  // Each distinct (name, stage) once, as an application compiling at run time would.
+  std::vector<const packager::ShaderDesc*> sources;
+  {
+    std::map<std::string, const packager::ShaderDesc*> by_name;
+    for (const auto& p : notation.pipelines)
+      for (const auto& s : p.shaders) by_name.emplace(s.name + "/" + std::to_string(s.stage), &s);
+    for (const auto& [key, s] : by_name) sources.push_back(s);
+  }
+  packager::CompileOptions compile_options;
+  compile_options.include_dirs.emplace_back(argv[3]);
+
+  const uint32_t cores = std::max(1u, std::thread::hardware_concurrency());
+  std::vector<double> bare, ours_one, ours_all, glslang_compile;
+  for (int r = 0; r < repeats; ++r) {
+    bare.push_back(time_ms([&] { BareCreator(device, contents).create_all(archived_spirv); }));
+    for (auto [threads, out] : {std::pair{1u, &ours_one}, std::pair{cores, &ours_all}}) {
+      out->push_back(time_ms([&] {
+        auto archive = Archive::from_memory(bytes);
+        auto dearchiver = Dearchiver::create({(*vk)->physical_device, device});
+        (void)dearchiver->add_archive(std::move(*archive));
+        auto all = dearchiver->unpack_all(threads);
+        if (!all) std::fprintf(stderr, "%s\n", all.error().message.c_str()), std::exit(1);
+      }));
+    }
+    glslang_compile.push_back(time_ms([&] {
+      for (const auto* s : sources) {
+        auto compiled = packager::compile_shader(*s, compile_options, diag);
+        if (!compiled.ok) diag.print(std::cerr), std::exit(1);
+      }
+    }));
+  }
+  const double b = median(bare), one = median(ours_one), all = median(ours_all),
+               compile = median(glslang_compile);
+  std::printf(
+      "| archive | pipelines | (b) bare Vulkan (ms) | statepack, 1 thread (ms) | overhead over (b) | "
+      "statepack, %u threads (ms) | (a) glslang compile + create (ms) |\n",
+      cores);
+  std::printf("|---|---|---|---|---|---|---|\n");
+  std::printf("| %s | %zu | %.1f | %.1f | %+.1f %% | %.1f | %.1f (compile %.1f) |\n",
+              std::filesystem::path(archive_path).filename().c_str(), contents.pipelines.size(), b, one,
+              100.0 * (one - b) / b, all, compile + b, compile);
+  return 0;
+}

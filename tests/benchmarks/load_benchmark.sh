@@ -1,0 +1,30 @@
+#!/usr/bin/env bash
+# Load benchmark and binary sizes. Packs the sample's states/ and 100 generated pipelines, times
+# archive bytes -> pipelines against bare Vulkan and against run-time glslang, then compares the
+# stripped sizes of two minimal programs: one with the dearchiver, one with glslang.
+# Usage: load_benchmark.sh <bin dir> <repository root> [repeats=5]
+# Run it through CMake: cmake --build build --target bench_load
+set -euo pipefail
+bin=$1 root=$2 repeats=${3:-5}
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+here=$(cd "$(dirname "$0")" && pwd)
+bash "$here/generate_pipelines.sh" "$root" "$work/gen" 100
+"$bin/statepack" pack -i "$root/states/slice.json" -s "$root/shaders" -o "$work/states.spk" --vulkan
+"$bin/statepack" pack -i "$work/gen/generated.json" -o "$work/generated.spk" --vulkan
+device=$(vulkaninfo --summary 2>/dev/null | grep -m1 deviceName | cut -d= -f2 | sed 's/^ *//')
+echo "Load time, median of $repeats runs, on ${device:-the first Vulkan device} ($(nproc) cores)"
+echo
+"$bin/load_benchmark" "$work/states.spk" "$root/states/slice.json" "$root/shaders" "$repeats"
+"$bin/load_benchmark" "$work/generated.spk" "$work/gen/generated.json" "$work/gen" "$repeats" | tail -1
+echo
+strip -o "$work/min_dearchiver" "$bin/min_dearchiver"
+strip -o "$work/min_glslang" "$bin/min_glslang"
+"$work/min_dearchiver" "$work/states.spk" "Fill Buffer PSO" > /dev/null
+"$work/min_glslang" "$root/shaders/fill_buffer.comp" > /dev/null
+d=$(stat -c %s "$work/min_dearchiver") g=$(stat -c %s "$work/min_glslang")
+echo "| minimal program (stripped) | bytes |"
+echo "|---|---|"
+echo "| archive + libstatepack_dearchiver | $d |"
+echo "| GLSL + glslang at run time | $g |"
+echo "| ratio | $(awk -v a="$g" -v b="$d" 'BEGIN { printf "%.1fx smaller with the dearchiver", a / b }') |"

@@ -1,0 +1,19 @@
+// Smallest real program that loads an archive and creates a compute pipeline with the dearchiver.
+// Compared in size with min_glslang.cpp by tests/benchmarks/load_benchmark.sh.
+#include <cstdio>
+
+#include "statepack/dearchiver.hpp"
+#include "vulkan_context.hpp"
+
+int main(int argc, char** argv) {
+  if (argc < 3) return std::fprintf(stderr, "usage: min_dearchiver <archive> <compute pipeline>\n"), 2;
+  auto vk = statepack::samples::VulkanContext::create({false, false, {}});
+  auto archive = statepack::Archive::from_file(argv[1]);
+  if (!vk || !archive) return 1;
+  auto dearchiver = statepack::Dearchiver::create({(*vk)->physical_device, (*vk)->device});
+  if (!dearchiver || !dearchiver->add_archive(std::move(*archive))) return 1;
+  auto pso = dearchiver->unpack_compute(argv[2]);
+  if (!pso) return std::fprintf(stderr, "%s\n", pso.error().message.c_str()), 1;
+  std::printf("created '%s'\n", argv[2]);
+  return 0;
+}
