@@ -66,6 +66,28 @@ TEST_F(CorpusUnpack, EveryObjectOfEveryArchiveUnpacks) {
   EXPECT_GT(shaders, 0u);
 }
 
+TEST_F(CorpusUnpack, PipelinesShareLayoutsAndSetLayouts) {
+  for (const auto& path : corpus_archives()) {
+    if (path.find("diligent_style") == std::string::npos) continue;
+    auto archive = Archive::from_file(path);
+    ASSERT_TRUE(archive);
+    auto dearchiver = Dearchiver::create({vk_->physical_device, vk_->device});
+    ASSERT_TRUE(dearchiver->add_archive(std::move(*archive)));
+    auto a = dearchiver->unpack_graphics("Shade PSO");
+    auto b = dearchiver->unpack_graphics("Shade Again PSO");
+    ASSERT_TRUE(a && b);
+    EXPECT_NE((*a)->pipeline, (*b)->pipeline);
+    EXPECT_EQ((*a)->layout, (*b)->layout);  // one VkPipelineLayout for equal layouts
+    ASSERT_EQ((*a)->set_layouts.size(), 1u);
+    EXPECT_EQ((*a)->set_layouts, (*b)->set_layouts);  // one VkDescriptorSetLayout
+    const BindingInfo* sampler = (*a)->find_binding("g_Albedo_sampler");
+    ASSERT_NE(sampler, nullptr);
+    EXPECT_EQ(sampler->type, VK_DESCRIPTOR_TYPE_SAMPLER);
+    return;
+  }
+  FAIL() << "no diligent_style corpus archive";
+}
+
 TEST_F(CorpusUnpack, RenderPassPipelinesRejectFormatPatches) {
   for (const auto& path : corpus_archives()) {
     if (path.find("render_pass") == std::string::npos) continue;
