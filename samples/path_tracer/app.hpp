@@ -1,0 +1,30 @@
+// The path tracer's two ways to run, sharing options and set-up.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "renderer.hpp"
+
+namespace statepack::path_tracer {
+
+struct Options {
+  bool headless = false;
+  std::string archive = STATEPACK_PATH_TRACER_ARCHIVE;
+  std::string scene = STATEPACK_DEFAULT_SCENE;
+  uint32_t width = 640, height = 480, spp = 256, frames = 0;
+  RenderSettings settings;
+  std::string out = "path_tracer.png";
+  std::string screenshot;
+  bool validation = true;
+};
+
+int run_headless(const Options& options);
+int run_windowed(const Options& options);
+
+// Loads the archive into a dearchiver for `vk`; prints the reason and returns null on failure.
+std::unique_ptr<Dearchiver> load_archive(samples::VulkanContext& vk, const std::string& path);
+// Prints validation messages; returns how many there were.
+size_t report_validation(const samples::VulkanContext& vk);
+
+}  // namespace statepack::path_tracer

@@ -1,0 +1,16 @@
+// Writing rendered images: PNG (tone-mapped sRGB, 8-bit), EXR and PFM (linear float radiance).
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace statepack::path_tracer {
+
+// `rgba` is linear radiance, RGBA32F, rows top to bottom. Returns an empty string or the reason.
+// The format follows the extension: .png (clamped, sRGB-encoded after `exposure`), .exr, .pfm.
+std::string write_image(const std::filesystem::path& path, const std::vector<float>& rgba, uint32_t width,
+                        uint32_t height, float exposure);
+
+}  // namespace statepack::path_tracer

@@ -1,0 +1,55 @@
+// path_tracer: the Cornell box of Diligent's Tutorial25, rendered entirely from a statepack archive.
+// Headless (default without a display): renders N samples per pixel to PNG, EXR or PFM. Windowed:
+// GLFW window with camera and light controls and a settings panel.
+#include <unistd.h>
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+#include <cstdlib>
+
+#include "app.hpp"
+
+int main(int argc, char** argv) {
+  using namespace statepack::path_tracer;
+  Options o;
+  CLI::App app{
+      "path_tracer: a path-traced Cornell box whose three pipelines come from a statepack archive.\n"
+      "Without a display (or with --headless) it renders --spp samples per pixel to --out."};
+  app.add_flag("--headless", o.headless,
+               "Render to a file instead of a window (the default without a display)");
+  app.add_option("--archive", o.archive,
+                 "The archive holding 'G-Buffer PSO', 'Path Trace PSO', 'Resolve PSO'")
+      ->capture_default_str();
+  app.add_option("--scene", o.scene, "Scene file (JSON: boxes and one light)")->capture_default_str();
+  app.add_option("--width", o.width, "Image width")->capture_default_str()->check(CLI::Range(8u, 8192u));
+  app.add_option("--height", o.height, "Image height")->capture_default_str()->check(CLI::Range(8u, 8192u));
+  app.add_option("--spp", o.spp, "Samples per pixel (headless)")
+      ->capture_default_str()
+      ->check(CLI::Range(1u, 1u << 20));
+  app.add_option("--bounces", o.settings.bounces, "Diffuse bounces (1-8)")
+      ->capture_default_str()
+      ->check(CLI::Range(1u, 8u));
+  app.add_option("--samples-per-frame", o.settings.samples_per_frame,
+                 "Samples per pixel in one dispatch (1-32)")
+      ->capture_default_str()
+      ->check(CLI::Range(1u, 32u));
+  app.add_option("--seed", o.settings.seed, "Random seed: the same seed gives the same image, bit for bit")
+      ->capture_default_str();
+  app.add_option("--exposure", o.settings.exposure, "Scale applied before tone mapping (PNG and window)")
+      ->capture_default_str();
+  bool no_nee = false;
+  app.add_flag("--no-nee", no_nee, "Pure BSDF sampling instead of next-event estimation");
+  app.add_flag("--last-bounce-only", o.settings.last_bounce_only, "Show only the light of the last bounce");
+  app.add_option("--out", o.out, "Output image: .png (tone-mapped sRGB), .exr or .pfm (linear radiance)")
+      ->capture_default_str();
+  app.add_option("--frames", o.frames, "Windowed: close after this many frames (0: run until closed)");
+  app.add_option("--screenshot", o.screenshot,
+                 "Windowed: save the last frame's accumulated image here on exit");
+  app.add_flag(
+      "!--no-validation", o.validation,
+      "Run without the Vulkan validation layer (by default it is on, and any message fails the run)");
+  CLI11_PARSE(app, argc, argv);
+  o.settings.next_event_estimation = !no_nee;
+  if (!o.headless && !std::getenv("DISPLAY") && !std::getenv("WAYLAND_DISPLAY")) o.headless = true;
+  return o.headless ? run_headless(o) : run_windowed(o);
+}

@@ -1,0 +1,373 @@
+#include "renderer.hpp"
+
+#include <cmath>
+#include <cstring>
+
+namespace statepack::path_tracer {
+namespace {
+
+// std140 layout of `Constants` in shaders/path_tracer/scene.glsl.
+struct Constants {
+  float camera_position[4], camera_right[4], camera_up[4], camera_forward[4];
+  uint32_t frame[4];  // samples before this batch, samples in it, bounces, flags
+  uint32_t image[4];  // width, height, seed, box count
+  uint32_t light[4];  // light box index
+};
+static_assert(sizeof(Constants) == 112);
+
+Error vk_error(const char* call, VkResult r) {
+  return Error{ErrorCode::vulkan_error, std::string(call) + " failed with VkResult " + std::to_string(r)};
+}
+
+void image_barrier(VkCommandBuffer cmd, VkImage image, VkImageLayout from, VkImageLayout to,
+                   VkAccessFlags src_access, VkAccessFlags dst_access, VkPipelineStageFlags src_stage,
+                   VkPipelineStageFlags dst_stage) {
+  VkImageMemoryBarrier b{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
+  b.srcAccessMask = src_access;
+  b.dstAccessMask = dst_access;
+  b.oldLayout = from;
+  b.newLayout = to;
+  b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+  b.image = image;
+  b.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+  vkCmdPipelineBarrier(cmd, src_stage, dst_stage, 0, 0, nullptr, 0, nullptr, 1, &b);
+}
+
+}  // namespace
+
+Result<std::unique_ptr<Renderer>> Renderer::create(samples::VulkanContext& vk, Dearchiver& dearchiver,
+                                                   uint32_t width, uint32_t height, VkFormat target_format) {
+  std::unique_ptr<Renderer> r(new Renderer(vk));
+  r->width_ = width;
+  r->height_ = height;
+  r->target_format_ = target_format;
+  auto gbuffer = dearchiver.unpack_graphics("G-Buffer PSO");
+  if (!gbuffer) return gbuffer.error();
+  auto trace = dearchiver.unpack_compute("Path Trace PSO");
+  if (!trace) return trace.error();
+  // The resolve target's format is known only now (a swapchain's, or the offscreen image's).
+  auto resolve = dearchiver.unpack_graphics("Resolve PSO",
+                                            [&](PatchableState& s) { s.color_formats[0] = target_format; });
+  if (!resolve) return resolve.error();
+  r->gbuffer_ = *gbuffer;
+  r->trace_ = *trace;
+  r->resolve_ = *resolve;
+
+  auto constants = samples::create_host_buffer(vk, sizeof(Constants), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
+  if (!constants) return constants.error();
+  r->constants_ = std::move(constants.value());
+
+  VkDescriptorPoolSize sizes[] = {{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 2},
+                                  {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 2},
+                                  {VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 6}};
+  VkDescriptorPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+  pool_info.maxSets = 3;
+  pool_info.poolSizeCount = 3;
+  pool_info.pPoolSizes = sizes;
+  if (VkResult res = vkCreateDescriptorPool(vk.device, &pool_info, nullptr, &r->pool_); res != VK_SUCCESS)
+    return vk_error("vkCreateDescriptorPool", res);
+  VkDescriptorSetLayout layouts[] = {r->gbuffer_->set_layouts.at(0), r->trace_->set_layouts.at(0),
+                                     r->resolve_->set_layouts.at(0)};
+  VkDescriptorSet sets[3];
+  VkDescriptorSetAllocateInfo alloc{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+  alloc.descriptorPool = r->pool_;
+  alloc.descriptorSetCount = 3;
+  alloc.pSetLayouts = layouts;
+  if (VkResult res = vkAllocateDescriptorSets(vk.device, &alloc, sets); res != VK_SUCCESS)
+    return vk_error("vkAllocateDescriptorSets", res);
+  r->gbuffer_set_ = sets[0], r->trace_set_ = sets[1], r->resolve_set_ = sets[2];
+  if (auto images = r->create_images(); !images) return images.error();
+  return r;
+}
+
+Renderer::~Renderer() {
+  vkDeviceWaitIdle(vk_.device);
+  destroy_images();
+  if (pool_) vkDestroyDescriptorPool(vk_.device, pool_, nullptr);
+}
+
+Result<Renderer::Image> Renderer::create_image(VkFormat format, VkImageUsageFlags usage) {
+  Image out;
+  VkImageCreateInfo info{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
+  info.imageType = VK_IMAGE_TYPE_2D;
+  info.format = format;
+  info.extent = {width_, height_, 1};
+  info.mipLevels = info.arrayLayers = 1;
+  info.samples = VK_SAMPLE_COUNT_1_BIT;
+  info.tiling = VK_IMAGE_TILING_OPTIMAL;
+  info.usage = usage;
+  if (VkResult r = vkCreateImage(vk_.device, &info, nullptr, &out.image); r != VK_SUCCESS)
+    return vk_error("vkCreateImage", r);
+  VkMemoryRequirements req;
+  vkGetImageMemoryRequirements(vk_.device, out.image, &req);
+  VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+  alloc.allocationSize = req.size;
+  alloc.memoryTypeIndex = vk_.find_memory_type(req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+  if (VkResult r = vkAllocateMemory(vk_.device, &alloc, nullptr, &out.memory); r != VK_SUCCESS)
+    return vk_error("vkAllocateMemory", r);
+  vkBindImageMemory(vk_.device, out.image, out.memory, 0);
+  VkImageViewCreateInfo view{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+  view.image = out.image;
+  view.viewType = VK_IMAGE_VIEW_TYPE_2D;
+  view.format = format;
+  view.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+  if (VkResult r = vkCreateImageView(vk_.device, &view, nullptr, &out.view); r != VK_SUCCESS)
+    return vk_error("vkCreateImageView", r);
+  return out;
+}
+
+Result<void> Renderer::create_images() {
+  const VkImageUsageFlags gbuffer_usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_STORAGE_BIT;
+  struct Wanted {
+    Image* image;
+    VkFormat format;
+    VkImageUsageFlags usage;
+  };
+  for (auto [image, format, usage] : {Wanted{&albedo_, VK_FORMAT_R32G32B32A32_SFLOAT, gbuffer_usage},
+                                      Wanted{&normal_, VK_FORMAT_R32G32B32A32_SFLOAT, gbuffer_usage},
+                                      Wanted{&emittance_, VK_FORMAT_R32G32B32A32_SFLOAT, gbuffer_usage},
+                                      Wanted{&depth_, VK_FORMAT_R32_SFLOAT, gbuffer_usage},
+                                      Wanted{&accumulation_, VK_FORMAT_R32G32B32A32_SFLOAT,
+                                             VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT}}) {
+    auto created = create_image(format, usage);
+    if (!created) return created.error();
+    *image = *created;
+  }
+  // The accumulation image lives in GENERAL; the G-buffer is moved there after each render.
+  auto done = vk_.submit_and_wait([&](VkCommandBuffer cmd) {
+    for (Image* image : {&albedo_, &normal_, &emittance_, &depth_, &accumulation_})
+      image_barrier(cmd, image->image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, 0,
+                    VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT,
+                    VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT);
+  });
+  if (!done) return done.error();
+  write_descriptors();
+  restart();
+  return {};
+}
+
+void Renderer::destroy_images() {
+  for (Image* image : {&albedo_, &normal_, &emittance_, &depth_, &accumulation_}) {
+    if (image->view) vkDestroyImageView(vk_.device, image->view, nullptr);
+    if (image->image) vkDestroyImage(vk_.device, image->image, nullptr);
+    if (image->memory) vkFreeMemory(vk_.device, image->memory, nullptr);
+    *image = {};
+  }
+}
+
+Result<void> Renderer::resize(uint32_t width, uint32_t height) {
+  vkDeviceWaitIdle(vk_.device);
+  destroy_images();
+  width_ = width, height_ = height;
+  auto created = create_images();
+  if (created && boxes_) write_descriptors();
+  return created;
+}
+
+void Renderer::write_descriptors() {
+  std::vector<VkWriteDescriptorSet> writes;
+  std::vector<std::unique_ptr<VkDescriptorBufferInfo>> buffers;
+  std::vector<std::unique_ptr<VkDescriptorImageInfo>> images;
+  auto bind = [&](VkDescriptorSet set, const UnpackedPipeline* pso, const char* name, VkBuffer buffer,
+                  VkImageView view) {
+    const BindingInfo* b = pso->find_binding(name);
+    if (!b || (buffer == VK_NULL_HANDLE && view == VK_NULL_HANDLE)) return;  // unused by that shader
+    VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+    w.dstSet = set;
+    w.dstBinding = b->binding;
+    w.descriptorCount = 1;
+    w.descriptorType = b->type;
+    if (buffer) {
+      buffers.push_back(
+          std::make_unique<VkDescriptorBufferInfo>(VkDescriptorBufferInfo{buffer, 0, VK_WHOLE_SIZE}));
+      w.pBufferInfo = buffers.back().get();
+    } else {
+      images.push_back(std::make_unique<VkDescriptorImageInfo>(
+          VkDescriptorImageInfo{VK_NULL_HANDLE, view, VK_IMAGE_LAYOUT_GENERAL}));
+      w.pImageInfo = images.back().get();
+    }
+    writes.push_back(w);
+  };
+  VkBuffer scene_buffer = boxes_ ? boxes_->buffer : VK_NULL_HANDLE;
+  for (auto [set, pso] : {std::pair{gbuffer_set_, gbuffer_}, std::pair{trace_set_, trace_}}) {
+    bind(set, pso, "Constants", constants_->buffer, VK_NULL_HANDLE);
+    bind(set, pso, "Scene", scene_buffer, VK_NULL_HANDLE);
+  }
+  bind(trace_set_, trace_, "g_albedo", VK_NULL_HANDLE, albedo_.view);
+  bind(trace_set_, trace_, "g_normal", VK_NULL_HANDLE, normal_.view);
+  bind(trace_set_, trace_, "g_emittance", VK_NULL_HANDLE, emittance_.view);
+  bind(trace_set_, trace_, "g_depth", VK_NULL_HANDLE, depth_.view);
+  bind(trace_set_, trace_, "accumulation", VK_NULL_HANDLE, accumulation_.view);
+  bind(resolve_set_, resolve_, "accumulation", VK_NULL_HANDLE, accumulation_.view);
+  vkUpdateDescriptorSets(vk_.device, static_cast<uint32_t>(writes.size()), writes.data(), 0, nullptr);
+}
+
+void Renderer::set_scene(const Scene& scene) {
+  scene_ = scene;
+  upload_scene();
+  restart();
+}
+
+void Renderer::upload_scene() {
+  std::vector<GpuBox> boxes = gpu_boxes(scene_, light_index_);
+  box_count_ = static_cast<uint32_t>(boxes.size());
+  const VkDeviceSize size = boxes.size() * sizeof(GpuBox);
+  if (!boxes_ || boxes_->size < size) {
+    vkDeviceWaitIdle(vk_.device);
+    auto created = samples::create_host_buffer(vk_, size, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+    if (!created) return;
+    boxes_ = std::move(created.value());
+    write_descriptors();
+  }
+  std::memcpy(boxes_->mapped, boxes.data(), size);
+}
+
+void Renderer::set_camera(const Camera& camera) {
+  scene_.camera = camera;
+  restart();
+}
+
+void Renderer::set_settings(const RenderSettings& settings) {
+  // Exposure and batch size do not change what converges (the mean is weighted by batch size).
+  const bool same_estimate = settings.bounces == settings_.bounces &&
+                             settings.next_event_estimation == settings_.next_event_estimation &&
+                             settings.last_bounce_only == settings_.last_bounce_only &&
+                             settings.seed == settings_.seed;
+  settings_ = settings;
+  if (!same_estimate) samples_done_ = 0;  // the G-buffer does not depend on these
+}
+
+void Renderer::record(VkCommandBuffer cmd, VkImage target, VkImageView target_view,
+                      VkImageLayout final_layout) {
+  // Per-frame constants (one frame in flight: the previous frame has finished reading them).
+  const Camera& cam = scene_.camera;
+  const double yaw = cam.yaw_degrees * 3.14159265358979323846 / 180.0,
+               pitch = cam.pitch_degrees * 3.14159265358979323846 / 180.0;
+  const double tan_half = std::tan(cam.fov_degrees * 3.14159265358979323846 / 360.0);
+  const double aspect = double(width_) / double(height_);
+  const double forward[3] = {std::sin(yaw) * std::cos(pitch), std::sin(pitch),
+                             std::cos(yaw) * std::cos(pitch)};
+  const double right[3] = {std::cos(yaw), 0.0, -std::sin(yaw)};
+  const double up[3] = {forward[1] * right[2] - forward[2] * right[1],
+                        forward[2] * right[0] - forward[0] * right[2],
+                        forward[0] * right[1] - forward[1] * right[0]};
+  Constants c{};
+  for (int i = 0; i < 3; ++i) {
+    c.camera_position[i] = cam.position[i];
+    c.camera_right[i] = static_cast<float>(right[i] * tan_half * aspect);
+    c.camera_up[i] = static_cast<float>(up[i] * tan_half);
+    c.camera_forward[i] = static_cast<float>(forward[i]);
+  }
+  const RenderSettings& s = settings_;
+  c.frame[0] = samples_done_;
+  c.frame[1] = s.samples_per_frame;
+  c.frame[2] = s.bounces;
+  c.frame[3] = (s.next_event_estimation ? 1u : 0u) | (s.last_bounce_only ? 2u : 0u);
+  c.image[0] = width_, c.image[1] = height_, c.image[2] = s.seed, c.image[3] = box_count_;
+  c.light[0] = light_index_;
+  std::memcpy(constants_->mapped, &c, sizeof c);
+
+  const VkViewport viewport{0, 0, float(width_), float(height_), 0, 1};
+  const VkRect2D area{{0, 0}, {width_, height_}};
+  if (gbuffer_dirty_) {
+    VkRenderingAttachmentInfo attachments[4];
+    Image* targets[] = {&albedo_, &normal_, &emittance_, &depth_};
+    for (int i = 0; i < 4; ++i) {
+      image_barrier(cmd, targets[i]->image, VK_IMAGE_LAYOUT_UNDEFINED,
+                    VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_ACCESS_SHADER_READ_BIT,
+                    VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                    VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT);
+      attachments[i] = {VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+      attachments[i].imageView = targets[i]->view;
+      attachments[i].imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+      attachments[i].loadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;  // every pixel is written
+      attachments[i].storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+    }
+    VkRenderingInfo rendering{VK_STRUCTURE_TYPE_RENDERING_INFO};
+    rendering.renderArea = area;
+    rendering.layerCount = 1;
+    rendering.colorAttachmentCount = 4;
+    rendering.pColorAttachments = attachments;
+    vkCmdBeginRendering(cmd, &rendering);
+    vkCmdSetViewport(cmd, 0, 1, &viewport);
+    vkCmdSetScissor(cmd, 0, 1, &area);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, gbuffer_->pipeline);
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, gbuffer_->layout, 0, 1, &gbuffer_set_, 0,
+                            nullptr);
+    vkCmdDraw(cmd, 3, 1, 0, 0);
+    vkCmdEndRendering(cmd);
+    for (Image* t : targets)
+      image_barrier(cmd, t->image, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_GENERAL,
+                    VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT,
+                    VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
+    gbuffer_dirty_ = false;
+  }
+
+  // The previous batch and resolve are done with the accumulation image before this batch writes it.
+  image_barrier(cmd, accumulation_.image, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_GENERAL,
+                VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT,
+                VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT,
+                VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT |
+                    VK_PIPELINE_STAGE_TRANSFER_BIT,
+                VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, trace_->pipeline);
+  vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, trace_->layout, 0, 1, &trace_set_, 0, nullptr);
+  vkCmdDispatch(cmd, (width_ + 7) / 8, (height_ + 7) / 8, 1);
+  samples_done_ += s.samples_per_frame;
+  image_barrier(cmd, accumulation_.image, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_GENERAL,
+                VK_ACCESS_SHADER_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT,
+                VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT);
+
+  image_barrier(cmd, target, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, 0,
+                VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT,
+                VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT);
+  VkRenderingAttachmentInfo color{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+  color.imageView = target_view;
+  color.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+  color.loadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
+  color.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+  VkRenderingInfo rendering{VK_STRUCTURE_TYPE_RENDERING_INFO};
+  rendering.renderArea = area;
+  rendering.layerCount = 1;
+  rendering.colorAttachmentCount = 1;
+  rendering.pColorAttachments = &color;
+  vkCmdBeginRendering(cmd, &rendering);
+  vkCmdSetViewport(cmd, 0, 1, &viewport);
+  vkCmdSetScissor(cmd, 0, 1, &area);
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, resolve_->pipeline);
+  vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, resolve_->layout, 0, 1, &resolve_set_, 0,
+                          nullptr);
+  vkCmdPushConstants(cmd, resolve_->layout, resolve_->push_constant_stages, 0, sizeof(float), &s.exposure);
+  vkCmdDraw(cmd, 3, 1, 0, 0);
+  vkCmdEndRendering(cmd);
+  const bool to_transfer = final_layout == VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
+  image_barrier(cmd, target, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, final_layout,
+                VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, to_transfer ? VK_ACCESS_TRANSFER_READ_BIT : 0,
+                VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT,
+                to_transfer ? VK_PIPELINE_STAGE_TRANSFER_BIT : VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT);
+}
+
+Result<std::vector<float>> Renderer::read_accumulation() {
+  const VkDeviceSize size = VkDeviceSize(width_) * height_ * 4 * sizeof(float);
+  auto readback = samples::create_host_buffer(vk_, size, VK_BUFFER_USAGE_TRANSFER_DST_BIT);
+  if (!readback) return readback.error();
+  auto done = vk_.submit_and_wait([&](VkCommandBuffer cmd) {
+    image_barrier(cmd, accumulation_.image, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                  VK_ACCESS_SHADER_WRITE_BIT, VK_ACCESS_TRANSFER_READ_BIT,
+                  VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT);
+    VkBufferImageCopy copy{};
+    copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+    copy.imageExtent = {width_, height_, 1};
+    vkCmdCopyImageToBuffer(cmd, accumulation_.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                           (*readback)->buffer, 1, &copy);
+    image_barrier(cmd, accumulation_.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_IMAGE_LAYOUT_GENERAL,
+                  VK_ACCESS_TRANSFER_READ_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT,
+                  VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
+  });
+  if (!done) return done.error();
+  const auto* data = static_cast<const float*>((*readback)->mapped);
+  return std::vector<float>(data, data + size / sizeof(float));
+}
+
+}  // namespace statepack::path_tracer

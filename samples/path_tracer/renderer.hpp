@@ -1,0 +1,83 @@
+// The path tracer's GPU side: G-buffer, compute path tracing with next-event estimation, resolve.
+// All three pipelines come from the archive; resources are bound by the names the shaders give them.
+// One frame in flight: the caller waits for a frame before recording the next.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "scene.hpp"
+#include "statepack/dearchiver.hpp"
+#include "vulkan_context.hpp"
+
+namespace statepack::path_tracer {
+
+struct RenderSettings {
+  uint32_t bounces = 3;            // 1..8
+  uint32_t samples_per_frame = 8;  // 1..32
+  bool next_event_estimation = true;
+  bool last_bounce_only = false;
+  uint32_t seed = 1;
+  float exposure = 1.0f;
+  bool operator==(const RenderSettings&) const = default;
+};
+
+class Renderer {
+ public:
+  // `target_format` is the resolve pipeline's render-target format, patched into it at unpack time.
+  static Result<std::unique_ptr<Renderer>> create(samples::VulkanContext& vk, Dearchiver& dearchiver,
+                                                  uint32_t width, uint32_t height, VkFormat target_format);
+  ~Renderer();
+
+  // Each of these restarts the accumulation when something changed.
+  void set_scene(const Scene& scene);
+  void set_camera(const Camera& camera);
+  void set_settings(const RenderSettings& settings);
+  Result<void> resize(uint32_t width, uint32_t height);
+
+  // Records one frame: the G-buffer when the view changed, one batch of samples, and the resolve into
+  // `target` (a color-attachment image of the target format), left in `final_layout`.
+  void record(VkCommandBuffer cmd, VkImage target, VkImageView target_view, VkImageLayout final_layout);
+
+  uint32_t samples_done() const { return samples_done_; }
+  uint32_t width() const { return width_; }
+  uint32_t height() const { return height_; }
+  const Scene& scene() const { return scene_; }
+  const Camera& camera() const { return scene_.camera; }
+  const RenderSettings& settings() const { return settings_; }
+
+  // The accumulated mean radiance, RGBA32F, rows top to bottom (waits for the device).
+  Result<std::vector<float>> read_accumulation();
+
+ private:
+  struct Image {
+    VkImage image = VK_NULL_HANDLE;
+    VkImageView view = VK_NULL_HANDLE;
+    VkDeviceMemory memory = VK_NULL_HANDLE;
+  };
+  Renderer(samples::VulkanContext& vk) : vk_(vk) {}
+  Result<void> create_images();
+  void destroy_images();
+  Result<Image> create_image(VkFormat format, VkImageUsageFlags usage);
+  void write_descriptors();
+  void upload_scene();
+  void restart() { samples_done_ = 0, gbuffer_dirty_ = true; }
+
+  samples::VulkanContext& vk_;
+  const UnpackedPipeline* gbuffer_ = nullptr;
+  const UnpackedPipeline* trace_ = nullptr;
+  const UnpackedPipeline* resolve_ = nullptr;
+  VkFormat target_format_ = VK_FORMAT_UNDEFINED;
+  uint32_t width_ = 0, height_ = 0;
+  Scene scene_;
+  uint32_t light_index_ = 0, box_count_ = 0;
+  RenderSettings settings_;
+  std::unique_ptr<samples::HostBuffer> constants_, boxes_;
+  Image albedo_, normal_, emittance_, depth_, accumulation_;
+  VkDescriptorPool pool_ = VK_NULL_HANDLE;
+  VkDescriptorSet gbuffer_set_ = VK_NULL_HANDLE, trace_set_ = VK_NULL_HANDLE, resolve_set_ = VK_NULL_HANDLE;
+  uint32_t samples_done_ = 0;
+  bool gbuffer_dirty_ = true;
+};
+
+}  // namespace statepack::path_tracer

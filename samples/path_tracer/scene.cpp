@@ -1,0 +1,142 @@
+#include "scene.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+namespace statepack::path_tracer {
+namespace {
+
+using nlohmann::json;
+
+struct Reader {
+  std::string file;
+  std::string problem;
+
+  void fail(const std::string& pointer, const std::string& message) {
+    if (problem.empty()) problem = file + ": " + message + " [" + pointer + "]";
+  }
+  void keys(const json& j, const std::string& pointer, std::initializer_list<const char*> allowed) {
+    for (const auto& [key, value] : j.items())
+      if (std::none_of(allowed.begin(), allowed.end(), [&](const char* a) { return key == a; }))
+        fail(pointer + "/" + key, "unknown key '" + key + "'");
+  }
+  void vec3(const json& j, const char* key, const std::string& pointer, Vec3& out, bool positive = false) {
+    auto it = j.find(key);
+    if (it == j.end()) return;
+    if (!it->is_array() || it->size() != 3)
+      return fail(pointer + "/" + key, std::string("'") + key + "' must be [x, y, z]");
+    for (size_t i = 0; i < 3; ++i) {
+      if (!(*it)[i].is_number())
+        return fail(pointer + "/" + key + "/" + std::to_string(i), "must be a number");
+      out[i] = (*it)[i].get<float>();
+      if (!std::isfinite(out[i]) || (positive && out[i] <= 0))
+        return fail(pointer + "/" + key + "/" + std::to_string(i),
+                    positive ? "must be a positive number" : "must be finite");
+    }
+  }
+  void number(const json& j, const char* key, const std::string& pointer, float& out) {
+    auto it = j.find(key);
+    if (it == j.end()) return;
+    if (!it->is_number() || !std::isfinite(it->get<float>()))
+      return fail(pointer + "/" + key, "must be a number");
+    out = it->get<float>();
+  }
+  void albedo(const std::string& pointer, const Vec3& a) {
+    for (float c : a)
+      if (c < 0 || c > 1) return fail(pointer + "/albedo", "albedo components must be within [0, 1]");
+  }
+};
+
+}  // namespace
+
+Result<Scene> load_scene(const std::filesystem::path& path) {
+  std::ifstream file(path);
+  if (!file) return Error{ErrorCode::io_error, path.string() + ": cannot open scene file"};
+  json root;
+  try {
+    root = json::parse(file);
+  } catch (const json::parse_error& e) {
+    return Error{ErrorCode::invalid_argument, path.string() + ": invalid JSON: " + e.what()};
+  }
+  Reader r{path.string(), ""};
+  Scene scene;
+  if (!root.is_object())
+    return Error{ErrorCode::invalid_argument, path.string() + ": the scene must be a JSON object"};
+  r.keys(root, "", {"description", "camera", "boxes", "light"});
+  if (auto c = root.find("camera"); c != root.end()) {
+    r.keys(*c, "/camera", {"position", "yaw_degrees", "pitch_degrees", "fov_degrees"});
+    r.vec3(*c, "position", "/camera", scene.camera.position);
+    r.number(*c, "yaw_degrees", "/camera", scene.camera.yaw_degrees);
+    r.number(*c, "pitch_degrees", "/camera", scene.camera.pitch_degrees);
+    r.number(*c, "fov_degrees", "/camera", scene.camera.fov_degrees);
+    if (scene.camera.fov_degrees <= 1 || scene.camera.fov_degrees >= 179)
+      r.fail("/camera/fov_degrees", "must be in (1, 179)");
+  }
+  auto boxes = root.find("boxes");
+  if (boxes == root.end() || !boxes->is_array() || boxes->empty())
+    r.fail("/boxes", "'boxes' must be a non-empty array");
+  else {
+    for (size_t i = 0; i < boxes->size(); ++i) {
+      std::string p = "/boxes/" + std::to_string(i);
+      const json& b = (*boxes)[i];
+      if (!b.is_object()) {
+        r.fail(p, "a box must be an object");
+        continue;
+      }
+      r.keys(b, p, {"name", "center", "half_size", "albedo", "rotation_degrees"});
+      SceneBox box;
+      if (b.contains("name") && b["name"].is_string()) box.name = b["name"];
+      if (!b.contains("center") || !b.contains("half_size"))
+        r.fail(p, "a box needs 'center' and 'half_size'");
+      r.vec3(b, "center", p, box.center);
+      r.vec3(b, "half_size", p, box.half_size, true);
+      r.vec3(b, "albedo", p, box.albedo);
+      r.albedo(p, box.albedo);
+      r.number(b, "rotation_degrees", p, box.rotation_degrees);
+      scene.boxes.push_back(box);
+    }
+  }
+  if (auto l = root.find("light"); l != root.end()) {
+    r.keys(*l, "/light", {"center", "half_size", "albedo", "color", "intensity"});
+    r.vec3(*l, "center", "/light", scene.light.center);
+    r.vec3(*l, "half_size", "/light", scene.light.half_size, true);
+    r.vec3(*l, "albedo", "/light", scene.light.albedo);
+    r.albedo("/light", scene.light.albedo);
+    r.vec3(*l, "color", "/light", scene.light.color);
+    r.number(*l, "intensity", "/light", scene.light.intensity);
+    if (scene.light.intensity < 0) r.fail("/light/intensity", "must not be negative");
+  } else {
+    r.fail("/light", "the scene needs a 'light'");
+  }
+  if (!r.problem.empty()) return Error{ErrorCode::invalid_argument, r.problem};
+  return scene;
+}
+
+std::vector<GpuBox> gpu_boxes(const Scene& scene, uint32_t& light_index) {
+  std::vector<GpuBox> out;
+  auto add = [&](const Vec3& c, const Vec3& h, const Vec3& a, Vec3 e, float emit_face, float degrees) {
+    GpuBox b{};
+    const double radians = degrees * 3.14159265358979323846 / 180.0;
+    for (int i = 0; i < 3; ++i) {
+      b.center[i] = c[i];
+      b.half_size[i] = h[i];
+      b.albedo[i] = a[i];
+      b.emittance[i] = e[i];
+    }
+    b.emittance[3] = emit_face;
+    b.rotation[0] = static_cast<float>(std::cos(radians));
+    b.rotation[1] = static_cast<float>(std::sin(radians));
+    out.push_back(b);
+  };
+  for (const auto& box : scene.boxes)
+    add(box.center, box.half_size, box.albedo, {0, 0, 0}, -1, box.rotation_degrees);
+  light_index = static_cast<uint32_t>(out.size());
+  const Light& l = scene.light;
+  constexpr float kBottomFace = 3;  // face index: axis y (1) * 2 + 1 (outward normal -y)
+  add(l.center, l.half_size, l.albedo,
+      {l.color[0] * l.intensity, l.color[1] * l.intensity, l.color[2] * l.intensity}, kBottomFace, 0);
+  return out;
+}
+
+}  // namespace statepack::path_tracer

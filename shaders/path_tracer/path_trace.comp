@@ -1,0 +1,102 @@
+#version 450
+// Path tracing with next-event estimation, one thread per pixel, starting from the G-buffer.
+// Lambertian surfaces, cosine-weighted bounces, one rectangular light (the emitting face of a box).
+// The accumulation image holds the running mean; each batch is merged with weight batch / total, so
+// long accumulations do not drift.
+#extension GL_GOOGLE_include_directive : require
+#include "scene.glsl"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+layout(set = 0, binding = 2, rgba32f) uniform readonly image2D g_albedo;
+layout(set = 0, binding = 3, rgba32f) uniform readonly image2D g_normal;
+layout(set = 0, binding = 4, rgba32f) uniform readonly image2D g_emittance;
+layout(set = 0, binding = 5, r32f) uniform readonly image2D g_depth;
+layout(set = 0, binding = 6, rgba32f) uniform image2D accumulation;
+
+// Cosine-weighted direction about n; the angle is taken in [-pi, pi), where Vulkan bounds sin/cos.
+vec3 cosine_direction(vec3 n, vec2 u) {
+  float phi = 2.0 * PI * (u.x - 0.5);
+  float r = sqrt(u.y);
+  vec3 local = vec3(r * cos(phi), r * sin(phi), sqrt(max(0.0, 1.0 - u.y)));
+  // Branchless orthonormal basis (Duff et al. 2017).
+  float s = n.z >= 0.0 ? 1.0 : -1.0;
+  float a = -1.0 / (s + n.z);
+  float b = n.x * n.y * a;
+  vec3 t = vec3(1.0 + s * n.x * n.x * a, s * b, -s * n.x);
+  vec3 bt = vec3(b, s + n.y * n.y * a, -n.y);
+  return normalize(local.x * t + local.y * bt + local.z * n);
+}
+
+// Radiance from the light reaching x (normal n) along one sampled point of the emitting face.
+vec3 sample_light(vec3 x, vec3 n, int source_box, vec2 u) {
+  int light = int(constants.light.x);
+  Box box = scene.boxes[light];
+  int face = int(box.emittance.w);
+  // A point on the emitting face, uniformly: the two axes other than the face's.
+  int axis = face / 2;
+  vec3 local = face_normal_local(face) * box.half_size.xyz;
+  int a1 = (axis + 1) % 3, a2 = (axis + 2) % 3;
+  local[a1] = (2.0 * u.x - 1.0) * box.half_size[a1];
+  local[a2] = (2.0 * u.y - 1.0) * box.half_size[a2];
+  vec3 y = box.center.xyz + to_world(light, local);
+  vec3 light_normal = box_normal(light, face);
+  float area = 4.0 * box.half_size[a1] * box.half_size[a2];
+  vec3 to_light = y - x;
+  float d2 = dot(to_light, to_light);
+  if (d2 < 1e-12) return vec3(0.0);  // the shading point is on the light itself
+  float d = sqrt(d2);
+  vec3 l = to_light / d;
+  float cos_x = dot(n, l), cos_light = -dot(light_normal, l);
+  if (cos_x <= 0.0 || cos_light <= 0.0) return vec3(0.0);
+  if (!visible(x, l, d, source_box, light)) return vec3(0.0);
+  // Le * cos_x * cos_light * A / d^2; the albedo/pi of the surface is applied by the caller.
+  return box.emittance.rgb * (cos_x * cos_light * area / d2);
+}
+
+void main() {
+  ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+  if (pixel.x >= int(constants.image.x) || pixel.y >= int(constants.image.y)) return;
+  vec4 albedo0 = imageLoad(g_albedo, pixel);
+  float depth = imageLoad(g_depth, pixel).r;
+  int box0 = int(albedo0.a + 0.5) - 1;
+  vec3 batch_sum = vec3(0.0);
+  uint samples = constants.frame.y, bounces = constants.frame.z, flags = constants.frame.w;
+  if (box0 >= 0 && depth > 0.0) {
+    int face0 = int(imageLoad(g_normal, pixel).w + 0.5);
+    vec3 emittance0 = imageLoad(g_emittance, pixel).rgb;
+    vec3 start = surface_point(box0, face0, constants.camera_position.xyz +
+                                              depth * primary_direction(vec2(pixel) + 0.5));
+    for (uint s = 0u; s < samples; ++s) {
+      uint sample_index = constants.frame.x + s;
+      vec3 x = start, throughput = vec3(1.0), radiance = vec3(0.0);
+      int box = box0, face = face0;
+      bool nee = (flags & FLAG_NEE) != 0u;
+      bool last_only = (flags & FLAG_LAST_BOUNCE_ONLY) != 0u;
+      radiance += emittance0;  // light seen directly (the "zeroth" bounce)
+      // NEE: B light samples; without NEE: B bounces, adding emission where a bounce lands.
+      for (uint j = 0u; j < bounces; ++j) {
+        if (last_only) radiance = vec3(0.0);
+        vec4 u = to_unit(pcg4d(uvec4(uint(pixel.x), uint(pixel.y), sample_index, constants.image.z + j * 0x9E3779B9u)));
+        vec3 n = box_normal(box, face);
+        vec3 rho = scene.boxes[box].albedo.rgb;
+        if (nee) radiance += throughput * rho / PI * sample_light(x, n, box, u.xy);
+        if (nee && j + 1u == bounces) break;
+        vec3 dir = cosine_direction(n, u.zw);
+        throughput *= rho;  // (rho / pi) * cos / (cos / pi)
+        Hit hit = trace(x, dir, box);
+        if (hit.box < 0) break;
+        x = surface_point(hit.box, hit.face, x + hit.t * dir);
+        box = hit.box;
+        face = hit.face;
+        if (!nee) radiance += throughput * emitted(box, face);
+      }
+      batch_sum += radiance;
+    }
+  }
+  // Running mean: mean += (batch_mean - mean) * batch / total.
+  float before = float(constants.frame.x), batch = float(samples);
+  vec3 mean = constants.frame.x == 0u ? vec3(0.0) : imageLoad(accumulation, pixel).rgb;
+  vec3 batch_mean = batch_sum / batch;
+  mean += (batch_mean - mean) * (batch / (before + batch));
+  imageStore(accumulation, pixel, vec4(mean, 1.0));
+}
