@@ -1,0 +1,127 @@
+// The path tracer sample, headless on lavapipe with validation on (the program fails on any message):
+// finite output, the light's pixels at the light's radiance, red left and green right walls, and the
+// same image bit for bit for the same seed.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Image {
+  uint32_t width = 0, height = 0;
+  std::vector<float> rgb;  // rows top to bottom
+  const float* at(uint32_t x, uint32_t y) const { return &rgb[(size_t(y) * width + x) * 3]; }
+};
+
+int run(const std::string& args, std::string& output) {
+  std::string command = std::string("'") + STATEPACK_PATH_TRACER + "' --headless " + args + " 2>&1";
+  FILE* pipe = popen(command.c_str(), "r");
+  char buffer[4096];
+  while (size_t n = fread(buffer, 1, sizeof buffer, pipe)) output.append(buffer, n);
+  int status = pclose(pipe);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+Image read_pfm(const fs::path& path) {
+  std::ifstream file(path, std::ios::binary);
+  std::string magic;
+  float scale = 0;
+  Image image;
+  file >> magic >> image.width >> image.height >> scale;
+  file.get();  // the single whitespace after the header
+  EXPECT_EQ(magic, "PF");
+  EXPECT_LT(scale, 0.0f) << "little-endian PFM";
+  image.rgb.resize(size_t(image.width) * image.height * 3);
+  for (uint32_t y = image.height; y-- > 0;)  // PFM rows run bottom to top
+    file.read(reinterpret_cast<char*>(&image.rgb[size_t(y) * image.width * 3]),
+              image.width * 3 * sizeof(float));
+  EXPECT_TRUE(file) << path;
+  return image;
+}
+
+Image render(const std::string& name, const std::string& args) {
+  fs::path out = fs::path(STATEPACK_TEST_OUTPUT_DIR) / (name + ".pfm");
+  fs::create_directories(out.parent_path());
+  std::string output;
+  int code = run("--width 64 --height 48 --out '" + out.string() + "' " + args, output);
+  EXPECT_EQ(code, 0) << output;
+  return read_pfm(out);
+}
+
+// Mean colour of a rectangle given in fractions of the image.
+std::array<double, 3> mean(const Image& image, double x0, double x1, double y0, double y1) {
+  std::array<double, 3> sum{};
+  size_t n = 0;
+  for (uint32_t y = uint32_t(y0 * image.height); y < uint32_t(y1 * image.height); ++y)
+    for (uint32_t x = uint32_t(x0 * image.width); x < uint32_t(x1 * image.width); ++x, ++n)
+      for (int c = 0; c < 3; ++c) sum[c] += image.at(x, y)[c];
+  for (auto& s : sum) s /= double(n);
+  return sum;
+}
+
+TEST(PathTracer, ImageIsFiniteAndTheSameForTheSameSeed) {
+  Image a = render("seed7_a", "--spp 16 --seed 7");
+  Image b = render("seed7_b", "--spp 16 --seed 7");
+  ASSERT_EQ(a.rgb.size(), size_t(64) * 48 * 3);
+  for (float v : a.rgb) ASSERT_TRUE(std::isfinite(v) && v >= 0.0f) << v;
+  EXPECT_EQ(std::memcmp(a.rgb.data(), b.rgb.data(), a.rgb.size() * sizeof(float)), 0)
+      << "same seed, other image";
+  Image c = render("seed8", "--spp 16 --seed 8");
+  EXPECT_NE(std::memcmp(a.rgb.data(), c.rgb.data(), a.rgb.size() * sizeof(float)), 0)
+      << "the seed changes nothing";
+}
+
+TEST(PathTracer, LightPixelsShowTheLightsRadiance) {
+  // One bounce: a light pixel is the emitted radiance plus light reflected from the light itself,
+  // which is zero (the light cannot light its own face), so it is exactly 15.
+  Image one = render("light_b1", "--spp 4 --bounces 1");
+  float brightest = 0;
+  size_t light_pixels = 0;
+  for (uint32_t y = 0; y < one.height; ++y)
+    for (uint32_t x = 0; x < one.width; ++x) {
+      brightest = std::max(brightest, one.at(x, y)[0]);
+      if (one.at(x, y)[0] > 14.0f) {
+        ++light_pixels;
+        for (int c = 0; c < 3; ++c) EXPECT_NEAR(one.at(x, y)[c], 15.0f, 1e-4f) << x << "," << y;
+      }
+    }
+  EXPECT_GT(light_pixels, 4u) << "the light is not in view";
+  EXPECT_NEAR(brightest, 15.0f, 1e-4f);
+  // More bounces only add light reflected by the light's face.
+  Image three = render("light_b3", "--spp 16 --bounces 3");
+  for (uint32_t y = 0; y < one.height; ++y) {
+    for (uint32_t x = 0; x < one.width; ++x) {
+      if (one.at(x, y)[0] > 14.0f) EXPECT_GE(three.at(x, y)[0], 15.0f - 1e-4f);
+    }
+  }
+}
+
+TEST(PathTracer, LeftWallIsRedAndRightWallGreen) {
+  Image image = render("walls", "--spp 32");
+  // The side walls span about 20-32 % and 68-80 % of the width at mid height.
+  auto left = mean(image, 0.22, 0.30, 0.40, 0.60), right = mean(image, 0.70, 0.78, 0.40, 0.60);
+  EXPECT_GT(left[0], 2.0 * left[1]) << "left wall R " << left[0] << " G " << left[1];
+  EXPECT_GT(left[0], 2.0 * left[2]);
+  EXPECT_GT(right[1], 2.0 * right[0]) << "right wall G " << right[1] << " R " << right[0];
+  EXPECT_GT(right[1], 2.0 * right[2]);
+}
+
+TEST(PathTracer, BadSceneIsAClearError) {
+  fs::path scene = fs::path(STATEPACK_TEST_OUTPUT_DIR) / "bad_scene.json";
+  fs::create_directories(scene.parent_path());
+  std::ofstream(scene) << R"({ "boxes": [ { "center": [0, 0, 0], "half_size": [1, -1, 1] } ], "light": {} })";
+  std::string output;
+  EXPECT_NE(run("--scene '" + scene.string() + "' --out x.pfm", output), 0);
+  EXPECT_NE(output.find("bad_scene.json"), std::string::npos) << output;
+  EXPECT_NE(output.find("/boxes/0/half_size/1"), std::string::npos) << output;
+}
+
+}  // namespace
