@@ -99,7 +99,9 @@ TEST(PathTracer, LightPixelsShowTheLightsRadiance) {
   Image three = render("light_b3", "--spp 16 --bounces 3");
   for (uint32_t y = 0; y < one.height; ++y) {
     for (uint32_t x = 0; x < one.width; ++x) {
-      if (one.at(x, y)[0] > 14.0f) EXPECT_GE(three.at(x, y)[0], 15.0f - 1e-4f);
+      if (one.at(x, y)[0] > 14.0f) {
+        EXPECT_GE(three.at(x, y)[0], 15.0f - 1e-4f);
+      }
     }
   }
 }
