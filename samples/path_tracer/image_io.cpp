@@ -27,6 +27,20 @@ std::span<const uint8_t> as_bytes(const std::vector<uint8_t>& v) {
 
 }  // namespace
 
+std::string write_png_rgb8(const std::filesystem::path& path, const std::vector<uint8_t>& rgb, uint32_t width,
+                           uint32_t height) {
+  std::vector<uint8_t> file;
+  stbi_write_png_to_func(
+      [](void* out, void* data, int size) {
+        auto* bytes = static_cast<uint8_t*>(data);
+        auto* vec = static_cast<std::vector<uint8_t>*>(out);
+        vec->insert(vec->end(), bytes, bytes + size);
+      },
+      &file, int(width), int(height), 3, rgb.data(), int(width * 3));
+  if (file.empty()) return "PNG encoding failed";
+  return write_file_atomically(path, as_bytes(file));
+}
+
 std::string write_image(const std::filesystem::path& path, const std::vector<float>& rgba, uint32_t width,
                         uint32_t height, float exposure) {
   const std::string ext = path.extension().string();
@@ -36,14 +50,7 @@ std::string write_image(const std::filesystem::path& path, const std::vector<flo
     std::vector<uint8_t> rgb(pixels * 3);
     for (size_t i = 0; i < pixels; ++i)
       for (int c = 0; c < 3; ++c) rgb[i * 3 + c] = srgb_byte(rgba[i * 4 + c] * exposure);
-    stbi_write_png_to_func(
-        [](void* out, void* data, int size) {
-          auto* bytes = static_cast<uint8_t*>(data);
-          static_cast<std::vector<uint8_t>*>(out)->insert(static_cast<std::vector<uint8_t>*>(out)->end(),
-                                                          bytes, bytes + size);
-        },
-        &file, int(width), int(height), 3, rgb.data(), int(width * 3));
-    if (file.empty()) return "PNG encoding failed";
+    return write_png_rgb8(path, rgb, width, height);
   } else if (ext == ".pfm") {
     // Portable float map: "PF", size, negative scale = little-endian, rows bottom to top.
     std::string header = "PF\n" + std::to_string(width) + " " + std::to_string(height) + "\n-1.0\n";

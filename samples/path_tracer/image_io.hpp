@@ -13,4 +13,8 @@ namespace statepack::path_tracer {
 std::string write_image(const std::filesystem::path& path, const std::vector<float>& rgba, uint32_t width,
                         uint32_t height, float exposure);
 
+// 8-bit RGB (already display-encoded) as PNG. Returns an empty string or the reason.
+std::string write_png_rgb8(const std::filesystem::path& path, const std::vector<uint8_t>& rgb, uint32_t width,
+                           uint32_t height);
+
 }  // namespace statepack::path_tracer

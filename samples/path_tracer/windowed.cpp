@@ -1,0 +1,518 @@
+// Windowed path tracer: GLFW window and swapchain (the resolve pipeline is patched to the swapchain's
+// format), first-person camera (left mouse button + WASDQE), light moved with the right mouse button,
+// and a Dear ImGui panel. One frame in flight.
+#define GLFW_INCLUDE_VULKAN
+#include <GLFW/glfw3.h>
+#include <imgui/backends/imgui_impl_glfw.h>
+#include <imgui/backends/imgui_impl_vulkan.h>
+#include <imgui/imgui.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+
+#include "app.hpp"
+#include "image_io.hpp"
+
+namespace statepack::path_tracer {
+namespace {
+
+struct Swapchain {
+  VkSwapchainKHR handle = VK_NULL_HANDLE;
+  VkFormat format = VK_FORMAT_UNDEFINED;
+  VkExtent2D extent{};
+  std::vector<VkImage> images;
+  std::vector<VkImageView> views;
+  std::vector<VkFramebuffer> framebuffers;  // for the ImGui overlay's render pass
+};
+
+class Window {
+ public:
+  ~Window() { destroy(); }
+
+  int run(const Options& o) {
+    if (!glfwInit()) return fail("cannot initialise GLFW (no display?)");
+    glfwWindowHint(GLFW_CLIENT_API, GLFW_NO_API);
+    window_ = glfwCreateWindow(int(o.width), int(o.height), "statepack path tracer", nullptr, nullptr);
+    if (!window_) return fail("cannot create a window");
+    uint32_t count = 0;
+    const char** extensions = glfwGetRequiredInstanceExtensions(&count);
+    if (!extensions) return fail("GLFW finds no Vulkan surface support");
+    samples::VulkanContextOptions vk_options;
+    vk_options.validation = o.validation;
+    vk_options.instance_extensions.assign(extensions, extensions + count);
+    auto vk = samples::VulkanContext::create(vk_options);
+    if (!vk) return fail(vk.error().message);
+    vk_ = std::move(vk.value());
+    if (glfwCreateWindowSurface(vk_->instance, window_, nullptr, &surface_) != VK_SUCCESS)
+      return fail("cannot create a window surface");
+    VkBool32 present = VK_FALSE;
+    vkGetPhysicalDeviceSurfaceSupportKHR(vk_->physical_device, vk_->queue_family, surface_, &present);
+    if (!present) return fail("the device's queue cannot present to this window");
+    if (!create_swapchain()) return 1;
+
+    auto scene = load_scene(o.scene);
+    if (!scene) return fail(scene.error().message);
+    dearchiver_ = load_archive(*vk_, o.archive);
+    if (!dearchiver_) return 1;
+    auto renderer = Renderer::create(*vk_, *dearchiver_, swapchain_.extent.width, swapchain_.extent.height,
+                                     swapchain_.format);
+    if (!renderer) return fail(renderer.error().message);
+    renderer_ = std::move(renderer.value());
+    renderer_->set_scene(*scene);
+    renderer_->set_settings(o.settings);
+    if (!create_sync() || !init_imgui()) return 1;
+
+    uint32_t frames = 0;
+    auto last = std::chrono::steady_clock::now();
+    while (!glfwWindowShouldClose(window_) && (o.frames == 0 || frames < o.frames)) {
+      glfwPollEvents();
+      auto now = std::chrono::steady_clock::now();
+      const float dt = std::chrono::duration<float>(now - last).count();
+      last = now;
+      handle_input(dt);
+      // With --frames and --screenshot, the last frame is also copied out of the swapchain.
+      const bool capture = !o.screenshot.empty() && o.frames != 0 && frames + 1 == o.frames;
+      if (!draw_frame(dt, capture)) return 1;
+      ++frames;
+    }
+    vkDeviceWaitIdle(vk_->device);
+    if (!o.screenshot.empty()) {
+      if (screenshot_.empty())
+        return fail("no screenshot taken (use --frames N, and a swapchain that allows copies)");
+      if (auto error =
+              write_rgba8(o.screenshot, screenshot_, swapchain_.extent.width, swapchain_.extent.height);
+          !error.empty())
+        return fail(o.screenshot + ": " + error);
+      std::printf("path_tracer: %u frames, %u spp, window screenshot -> %s\n", frames,
+                  renderer_->samples_done(), o.screenshot.c_str());
+    }
+    destroy();
+    return validation_failures_ > 0 ? 1 : 0;
+  }
+
+ private:
+  int fail(const std::string& message) {
+    std::fprintf(stderr, "path_tracer: %s\n", message.c_str());
+    return 1;
+  }
+
+  bool create_swapchain() {
+    VkSurfaceCapabilitiesKHR caps;
+    vkGetPhysicalDeviceSurfaceCapabilitiesKHR(vk_->physical_device, surface_, &caps);
+    uint32_t count = 0;
+    vkGetPhysicalDeviceSurfaceFormatsKHR(vk_->physical_device, surface_, &count, nullptr);
+    std::vector<VkSurfaceFormatKHR> formats(count);
+    vkGetPhysicalDeviceSurfaceFormatsKHR(vk_->physical_device, surface_, &count, formats.data());
+    VkSurfaceFormatKHR chosen = formats.at(0);
+    for (const auto& f : formats)  // sRGB targets encode the linear radiance the resolve writes
+      if ((f.format == VK_FORMAT_B8G8R8A8_SRGB || f.format == VK_FORMAT_R8G8B8A8_SRGB) &&
+          f.colorSpace == VK_COLOR_SPACE_SRGB_NONLINEAR_KHR)
+        chosen = f;
+    int w = 0, h = 0;
+    glfwGetFramebufferSize(window_, &w, &h);
+    VkExtent2D extent =
+        caps.currentExtent.width != UINT32_MAX ? caps.currentExtent : VkExtent2D{uint32_t(w), uint32_t(h)};
+    extent.width =
+        std::clamp(extent.width, std::max(caps.minImageExtent.width, 8u), caps.maxImageExtent.width);
+    extent.height =
+        std::clamp(extent.height, std::max(caps.minImageExtent.height, 8u), caps.maxImageExtent.height);
+    VkSwapchainCreateInfoKHR info{VK_STRUCTURE_TYPE_SWAPCHAIN_CREATE_INFO_KHR};
+    info.surface = surface_;
+    info.minImageCount = std::max(caps.minImageCount, 2u);
+    if (caps.maxImageCount) info.minImageCount = std::min(info.minImageCount, caps.maxImageCount);
+    info.imageFormat = chosen.format;
+    info.imageColorSpace = chosen.colorSpace;
+    info.imageExtent = extent;
+    info.imageArrayLayers = 1;
+    info.imageUsage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT;
+    can_capture_ = (caps.supportedUsageFlags & VK_IMAGE_USAGE_TRANSFER_SRC_BIT) != 0;
+    if (can_capture_) info.imageUsage |= VK_IMAGE_USAGE_TRANSFER_SRC_BIT;  // for --screenshot
+    info.imageSharingMode = VK_SHARING_MODE_EXCLUSIVE;
+    info.preTransform = caps.currentTransform;
+    info.compositeAlpha = VK_COMPOSITE_ALPHA_OPAQUE_BIT_KHR;
+    info.presentMode = VK_PRESENT_MODE_FIFO_KHR;
+    info.clipped = VK_TRUE;
+    info.oldSwapchain = swapchain_.handle;
+    VkSwapchainKHR handle = VK_NULL_HANDLE;
+    if (vkCreateSwapchainKHR(vk_->device, &info, nullptr, &handle) != VK_SUCCESS) {
+      fail("cannot create the swapchain");
+      return false;
+    }
+    destroy_swapchain_views();
+    if (swapchain_.handle) vkDestroySwapchainKHR(vk_->device, swapchain_.handle, nullptr);
+    swapchain_.handle = handle;
+    swapchain_.format = chosen.format;
+    swapchain_.extent = extent;
+    vkGetSwapchainImagesKHR(vk_->device, handle, &count, nullptr);
+    swapchain_.images.resize(count);
+    vkGetSwapchainImagesKHR(vk_->device, handle, &count, swapchain_.images.data());
+    for (VkImage image : swapchain_.images) {
+      VkImageViewCreateInfo view{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+      view.image = image;
+      view.viewType = VK_IMAGE_VIEW_TYPE_2D;
+      view.format = chosen.format;
+      view.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+      vkCreateImageView(vk_->device, &view, nullptr, &swapchain_.views.emplace_back());
+    }
+    return create_overlay_targets();
+  }
+
+  // ImGui 1.86 draws inside a render pass: one that loads the path-traced frame and presents.
+  bool create_overlay_targets() {
+    if (!overlay_pass_) {
+      VkAttachmentDescription color{0,
+                                    swapchain_.format,
+                                    VK_SAMPLE_COUNT_1_BIT,
+                                    VK_ATTACHMENT_LOAD_OP_LOAD,
+                                    VK_ATTACHMENT_STORE_OP_STORE,
+                                    VK_ATTACHMENT_LOAD_OP_DONT_CARE,
+                                    VK_ATTACHMENT_STORE_OP_DONT_CARE,
+                                    VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
+                                    VK_IMAGE_LAYOUT_PRESENT_SRC_KHR};
+      VkAttachmentReference ref{0, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
+      VkSubpassDescription subpass{};
+      subpass.pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;
+      subpass.colorAttachmentCount = 1;
+      subpass.pColorAttachments = &ref;
+      VkSubpassDependency dependency{
+          VK_SUBPASS_EXTERNAL,
+          0,
+          VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT,
+          VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT,
+          VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT,
+          VK_ACCESS_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT,
+          0};
+      VkRenderPassCreateInfo info{VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO};
+      info.attachmentCount = 1;
+      info.pAttachments = &color;
+      info.subpassCount = 1;
+      info.pSubpasses = &subpass;
+      info.dependencyCount = 1;
+      info.pDependencies = &dependency;
+      if (vkCreateRenderPass(vk_->device, &info, nullptr, &overlay_pass_) != VK_SUCCESS) {
+        fail("cannot create the overlay render pass");
+        return false;
+      }
+    }
+    for (VkImageView view : swapchain_.views) {
+      VkFramebufferCreateInfo info{VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO};
+      info.renderPass = overlay_pass_;
+      info.attachmentCount = 1;
+      info.pAttachments = &view;
+      info.width = swapchain_.extent.width;
+      info.height = swapchain_.extent.height;
+      info.layers = 1;
+      vkCreateFramebuffer(vk_->device, &info, nullptr, &swapchain_.framebuffers.emplace_back());
+    }
+    return true;
+  }
+
+  void destroy_swapchain_views() {
+    for (auto fb : swapchain_.framebuffers) vkDestroyFramebuffer(vk_->device, fb, nullptr);
+    for (auto view : swapchain_.views) vkDestroyImageView(vk_->device, view, nullptr);
+    swapchain_.framebuffers.clear();
+    swapchain_.views.clear();
+    swapchain_.images.clear();
+  }
+
+  bool recreate_swapchain() {
+    int w = 0, h = 0;
+    glfwGetFramebufferSize(window_, &w, &h);
+    while ((w == 0 || h == 0) && !glfwWindowShouldClose(window_)) {  // minimised: wait
+      glfwWaitEvents();
+      glfwGetFramebufferSize(window_, &w, &h);
+    }
+    vkDeviceWaitIdle(vk_->device);
+    if (!create_swapchain()) return false;
+    ImGui_ImplVulkan_SetMinImageCount(2);
+    auto resized = renderer_->resize(swapchain_.extent.width, swapchain_.extent.height);
+    if (!resized) fail(resized.error().message);
+    return bool(resized);
+  }
+
+  bool create_sync() {
+    VkSemaphoreCreateInfo semaphore{VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO};
+    VkFenceCreateInfo fence{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+    fence.flags = VK_FENCE_CREATE_SIGNALED_BIT;
+    VkCommandBufferAllocateInfo alloc{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+    alloc.commandPool = vk_->command_pool;
+    alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+    alloc.commandBufferCount = 1;
+    return vkCreateSemaphore(vk_->device, &semaphore, nullptr, &acquired_) == VK_SUCCESS &&
+           vkCreateSemaphore(vk_->device, &semaphore, nullptr, &rendered_) == VK_SUCCESS &&
+           vkCreateFence(vk_->device, &fence, nullptr, &in_flight_) == VK_SUCCESS &&
+           vkAllocateCommandBuffers(vk_->device, &alloc, &cmd_) == VK_SUCCESS;
+  }
+
+  bool init_imgui() {
+    VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 8};
+    VkDescriptorPoolCreateInfo pool{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+    pool.flags = VK_DESCRIPTOR_POOL_CREATE_FREE_DESCRIPTOR_SET_BIT;
+    pool.maxSets = 8;
+    pool.poolSizeCount = 1;
+    pool.pPoolSizes = &size;
+    vkCreateDescriptorPool(vk_->device, &pool, nullptr, &imgui_pool_);
+    ImGui::CreateContext();
+    ImGui::GetIO().IniFilename = nullptr;  // no imgui.ini in the user's directory
+    ImGui_ImplGlfw_InitForVulkan(window_, true);
+    ImGui_ImplVulkan_InitInfo info{};
+    info.Instance = vk_->instance;
+    info.PhysicalDevice = vk_->physical_device;
+    info.Device = vk_->device;
+    info.QueueFamily = vk_->queue_family;
+    info.Queue = vk_->queue;
+    info.DescriptorPool = imgui_pool_;
+    info.MinImageCount = 2;
+    info.ImageCount = static_cast<uint32_t>(swapchain_.images.size());
+    info.MSAASamples = VK_SAMPLE_COUNT_1_BIT;
+    if (!ImGui_ImplVulkan_Init(&info, overlay_pass_)) {
+      fail("cannot initialise Dear ImGui");
+      return false;
+    }
+    imgui_ready_ = true;
+    auto uploaded =
+        vk_->submit_and_wait([](VkCommandBuffer cmd) { ImGui_ImplVulkan_CreateFontsTexture(cmd); });
+    ImGui_ImplVulkan_DestroyFontUploadObjects();
+    return bool(uploaded);
+  }
+
+  // Left button: look around; WASD/QE: move (shift: faster); right button: move the light.
+  void handle_input(float dt) {
+    if (ImGui::GetCurrentContext() && ImGui::GetIO().WantCaptureMouse) {
+      glfwGetCursorPos(window_, &mouse_x_, &mouse_y_);
+      return;
+    }
+    double x = 0, y = 0;
+    glfwGetCursorPos(window_, &x, &y);
+    const float dx = float(x - mouse_x_), dy = float(y - mouse_y_);
+    mouse_x_ = x, mouse_y_ = y;
+    Camera camera = renderer_->camera();
+    bool camera_changed = false;
+    if (glfwGetMouseButton(window_, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS && (dx != 0 || dy != 0)) {
+      camera.yaw_degrees += dx * 0.1f;
+      camera.pitch_degrees = std::clamp(camera.pitch_degrees - dy * 0.1f, -89.0f, 89.0f);
+      camera_changed = true;
+    }
+    const float speed = (glfwGetKey(window_, GLFW_KEY_LEFT_SHIFT) == GLFW_PRESS ? 25.0f : 5.0f) * dt;
+    const float yaw = camera.yaw_degrees * 3.14159265f / 180.0f;
+    const float forward[3] = {std::sin(yaw), 0, std::cos(yaw)}, right[3] = {std::cos(yaw), 0, -std::sin(yaw)};
+    auto move = [&](int key, const float* axis, float sign) {
+      if (glfwGetKey(window_, key) != GLFW_PRESS) return;
+      for (int i = 0; i < 3; ++i) camera.position[i] += axis[i] * sign * speed;
+      camera_changed = true;
+    };
+    const float up[3] = {0, 1, 0};
+    move(GLFW_KEY_W, forward, 1), move(GLFW_KEY_S, forward, -1), move(GLFW_KEY_D, right, 1);
+    move(GLFW_KEY_A, right, -1), move(GLFW_KEY_E, up, 1), move(GLFW_KEY_Q, up, -1);
+    if (camera_changed) renderer_->set_camera(camera);
+    if (glfwGetMouseButton(window_, GLFW_MOUSE_BUTTON_RIGHT) == GLFW_PRESS && (dx != 0 || dy != 0)) {
+      Scene scene = renderer_->scene();
+      scene.light.center[0] += dx * 0.01f;
+      scene.light.center[2] -= dy * 0.01f;
+      clamp_light(scene.light);
+      renderer_->set_scene(scene);
+    }
+  }
+
+  // The light stays inside the room, as in the tutorial.
+  static void clamp_light(Light& light) {
+    for (int axis : {0, 2}) {
+      const float limit = 4.5f - light.half_size[axis];
+      light.center[axis] = std::clamp(light.center[axis], -limit, limit);
+    }
+  }
+
+  void panel(float dt) {
+    ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
+    ImGui::Begin("Settings", nullptr, ImGuiWindowFlags_AlwaysAutoResize);
+    RenderSettings s = renderer_->settings();
+    int bounces = int(s.bounces), spf = int(s.samples_per_frame);
+    ImGui::SliderInt("Bounces", &bounces, 1, 8);
+    ImGui::SliderInt("Samples per frame", &spf, 1, 32);
+    ImGui::Checkbox("Next-event estimation", &s.next_event_estimation);
+    ImGui::Checkbox("Show only last bounce", &s.last_bounce_only);
+    ImGui::SliderFloat("Exposure", &s.exposure, 0.1f, 8.0f);
+    s.bounces = uint32_t(bounces), s.samples_per_frame = uint32_t(spf);
+    renderer_->set_settings(s);
+    Scene scene = renderer_->scene();
+    bool light_changed = ImGui::SliderFloat("Light intensity", &scene.light.intensity, 1.0f, 50.0f);
+    light_changed |= ImGui::SliderFloat("Light width", &scene.light.half_size[0], 0.5f, 3.0f);
+    light_changed |= ImGui::SliderFloat("Light height", &scene.light.half_size[2], 0.5f, 3.0f);
+    light_changed |= ImGui::ColorEdit3("Light color", scene.light.color.data());
+    if (light_changed) {
+      clamp_light(scene.light);
+      renderer_->set_scene(scene);
+    }
+    ImGui::Text("%u spp, %.1f ms/frame", renderer_->samples_done(), dt * 1000.0f);
+    ImGui::TextUnformatted("LMB + WASDQE: camera, RMB: light");
+    ImGui::End();
+  }
+
+  bool draw_frame(float dt, bool capture) {
+    vkWaitForFences(vk_->device, 1, &in_flight_, VK_TRUE, UINT64_MAX);
+    uint32_t index = 0;
+    VkResult acquired =
+        vkAcquireNextImageKHR(vk_->device, swapchain_.handle, UINT64_MAX, acquired_, VK_NULL_HANDLE, &index);
+    if (acquired == VK_ERROR_OUT_OF_DATE_KHR) return recreate_swapchain();
+    if (acquired != VK_SUCCESS && acquired != VK_SUBOPTIMAL_KHR)
+      return fail("cannot acquire a swapchain image") == 0;
+    vkResetFences(vk_->device, 1, &in_flight_);
+
+    ImGui_ImplVulkan_NewFrame();
+    ImGui_ImplGlfw_NewFrame();
+    ImGui::NewFrame();
+    panel(dt);
+    ImGui::Render();
+
+    vkResetCommandBuffer(cmd_, 0);
+    VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+    vkBeginCommandBuffer(cmd_, &begin);
+    renderer_->record(cmd_, swapchain_.images[index], swapchain_.views[index],
+                      VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL);
+    VkRenderPassBeginInfo pass{VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO};
+    pass.renderPass = overlay_pass_;
+    pass.framebuffer = swapchain_.framebuffers[index];
+    pass.renderArea = {{0, 0}, swapchain_.extent};
+    vkCmdBeginRenderPass(cmd_, &pass, VK_SUBPASS_CONTENTS_INLINE);
+    ImGui_ImplVulkan_RenderDrawData(ImGui::GetDrawData(), cmd_);
+    vkCmdEndRenderPass(cmd_);
+    std::unique_ptr<samples::HostBuffer> readback;
+    if (capture && can_capture_) readback = record_capture(swapchain_.images[index]);
+    vkEndCommandBuffer(cmd_);
+
+    VkPipelineStageFlags wait_stage = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
+    VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+    submit.waitSemaphoreCount = 1;
+    submit.pWaitSemaphores = &acquired_;
+    submit.pWaitDstStageMask = &wait_stage;
+    submit.commandBufferCount = 1;
+    submit.pCommandBuffers = &cmd_;
+    submit.signalSemaphoreCount = 1;
+    submit.pSignalSemaphores = &rendered_;
+    if (vkQueueSubmit(vk_->queue, 1, &submit, in_flight_) != VK_SUCCESS)
+      return fail("queue submit failed") == 0;
+    VkPresentInfoKHR present{VK_STRUCTURE_TYPE_PRESENT_INFO_KHR};
+    present.waitSemaphoreCount = 1;
+    present.pWaitSemaphores = &rendered_;
+    present.swapchainCount = 1;
+    present.pSwapchains = &swapchain_.handle;
+    present.pImageIndices = &index;
+    VkResult presented = vkQueuePresentKHR(vk_->queue, &present);
+    if (readback) {
+      vkWaitForFences(vk_->device, 1, &in_flight_, VK_TRUE, UINT64_MAX);
+      screenshot_.assign(static_cast<const uint8_t*>(readback->mapped),
+                         static_cast<const uint8_t*>(readback->mapped) + readback->size);
+    }
+    int w = 0, h = 0;
+    glfwGetFramebufferSize(window_, &w, &h);
+    if (presented == VK_ERROR_OUT_OF_DATE_KHR || presented == VK_SUBOPTIMAL_KHR ||
+        uint32_t(w) != swapchain_.extent.width || uint32_t(h) != swapchain_.extent.height) {
+      vkWaitForFences(vk_->device, 1, &in_flight_, VK_TRUE, UINT64_MAX);
+      return recreate_swapchain();
+    }
+    return true;
+  }
+
+  // Copies the presented image (what the window shows, panel included) to a host buffer.
+  std::unique_ptr<samples::HostBuffer> record_capture(VkImage image) {
+    const VkExtent2D e = swapchain_.extent;
+    auto buffer = samples::create_host_buffer(*vk_, VkDeviceSize(e.width) * e.height * 4,
+                                              VK_BUFFER_USAGE_TRANSFER_DST_BIT);
+    if (!buffer) return nullptr;
+    auto barrier = [&](VkImageLayout from, VkImageLayout to, VkAccessFlags src, VkAccessFlags dst) {
+      VkImageMemoryBarrier b{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
+      b.srcAccessMask = src;
+      b.dstAccessMask = dst;
+      b.oldLayout = from;
+      b.newLayout = to;
+      b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+      b.image = image;
+      b.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+      vkCmdPipelineBarrier(cmd_,
+                           VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                           VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, 0, 0,
+                           nullptr, 0, nullptr, 1, &b);
+    };
+    barrier(VK_IMAGE_LAYOUT_PRESENT_SRC_KHR, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+            VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, VK_ACCESS_TRANSFER_READ_BIT);
+    VkBufferImageCopy copy{};
+    copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+    copy.imageExtent = {e.width, e.height, 1};
+    vkCmdCopyImageToBuffer(cmd_, image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, (*buffer)->buffer, 1, &copy);
+    barrier(VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_IMAGE_LAYOUT_PRESENT_SRC_KHR,
+            VK_ACCESS_TRANSFER_READ_BIT, 0);
+    return std::move(buffer.value());
+  }
+
+  // The captured bytes (the swapchain's 8-bit format, sRGB-encoded already) as a PNG.
+  std::string write_rgba8(const std::string& path, const std::vector<uint8_t>& bytes, uint32_t w,
+                          uint32_t h) {
+    const bool bgra =
+        swapchain_.format == VK_FORMAT_B8G8R8A8_SRGB || swapchain_.format == VK_FORMAT_B8G8R8A8_UNORM;
+    std::vector<uint8_t> rgb(size_t(w) * h * 3);
+    for (size_t i = 0; i < size_t(w) * h; ++i)
+      for (int c = 0; c < 3; ++c) rgb[i * 3 + c] = bytes[i * 4 + (bgra ? 2 - c : c)];
+    return write_png_rgb8(path, rgb, w, h);
+  }
+
+  void destroy() {
+    if (!vk_) {
+      if (window_) glfwDestroyWindow(window_), window_ = nullptr;
+      return;
+    }
+    vkDeviceWaitIdle(vk_->device);
+    if (imgui_ready_) {
+      ImGui_ImplVulkan_Shutdown();
+      ImGui_ImplGlfw_Shutdown();
+      ImGui::DestroyContext();
+      imgui_ready_ = false;
+    }
+    renderer_.reset();
+    dearchiver_.reset();
+    if (imgui_pool_) vkDestroyDescriptorPool(vk_->device, imgui_pool_, nullptr);
+    if (acquired_) vkDestroySemaphore(vk_->device, acquired_, nullptr);
+    if (rendered_) vkDestroySemaphore(vk_->device, rendered_, nullptr);
+    if (in_flight_) vkDestroyFence(vk_->device, in_flight_, nullptr);
+    destroy_swapchain_views();
+    if (overlay_pass_) vkDestroyRenderPass(vk_->device, overlay_pass_, nullptr);
+    if (swapchain_.handle) vkDestroySwapchainKHR(vk_->device, swapchain_.handle, nullptr);
+    imgui_pool_ = VK_NULL_HANDLE, acquired_ = rendered_ = VK_NULL_HANDLE, in_flight_ = VK_NULL_HANDLE;
+    overlay_pass_ = VK_NULL_HANDLE, swapchain_.handle = VK_NULL_HANDLE;
+    vk_->destroy_device();
+    validation_failures_ = report_validation(*vk_);
+    if (surface_) vkDestroySurfaceKHR(vk_->instance, surface_, nullptr);
+    surface_ = VK_NULL_HANDLE;
+    vk_.reset();
+    if (window_) glfwDestroyWindow(window_), window_ = nullptr;
+    glfwTerminate();
+  }
+
+  GLFWwindow* window_ = nullptr;
+  std::unique_ptr<samples::VulkanContext> vk_;
+  VkSurfaceKHR surface_ = VK_NULL_HANDLE;
+  Swapchain swapchain_;
+  VkRenderPass overlay_pass_ = VK_NULL_HANDLE;
+  std::unique_ptr<Dearchiver> dearchiver_;
+  std::unique_ptr<Renderer> renderer_;
+  VkSemaphore acquired_ = VK_NULL_HANDLE, rendered_ = VK_NULL_HANDLE;
+  VkFence in_flight_ = VK_NULL_HANDLE;
+  VkCommandBuffer cmd_ = VK_NULL_HANDLE;
+  VkDescriptorPool imgui_pool_ = VK_NULL_HANDLE;
+  bool imgui_ready_ = false;
+  double mouse_x_ = 0, mouse_y_ = 0;
+  size_t validation_failures_ = 0;
+  bool can_capture_ = false;
+  std::vector<uint8_t> screenshot_;
+};
+
+}  // namespace
+
+int run_windowed(const Options& options) {
+  Window window;
+  return window.run(options);
+}
+
+}  // namespace statepack::path_tracer
