@@ -11,6 +11,10 @@
 #include <fstream>
 #include <sstream>
 
+#define STB_IMAGE_IMPLEMENTATION
+#define STBI_ONLY_PNG
+#include <stb/stb_image.h>
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -114,6 +118,45 @@ TEST(PathTracer, LeftWallIsRedAndRightWallGreen) {
   EXPECT_GT(left[0], 2.0 * left[2]);
   EXPECT_GT(right[1], 2.0 * right[0]) << "right wall G " << right[1] << " R " << right[0];
   EXPECT_GT(right[1], 2.0 * right[2]);
+}
+
+// The window path: under a virtual X server the program renders frames into a swapchain (with the
+// panel on top) and saves what the window shows; the room must be in it.
+TEST(PathTracer, WindowUnderXvfbShowsTheRoom) {
+  fs::path shot = fs::path(STATEPACK_TEST_OUTPUT_DIR) / "window.png";
+  fs::create_directories(shot.parent_path());
+  fs::remove(shot);
+  std::string command = "xvfb-run -a -s '-screen 0 800x600x24' '" + std::string(STATEPACK_PATH_TRACER) +
+                        "' --frames 12 --width 640 --height 480 --screenshot '" + shot.string() + "' 2>&1";
+  std::string output;
+  FILE* pipe = popen(command.c_str(), "r");
+  char buffer[4096];
+  while (size_t n = fread(buffer, 1, sizeof buffer, pipe)) output.append(buffer, n);
+  int status = pclose(pipe);
+  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << output;
+  EXPECT_NE(output.find("window screenshot"), std::string::npos) << output;
+  int w = 0, h = 0, channels = 0;
+  unsigned char* pixels = stbi_load(shot.c_str(), &w, &h, &channels, 3);
+  ASSERT_NE(pixels, nullptr) << stbi_failure_reason();
+  ASSERT_EQ(w, 640);
+  ASSERT_EQ(h, 480);
+  auto region = [&](double x0, double x1, double y0, double y1) {
+    std::array<double, 3> sum{};
+    size_t n = 0;
+    for (int y = int(y0 * h); y < int(y1 * h); ++y)
+      for (int x = int(x0 * w); x < int(x1 * w); ++x, ++n)
+        for (int c = 0; c < 3; ++c) sum[c] += pixels[(size_t(y) * w + x) * 3 + c];
+    for (auto& v : sum) v /= double(n);
+    return sum;
+  };
+  // Below the panel (top left): the red wall's lower part, the green wall, the grey back wall.
+  auto left = region(0.22, 0.30, 0.65, 0.80), right = region(0.70, 0.78, 0.40, 0.60);
+  auto back = region(0.45, 0.55, 0.60, 0.66);
+  stbi_image_free(pixels);
+  EXPECT_GT(left[0], 1.5 * left[1]) << "left " << left[0] << "," << left[1] << "," << left[2];
+  EXPECT_GT(right[1], 1.5 * right[0]) << "right " << right[0] << "," << right[1] << "," << right[2];
+  EXPECT_GT(back[0], 20.0) << "the back wall is dark";
+  EXPECT_NEAR(back[0], back[2], 0.2 * back[0] + 4) << "the back wall is not grey";
 }
 
 TEST(PathTracer, BadSceneIsAClearError) {
