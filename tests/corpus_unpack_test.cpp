@@ -9,14 +9,6 @@
 namespace statepack::testing {
 namespace {
 
-std::vector<std::string> corpus_archives() {
-  std::vector<std::string> out;
-  std::istringstream list(STATEPACK_CORPUS_ARCHIVES);
-  for (std::string path; std::getline(list, path, '|');)
-    if (!path.empty()) out.push_back(path);
-  return out;
-}
-
 class CorpusUnpack : public VulkanTest {};
 
 TEST_F(CorpusUnpack, EveryObjectOfEveryArchiveUnpacks) {

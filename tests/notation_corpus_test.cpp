@@ -3,7 +3,6 @@
 // with a .expected sidecar fails with exit code 1 and prints each line of that sidecar.
 // Regenerate goldens after an intended change with: STATEPACK_UPDATE_GOLDENS=1 ctest -R NotationCorpus
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
 #include <cstdio>
 #include <cstdlib>
@@ -11,25 +10,16 @@
 #include <fstream>
 #include <sstream>
 
+#include "run_command.hpp"
+
 namespace {
 
 namespace fs = std::filesystem;
 
-struct CliRun {
-  int exit_code = -1;
-  std::string output;
-};
+using CliRun = statepack::testing::CommandResult;
 
 CliRun run_in(const fs::path& dir, const std::string& args) {
-  std::string command = "cd '" + dir.string() + "' && '" + STATEPACK_EXE + "' " + args + " 2>&1";
-  CliRun run;
-  FILE* pipe = popen(command.c_str(), "r");
-  if (!pipe) return run;
-  char buffer[4096];
-  while (size_t n = fread(buffer, 1, sizeof buffer, pipe)) run.output.append(buffer, n);
-  int status = pclose(pipe);
-  run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return run;
+  return statepack::testing::run_command("cd '" + dir.string() + "' && '" + STATEPACK_EXE + "' " + args);
 }
 
 std::string read_file(const fs::path& path) {

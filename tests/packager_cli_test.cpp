@@ -1,32 +1,22 @@
 // The statepack CLI as users run it: exit codes, error messages that name the file and place,
 // atomic output, deterministic archives and the depfile.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <string>
 
+#include "run_command.hpp"
+
 namespace {
 
 namespace fs = std::filesystem;
 
-struct CliRun {
-  int exit_code = -1;
-  std::string output;  // stdout and stderr together
-};
+using CliRun = statepack::testing::CommandResult;
 
 CliRun statepack(const std::string& args) {
-  std::string command = std::string("'") + STATEPACK_EXE + "' " + args + " 2>&1";
-  CliRun run;
-  FILE* pipe = popen(command.c_str(), "r");
-  if (!pipe) return run;
-  char buffer[4096];
-  while (size_t n = fread(buffer, 1, sizeof buffer, pipe)) run.output.append(buffer, n);
-  int status = pclose(pipe);
-  run.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return run;
+  return statepack::testing::run_command(std::string("'") + STATEPACK_EXE + "' " + args);
 }
 
 std::string read_file(const fs::path& path) {

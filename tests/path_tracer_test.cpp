@@ -2,7 +2,6 @@
 // finite output, the light's pixels at the light's radiance, red left and green right walls, and the
 // same image bit for bit for the same seed.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
 #include <cmath>
 #include <cstdio>
@@ -10,6 +9,8 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+
+#include "run_command.hpp"
 
 #define STB_IMAGE_IMPLEMENTATION
 #define STBI_ONLY_PNG
@@ -26,12 +27,10 @@ struct Image {
 };
 
 int run(const std::string& args, std::string& output) {
-  std::string command = std::string("'") + STATEPACK_PATH_TRACER + "' --headless " + args + " 2>&1";
-  FILE* pipe = popen(command.c_str(), "r");
-  char buffer[4096];
-  while (size_t n = fread(buffer, 1, sizeof buffer, pipe)) output.append(buffer, n);
-  int status = pclose(pipe);
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  auto result =
+      statepack::testing::run_command(std::string("'") + STATEPACK_PATH_TRACER + "' --headless " + args);
+  output = result.output;
+  return result.exit_code;
 }
 
 Image read_pfm(const fs::path& path) {
@@ -126,14 +125,10 @@ TEST(PathTracer, WindowUnderXvfbShowsTheRoom) {
   fs::path shot = fs::path(STATEPACK_TEST_OUTPUT_DIR) / "window.png";
   fs::create_directories(shot.parent_path());
   fs::remove(shot);
-  std::string command = "xvfb-run -a -s '-screen 0 800x600x24' '" + std::string(STATEPACK_PATH_TRACER) +
-                        "' --frames 12 --width 640 --height 480 --screenshot '" + shot.string() + "' 2>&1";
-  std::string output;
-  FILE* pipe = popen(command.c_str(), "r");
-  char buffer[4096];
-  while (size_t n = fread(buffer, 1, sizeof buffer, pipe)) output.append(buffer, n);
-  int status = pclose(pipe);
-  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << output;
+  auto [status, output] = statepack::testing::run_command(
+      "xvfb-run -a -s '-screen 0 800x600x24' '" + std::string(STATEPACK_PATH_TRACER) +
+      "' --frames 12 --width 640 --height 480 --screenshot '" + shot.string() + "'");
+  ASSERT_EQ(status, 0) << output;
   EXPECT_NE(output.find("window screenshot"), std::string::npos) << output;
   int w = 0, h = 0, channels = 0;
   unsigned char* pixels = stbi_load(shot.c_str(), &w, &h, &channels, 3);

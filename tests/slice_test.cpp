@@ -17,32 +17,11 @@ class SliceTest : public VulkanTest {
  protected:
   // Draws `pso` (a full-screen triangle) into a width x height image of `format` and returns its bytes.
   std::vector<uint8_t> render(const UnpackedPipeline& pso, VkFormat format, uint32_t width, uint32_t height) {
-    VkImageCreateInfo image_info{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
-    image_info.imageType = VK_IMAGE_TYPE_2D;
-    image_info.format = format;
-    image_info.extent = {width, height, 1};
-    image_info.mipLevels = 1;
-    image_info.arrayLayers = 1;
-    image_info.samples = VK_SAMPLE_COUNT_1_BIT;
-    image_info.tiling = VK_IMAGE_TILING_OPTIMAL;
-    image_info.usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
-    VkImage image = VK_NULL_HANDLE;
-    EXPECT_EQ(vkCreateImage(vk_->device, &image_info, nullptr, &image), VK_SUCCESS);
-    VkMemoryRequirements req;
-    vkGetImageMemoryRequirements(vk_->device, image, &req);
-    VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
-    alloc.allocationSize = req.size;
-    alloc.memoryTypeIndex = vk_->find_memory_type(req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
-    VkDeviceMemory memory = VK_NULL_HANDLE;
-    EXPECT_EQ(vkAllocateMemory(vk_->device, &alloc, nullptr, &memory), VK_SUCCESS);
-    vkBindImageMemory(vk_->device, image, memory, 0);
-    VkImageViewCreateInfo view_info{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
-    view_info.image = image;
-    view_info.viewType = VK_IMAGE_VIEW_TYPE_2D;
-    view_info.format = format;
-    view_info.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
-    VkImageView view = VK_NULL_HANDLE;
-    EXPECT_EQ(vkCreateImageView(vk_->device, &view_info, nullptr, &view), VK_SUCCESS);
+    auto target = samples::create_device_image(
+        *vk_, format, width, height, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
+    EXPECT_TRUE(target);
+    VkImage image = (*target)->image;
+    VkImageView view = (*target)->view;
     auto readback =
         create_host_buffer(*vk_, VkDeviceSize(width) * height * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT);
     EXPECT_TRUE(readback);
@@ -50,15 +29,7 @@ class SliceTest : public VulkanTest {
     auto barrier = [&](VkCommandBuffer cmd, VkImageLayout from, VkImageLayout to, VkAccessFlags src_access,
                        VkAccessFlags dst_access, VkPipelineStageFlags src_stage,
                        VkPipelineStageFlags dst_stage) {
-      VkImageMemoryBarrier b{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
-      b.srcAccessMask = src_access;
-      b.dstAccessMask = dst_access;
-      b.oldLayout = from;
-      b.newLayout = to;
-      b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-      b.image = image;
-      b.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
-      vkCmdPipelineBarrier(cmd, src_stage, dst_stage, 0, 0, nullptr, 0, nullptr, 1, &b);
+      samples::image_barrier(cmd, image, from, to, src_access, dst_access, src_stage, dst_stage);
     };
     auto submitted = vk_->submit_and_wait([&](VkCommandBuffer cmd) {
       barrier(cmd, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, 0,
@@ -93,9 +64,6 @@ class SliceTest : public VulkanTest {
     EXPECT_TRUE(submitted);
     const auto* bytes = static_cast<const uint8_t*>((*readback)->mapped);
     std::vector<uint8_t> pixels(bytes, bytes + size_t(width) * height * 4);
-    vkDestroyImageView(vk_->device, view, nullptr);
-    vkDestroyImage(vk_->device, image, nullptr);
-    vkFreeMemory(vk_->device, memory, nullptr);
     return pixels;
   }
 

@@ -10,14 +10,6 @@
 namespace statepack::testing {
 namespace {
 
-std::vector<std::string> corpus_paths() {
-  std::vector<std::string> out;
-  std::istringstream list(STATEPACK_CORPUS_ARCHIVES);
-  for (std::string path; std::getline(list, path, '|');)
-    if (!path.empty()) out.push_back(path);
-  return out;
-}
-
 // Re-encodes a modified copy of an archive's contents into aligned memory.
 struct ForgedArchive {
   std::vector<uint32_t> words;
@@ -37,7 +29,7 @@ TEST_F(Unpack, EverythingOnSeveralThreadsMatchesOneByOne) {
   auto dearchiver = Dearchiver::create({vk_->physical_device, vk_->device});
   ASSERT_TRUE(dearchiver);
   std::set<std::string> expected;
-  for (const auto& path : corpus_paths()) {
+  for (const auto& path : corpus_archives()) {
     auto archive = Archive::from_file(path);
     ASSERT_TRUE(archive) << archive.error().message;
     for (const auto& o : archive->objects())

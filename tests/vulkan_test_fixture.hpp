@@ -5,11 +5,23 @@
 #include <gtest/gtest.h>
 
 #include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
 
 #include "statepack/dearchiver.hpp"
 #include "vulkan_context.hpp"
 
 namespace statepack::testing {
+
+// The archives built from tests/corpus/valid (their paths come from CMake, '|'-separated).
+inline std::vector<std::string> corpus_archives() {
+  std::vector<std::string> out;
+  std::istringstream list(STATEPACK_CORPUS_ARCHIVES);
+  for (std::string path; std::getline(list, path, '|');)
+    if (!path.empty()) out.push_back(path);
+  return out;
+}
 
 class VulkanTest : public ::testing::Test {
  protected:

@@ -226,6 +226,58 @@ Result<std::unique_ptr<HostBuffer>> create_host_buffer(VulkanContext& vk, VkDevi
   return out;
 }
 
+DeviceImage::~DeviceImage() {
+  if (view) vkDestroyImageView(device, view, nullptr);
+  if (image) vkDestroyImage(device, image, nullptr);
+  if (memory) vkFreeMemory(device, memory, nullptr);
+}
+
+Result<std::unique_ptr<DeviceImage>> create_device_image(VulkanContext& vk, VkFormat format, uint32_t width,
+                                                         uint32_t height, VkImageUsageFlags usage) {
+  auto out = std::make_unique<DeviceImage>();
+  out->device = vk.device;
+  VkImageCreateInfo info{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
+  info.imageType = VK_IMAGE_TYPE_2D;
+  info.format = format;
+  info.extent = {width, height, 1};
+  info.mipLevels = info.arrayLayers = 1;
+  info.samples = VK_SAMPLE_COUNT_1_BIT;
+  info.tiling = VK_IMAGE_TILING_OPTIMAL;
+  info.usage = usage;
+  if (VkResult r = vkCreateImage(vk.device, &info, nullptr, &out->image); r != VK_SUCCESS)
+    return vk_error("vkCreateImage", r);
+  VkMemoryRequirements req;
+  vkGetImageMemoryRequirements(vk.device, out->image, &req);
+  VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+  alloc.allocationSize = req.size;
+  alloc.memoryTypeIndex = vk.find_memory_type(req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+  if (VkResult r = vkAllocateMemory(vk.device, &alloc, nullptr, &out->memory); r != VK_SUCCESS)
+    return vk_error("vkAllocateMemory", r);
+  vkBindImageMemory(vk.device, out->image, out->memory, 0);
+  VkImageViewCreateInfo view{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+  view.image = out->image;
+  view.viewType = VK_IMAGE_VIEW_TYPE_2D;
+  view.format = format;
+  view.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+  if (VkResult r = vkCreateImageView(vk.device, &view, nullptr, &out->view); r != VK_SUCCESS)
+    return vk_error("vkCreateImageView", r);
+  return out;
+}
+
+void image_barrier(VkCommandBuffer cmd, VkImage image, VkImageLayout from, VkImageLayout to,
+                   VkAccessFlags src_access, VkAccessFlags dst_access, VkPipelineStageFlags src_stage,
+                   VkPipelineStageFlags dst_stage) {
+  VkImageMemoryBarrier b{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
+  b.srcAccessMask = src_access;
+  b.dstAccessMask = dst_access;
+  b.oldLayout = from;
+  b.newLayout = to;
+  b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+  b.image = image;
+  b.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+  vkCmdPipelineBarrier(cmd, src_stage, dst_stage, 0, 0, nullptr, 0, nullptr, 1, &b);
+}
+
 StorageBufferSet::~StorageBufferSet() {
   if (pool) vkDestroyDescriptorPool(device, pool, nullptr);  // frees the set too
 }

@@ -72,6 +72,22 @@ struct HostBuffer {
 Result<std::unique_ptr<HostBuffer>> create_host_buffer(VulkanContext& vk, VkDeviceSize size,
                                                        VkBufferUsageFlags usage);
 
+// A device-local 2D image with a view and its memory, freed on destruction.
+struct DeviceImage {
+  VkDevice device = VK_NULL_HANDLE;
+  VkImage image = VK_NULL_HANDLE;
+  VkImageView view = VK_NULL_HANDLE;
+  VkDeviceMemory memory = VK_NULL_HANDLE;
+  ~DeviceImage();
+};
+Result<std::unique_ptr<DeviceImage>> create_device_image(VulkanContext& vk, VkFormat format, uint32_t width,
+                                                         uint32_t height, VkImageUsageFlags usage);
+
+// One image layout transition with its memory dependency (whole color image).
+void image_barrier(VkCommandBuffer cmd, VkImage image, VkImageLayout from, VkImageLayout to,
+                   VkAccessFlags src_access, VkAccessFlags dst_access, VkPipelineStageFlags src_stage,
+                   VkPipelineStageFlags dst_stage);
+
 // A descriptor pool with one set that binds one storage buffer; both freed on destruction.
 struct StorageBufferSet {
   VkDevice device = VK_NULL_HANDLE;

@@ -58,30 +58,10 @@ int run_headless(const Options& o) {
     (*renderer)->set_settings(o.settings);
 
     // The resolve pass draws into an offscreen image of the format the pipeline was patched to.
-    VkImageCreateInfo info{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
-    info.imageType = VK_IMAGE_TYPE_2D;
-    info.format = kTargetFormat;
-    info.extent = {o.width, o.height, 1};
-    info.mipLevels = info.arrayLayers = 1;
-    info.samples = VK_SAMPLE_COUNT_1_BIT;
-    info.usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
-    VkImage target = VK_NULL_HANDLE;
-    vkCreateImage((*vk)->device, &info, nullptr, &target);
-    VkMemoryRequirements req;
-    vkGetImageMemoryRequirements((*vk)->device, target, &req);
-    VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
-    alloc.allocationSize = req.size;
-    alloc.memoryTypeIndex = (*vk)->find_memory_type(req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
-    VkDeviceMemory memory = VK_NULL_HANDLE;
-    vkAllocateMemory((*vk)->device, &alloc, nullptr, &memory);
-    vkBindImageMemory((*vk)->device, target, memory, 0);
-    VkImageViewCreateInfo view_info{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
-    view_info.image = target;
-    view_info.viewType = VK_IMAGE_VIEW_TYPE_2D;
-    view_info.format = kTargetFormat;
-    view_info.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
-    VkImageView view = VK_NULL_HANDLE;
-    vkCreateImageView((*vk)->device, &view_info, nullptr, &view);
+    auto target =
+        samples::create_device_image(**vk, kTargetFormat, o.width, o.height,
+                                     VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
+    if (!target) return std::fprintf(stderr, "path_tracer: %s\n", target.error().message.c_str()), 1;
 
     auto start = std::chrono::steady_clock::now();
     RenderSettings settings = o.settings;
@@ -90,7 +70,7 @@ int run_headless(const Options& o) {
           std::min(o.settings.samples_per_frame, o.spp - (*renderer)->samples_done());
       (*renderer)->set_settings(settings);
       auto done = (*vk)->submit_and_wait([&](VkCommandBuffer cmd) {
-        (*renderer)->record(cmd, target, view, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
+        (*renderer)->record(cmd, (*target)->image, (*target)->view, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
       });
       if (!done) {
         std::fprintf(stderr, "path_tracer: %s\n", done.error().message.c_str());
@@ -118,9 +98,6 @@ int run_headless(const Options& o) {
             1000.0 * seconds / o.spp, o.out.c_str());
       }
     }
-    vkDestroyImageView((*vk)->device, view, nullptr);
-    vkDestroyImage((*vk)->device, target, nullptr);
-    vkFreeMemory((*vk)->device, memory, nullptr);
   }
   (*vk)->destroy_device();
   if (report_validation(**vk) > 0) status = 1;

@@ -6,6 +6,8 @@
 namespace statepack::path_tracer {
 namespace {
 
+using samples::image_barrier;
+
 // std140 layout of `Constants` in shaders/path_tracer/scene.glsl.
 struct Constants {
   float camera_position[4], camera_right[4], camera_up[4], camera_forward[4];
@@ -17,20 +19,6 @@ static_assert(sizeof(Constants) == 112);
 
 Error vk_error(const char* call, VkResult r) {
   return Error{ErrorCode::vulkan_error, std::string(call) + " failed with VkResult " + std::to_string(r)};
-}
-
-void image_barrier(VkCommandBuffer cmd, VkImage image, VkImageLayout from, VkImageLayout to,
-                   VkAccessFlags src_access, VkAccessFlags dst_access, VkPipelineStageFlags src_stage,
-                   VkPipelineStageFlags dst_stage) {
-  VkImageMemoryBarrier b{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER};
-  b.srcAccessMask = src_access;
-  b.dstAccessMask = dst_access;
-  b.oldLayout = from;
-  b.newLayout = to;
-  b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-  b.image = image;
-  b.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
-  vkCmdPipelineBarrier(cmd, src_stage, dst_stage, 0, 0, nullptr, 0, nullptr, 1, &b);
 }
 
 }  // namespace
@@ -86,36 +74,6 @@ Renderer::~Renderer() {
   if (pool_) vkDestroyDescriptorPool(vk_.device, pool_, nullptr);
 }
 
-Result<Renderer::Image> Renderer::create_image(VkFormat format, VkImageUsageFlags usage) {
-  Image out;
-  VkImageCreateInfo info{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
-  info.imageType = VK_IMAGE_TYPE_2D;
-  info.format = format;
-  info.extent = {width_, height_, 1};
-  info.mipLevels = info.arrayLayers = 1;
-  info.samples = VK_SAMPLE_COUNT_1_BIT;
-  info.tiling = VK_IMAGE_TILING_OPTIMAL;
-  info.usage = usage;
-  if (VkResult r = vkCreateImage(vk_.device, &info, nullptr, &out.image); r != VK_SUCCESS)
-    return vk_error("vkCreateImage", r);
-  VkMemoryRequirements req;
-  vkGetImageMemoryRequirements(vk_.device, out.image, &req);
-  VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
-  alloc.allocationSize = req.size;
-  alloc.memoryTypeIndex = vk_.find_memory_type(req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
-  if (VkResult r = vkAllocateMemory(vk_.device, &alloc, nullptr, &out.memory); r != VK_SUCCESS)
-    return vk_error("vkAllocateMemory", r);
-  vkBindImageMemory(vk_.device, out.image, out.memory, 0);
-  VkImageViewCreateInfo view{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
-  view.image = out.image;
-  view.viewType = VK_IMAGE_VIEW_TYPE_2D;
-  view.format = format;
-  view.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
-  if (VkResult r = vkCreateImageView(vk_.device, &view, nullptr, &out.view); r != VK_SUCCESS)
-    return vk_error("vkCreateImageView", r);
-  return out;
-}
-
 Result<void> Renderer::create_images() {
   const VkImageUsageFlags gbuffer_usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_STORAGE_BIT;
   struct Wanted {
@@ -129,14 +87,14 @@ Result<void> Renderer::create_images() {
                                       Wanted{&depth_, VK_FORMAT_R32_SFLOAT, gbuffer_usage},
                                       Wanted{&accumulation_, VK_FORMAT_R32G32B32A32_SFLOAT,
                                              VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT}}) {
-    auto created = create_image(format, usage);
+    auto created = samples::create_device_image(vk_, format, width_, height_, usage);
     if (!created) return created.error();
-    *image = *created;
+    *image = std::move(created.value());
   }
   // The accumulation image lives in GENERAL; the G-buffer is moved there after each render.
   auto done = vk_.submit_and_wait([&](VkCommandBuffer cmd) {
     for (Image* image : {&albedo_, &normal_, &emittance_, &depth_, &accumulation_})
-      image_barrier(cmd, image->image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, 0,
+      image_barrier(cmd, (*image)->image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL, 0,
                     VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT,
                     VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT);
   });
@@ -147,12 +105,7 @@ Result<void> Renderer::create_images() {
 }
 
 void Renderer::destroy_images() {
-  for (Image* image : {&albedo_, &normal_, &emittance_, &depth_, &accumulation_}) {
-    if (image->view) vkDestroyImageView(vk_.device, image->view, nullptr);
-    if (image->image) vkDestroyImage(vk_.device, image->image, nullptr);
-    if (image->memory) vkFreeMemory(vk_.device, image->memory, nullptr);
-    *image = {};
-  }
+  for (Image* image : {&albedo_, &normal_, &emittance_, &depth_, &accumulation_}) image->reset();
 }
 
 Result<void> Renderer::resize(uint32_t width, uint32_t height) {
@@ -193,12 +146,12 @@ void Renderer::write_descriptors() {
     bind(set, pso, "Constants", constants_->buffer, VK_NULL_HANDLE);
     bind(set, pso, "Scene", scene_buffer, VK_NULL_HANDLE);
   }
-  bind(trace_set_, trace_, "g_albedo", VK_NULL_HANDLE, albedo_.view);
-  bind(trace_set_, trace_, "g_normal", VK_NULL_HANDLE, normal_.view);
-  bind(trace_set_, trace_, "g_emittance", VK_NULL_HANDLE, emittance_.view);
-  bind(trace_set_, trace_, "g_depth", VK_NULL_HANDLE, depth_.view);
-  bind(trace_set_, trace_, "accumulation", VK_NULL_HANDLE, accumulation_.view);
-  bind(resolve_set_, resolve_, "accumulation", VK_NULL_HANDLE, accumulation_.view);
+  bind(trace_set_, trace_, "g_albedo", VK_NULL_HANDLE, albedo_->view);
+  bind(trace_set_, trace_, "g_normal", VK_NULL_HANDLE, normal_->view);
+  bind(trace_set_, trace_, "g_emittance", VK_NULL_HANDLE, emittance_->view);
+  bind(trace_set_, trace_, "g_depth", VK_NULL_HANDLE, depth_->view);
+  bind(trace_set_, trace_, "accumulation", VK_NULL_HANDLE, accumulation_->view);
+  bind(resolve_set_, resolve_, "accumulation", VK_NULL_HANDLE, accumulation_->view);
   vkUpdateDescriptorSets(vk_.device, static_cast<uint32_t>(writes.size()), writes.data(), 0, nullptr);
 }
 
@@ -273,12 +226,12 @@ void Renderer::record(VkCommandBuffer cmd, VkImage target, VkImageView target_vi
     VkRenderingAttachmentInfo attachments[4];
     Image* targets[] = {&albedo_, &normal_, &emittance_, &depth_};
     for (int i = 0; i < 4; ++i) {
-      image_barrier(cmd, targets[i]->image, VK_IMAGE_LAYOUT_UNDEFINED,
+      image_barrier(cmd, (*targets[i])->image, VK_IMAGE_LAYOUT_UNDEFINED,
                     VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_ACCESS_SHADER_READ_BIT,
                     VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                     VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT);
       attachments[i] = {VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
-      attachments[i].imageView = targets[i]->view;
+      attachments[i].imageView = (*targets[i])->view;
       attachments[i].imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
       attachments[i].loadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;  // every pixel is written
       attachments[i].storeOp = VK_ATTACHMENT_STORE_OP_STORE;
@@ -297,14 +250,14 @@ void Renderer::record(VkCommandBuffer cmd, VkImage target, VkImageView target_vi
     vkCmdDraw(cmd, 3, 1, 0, 0);
     vkCmdEndRendering(cmd);
     for (Image* t : targets)
-      image_barrier(cmd, t->image, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_GENERAL,
+      image_barrier(cmd, (*t)->image, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_GENERAL,
                     VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT,
                     VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
     gbuffer_dirty_ = false;
   }
 
   // The previous batch and resolve are done with the accumulation image before this batch writes it.
-  image_barrier(cmd, accumulation_.image, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_GENERAL,
+  image_barrier(cmd, accumulation_->image, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_GENERAL,
                 VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT,
                 VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT,
                 VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT |
@@ -314,7 +267,7 @@ void Renderer::record(VkCommandBuffer cmd, VkImage target, VkImageView target_vi
   vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, trace_->layout, 0, 1, &trace_set_, 0, nullptr);
   vkCmdDispatch(cmd, (width_ + 7) / 8, (height_ + 7) / 8, 1);
   samples_done_ += s.samples_per_frame;
-  image_barrier(cmd, accumulation_.image, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_GENERAL,
+  image_barrier(cmd, accumulation_->image, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_GENERAL,
                 VK_ACCESS_SHADER_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT,
                 VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                 VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT);
@@ -353,15 +306,15 @@ Result<std::vector<float>> Renderer::read_accumulation() {
   auto readback = samples::create_host_buffer(vk_, size, VK_BUFFER_USAGE_TRANSFER_DST_BIT);
   if (!readback) return readback.error();
   auto done = vk_.submit_and_wait([&](VkCommandBuffer cmd) {
-    image_barrier(cmd, accumulation_.image, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+    image_barrier(cmd, accumulation_->image, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
                   VK_ACCESS_SHADER_WRITE_BIT, VK_ACCESS_TRANSFER_READ_BIT,
                   VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT);
     VkBufferImageCopy copy{};
     copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
     copy.imageExtent = {width_, height_, 1};
-    vkCmdCopyImageToBuffer(cmd, accumulation_.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+    vkCmdCopyImageToBuffer(cmd, accumulation_->image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
                            (*readback)->buffer, 1, &copy);
-    image_barrier(cmd, accumulation_.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_IMAGE_LAYOUT_GENERAL,
+    image_barrier(cmd, accumulation_->image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_IMAGE_LAYOUT_GENERAL,
                   VK_ACCESS_TRANSFER_READ_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT,
                   VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
   });

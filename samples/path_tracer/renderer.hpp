@@ -50,15 +50,10 @@ class Renderer {
   Result<std::vector<float>> read_accumulation();
 
  private:
-  struct Image {
-    VkImage image = VK_NULL_HANDLE;
-    VkImageView view = VK_NULL_HANDLE;
-    VkDeviceMemory memory = VK_NULL_HANDLE;
-  };
+  using Image = std::unique_ptr<samples::DeviceImage>;
   Renderer(samples::VulkanContext& vk) : vk_(vk) {}
   Result<void> create_images();
   void destroy_images();
-  Result<Image> create_image(VkFormat format, VkImageUsageFlags usage);
   void write_descriptors();
   void upload_scene();
   void restart() { samples_done_ = 0, gbuffer_dirty_ = true; }
