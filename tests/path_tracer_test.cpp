@@ -154,6 +154,28 @@ TEST(PathTracer, WindowUnderXvfbShowsTheRoom) {
   EXPECT_NEAR(back[0], back[2], 0.2 * back[0] + 4) << "the back wall is not grey";
 }
 
+TEST(PathTracer, WritesPngAndExr) {
+  for (const char* name : {"out.png", "out.exr"}) {
+    fs::path out = fs::path(STATEPACK_TEST_OUTPUT_DIR) / name;
+    fs::remove(out);
+    std::string output;
+    ASSERT_EQ(run("--width 32 --height 24 --spp 2 --out '" + out.string() + "'", output), 0) << output;
+    std::ifstream file(out, std::ios::binary);
+    unsigned char magic[4] = {};
+    file.read(reinterpret_cast<char*>(magic), 4);
+    if (out.extension() == ".png") {
+      EXPECT_EQ(magic[1], 'P');
+      EXPECT_EQ(magic[2], 'N');
+    } else {
+      EXPECT_EQ(magic[0], 0x76);  // OpenEXR magic 76 2f 31 01
+      EXPECT_EQ(magic[3], 0x01);
+    }
+  }
+  std::string output;
+  EXPECT_NE(run("--width 32 --height 24 --spp 1 --out x.bmp", output), 0);
+  EXPECT_NE(output.find("use .png, .exr or .pfm"), std::string::npos) << output;
+}
+
 TEST(PathTracer, BadSceneIsAClearError) {
   fs::path scene = fs::path(STATEPACK_TEST_OUTPUT_DIR) / "bad_scene.json";
   fs::create_directories(scene.parent_path());

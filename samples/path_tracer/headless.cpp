@@ -4,6 +4,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 
 #include "app.hpp"
 #include "image_io.hpp"
@@ -41,6 +42,12 @@ void progress(uint32_t done, uint32_t total, double seconds) {
 }  // namespace
 
 int run_headless(const Options& o) {
+  // Refuse an unknown output type before spending the render on it.
+  const std::string ext = std::filesystem::path(o.out).extension().string();
+  if (ext != ".png" && ext != ".exr" && ext != ".pfm")
+    return std::fprintf(stderr, "path_tracer: %s: unknown image type '%s' (use .png, .exr or .pfm)\n",
+                        o.out.c_str(), ext.c_str()),
+           2;
   auto scene = load_scene(o.scene);
   if (!scene) return std::fprintf(stderr, "path_tracer: %s\n", scene.error().message.c_str()), 1;
   samples::VulkanContextOptions vk_options;
