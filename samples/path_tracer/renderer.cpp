@@ -1,5 +1,6 @@
 #include "renderer.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
@@ -164,6 +165,9 @@ void Renderer::set_scene(const Scene& scene) {
 void Renderer::upload_scene() {
   std::vector<GpuBox> boxes = gpu_boxes(scene_, light_index_);
   box_count_ = static_cast<uint32_t>(boxes.size());
+  other_emitters_ = std::any_of(scene_.boxes.begin(), scene_.boxes.end(), [](const SceneBox& b) {
+    return b.emittance[0] > 0 || b.emittance[1] > 0 || b.emittance[2] > 0;
+  });
   const VkDeviceSize size = boxes.size() * sizeof(GpuBox);
   if (!boxes_ || boxes_->size < size) {
     vkDeviceWaitIdle(vk_.device);
@@ -215,7 +219,8 @@ void Renderer::record(VkCommandBuffer cmd, VkImage target, VkImageView target_vi
   c.frame[0] = samples_done_;
   c.frame[1] = s.samples_per_frame;
   c.frame[2] = s.bounces;
-  c.frame[3] = (s.next_event_estimation ? 1u : 0u) | (s.last_bounce_only ? 2u : 0u);
+  c.frame[3] =
+      (s.next_event_estimation ? 1u : 0u) | (s.last_bounce_only ? 2u : 0u) | (other_emitters_ ? 4u : 0u);
   c.image[0] = width_, c.image[1] = height_, c.image[2] = s.seed, c.image[3] = box_count_;
   c.light[0] = light_index_;
   std::memcpy(constants_->mapped, &c, sizeof c);

@@ -66,6 +66,7 @@ class Renderer {
   uint32_t width_ = 0, height_ = 0;
   Scene scene_;
   uint32_t light_index_ = 0, box_count_ = 0;
+  bool other_emitters_ = false;
   RenderSettings settings_;
   std::unique_ptr<samples::HostBuffer> constants_, boxes_;
   Image albedo_, normal_, emittance_, depth_, accumulation_;

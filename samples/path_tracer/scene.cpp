@@ -84,7 +84,7 @@ Result<Scene> load_scene(const std::filesystem::path& path) {
         r.fail(p, "a box must be an object");
         continue;
       }
-      r.keys(b, p, {"name", "center", "half_size", "albedo", "rotation_degrees"});
+      r.keys(b, p, {"name", "center", "half_size", "albedo", "emittance", "rotation_degrees"});
       SceneBox box;
       if (b.contains("name") && b["name"].is_string()) box.name = b["name"];
       if (!b.contains("center") || !b.contains("half_size"))
@@ -93,6 +93,9 @@ Result<Scene> load_scene(const std::filesystem::path& path) {
       r.vec3(b, "half_size", p, box.half_size, true);
       r.vec3(b, "albedo", p, box.albedo);
       r.albedo(p, box.albedo);
+      r.vec3(b, "emittance", p, box.emittance);
+      for (float e : box.emittance)
+        if (e < 0) r.fail(p + "/emittance", "emittance must not be negative");
       r.number(b, "rotation_degrees", p, box.rotation_degrees);
       scene.boxes.push_back(box);
     }
@@ -129,8 +132,11 @@ std::vector<GpuBox> gpu_boxes(const Scene& scene, uint32_t& light_index) {
     b.rotation[1] = static_cast<float>(std::sin(radians));
     out.push_back(b);
   };
-  for (const auto& box : scene.boxes)
-    add(box.center, box.half_size, box.albedo, {0, 0, 0}, -1, box.rotation_degrees);
+  constexpr float kEveryFace = 6;
+  for (const auto& box : scene.boxes) {
+    const bool emits = box.emittance[0] > 0 || box.emittance[1] > 0 || box.emittance[2] > 0;
+    add(box.center, box.half_size, box.albedo, box.emittance, emits ? kEveryFace : -1, box.rotation_degrees);
+  }
   light_index = static_cast<uint32_t>(out.size());
   const Light& l = scene.light;
   constexpr float kBottomFace = 3;  // face index: axis y (1) * 2 + 1 (outward normal -y)

@@ -16,6 +16,7 @@ using Vec3 = std::array<float, 3>;
 struct SceneBox {
   std::string name;
   Vec3 center{}, half_size{1, 1, 1}, albedo{0.5f, 0.5f, 0.5f};
+  Vec3 emittance{};  // radiance leaving every face (found by bounces; only the light is sampled)
   float rotation_degrees = 0;
 };
 

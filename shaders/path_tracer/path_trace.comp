@@ -80,7 +80,8 @@ void main() {
         vec3 n = box_normal(box, face);
         vec3 rho = scene.boxes[box].albedo.rgb;
         if (nee) radiance += throughput * rho / PI * sample_light(x, n, box, u.xy);
-        if (nee && j + 1u == bounces) break;
+        // The light is sampled B times; other emitters are found by bounces, so they need the last one.
+        if (nee && j + 1u == bounces && (flags & FLAG_OTHER_EMITTERS) == 0u) break;
         vec3 dir = cosine_direction(n, u.zw);
         throughput *= rho;  // (rho / pi) * cos / (cos / pi)
         Hit hit = trace(x, dir, box);
@@ -88,7 +89,8 @@ void main() {
         x = surface_point(hit.box, hit.face, x + hit.t * dir);
         box = hit.box;
         face = hit.face;
-        if (!nee) radiance += throughput * emitted(box, face);
+        // Emission found by a bounce counts unless next-event estimation already sampled it (the light).
+        if (!nee || box != int(constants.light.x)) radiance += throughput * emitted(box, face);
       }
       batch_sum += radiance;
     }

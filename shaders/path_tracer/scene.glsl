@@ -9,7 +9,7 @@ struct Box {
   vec4 center;     // xyz
   vec4 half_size;  // xyz
   vec4 albedo;     // rgb
-  vec4 emittance;  // rgb radiance leaving the emitting face; w: emitting face (0..5) or -1 for none
+  vec4 emittance;  // rgb radiance; w: the one emitting face (0..5), 6 for every face, -1 for none
   vec4 rotation;   // x: cos, y: sin of the rotation about the box's own vertical axis
 };
 
@@ -27,6 +27,7 @@ layout(set = 0, binding = 1, std430) readonly buffer Scene { Box boxes[]; } scen
 
 const uint FLAG_NEE = 1u;
 const uint FLAG_LAST_BOUNCE_ONLY = 2u;
+const uint FLAG_OTHER_EMITTERS = 4u;  // boxes other than the light emit: bounces must find them
 
 // Face index: axis * 2 + (1 if the outward normal points along -axis).
 vec3 face_normal_local(int face) {
@@ -107,7 +108,8 @@ vec3 surface_point(int box, int face, vec3 p) {
 }
 
 vec3 emitted(int box, int face) {
-  return int(scene.boxes[box].emittance.w) == face ? scene.boxes[box].emittance.rgb : vec3(0.0);
+  int emitting = int(scene.boxes[box].emittance.w);
+  return (emitting == face || emitting == 6) ? scene.boxes[box].emittance.rgb : vec3(0.0);
 }
 
 // The primary ray through the centre of pixel (x, y), y down.
