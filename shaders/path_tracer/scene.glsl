@@ -3,6 +3,8 @@
 // is skipped instead; hit points are snapped onto the face plane; normals are exact unit axis vectors
 // (rotated back for rotated boxes) with a fixed tie order; shadow rays are bounded segments.
 
+#include "random.glsl"
+
 const float PI = 3.14159265358979;
 
 struct Box {
@@ -118,14 +120,3 @@ vec3 primary_direction(vec2 pixel_centre) {
   return normalize(constants.camera_forward.xyz + ndc.x * constants.camera_right.xyz -
                    ndc.y * constants.camera_up.xyz);
 }
-
-// pcg4d (Jarzynski and Olano 2020): four independent 32-bit words per call.
-uvec4 pcg4d(uvec4 v) {
-  v = v * 1664525u + 1013904223u;
-  v.x += v.y * v.w; v.y += v.z * v.x; v.z += v.x * v.y; v.w += v.y * v.z;
-  v ^= v >> 16u;
-  v.x += v.y * v.w; v.y += v.z * v.x; v.z += v.x * v.y; v.w += v.y * v.z;
-  return v;
-}
-// [0, 1): the top 24 bits, exactly representable.
-vec4 to_unit(uvec4 w) { return vec4(w >> 8u) * (1.0 / 16777216.0); }

@@ -1,0 +1,19 @@
+#version 450
+// Writes pcg4d(x, y, sample, dimension) for a grid, so tests can compare the GPU's bits with the CPU's.
+#extension GL_GOOGLE_include_directive : require
+#include "path_tracer/random.glsl"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+layout(set = 0, binding = 0, std430) writeonly buffer Words { uvec4 words[]; };
+layout(push_constant) uniform Params {
+  uint width;
+  uint height;
+  uint sample_index;
+  uint dimension;
+} params;
+
+void main() {
+  uvec2 p = gl_GlobalInvocationID.xy;
+  if (p.x >= params.width || p.y >= params.height) return;
+  words[p.y * params.width + p.x] = pcg4d(uvec4(p.x, p.y, params.sample_index, params.dimension));
+}
