@@ -30,6 +30,20 @@ size_t report_validation(const samples::VulkanContext& vk) {
 
 namespace {
 
+const char* estimator_name(Estimator e) {
+  switch (e) {
+    case Estimator::nee:
+      return "NEE";
+    case Estimator::bsdf:
+      return "BSDF sampling";
+    case Estimator::mis:
+      return "MIS";
+    case Estimator::baseline:
+      return "tutorial baseline";
+  }
+  return "?";
+}
+
 void progress(uint32_t done, uint32_t total, double seconds) {
   if (!isatty(fileno(stderr))) return;
   constexpr int kWidth = 30;
@@ -100,9 +114,8 @@ int run_headless(const Options& o) {
       } else {
         std::printf(
             "path_tracer: %ux%u, %u spp, %u bounces, %s, seed %u: %.2f s (%.1f ms per sample) -> %s\n",
-            o.width, o.height, o.spp, o.settings.bounces,
-            o.settings.next_event_estimation ? "NEE" : "BSDF sampling", o.settings.seed, seconds,
-            1000.0 * seconds / o.spp, o.out.c_str());
+            o.width, o.height, o.spp, o.settings.bounces, estimator_name(o.settings.estimator),
+            o.settings.seed, seconds, 1000.0 * seconds / o.spp, o.out.c_str());
       }
     }
   }

@@ -38,7 +38,13 @@ int main(int argc, char** argv) {
   app.add_option("--exposure", o.settings.exposure, "Scale applied before tone mapping (PNG and window)")
       ->capture_default_str();
   bool no_nee = false;
-  app.add_flag("--no-nee", no_nee, "Pure BSDF sampling instead of next-event estimation");
+  std::string estimator = "nee";
+  app.add_option("--estimator", estimator,
+                 "nee (next-event estimation), bsdf (pure BSDF sampling), mis (both, power heuristic) or "
+                 "baseline (the tutorial's estimator)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"nee", "bsdf", "mis", "baseline"}));
+  app.add_flag("--no-nee", no_nee, "Same as --estimator bsdf");
   app.add_flag("--last-bounce-only", o.settings.last_bounce_only, "Show only the light of the last bounce");
   app.add_option("--out", o.out, "Output image: .png (tone-mapped sRGB), .exr or .pfm (linear radiance)")
       ->capture_default_str();
@@ -49,7 +55,12 @@ int main(int argc, char** argv) {
       "!--no-validation", o.validation,
       "Run without the Vulkan validation layer (by default it is on, and any message fails the run)");
   CLI11_PARSE(app, argc, argv);
-  o.settings.next_event_estimation = !no_nee;
+  if (no_nee) estimator = "bsdf";
+  o.settings.estimator = estimator == "bsdf"       ? Estimator::bsdf
+                         : estimator == "mis"      ? Estimator::mis
+                         : estimator == "baseline" ? Estimator::baseline
+                                                   : Estimator::nee;
+  o.settings.next_event_estimation = o.settings.estimator != Estimator::bsdf;
   if (!o.headless && !std::getenv("DISPLAY") && !std::getenv("WAYLAND_DISPLAY")) o.headless = true;
   return o.headless ? run_headless(o) : run_windowed(o);
 }

@@ -34,12 +34,22 @@ Result<std::unique_ptr<Renderer>> Renderer::create(samples::VulkanContext& vk, D
   if (!gbuffer) return gbuffer.error();
   auto trace = dearchiver.unpack_compute("Path Trace PSO");
   if (!trace) return trace.error();
+  auto trace_mis = dearchiver.unpack_compute("Path Trace MIS PSO");
+  if (!trace_mis) return trace_mis.error();
+  auto trace_baseline = dearchiver.unpack_compute("Path Trace Baseline PSO");
+  if (!trace_baseline) return trace_baseline.error();
+  // The variants differ only in code: one descriptor set serves them all.
+  for (const UnpackedPipeline* variant : {*trace_mis, *trace_baseline})
+    if (variant->layout != (*trace)->layout)
+      return Error{ErrorCode::invalid_argument, "the path-tracing variants must share one pipeline layout"};
   // The resolve target's format is known only now (a swapchain's, or the offscreen image's).
   auto resolve = dearchiver.unpack_graphics("Resolve PSO",
                                             [&](PatchableState& s) { s.color_formats[0] = target_format; });
   if (!resolve) return resolve.error();
   r->gbuffer_ = *gbuffer;
   r->trace_ = *trace;
+  r->trace_mis_ = *trace_mis;
+  r->trace_baseline_ = *trace_baseline;
   r->resolve_ = *resolve;
 
   auto constants = samples::create_host_buffer(vk, sizeof(Constants), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
@@ -186,10 +196,10 @@ void Renderer::set_camera(const Camera& camera) {
 
 void Renderer::set_settings(const RenderSettings& settings) {
   // Exposure and batch size do not change what converges (the mean is weighted by batch size).
-  const bool same_estimate = settings.bounces == settings_.bounces &&
-                             settings.next_event_estimation == settings_.next_event_estimation &&
-                             settings.last_bounce_only == settings_.last_bounce_only &&
-                             settings.seed == settings_.seed;
+  const bool same_estimate =
+      settings.bounces == settings_.bounces && settings.estimator == settings_.estimator &&
+      settings.next_event_estimation == settings_.next_event_estimation &&
+      settings.last_bounce_only == settings_.last_bounce_only && settings.seed == settings_.seed;
   settings_ = settings;
   if (!same_estimate) samples_done_ = 0;  // the G-buffer does not depend on these
 }
@@ -268,7 +278,10 @@ void Renderer::record(VkCommandBuffer cmd, VkImage target, VkImageView target_vi
                 VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT |
                     VK_PIPELINE_STAGE_TRANSFER_BIT,
                 VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT);
-  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, trace_->pipeline);
+  const UnpackedPipeline* trace = s.estimator == Estimator::mis        ? trace_mis_
+                                  : s.estimator == Estimator::baseline ? trace_baseline_
+                                                                       : trace_;
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, trace->pipeline);
   vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, trace_->layout, 0, 1, &trace_set_, 0, nullptr);
   vkCmdDispatch(cmd, (width_ + 7) / 8, (height_ + 7) / 8, 1);
   samples_done_ += s.samples_per_frame;

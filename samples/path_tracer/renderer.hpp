@@ -12,10 +12,14 @@
 
 namespace statepack::path_tracer {
 
+// How light paths are estimated; each but `bsdf` is its own pipeline in the archive (Macros variants).
+enum class Estimator { nee, bsdf, mis, baseline };
+
 struct RenderSettings {
-  uint32_t bounces = 3;            // 1..8
-  uint32_t samples_per_frame = 8;  // 1..32
-  bool next_event_estimation = true;
+  uint32_t bounces = 3;               // 1..8
+  uint32_t samples_per_frame = 8;     // 1..32
+  bool next_event_estimation = true;  // with Estimator::nee: false means pure BSDF sampling
+  Estimator estimator = Estimator::nee;
   bool last_bounce_only = false;
   uint32_t seed = 1;
   float exposure = 1.0f;
@@ -60,7 +64,9 @@ class Renderer {
 
   samples::VulkanContext& vk_;
   const UnpackedPipeline* gbuffer_ = nullptr;
-  const UnpackedPipeline* trace_ = nullptr;
+  const UnpackedPipeline* trace_ = nullptr;  // next-event estimation (and BSDF sampling)
+  const UnpackedPipeline* trace_mis_ = nullptr;
+  const UnpackedPipeline* trace_baseline_ = nullptr;
   const UnpackedPipeline* resolve_ = nullptr;
   VkFormat target_format_ = VK_FORMAT_UNDEFINED;
   uint32_t width_ = 0, height_ = 0;

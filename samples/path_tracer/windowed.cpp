@@ -332,7 +332,10 @@ class Window {
     int bounces = int(s.bounces), spf = int(s.samples_per_frame);
     ImGui::SliderInt("Bounces", &bounces, 1, 8);
     ImGui::SliderInt("Samples per frame", &spf, 1, 32);
-    ImGui::Checkbox("Next-event estimation", &s.next_event_estimation);
+    int estimator = int(s.estimator);
+    ImGui::Combo("Estimator", &estimator, "Next-event estimation\0BSDF sampling\0MIS\0Tutorial baseline\0");
+    s.estimator = Estimator(estimator);
+    s.next_event_estimation = s.estimator != Estimator::bsdf;
     ImGui::Checkbox("Show only last bounce", &s.last_bounce_only);
     ImGui::SliderFloat("Exposure", &s.exposure, 0.1f, 8.0f);
     s.bounces = uint32_t(bounces), s.samples_per_frame = uint32_t(spf);

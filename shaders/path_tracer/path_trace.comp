@@ -27,6 +27,12 @@ vec3 cosine_direction(vec3 n, vec2 u) {
   return normalize(local.x * t + local.y * bt + local.z * n);
 }
 
+// Solid-angle densities of reaching the light along a direction: by sampling the light and by cosine
+// sampling at a surface with that cosine.
+float light_pdf(float distance2, float cos_light, float area) { return distance2 / (cos_light * area); }
+float bsdf_pdf(float cos_x) { return cos_x / PI; }
+float power_heuristic(float a, float b) { return a * a / (a * a + b * b); }
+
 // Radiance from the light reaching x (normal n) along one sampled point of the emitting face.
 vec3 sample_light(vec3 x, vec3 n, int source_box, vec2 u) {
   int light = int(constants.light.x);
@@ -48,9 +54,28 @@ vec3 sample_light(vec3 x, vec3 n, int source_box, vec2 u) {
   vec3 l = to_light / d;
   float cos_x = dot(n, l), cos_light = -dot(light_normal, l);
   if (cos_x <= 0.0 || cos_light <= 0.0) return vec3(0.0);
+#if ESTIMATOR == ESTIMATOR_BASELINE
+  if (!visible(x, l, d, -1, light)) return vec3(0.0);
+#else
   if (!visible(x, l, d, source_box, light)) return vec3(0.0);
+#endif
   // Le * cos_x * cos_light * A / d^2; the albedo/pi of the surface is applied by the caller.
-  return box.emittance.rgb * (cos_x * cos_light * area / d2);
+  vec3 contribution = box.emittance.rgb * (cos_x * cos_light * area / d2);
+#if ESTIMATOR == ESTIMATOR_MIS
+  contribution *= power_heuristic(light_pdf(d2, cos_light, area), bsdf_pdf(cos_x));
+#endif
+  return contribution;
+}
+
+// MIS weight of a bounce from x (normal n) that reached the light's emitting face after t along dir.
+float bsdf_hit_weight(vec3 n, vec3 dir, float t) {
+  int light = int(constants.light.x);
+  Box box = scene.boxes[light];
+  int face = int(box.emittance.w), axis = face / 2;
+  float area = 4.0 * box.half_size[(axis + 1) % 3] * box.half_size[(axis + 2) % 3];
+  float cos_light = -dot(box_normal(light, face), dir);
+  if (cos_light <= 0.0) return 0.0;
+  return power_heuristic(bsdf_pdf(dot(n, dir)), light_pdf(t * t, cos_light, area));
 }
 
 void main() {
@@ -70,27 +95,41 @@ void main() {
       uint sample_index = constants.frame.x + s;
       vec3 x = start, throughput = vec3(1.0), radiance = vec3(0.0);
       int box = box0, face = face0;
-      bool nee = (flags & FLAG_NEE) != 0u;
+      bool nee = (flags & FLAG_NEE) != 0u || ESTIMATOR == ESTIMATOR_MIS;
       bool last_only = (flags & FLAG_LAST_BOUNCE_ONLY) != 0u;
       radiance += emittance0;  // light seen directly (the "zeroth" bounce)
       // NEE: B light samples; without NEE: B bounces, adding emission where a bounce lands.
       for (uint j = 0u; j < bounces; ++j) {
         if (last_only) radiance = vec3(0.0);
         vec4 u = to_unit(pcg4d(uvec4(uint(pixel.x), uint(pixel.y), sample_index, constants.image.z + j * 0x9E3779B9u)));
+#if ESTIMATOR == ESTIMATOR_BASELINE
+        u.zw = u.xy;  // the tutorial drives the light sample and the bounce with one random pair
+#endif
         vec3 n = box_normal(box, face);
         vec3 rho = scene.boxes[box].albedo.rgb;
         if (nee) radiance += throughput * rho / PI * sample_light(x, n, box, u.xy);
-        // The light is sampled B times; other emitters are found by bounces, so they need the last one.
-        if (nee && j + 1u == bounces && (flags & FLAG_OTHER_EMITTERS) == 0u) break;
+        // The light is sampled B times; other emitters are found by bounces, so they need the last one
+        // (and MIS needs it to reach the light by the BSDF as well).
+        if (nee && j + 1u == bounces && (flags & FLAG_OTHER_EMITTERS) == 0u && ESTIMATOR != ESTIMATOR_MIS) break;
         vec3 dir = cosine_direction(n, u.zw);
         throughput *= rho;  // (rho / pi) * cos / (cos / pi)
+#if ESTIMATOR == ESTIMATOR_BASELINE
+        Hit hit = trace(x, dir, -1);
+#else
         Hit hit = trace(x, dir, box);
+#endif
         if (hit.box < 0) break;
+        vec3 bounce_normal = n;
         x = surface_point(hit.box, hit.face, x + hit.t * dir);
         box = hit.box;
         face = hit.face;
-        // Emission found by a bounce counts unless next-event estimation already sampled it (the light).
-        if (!nee || box != int(constants.light.x)) radiance += throughput * emitted(box, face);
+        // Emission found by a bounce counts unless next-event estimation already sampled it (the
+        // light); with MIS the light's share is weighted against its light sample.
+        bool light_hit = box == int(constants.light.x);
+#if ESTIMATOR == ESTIMATOR_MIS
+        if (light_hit) radiance += throughput * emitted(box, face) * bsdf_hit_weight(bounce_normal, dir, hit.t);
+#endif
+        if (!nee || !light_hit) radiance += throughput * emitted(box, face);
       }
       batch_sum += radiance;
     }

@@ -5,6 +5,15 @@
 
 #include "random.glsl"
 
+// ESTIMATOR (a macro set by the notation): 0 next-event estimation (or pure BSDF sampling, a run-time
+// flag), 1 multiple importance sampling of both (power heuristic), 2 the tutorial's estimator as a
+// baseline (shared random pair per bounce, global epsilon, no source-box exclusion or snapping).
+#ifndef ESTIMATOR
+#define ESTIMATOR 0
+#endif
+#define ESTIMATOR_MIS 1
+#define ESTIMATOR_BASELINE 2
+
 const float PI = 3.14159265358979;
 
 struct Box {
@@ -67,6 +76,16 @@ bool intersect_box(int i, vec3 origin, vec3 dir, float t_max, out float t, out i
   if (near.y > t_near) { axis = 1; t_near = near.y; }
   if (near.z > t_near) { axis = 2; t_near = near.z; }
   float t_far = min(far.x, min(far.y, far.z));
+#if ESTIMATOR == ESTIMATOR_BASELINE
+  // The tutorial: a hit closer than 0.05 is ignored and the exit point used instead.
+  const float EPSILON = 5e-2;
+  if (t_near >= t_far) return false;
+  float chosen = t_near > EPSILON ? t_near : t_far;
+  if (chosen < EPSILON || t_near > t_max) return false;
+  t = chosen;
+  face = axis * 2 + (inv[axis] > 0.0 ? 1 : 0);
+  return true;
+#endif
   if (!(t_near > 0.0 && t_near < t_far && t_near < t_max)) return false;
   t = t_near;
   face = axis * 2 + (inv[axis] > 0.0 ? 1 : 0);  // entering along +axis means the face looks along -axis
@@ -103,6 +122,9 @@ bool visible(vec3 from, vec3 dir, float distance, int skip_a, int skip_b) {
 // The hit point placed exactly on the face plane (in the box frame), so the next ray starts on the
 // surface, neither inside nor in front of it.
 vec3 surface_point(int box, int face, vec3 p) {
+#if ESTIMATOR == ESTIMATOR_BASELINE
+  return p;  // the tutorial starts the next ray at the computed hit point
+#endif
   vec3 local = to_local(box, p - scene.boxes[box].center.xyz);
   int axis = face / 2;
   local[axis] = (face % 2 == 1) ? -scene.boxes[box].half_size[axis] : scene.boxes[box].half_size[axis];
