@@ -218,6 +218,48 @@ TEST(Accuracy, GpuMatchesTheCpuReferencePerPixel) {
       0.9975);
 }
 
+// The error of an unbiased estimator falls as 1/sqrt(samples): the RMSE against the CPU reference
+// (its own noise subtracted) has slope -1/2 on log-log axes, within 0.05.
+TEST(Accuracy, RmseFallsWithSlopeMinusOneHalf) {
+  using namespace statepack::path_tracer;
+  constexpr uint32_t kWidth = 32, kHeight = 24, kReferenceSpp = 16384;
+  auto scene = load_scene(STATEPACK_DEFAULT_SCENE);
+  ASSERT_TRUE(scene);
+  RenderSettings settings;
+  settings.bounces = 3;
+  settings.seed = 0x5EED;
+  ReferenceImage reference = render_reference(*scene, settings, kWidth, kHeight, kReferenceSpp);
+  double reference_noise = 0;
+  for (double v : reference.variance) reference_noise += v / kReferenceSpp;
+  reference_noise /= double(reference.variance.size());
+  std::vector<double> log_spp, log_rmse;
+  for (uint32_t spp : {4u, 16u, 64u, 256u}) {
+    double mse = 0;
+    for (int seed = 1; seed <= 2; ++seed) {
+      auto gpu = render("slope", "--width 32 --height 24 --bounces 3 --samples-per-frame 32 --seed " +
+                                     std::to_string(seed * 101) + " --spp " + std::to_string(spp));
+      double sum = 0;
+      for (uint32_t y = 0; y < kHeight; ++y)
+        for (uint32_t x = 0; x < kWidth; ++x)
+          for (int c = 0; c < 3; ++c) {
+            double d = gpu[(size_t(kHeight - 1 - y) * kWidth + x) * 3 + c] -
+                       reference.mean[(size_t(y) * kWidth + x) * 3 + c];
+            sum += d * d;
+          }
+      mse += (sum / (kWidth * kHeight * 3) - reference_noise) / 2;
+    }
+    log_spp.push_back(std::log(double(spp)));
+    log_rmse.push_back(0.5 * std::log(mse));
+  }
+  const double n = double(log_spp.size());
+  double sx = 0, sy = 0, sxx = 0, sxy = 0;
+  for (size_t i = 0; i < log_spp.size(); ++i)
+    sx += log_spp[i], sy += log_rmse[i], sxx += log_spp[i] * log_spp[i], sxy += log_spp[i] * log_rmse[i];
+  const double slope = (n * sxy - sx * sy) / (n * sxx - sx * sx);
+  std::printf("RMSE slope on log-log axes: %.3f\n", slope);
+  EXPECT_NEAR(slope, -0.5, 0.05);
+}
+
 // Hard cases of reference §6.3, each: finite everywhere and the right answer.
 
 // 1. The default camera sits in the plane of the tall box's top face (y = 1); odd sizes put the centre

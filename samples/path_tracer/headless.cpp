@@ -2,31 +2,14 @@
 // a file. Same seed, same image, bit for bit.
 #include <unistd.h>
 
-#include <chrono>
 #include <cstdio>
 #include <filesystem>
 
 #include "app.hpp"
 #include "image_io.hpp"
+#include "offline.hpp"
 
 namespace statepack::path_tracer {
-
-std::unique_ptr<Dearchiver> load_archive(samples::VulkanContext& vk, const std::string& path) {
-  auto archive = Archive::from_file(path);
-  if (!archive) {
-    std::fprintf(stderr, "path_tracer: %s\n", archive.error().message.c_str());
-    return nullptr;
-  }
-  auto dearchiver = Dearchiver::create({vk.physical_device, vk.device});
-  if (!dearchiver || !dearchiver->add_archive(std::move(*archive))) return nullptr;
-  return std::make_unique<Dearchiver>(std::move(dearchiver.value()));
-}
-
-size_t report_validation(const samples::VulkanContext& vk) {
-  auto messages = vk.validation_messages();
-  for (const auto& m : messages) std::fprintf(stderr, "path_tracer: %s\n", m.c_str());
-  return messages.size();
-}
 
 namespace {
 
@@ -72,51 +55,18 @@ int run_headless(const Options& o) {
   {
     auto dearchiver = load_archive(**vk, o.archive);
     if (!dearchiver) return 1;
-    constexpr VkFormat kTargetFormat = VK_FORMAT_R8G8B8A8_SRGB;
-    auto renderer = Renderer::create(**vk, *dearchiver, o.width, o.height, kTargetFormat);
-    if (!renderer) return std::fprintf(stderr, "path_tracer: %s\n", renderer.error().message.c_str()), 1;
-    (*renderer)->set_scene(*scene);
-    (*renderer)->set_settings(o.settings);
-
-    // The resolve pass draws into an offscreen image of the format the pipeline was patched to.
-    auto target =
-        samples::create_device_image(**vk, kTargetFormat, o.width, o.height,
-                                     VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
-    if (!target) return std::fprintf(stderr, "path_tracer: %s\n", target.error().message.c_str()), 1;
-
-    auto start = std::chrono::steady_clock::now();
-    RenderSettings settings = o.settings;
-    while ((*renderer)->samples_done() < o.spp) {
-      settings.samples_per_frame =
-          std::min(o.settings.samples_per_frame, o.spp - (*renderer)->samples_done());
-      (*renderer)->set_settings(settings);
-      auto done = (*vk)->submit_and_wait([&](VkCommandBuffer cmd) {
-        (*renderer)->record(cmd, (*target)->image, (*target)->view, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
-      });
-      if (!done) {
-        std::fprintf(stderr, "path_tracer: %s\n", done.error().message.c_str());
-        status = 1;
-        break;
-      }
-      progress((*renderer)->samples_done(), o.spp,
-               std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
-    }
-    double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    if (status == 0) {
-      auto radiance = (*renderer)->read_accumulation();
-      if (!radiance) {
-        std::fprintf(stderr, "path_tracer: %s\n", radiance.error().message.c_str());
-        status = 1;
-      } else if (std::string error = write_image(o.out, *radiance, o.width, o.height, o.settings.exposure);
-                 !error.empty()) {
-        std::fprintf(stderr, "path_tracer: %s: %s\n", o.out.c_str(), error.c_str());
-        status = 1;
-      } else {
-        std::printf(
-            "path_tracer: %ux%u, %u spp, %u bounces, %s, seed %u: %.2f s (%.1f ms per sample) -> %s\n",
-            o.width, o.height, o.spp, o.settings.bounces, estimator_name(o.settings.estimator),
-            o.settings.seed, seconds, 1000.0 * seconds / o.spp, o.out.c_str());
-      }
+    auto rendered = render_offline(**vk, *dearchiver, *scene, o.settings, o.width, o.height, o.spp, progress);
+    if (!rendered) {
+      std::fprintf(stderr, "path_tracer: %s\n", rendered.error().message.c_str());
+      status = 1;
+    } else if (std::string error = write_image(o.out, rendered->rgba, o.width, o.height, o.settings.exposure);
+               !error.empty()) {
+      std::fprintf(stderr, "path_tracer: %s: %s\n", o.out.c_str(), error.c_str());
+      status = 1;
+    } else {
+      std::printf("path_tracer: %ux%u, %u spp, %u bounces, %s, seed %u: %.2f s (%.1f ms per sample) -> %s\n",
+                  o.width, o.height, o.spp, o.settings.bounces, estimator_name(o.settings.estimator),
+                  o.settings.seed, rendered->seconds, 1000.0 * rendered->seconds / o.spp, o.out.c_str());
     }
   }
   (*vk)->destroy_device();

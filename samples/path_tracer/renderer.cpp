@@ -76,6 +76,14 @@ Result<std::unique_ptr<Renderer>> Renderer::create(samples::VulkanContext& vk, D
     return vk_error("vkAllocateDescriptorSets", res);
   r->gbuffer_set_ = sets[0], r->trace_set_ = sets[1], r->resolve_set_ = sets[2];
   if (auto images = r->create_images(); !images) return images.error();
+  VkQueryPoolCreateInfo query{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
+  query.queryType = VK_QUERY_TYPE_TIMESTAMP;
+  query.queryCount = 2;
+  if (VkResult res = vkCreateQueryPool(vk.device, &query, nullptr, &r->timestamps_); res != VK_SUCCESS)
+    return vk_error("vkCreateQueryPool", res);
+  VkPhysicalDeviceProperties props;
+  vkGetPhysicalDeviceProperties(vk.physical_device, &props);
+  r->timestamp_period_ns_ = props.limits.timestampPeriod;
   return r;
 }
 
@@ -83,6 +91,15 @@ Renderer::~Renderer() {
   vkDeviceWaitIdle(vk_.device);
   destroy_images();
   if (pool_) vkDestroyDescriptorPool(vk_.device, pool_, nullptr);
+  if (timestamps_) vkDestroyQueryPool(vk_.device, timestamps_, nullptr);
+}
+
+double Renderer::last_trace_ms() const {
+  uint64_t ticks[2] = {};
+  if (vkGetQueryPoolResults(vk_.device, timestamps_, 0, 2, sizeof ticks, ticks, sizeof(uint64_t),
+                            VK_QUERY_RESULT_64_BIT) != VK_SUCCESS)
+    return 0;
+  return double(ticks[1] - ticks[0]) * timestamp_period_ns_ * 1e-6;
 }
 
 Result<void> Renderer::create_images() {
@@ -281,9 +298,12 @@ void Renderer::record(VkCommandBuffer cmd, VkImage target, VkImageView target_vi
   const UnpackedPipeline* trace = s.estimator == Estimator::mis        ? trace_mis_
                                   : s.estimator == Estimator::baseline ? trace_baseline_
                                                                        : trace_;
+  vkCmdResetQueryPool(cmd, timestamps_, 0, 2);
+  vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, timestamps_, 0);
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, trace->pipeline);
   vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, trace_->layout, 0, 1, &trace_set_, 0, nullptr);
   vkCmdDispatch(cmd, (width_ + 7) / 8, (height_ + 7) / 8, 1);
+  vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, timestamps_, 1);
   samples_done_ += s.samples_per_frame;
   image_barrier(cmd, accumulation_->image, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_GENERAL,
                 VK_ACCESS_SHADER_WRITE_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT,

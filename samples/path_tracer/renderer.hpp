@@ -44,6 +44,8 @@ class Renderer {
   void record(VkCommandBuffer cmd, VkImage target, VkImageView target_view, VkImageLayout final_layout);
 
   uint32_t samples_done() const { return samples_done_; }
+  // GPU time of the last recorded batch's path-tracing dispatch, in milliseconds (after it finished).
+  double last_trace_ms() const;
   uint32_t width() const { return width_; }
   uint32_t height() const { return height_; }
   const Scene& scene() const { return scene_; }
@@ -79,6 +81,8 @@ class Renderer {
   VkDescriptorPool pool_ = VK_NULL_HANDLE;
   VkDescriptorSet gbuffer_set_ = VK_NULL_HANDLE, trace_set_ = VK_NULL_HANDLE, resolve_set_ = VK_NULL_HANDLE;
   uint32_t samples_done_ = 0;
+  VkQueryPool timestamps_ = VK_NULL_HANDLE;
+  double timestamp_period_ns_ = 1.0;
   bool gbuffer_dirty_ = true;
 };
 
