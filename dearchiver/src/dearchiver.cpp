@@ -115,11 +115,16 @@ struct Dearchiver::State {
     const format::Pipeline* pipeline;
   };
 
-  std::vector<std::string> all_names() const {
+  // Names of the given kinds across every archive, for listings and "did you mean".
+  std::vector<std::string> names_of(std::initializer_list<ObjectKind> kinds) const {
     std::vector<std::string> names;
     for (const auto& a : archives)
-      for (const auto& p : a.contents().pipelines) names.push_back(p.name);
+      for (const auto& [name, kind] : a.objects())
+        if (std::find(kinds.begin(), kinds.end(), kind) != kinds.end()) names.push_back(name);
     return names;
+  }
+  std::vector<std::string> all_names() const {
+    return names_of({ObjectKind::graphics_pipeline, ObjectKind::compute_pipeline});
   }
 
   Result<Found> find(std::string_view name, format::PipelineKind kind) const {
@@ -666,18 +671,6 @@ Result<std::vector<const UnpackedPipeline*>> Dearchiver::unpack_all_pipelines(ui
   return done;
 }
 
-namespace {
-
-template <class T, class NameOf>
-std::vector<std::string> names_of(const std::vector<T>& items, NameOf&& name_of) {
-  std::vector<std::string> names;
-  for (const auto& item : items)
-    if (auto n = name_of(item); !n.empty()) names.push_back(n);
-  return names;
-}
-
-}  // namespace
-
 Result<const UnpackedSignature*> Dearchiver::unpack_signature(std::string_view name) {
   std::lock_guard lock(state_->mutex);
   auto found = state_->find_named([&](const format::Contents& c) -> std::optional<uint32_t> {
@@ -686,13 +679,9 @@ Result<const UnpackedSignature*> Dearchiver::unpack_signature(std::string_view n
     return std::nullopt;
   });
   if (!found) {
-    std::vector<std::string> names;
-    for (const auto& a : state_->archives) {
-      auto more = names_of(a.contents().set_layouts, [](const format::SetLayout& l) { return l.name; });
-      names.insert(names.end(), more.begin(), more.end());
-    }
     return Error{ErrorCode::not_found,
-                 "no resource signature named '" + std::string(name) + "'" + did_you_mean(name, names)};
+                 "no resource signature named '" + std::string(name) + "'" +
+                     did_you_mean(name, state_->names_of({ObjectKind::resource_signature}))};
   }
   if (auto it = state_->signature_by_layout.find(*found); it != state_->signature_by_layout.end())
     return it->second;
@@ -718,13 +707,8 @@ Result<VkRenderPass> Dearchiver::unpack_render_pass(std::string_view name) {
     return std::nullopt;
   });
   if (!found) {
-    std::vector<std::string> names;
-    for (const auto& a : state_->archives) {
-      auto more = names_of(a.contents().render_passes, [](const format::RenderPass& r) { return r.name; });
-      names.insert(names.end(), more.begin(), more.end());
-    }
-    return Error{ErrorCode::not_found,
-                 "no render pass named '" + std::string(name) + "'" + did_you_mean(name, names)};
+    return Error{ErrorCode::not_found, "no render pass named '" + std::string(name) + "'" +
+                                           did_you_mean(name, state_->names_of({ObjectKind::render_pass}))};
   }
   return state_->render_pass(found->first, found->second);
 }
@@ -738,11 +722,8 @@ Result<UnpackedShader> Dearchiver::unpack_shader(std::string_view name) {
     return std::nullopt;
   });
   if (!found) {
-    std::vector<std::string> names;
-    for (const auto& a : state_->archives)
-      for (uint32_t s : a.contents().standalone_shaders) names.push_back(a.contents().shaders[s].name);
-    return Error{ErrorCode::not_found,
-                 "no standalone shader named '" + std::string(name) + "'" + did_you_mean(name, names)};
+    return Error{ErrorCode::not_found, "no standalone shader named '" + std::string(name) + "'" +
+                                           did_you_mean(name, state_->names_of({ObjectKind::shader}))};
   }
   const format::Shader& shader = state_->archives[found->first].contents().shaders[found->second];
   auto module = state_->module(found->first, shader.blob, shader.name);
