@@ -248,13 +248,16 @@ int run_inspect(const std::string& path, bool as_json, std::ostream& out, std::o
     return archive.error().code == ErrorCode::io_error ? kExitIoError : kExitInputError;
   }
   std::error_code ec;
-  auto size = static_cast<size_t>(std::filesystem::file_size(path, ec));
-  Json j = contents_json(archive->contents(), size);
+  print_archive(archive->contents(), static_cast<size_t>(std::filesystem::file_size(path, ec)), as_json, out);
+  return kExitSuccess;
+}
+
+void print_archive(const format::Contents& contents, size_t size, bool as_json, std::ostream& out) {
+  Json j = contents_json(contents, size);
   if (as_json)
     out << j.dump(2) << '\n';
   else
     print_text(j, out);
-  return kExitSuccess;
 }
 
 }  // namespace statepack::packager

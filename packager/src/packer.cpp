@@ -14,6 +14,7 @@
 #include "archive_format.hpp"
 #include "contents_builder.hpp"
 #include "file_io.hpp"
+#include "inspect.hpp"
 #include "pipeline_layout.hpp"
 #include "spirv_reflect.hpp"
 
@@ -50,24 +51,6 @@ void parallel_for(size_t count, uint32_t threads, Work&& work) {
   for (uint32_t i = 1; i < n; ++i) pool.emplace_back(worker);
   worker();
   for (auto& t : pool) t.join();
-}
-
-const char* stage_name(uint32_t stage) {
-  switch (stage) {
-    case VK_SHADER_STAGE_VERTEX_BIT:
-      return "vertex";
-    case VK_SHADER_STAGE_FRAGMENT_BIT:
-      return "pixel";
-    case VK_SHADER_STAGE_COMPUTE_BIT:
-      return "compute";
-    case VK_SHADER_STAGE_GEOMETRY_BIT:
-      return "geometry";
-    case VK_SHADER_STAGE_TESSELLATION_CONTROL_BIT:
-      return "hull";
-    case VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT:
-      return "domain";
-  }
-  return "unknown";
 }
 
 std::string depfile_escape(const std::string& path) {
@@ -165,43 +148,6 @@ void apply_render_pass(const format::RenderPass& rp, format::GraphicsState& g, c
   g.color_formats = formats;
   g.depth_stencil_format = depth;
   if (samples != 0) g.samples = samples;
-}
-
-void print_contents(const format::Contents& c, size_t archive_size, std::ostream& out) {
-  out << "Archive: " << archive_size << " bytes, format v" << format::kFormatVersion << ", content version "
-      << c.content_version << ", backends: vulkan\n";
-  out << "Pipelines (" << c.pipelines.size() << "):\n";
-  std::vector<const format::Pipeline*> sorted;
-  for (const auto& p : c.pipelines) sorted.push_back(&p);
-  std::ranges::sort(sorted, [](auto* a, auto* b) { return a->name < b->name; });
-  for (const auto* p : sorted) {
-    out << "  '" << p->name << "' (" << (p->kind == format::PipelineKind::compute ? "compute" : "graphics")
-        << ")\n";
-    for (uint32_t s : p->shaders) {
-      const auto& shader = c.shaders[s];
-      out << "    " << stage_name(shader.stage) << " '" << shader.name
-          << "': " << c.spirv[shader.blob].size_bytes() << " bytes SPIR-V\n";
-    }
-    for (uint32_t set = 0; set < p->set_layouts.size(); ++set) {
-      if (p->set_layouts[set] == format::kNone) continue;
-      const auto& layout = c.set_layouts[p->set_layouts[set]];
-      if (!layout.name.empty()) out << "    set " << set << ": signature '" << layout.name << "'\n";
-      for (const auto& b : layout.bindings)
-        out << "    set " << set << " binding " << b.binding << ": '" << b.name << "' (descriptor type "
-            << b.descriptor_type << ", count " << b.count << ")\n";
-    }
-  }
-  for (const auto& layout : c.set_layouts)
-    if (!layout.name.empty())
-      out << "Resource signature '" << layout.name << "': " << layout.bindings.size() << " bindings\n";
-  for (const auto& rp : c.render_passes)
-    out << "Render pass '" << rp.name << "': " << rp.attachments.size() << " attachments, "
-        << rp.subpasses.size() << " subpasses\n";
-  for (uint32_t s : c.standalone_shaders)
-    out << "Standalone shader '" << c.shaders[s].name << "' (" << stage_name(c.shaders[s].stage) << ")\n";
-  size_t spirv_bytes = 0;
-  for (auto blob : c.spirv) spirv_bytes += blob.size_bytes();
-  out << "SPIR-V blobs: " << c.spirv.size() << " unique, " << spirv_bytes << " bytes\n";
 }
 
 }  // namespace
@@ -378,7 +324,16 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err) {
       return kExitIoError;
     }
   }
-  if (options.print_contents) print_contents(builder.contents, bytes.size(), out);
+  if (options.print_contents) {
+    // Print what the archive holds, read back the way the dearchiver reads it.
+    auto written = format::decode(bytes);
+    if (!written) {
+      err << "statepack: error: the archive just written does not decode: " << written.error().message
+          << '\n';
+      return kExitIoError;
+    }
+    print_archive(*written, bytes.size(), false, out);
+  }
   return kExitSuccess;
 }
 

@@ -39,7 +39,7 @@ row() {
   echo "| $name | $pipelines | $shaders | $one | $all | $(awk -v a="$one" -v b="$all" 'BEGIN { printf "%.2fx", a / b }') |"
 }
 contents=$("$statepack" pack "${sample_inputs[@]}" -s "$root/shaders" -o "$work/s.spk" --vulkan --print_contents)
-sample_pipelines=$(echo "$contents" | grep -c "^  '")
-sample_shaders=$(echo "$contents" | sed -n "s/^SPIR-V blobs: \([0-9]*\) unique.*/\1/p")
+sample_pipelines=$(echo "$contents" | grep -c "^pipeline '")
+sample_shaders=$(echo "$contents" | sed -n "s/^\([0-9]*\) SPIR-V blob.*/\1/p")
 row "states/ (sample)" "$sample_pipelines" "$sample_shaders" "${sample_inputs[@]}" -s "$root/shaders"
 row "generated" "$count" "$((count + 1))" -i "$work/gen/generated.json"
