@@ -13,6 +13,7 @@
 #include <regex>
 #include <sstream>
 
+#include "pfm_image.hpp"
 #include "reference.hpp"
 #include "run_command.hpp"
 
@@ -26,16 +27,7 @@ std::vector<float> render(const std::string& name, const std::string& args, cons
   auto result = statepack::testing::run_command(env + " '" + STATEPACK_PATH_TRACER + "' --headless --out '" +
                                                 out.string() + "' " + args);
   EXPECT_EQ(result.exit_code, 0) << result.output;
-  std::ifstream file(out, std::ios::binary);
-  std::string magic;
-  uint32_t w = 0, h = 0;
-  float scale = 0;
-  file >> magic >> w >> h >> scale;
-  file.get();
-  std::vector<float> rgb(size_t(w) * h * 3);
-  file.read(reinterpret_cast<char*>(rgb.data()), std::streamsize(rgb.size() * sizeof(float)));
-  EXPECT_TRUE(file) << out;
-  return rgb;  // rows bottom to top; the tests below do not care
+  return statepack::testing::read_pfm(out).rgb;  // rows top to bottom
 }
 
 // The furnace scene with every albedo set to `rho`.
@@ -186,18 +178,17 @@ double compare_with_reference(const std::string& name, const std::string& scene_
   for (uint32_t y = 0; y < height; ++y) {
     for (uint32_t x = 0; x < width; ++x) {
       for (int c = 0; c < 3; ++c) {
-        const size_t r = (size_t(y) * width + x) * 3 + c;
-        const size_t g = (size_t(height - 1 - y) * width + x) * 3 + c;  // PFM rows run bottom to top
-        not_finite += !std::isfinite(gpu[g]);
-        const double var = reference.variance[r];
-        const double diff = double(gpu[g]) - reference.mean[r];
+        const size_t i = (size_t(y) * width + x) * 3 + c;  // both images run top to bottom
+        not_finite += !std::isfinite(gpu[i]);
+        const double var = reference.variance[i];
+        const double diff = double(gpu[i]) - reference.mean[i];
         const double z = var > 0 ? std::abs(diff) / std::sqrt(var / gpu_spp + var / cpu_spp)
                                  : (std::abs(diff) < 1e-4 ? 0 : 1e9);
         worst = std::max(worst, std::min(z, 1e3));
         failed += z > z_critical;
         if (z > z_critical && std::getenv("STATEPACK_DEBUG_Z"))
-          std::printf("  pixel %u,%u channel %d: gpu %.5f cpu %.5f z %.1f\n", x, y, c, gpu[g],
-                      reference.mean[r], z);
+          std::printf("  pixel %u,%u channel %d: gpu %.5f cpu %.5f z %.1f\n", x, y, c, gpu[i],
+                      reference.mean[i], z);
       }
     }
   }
@@ -246,8 +237,8 @@ TEST(Accuracy, RmseFallsWithSlopeMinusOneHalf) {
       for (uint32_t y = 0; y < kHeight; ++y)
         for (uint32_t x = 0; x < kWidth; ++x)
           for (int c = 0; c < 3; ++c) {
-            double d = gpu[(size_t(kHeight - 1 - y) * kWidth + x) * 3 + c] -
-                       reference.mean[(size_t(y) * kWidth + x) * 3 + c];
+            double d =
+                gpu[(size_t(y) * kWidth + x) * 3 + c] - reference.mean[(size_t(y) * kWidth + x) * 3 + c];
             sum += d * d;
           }
       mse += (sum / (kWidth * kHeight * 3) - reference_noise) / 2;

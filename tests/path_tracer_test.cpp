@@ -10,6 +10,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "pfm_image.hpp"
 #include "run_command.hpp"
 
 #define STB_IMAGE_IMPLEMENTATION
@@ -20,34 +21,14 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Image {
-  uint32_t width = 0, height = 0;
-  std::vector<float> rgb;  // rows top to bottom
-  const float* at(uint32_t x, uint32_t y) const { return &rgb[(size_t(y) * width + x) * 3]; }
-};
+using Image = statepack::testing::PfmImage;
+using statepack::testing::read_pfm;
 
 int run(const std::string& args, std::string& output) {
   auto result =
       statepack::testing::run_command(std::string("'") + STATEPACK_PATH_TRACER + "' --headless " + args);
   output = result.output;
   return result.exit_code;
-}
-
-Image read_pfm(const fs::path& path) {
-  std::ifstream file(path, std::ios::binary);
-  std::string magic;
-  float scale = 0;
-  Image image;
-  file >> magic >> image.width >> image.height >> scale;
-  file.get();  // the single whitespace after the header
-  EXPECT_EQ(magic, "PF");
-  EXPECT_LT(scale, 0.0f) << "little-endian PFM";
-  image.rgb.resize(size_t(image.width) * image.height * 3);
-  for (uint32_t y = image.height; y-- > 0;)  // PFM rows run bottom to top
-    file.read(reinterpret_cast<char*>(&image.rgb[size_t(y) * image.width * 3]),
-              image.width * 3 * sizeof(float));
-  EXPECT_TRUE(file) << path;
-  return image;
 }
 
 Image render(const std::string& name, const std::string& args) {
