@@ -70,16 +70,10 @@ class Tracer {
     other_emitters_ = std::any_of(scene.boxes.begin(), scene.boxes.end(), [](const SceneBox& b) {
       return b.emittance[0] > 0 || b.emittance[1] > 0 || b.emittance[2] > 0;
     });
-    const Camera& cam = scene.camera;
-    const double yaw = cam.yaw_degrees * kPi / 180, pitch = cam.pitch_degrees * kPi / 180;
-    const double tan_half = std::tan(cam.fov_degrees * kPi / 360), aspect = double(width) / height;
-    forward_ = {std::sin(yaw) * std::cos(pitch), std::sin(pitch), std::cos(yaw) * std::cos(pitch)};
-    V3 right{std::cos(yaw), 0, -std::sin(yaw)};
-    V3 up{forward_.y * right.z - forward_.z * right.y, forward_.z * right.x - forward_.x * right.z,
-          forward_.x * right.y - forward_.y * right.x};
-    right_ = right * (tan_half * aspect);
-    up_ = up * tan_half;
-    origin_ = from(cam.position);
+    const CameraBasis basis = camera_basis(scene.camera, width, height);
+    auto v3 = [](const std::array<double, 3>& a) { return V3{a[0], a[1], a[2]}; };
+    forward_ = v3(basis.forward), right_ = v3(basis.right), up_ = v3(basis.up);
+    origin_ = from(scene.camera.position);
   }
 
   // One sample of pixel (x, y): the same path the GPU traces for that sample index.

@@ -225,22 +225,13 @@ void Renderer::record(VkCommandBuffer cmd, VkImage target, VkImageView target_vi
                       VkImageLayout final_layout) {
   // Per-frame constants (one frame in flight: the previous frame has finished reading them).
   const Camera& cam = scene_.camera;
-  const double yaw = cam.yaw_degrees * 3.14159265358979323846 / 180.0,
-               pitch = cam.pitch_degrees * 3.14159265358979323846 / 180.0;
-  const double tan_half = std::tan(cam.fov_degrees * 3.14159265358979323846 / 360.0);
-  const double aspect = double(width_) / double(height_);
-  const double forward[3] = {std::sin(yaw) * std::cos(pitch), std::sin(pitch),
-                             std::cos(yaw) * std::cos(pitch)};
-  const double right[3] = {std::cos(yaw), 0.0, -std::sin(yaw)};
-  const double up[3] = {forward[1] * right[2] - forward[2] * right[1],
-                        forward[2] * right[0] - forward[0] * right[2],
-                        forward[0] * right[1] - forward[1] * right[0]};
+  const CameraBasis basis = camera_basis(cam, width_, height_);
   Constants c{};
   for (int i = 0; i < 3; ++i) {
     c.camera_position[i] = cam.position[i];
-    c.camera_right[i] = static_cast<float>(right[i] * tan_half * aspect);
-    c.camera_up[i] = static_cast<float>(up[i] * tan_half);
-    c.camera_forward[i] = static_cast<float>(forward[i]);
+    c.camera_right[i] = static_cast<float>(basis.right[i]);
+    c.camera_up[i] = static_cast<float>(basis.up[i]);
+    c.camera_forward[i] = static_cast<float>(basis.forward[i]);
   }
   const RenderSettings& s = settings_;
   c.frame[0] = samples_done_;

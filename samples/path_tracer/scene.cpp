@@ -116,6 +116,21 @@ Result<Scene> load_scene(const std::filesystem::path& path) {
   return scene;
 }
 
+CameraBasis camera_basis(const Camera& camera, uint32_t width, uint32_t height) {
+  constexpr double kPi = 3.14159265358979323846;
+  const double yaw = camera.yaw_degrees * kPi / 180, pitch = camera.pitch_degrees * kPi / 180;
+  const double tan_half = std::tan(camera.fov_degrees * kPi / 360), aspect = double(width) / double(height);
+  const std::array<double, 3> forward{std::sin(yaw) * std::cos(pitch), std::sin(pitch),
+                                      std::cos(yaw) * std::cos(pitch)};
+  const std::array<double, 3> right{std::cos(yaw), 0.0, -std::sin(yaw)};
+  const std::array<double, 3> up{forward[1] * right[2] - forward[2] * right[1],
+                                 forward[2] * right[0] - forward[0] * right[2],
+                                 forward[0] * right[1] - forward[1] * right[0]};
+  CameraBasis basis{forward, {}, {}};
+  for (int i = 0; i < 3; ++i) basis.right[i] = right[i] * tan_half * aspect, basis.up[i] = up[i] * tan_half;
+  return basis;
+}
+
 std::vector<GpuBox> gpu_boxes(const Scene& scene, uint32_t& light_index) {
   std::vector<GpuBox> out;
   auto add = [&](const Vec3& c, const Vec3& h, const Vec3& a, Vec3 e, float emit_face, float degrees) {

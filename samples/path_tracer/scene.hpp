@@ -36,6 +36,14 @@ struct Scene {
   Camera camera;
 };
 
+// The camera's view basis for an image of width x height: `right` and `up` are scaled by the tangent of
+// half the field of view (and `right` by the aspect), so pixel centre (x, y) looks along
+// forward + ndc_x * right - ndc_y * up. Shared by the GPU constants and the CPU reference.
+struct CameraBasis {
+  std::array<double, 3> forward, right, up;
+};
+CameraBasis camera_basis(const Camera& camera, uint32_t width, uint32_t height);
+
 // Reads a scene file; errors name the file and the JSON pointer of the bad value.
 Result<Scene> load_scene(const std::filesystem::path& path);
 
