@@ -5,6 +5,7 @@
 #include <iosfwd>
 #include <mutex>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace statepack::packager {
@@ -25,19 +26,33 @@ struct Diagnostic {
 std::string format_diagnostic(const Diagnostic& d);
 std::string location_text(const Location& where);  // file:line:col
 
+// Names and paths from input, made safe for a terminal: control characters and bytes that are not
+// UTF-8 become \xNN escapes, so a hostile name cannot move the cursor or change colours.
+std::string printable(std::string_view text);
+
+// Collects diagnostics up to a limit of errors (0: no limit); past it, errors are counted but not kept,
+// and `full()` tells readers to stop early instead of producing millions of them.
 class Diagnostics {
  public:
+  explicit Diagnostics(size_t max_errors = kDefaultMaxErrors) : max_errors_(max_errors) {}
+  static constexpr size_t kDefaultMaxErrors = 100;
   void error(Location where, std::string message);
   void warning(Location where, std::string message);
   void note(Location where, std::string message);
   bool has_errors() const;
+  bool full() const;                   // the error limit was reached
+  size_t dropped_error_count() const;  // errors past the limit
   size_t error_count() const;
   std::vector<Diagnostic> all() const;
   void print(std::ostream& out) const;
 
  private:
+  void add(Diagnostic::Severity severity, Location where, std::string message);
+
   mutable std::mutex mutex_;  // shaders compile on several threads
   std::vector<Diagnostic> items_;
+  size_t max_errors_;
+  size_t errors_ = 0, dropped_ = 0, dropped_others_ = 0;
 };
 
 }  // namespace statepack::packager

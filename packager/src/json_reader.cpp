@@ -1,10 +1,22 @@
 #include "json_reader.hpp"
 
 #include <algorithm>
+#include <cfloat>
+#include <cmath>
 
 #include "suggest.hpp"
 
 namespace statepack::packager {
+
+std::string describe_value(const Json& j) {
+  if (j.is_object()) return "an object";
+  if (j.is_array()) return "an array";
+  if (j.is_string()) {
+    const auto& s = j.get_ref<const std::string&>();
+    return "the string \"" + (s.size() > 40 ? s.substr(0, 40) + "..." : s) + "\"";
+  }
+  return j.dump();  // a number, true, false or null: short
+}
 
 Location JsonReader::at(const std::string& pointer) const {
   TextPosition p = positions_.find(pointer);
@@ -17,17 +29,19 @@ Location JsonReader::at_key(const std::string& pointer) const {
 }
 
 void JsonReader::error(const std::string& pointer, std::string message) {
-  diag_.error(at(pointer), std::move(message));
+  // Past the error limit the error is only counted: no need to locate it.
+  diag_.error(diag_.full() ? Location{display_} : at(pointer), std::move(message));
 }
 
 void JsonReader::warning(const std::string& pointer, std::string message) {
-  diag_.warning(at(pointer), std::move(message));
+  diag_.warning(diag_.full() ? Location{display_} : at(pointer), std::move(message));
 }
 
 void JsonReader::check_keys(const Json& object, const std::string& pointer,
                             const std::vector<std::string>& allowed, const char* what) {
   for (const auto& [key, value] : object.items()) {
     if (std::find(allowed.begin(), allowed.end(), key) != allowed.end()) continue;
+    if (diag_.full()) return;  // stop early: a file of a million unknown keys needs no million lines
     diag_.error(at_key(pointer + "/" + key),
                 "unknown " + std::string(what) + " key '" + key + "'" + did_you_mean(key, allowed));
   }
@@ -122,10 +136,13 @@ void JsonReader::unsigned_number(const Json& object, const char* key, const std:
                                  uint32_t& out) {
   auto it = object.find(key);
   if (it == object.end()) return;
-  if (!it->is_number_unsigned() || it->get<uint64_t>() > 0xFFFFFFFFull)
-    return error(pointer + "/" + key,
-                 std::string("'") + key + "' must be an integer from 0 to 4294967295, but is " + it->dump());
-  out = it->get<uint32_t>();
+  // -0 is an integer zero in JSON (nlohmann stores it as a signed 0): accept it like 0.
+  bool is_zero = it->is_number_integer() && it->get<int64_t>() == 0;
+  if (!is_zero && (!it->is_number_unsigned() || it->get<uint64_t>() > 0xFFFFFFFFull))
+    return error(
+        pointer + "/" + key,
+        std::string("'") + key + "' must be an integer from 0 to 4294967295, but is " + describe_value(*it));
+  out = is_zero ? 0 : it->get<uint32_t>();
 }
 
 void JsonReader::signed_number(const Json& object, const char* key, const std::string& pointer,
@@ -134,7 +151,7 @@ void JsonReader::signed_number(const Json& object, const char* key, const std::s
   if (it == object.end()) return;
   if (!it->is_number_integer() || it->get<int64_t>() < INT32_MIN || it->get<int64_t>() > INT32_MAX)
     return error(pointer + "/" + key,
-                 std::string("'") + key + "' must be a 32-bit integer, but is " + it->dump());
+                 std::string("'") + key + "' must be a 32-bit integer, but is " + describe_value(*it));
   out = it->get<int32_t>();
 }
 
@@ -144,7 +161,13 @@ void JsonReader::float_number(const Json& object, const char* key, const std::st
   if (!it->is_number())
     return error(pointer + "/" + key,
                  std::string("'") + key + "' must be a number, but is " + it->type_name());
-  out = it->get<float>();
+  // A double beyond float's range would become infinity silently.
+  double value = it->get<double>();
+  if (!std::isfinite(value) || std::fabs(value) > double(FLT_MAX))
+    return error(pointer + "/" + key, std::string("'") + key +
+                                          "' must be a finite number within a 32-bit float's range, but is " +
+                                          it->dump());
+  out = static_cast<float>(value);
 }
 
 }  // namespace statepack::packager

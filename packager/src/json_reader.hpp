@@ -16,9 +16,14 @@ namespace statepack::packager {
 
 using Json = nlohmann::json;
 
+// A value for a message: scalars as written, strings cut short, containers by kind (never a dump of a
+// whole subtree).
+std::string describe_value(const Json& j);
+
 class JsonReader {
  public:
-  JsonReader(std::string display_name, const std::string& text, Diagnostics& diagnostics)
+  // `text` must outlive the reader (positions are looked up in it on demand).
+  JsonReader(std::string display_name, std::string_view text, Diagnostics& diagnostics)
       : display_(std::move(display_name)), positions_(text), diag_(diagnostics) {}
 
   const std::string& file() const { return display_; }

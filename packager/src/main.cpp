@@ -28,7 +28,7 @@ std::optional<uint32_t> parse_vulkan_version(const std::string& text) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
   // Diligent command lines have no subcommand: "statepack -i a.json ..." means "statepack pack -i a.json
   // ...".
   std::vector<std::string> args(argv, argv + argc);
@@ -59,7 +59,11 @@ int main(int argc, char** argv) {
   pack->add_option(
       "-s,--shader_dir", shader_dirs,
       "Directory to search for shader files and #includes after the referring file's own (repeatable)");
-  pack->add_option("-o,--output", output, "Output archive")->required();
+  auto* output_option = pack->add_option("-o,--output", output, "Output archive (required unless --check)");
+  pack->add_flag("--check", options.check_only,
+                 "Pack and validate everything, but write no archive or depfile (-o not needed)");
+  pack->add_option("--max-errors", options.max_errors, "Stop after this many errors; 0: no limit")
+      ->capture_default_str();
   pack->add_option("-t,--thread", options.threads, "Compiler threads (0: all cores)")->capture_default_str();
   pack->add_option("-v,--content_version", options.content_version,
                    "User content version stored in the header")
@@ -104,6 +108,14 @@ int main(int argc, char** argv) {
   }
 
   if (inspect->parsed()) return run_inspect(inspect_path, inspect_json, std::cout, std::cerr);
+  if (output_option->count() == 0 && !options.check_only) {
+    std::cerr << "statepack: error: --output is required (or --check to write nothing)\n";
+    return kExitUsage;
+  }
+  if (options.check_only && (output_option->count() > 0 || !depfile.empty())) {
+    std::cerr << "statepack: error: --check writes nothing: drop -o and --depfile, or drop --check\n";
+    return kExitUsage;
+  }
 
   for (auto [on, flag] : {std::pair{opengl, "--opengl"},
                           {opengles, "--opengles"},
@@ -146,4 +158,17 @@ int main(int argc, char** argv) {
   }
   if (!depfile.empty()) options.depfile = depfile;
   return run_pack(options, std::cout, std::cerr);
+}
+
+// No exception may end the process with an abort: every one becomes an error line and an exit code.
+int main(int argc, char** argv) {
+  try {
+    return run(argc, argv);
+  } catch (const std::bad_alloc&) {
+    std::cerr << "statepack: error: out of memory\n";
+    return kExitIoError;
+  } catch (const std::exception& e) {
+    std::cerr << "statepack: error: internal error: " << printable(e.what()) << '\n';
+    return kExitInputError;
+  }
 }

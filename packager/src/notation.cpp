@@ -3,10 +3,10 @@
 // allowed, and pipelines whose inline shaders, signatures and render passes are registered by name.
 #include "notation.hpp"
 
-#include <fstream>
 #include <optional>
-#include <sstream>
+#include <unordered_map>
 
+#include "json_document.hpp"
 #include "json_reader.hpp"
 #include "notation_objects.hpp"
 #include "suggest.hpp"
@@ -14,13 +14,30 @@
 namespace statepack::packager {
 namespace fs = std::filesystem;
 
-fs::path resolve_file(const std::string& name, const fs::path& base_dir, const std::vector<fs::path>& dirs) {
+fs::path resolve_file(const std::string& name, const fs::path& base_dir, const std::vector<fs::path>& dirs,
+                      const std::map<std::string, std::string>* memory_files) {
   fs::path p(name);
+  if (name.empty() || name.find('\0') != std::string::npos) return {};
+  std::vector<fs::path> candidates;
+  if (p.is_absolute()) {
+    candidates.push_back(p.lexically_normal());
+  } else {
+    candidates.push_back((base_dir / p).lexically_normal());
+    std::error_code ec;
+    for (const auto& dir : dirs)
+      candidates.push_back(memory_files ? (dir / p).lexically_normal()
+                                        : fs::absolute(dir / p, ec).lexically_normal());
+  }
+  if (memory_files) {
+    for (const auto& c : candidates)
+      if (memory_files->count(c.string())) return c;
+    return {};
+  }
   std::error_code ec;
-  if (p.is_absolute()) return fs::is_regular_file(p, ec) ? p.lexically_normal() : fs::path{};
-  if (fs::is_regular_file(base_dir / p, ec)) return (base_dir / p).lexically_normal();
-  for (const auto& dir : dirs)
-    if (fs::is_regular_file(dir / p, ec)) return fs::absolute(dir / p).lexically_normal();
+  for (const auto& c : candidates)
+    if (fs::is_regular_file(c, ec)) return c;
+  for (const auto& c : candidates)
+    if (fs::exists(c, ec)) return c;
   return {};
 }
 
@@ -48,7 +65,7 @@ struct Defaults {
 
 class FileReader {
  public:
-  FileReader(const fs::path& file, const std::string& display, const std::string& text,
+  FileReader(const fs::path& file, const std::string& display, std::string_view text,
              const NotationOptions& options, Notation& out, Diagnostics& diagnostics)
       : json_(display, text, diagnostics),
         ctx_{json_, file.parent_path(), options},
@@ -81,7 +98,8 @@ class FileReader {
     std::string pointer = std::string("/") + section;
     if (it == root.end() || !json_.expect_array(*it, pointer, (std::string("'") + section + "'").c_str()))
       return;
-    for (size_t i = 0; i < it->size(); ++i) f((*it)[i], pointer + "/" + std::to_string(i));
+    for (size_t i = 0; i < it->size() && !json_.diagnostics().full(); ++i)
+      f((*it)[i], pointer + "/" + std::to_string(i));
   }
 
   void read_imports(const Json& imports) {
@@ -93,7 +111,7 @@ class FileReader {
         continue;
       }
       std::string name = imports[i].get<std::string>();
-      fs::path path = resolve_file(name, ctx_.base_dir, options_.render_state_dirs);
+      fs::path path = resolve_file(name, ctx_.base_dir, options_.render_state_dirs, options_.memory_files);
       if (path.empty()) {
         json_.error(pointer, "imported file '" + name + "' not found next to " + json_.file() +
                                  " or in any render-state directory (-r)");
@@ -165,10 +183,13 @@ class FileReader {
 
   // --- named objects -------------------------------------------------------------------------------
 
+  // Names are looked up in an index, not by scanning the list: thousands of objects stay linear.
   template <class T, class NameOf>
-  void add_named(std::vector<T>& list, T object, NameOf&& name_of, const char* kind) {
-    for (const T& existing : list) {
-      if (name_of(existing) != name_of(object)) continue;
+  void add_named(std::vector<T>& list, std::unordered_map<std::string, size_t>& index, T object,
+                 NameOf&& name_of, const char* kind) {
+    auto [it, inserted] = index.try_emplace(name_of(object), list.size());
+    if (!inserted) {
+      const T& existing = list[it->second];
       if (!existing.same_as(object))
         json_.diagnostics().error(object.where, std::string(kind) + " '" + name_of(object) +
                                                     "' is defined again differently (first at " +
@@ -183,7 +204,7 @@ class FileReader {
     auto shader = read_shader(ctx_, merge(defaults_.shader, j), pointer, slot_stage);
     if (shader && slot_stage == 0)
       add_named(
-          out_.shaders, *shader, [](const ShaderDesc& s) { return s.name; }, "shader");
+          out_.shaders, out_.shader_index, *shader, [](const ShaderDesc& s) { return s.name; }, "shader");
     return shader;
   }
 
@@ -197,8 +218,8 @@ class FileReader {
     if (!pass) return std::nullopt;
     std::string name = pass->pass.name;
     add_named(
-        out_.render_passes, std::move(*pass), [](const RenderPassDesc& r) { return r.pass.name; },
-        "render pass");
+        out_.render_passes, out_.render_pass_index, std::move(*pass),
+        [](const RenderPassDesc& r) { return r.pass.name; }, "render pass");
     return name;
   }
 
@@ -213,7 +234,7 @@ class FileReader {
     if (!sig) return std::nullopt;
     std::string name = sig->name;
     add_named(
-        out_.signatures, std::move(*sig), [](const SignatureDesc& s) { return s.name; },
+        out_.signatures, out_.signature_index, std::move(*sig), [](const SignatureDesc& s) { return s.name; },
         "resource signature");
     return name;
   }
@@ -358,10 +379,12 @@ class FileReader {
           p.render_pass = *name;
     }
 
-    for (const auto& existing : out_.pipelines)
-      if (existing.name == p.name && !p.name.empty())
+    if (!p.name.empty()) {
+      auto [it, inserted] = out_.pipeline_index.try_emplace(p.name, out_.pipelines.size());
+      if (!inserted)
         return json_.error(pointer, "pipeline '" + p.name + "' is defined twice (first at " +
-                                        location_text(existing.where) + ")");
+                                        location_text(out_.pipelines[it->second].where) + ")");
+    }
     out_.pipelines.push_back(std::move(p));
   }
 
@@ -370,8 +393,8 @@ class FileReader {
   static void read_file(const fs::path& path, const std::string& display, Notation& out,
                         const NotationOptions& options, Diagnostics& diag, const Location& imported_at) {
     std::error_code ec;
-    fs::path canonical = fs::weakly_canonical(path, ec);
-    if (ec) canonical = fs::absolute(path).lexically_normal();
+    fs::path canonical = options.memory_files ? path.lexically_normal() : fs::weakly_canonical(path, ec);
+    if (ec) canonical = fs::absolute(path, ec).lexically_normal();
     if (std::find(out.import_stack.begin(), out.import_stack.end(), canonical) != out.import_stack.end()) {
       std::string chain;
       auto first = std::find(out.import_stack.begin(), out.import_stack.end(), canonical);
@@ -380,32 +403,31 @@ class FileReader {
       return;
     }
     if (out.files_done.count(canonical)) return;  // imported before (diamond or repeated -i): read once
-    std::ifstream stream(path, std::ios::binary);
-    std::stringstream buffer;
-    buffer << stream.rdbuf();
-    if (!stream) return diag.error({display}, "cannot read render-state file");
-    out.files_read.push_back(canonical);
-    out.import_stack.push_back(canonical);
-    std::string text = buffer.str();
-    Json root;
-    try {
-      root = Json::parse(text);
-    } catch (const Json::parse_error& e) {
-      // nlohmann gives the byte offset of the failure; turn it into line and column.
-      int line = 1, column = 1;
-      for (size_t i = 0; i + 1 < e.byte && i < text.size(); ++i) {
-        if (text[i] == '\n')
-          line++, column = 1;
-        else
-          column++;
-      }
-      std::string what = e.what();
-      auto syntax = what.find("syntax error");
-      diag.error({display, line, column, ""},
-                 "invalid JSON: " + (syntax != std::string::npos ? what.substr(syntax) : what));
-      root = Json::object();
+    InputText input;
+    if (options.memory_files) {
+      auto it = options.memory_files->find(path.string());
+      if (it != options.memory_files->end())
+        input.text = it->second;
+      else
+        input.error = "cannot open '" + path.string() + "': not among the in-memory files";
+    } else {
+      input = read_input_file(path);
     }
-    if (!root.empty()) FileReader(canonical, display, text, options, out, diag).read(root);
+    if (!input.error.empty())
+      return diag.error(imported_at.file.empty() ? Location{display} : imported_at, input.error);
+    out.files_read.push_back({canonical, input.identity});
+    out.import_stack.push_back(canonical);
+    const std::string_view text = strip_utf8_bom(input.text);  // positions count after a BOM
+    JsonDocument doc = parse_json_document(text);
+    if (!doc.errors.empty()) {
+      JsonPositions positions(text);
+      for (const auto& e : doc.errors) {
+        TextPosition at = positions.position_at(e.offset);
+        diag.error({display, at.line, at.column, ""}, e.message);
+      }
+    }
+    if (doc.parsed && !doc.root.empty())
+      FileReader(canonical, display, text, options, out, diag).read(doc.root);
     out.import_stack.pop_back();
     out.files_done.insert(canonical);
   }
@@ -422,7 +444,9 @@ class FileReader {
 
 void read_notation(const fs::path& input, const NotationOptions& options, Notation& notation,
                    Diagnostics& diag) {
-  fs::path path = resolve_file(input.string(), fs::current_path(), options.render_state_dirs);
+  std::error_code ec;
+  fs::path path = resolve_file(input.string(), options.memory_files ? fs::path() : fs::current_path(ec),
+                               options.render_state_dirs, options.memory_files);
   if (path.empty())
     return diag.error({input.string()}, "cannot find render-state file (also searched the -r directories)");
   std::string display = input.is_absolute() ? input.string() : display_path(path);
@@ -437,13 +461,13 @@ void resolve_references(Notation& notation, Diagnostics& diag) {
   for (auto& pipeline : notation.pipelines) {
     for (auto& shader : pipeline.shaders) {
       if (!shader.is_reference) continue;
-      auto found = std::find_if(notation.shaders.begin(), notation.shaders.end(),
-                                [&](const ShaderDesc& s) { return s.name == shader.name; });
-      if (found == notation.shaders.end()) {
+      auto index = notation.shader_index.find(shader.name);
+      if (index == notation.shader_index.end()) {
         diag.error(shader.where, "pipeline '" + pipeline.name + "' refers to unknown shader '" + shader.name +
                                      "'" + did_you_mean(shader.name, shader_names));
         continue;
       }
+      const ShaderDesc* found = &notation.shaders[index->second];
       if (found->stage != shader.stage) {
         diag.error(shader.where, "pipeline '" + pipeline.name + "': shader '" + shader.name +
                                      "' has another stage than the slot it is used in");
@@ -454,17 +478,16 @@ void resolve_references(Notation& notation, Diagnostics& diag) {
       shader.where = where;
     }
     for (const auto& name : pipeline.signatures)
-      if (std::find(signature_names.begin(), signature_names.end(), name) == signature_names.end())
+      if (!notation.signature_index.count(name))
         diag.error(pipeline.where, "pipeline '" + pipeline.name + "' refers to unknown resource signature '" +
                                        name + "'" + did_you_mean(name, signature_names));
-    if (!pipeline.render_pass.empty() &&
-        std::find(pass_names.begin(), pass_names.end(), pipeline.render_pass) == pass_names.end())
+    if (!pipeline.render_pass.empty() && !notation.render_pass_index.count(pipeline.render_pass))
       diag.error(pipeline.where, "pipeline '" + pipeline.name + "' refers to unknown render pass '" +
                                      pipeline.render_pass + "'" +
                                      did_you_mean(pipeline.render_pass, pass_names));
   }
   for (const auto& name : notation.ignored_signatures)
-    if (std::find(signature_names.begin(), signature_names.end(), name) == signature_names.end())
+    if (!notation.signature_index.count(name))
       diag.warning({}, "Ignore.Signatures names '" + name + "', which no file defines");
 }
 

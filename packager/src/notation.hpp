@@ -3,13 +3,16 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <map>
 #include <set>
 #include <string>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
 #include "archive_format.hpp"
 #include "diagnostics.hpp"
+#include "input_file.hpp"
 
 namespace statepack::packager {
 
@@ -91,8 +94,10 @@ struct Notation {
   std::vector<SignatureDesc> signatures;
   std::vector<RenderPassDesc> render_passes;
   std::vector<PipelineDesc> pipelines;
+  // name -> index in the lists above
+  std::unordered_map<std::string, size_t> shader_index, signature_index, render_pass_index, pipeline_index;
   std::set<std::string> ignored_signatures;         // Ignore.Signatures
-  std::vector<std::filesystem::path> files_read;    // every JSON file, for the depfile
+  std::vector<InputFile> files_read;                // every JSON file, for the depfile and output checks
   std::set<std::filesystem::path> files_done;       // canonical paths already read (imports once)
   std::vector<std::filesystem::path> import_stack;  // canonical paths being read (cycle detection)
 };
@@ -100,6 +105,9 @@ struct Notation {
 struct NotationOptions {
   std::vector<std::filesystem::path> render_state_dirs;  // -r
   std::vector<std::filesystem::path> shader_dirs;        // -s
+  // For tests and the notation fuzzer: when set, notation files (inputs and imports) and shader files
+  // are looked up in this map of path -> contents instead of on disk.
+  const std::map<std::string, std::string>* memory_files = nullptr;
 };
 
 // Reads `input` (and what it imports) and adds its objects to `notation`.
@@ -113,8 +121,11 @@ void resolve_references(Notation& notation, Diagnostics& diagnostics);
 // `path` relative to the working directory when it lies below it, else as it is: for messages.
 std::string display_path(const std::filesystem::path& path);
 
-// Finds `name` next to `base_dir` first, then in `dirs`; returns an empty path when nowhere.
+// Finds `name` next to `base_dir` first, then in `dirs`; returns an empty path when nowhere. A regular
+// file wins; failing that, anything else of that name (a directory, a FIFO) is returned, so reading it
+// says what it is instead of "not found".
 std::filesystem::path resolve_file(const std::string& name, const std::filesystem::path& base_dir,
-                                   const std::vector<std::filesystem::path>& dirs);
+                                   const std::vector<std::filesystem::path>& dirs,
+                                   const std::map<std::string, std::string>* memory_files = nullptr);
 
 }  // namespace statepack::packager

@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <atomic>
-#include <fstream>
 #include <map>
 #include <mutex>
 #include <ostream>
@@ -13,8 +12,8 @@
 
 #include "archive_format.hpp"
 #include "contents_builder.hpp"
-#include "file_io.hpp"
 #include "inspect.hpp"
+#include "output_files.hpp"
 #include "pipeline_layout.hpp"
 #include "spirv_reflect.hpp"
 
@@ -22,6 +21,7 @@ namespace statepack::packager {
 namespace fs = std::filesystem;
 namespace {
 
+constexpr size_t kNoJob = SIZE_MAX;
 constexpr uint32_t kProducerVersion = (0u << 22) | (2u << 12) | 0u;  // 0.2.0
 
 // Two slots compile to the same module when everything that feeds glslang is equal.
@@ -53,10 +53,18 @@ void parallel_for(size_t count, uint32_t threads, Work&& work) {
   for (auto& t : pool) t.join();
 }
 
-std::string depfile_escape(const std::string& path) {
+// A path in Make syntax, as GCC writes depfiles (and Ninja and Make read them): spaces and '#' get a
+// backslash, backslashes before them are doubled, '$' doubles. Paths with control characters
+// (a newline cannot be escaped in Make syntax at all) have no spelling: nullopt.
+std::optional<std::string> depfile_escape(const std::string& path) {
   std::string out;
-  for (char c : path) {
-    if (c == ' ' || c == '#') out += '\\';
+  for (size_t i = 0; i < path.size(); ++i) {
+    char c = path[i];
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7F) return std::nullopt;
+    if (c == ' ' || c == '#') {
+      for (size_t k = i; k > 0 && path[k - 1] == '\\'; --k) out += '\\';
+      out += '\\';
+    }
     if (c == '$') out += '$';
     out += c;
   }
@@ -99,25 +107,34 @@ class Finalizer {
   std::vector<Job> jobs_;
 };
 
+// Writes --dump_dir files, each atomically and never over an input of the run.
 class Dumper {
  public:
-  Dumper(std::optional<fs::path> dir, const CompileOptions& options)
-      : dir_(std::move(dir)), options_(options) {}
+  Dumper(std::optional<fs::path> dir, const CompileOptions& options, const std::vector<InputFile>& inputs)
+      : dir_(std::move(dir)), options_(options), inputs_(inputs) {}
   void write(const fs::path& relative, const std::vector<uint32_t>& words, std::string& error) {
     if (!dir_ || !error.empty()) return;
     fs::path base = *dir_ / "Vulkan" / relative;
     std::error_code ec;
     fs::create_directories(base.parent_path(), ec);
-    std::ofstream spv(fs::path(base) += ".spv", std::ios::binary);
-    spv.write(reinterpret_cast<const char*>(words.data()), static_cast<std::streamsize>(words.size() * 4));
-    std::ofstream text(fs::path(base) += ".spvasm");
-    text << disassemble_spirv(words, options_);
-    if (!spv || !text) error = "cannot write the dump under '" + dir_->string() + "'";
+    if (ec) {
+      error = "cannot create the dump directory '" + base.parent_path().string() + "': " + ec.message();
+      return;
+    }
+    std::string text = disassemble_spirv(words, options_);
+    OutputSet files(inputs_);
+    error = files.stage(fs::path(base) += ".spv",
+                        {reinterpret_cast<const uint8_t*>(words.data()), words.size() * 4});
+    if (error.empty())
+      error = files.stage(fs::path(base) += ".spvasm",
+                          {reinterpret_cast<const uint8_t*>(text.data()), text.size()});
+    if (error.empty()) error = files.commit();
   }
 
  private:
   std::optional<fs::path> dir_;
   const CompileOptions& options_;
+  const std::vector<InputFile>& inputs_;
 };
 
 // Formats and sample count of a pipeline's subpass, which the render pass decides.
@@ -153,7 +170,18 @@ void apply_render_pass(const format::RenderPass& rp, format::GraphicsState& g, c
 }  // namespace
 
 int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err) {
-  Diagnostics diag;
+  // Outputs that can never be written are refused before any work (inputs are checked once known).
+  if (!options.check_only) {
+    OutputSet none({});
+    for (const auto* path : {&options.output, options.depfile ? &*options.depfile : nullptr}) {
+      if (!path) continue;
+      if (std::string reason = none.refuse_reason(*path); !reason.empty()) {
+        err << "statepack: error: " << printable(reason) << '\n';
+        return kExitUsage;
+      }
+    }
+  }
+  Diagnostics diag(options.max_errors);
   Notation notation;
   for (const auto& input : options.inputs) read_notation(input, options.notation, notation, diag);
   resolve_references(notation, diag);
@@ -177,26 +205,35 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err) {
   }
   std::vector<size_t> standalone_units;
   for (const auto& s : notation.shaders) standalone_units.push_back(unit_for(s));
-  if (!diag.has_errors()) {
+  // Notation errors stop the run before compiling; a shader that fails to compile stops only the
+  // pipelines that use it, so the others are still laid out and validated and their errors reported.
+  const bool notation_ok = !diag.has_errors();
+  if (notation_ok) {
     parallel_for(units.size(), options.threads, [&](size_t i) {
       CompiledUnit& u = units[i];
       u.compiled = compile_shader(u.desc, options.compile, diag);
       if (!u.compiled.ok) return;
       u.reflection = reflect_spirv(u.compiled.spirv, u.desc.stage);
-      if (!u.reflection.error.empty())
+      if (!u.reflection.error.empty()) {
+        u.compiled.ok = false;
         diag.error(u.desc.where,
                    "shader '" + u.desc.name + "': SPIR-V reflection failed: " + u.reflection.error);
+      }
     });
   }
+  // Every file read so far: no output may replace one of them.
+  std::vector<InputFile> inputs = notation.files_read;
+  for (const auto& u : units)
+    inputs.insert(inputs.end(), u.compiled.files_read.begin(), u.compiled.files_read.end());
 
   ContentsBuilder builder;
   builder.contents.producer_version = kProducerVersion;
   builder.contents.content_version = options.content_version;
   builder.contents.backends = format::kBackendVulkan;
   Finalizer finalizer(options.compile);
-  Dumper dumper(options.dump_dir, options.compile);
+  Dumper dumper(options.dump_dir, options.compile, inputs);
   std::string io_error;
-  if (!diag.has_errors()) {
+  if (notation_ok) {
     // Every signature and render pass is archived by name, used or not; Ignore.Signatures are not.
     for (const auto& sig : notation.signatures)
       if (!notation.ignored_signatures.count(sig.name))
@@ -206,7 +243,8 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err) {
 
     // Layouts first (serial, cheap): each yields patched modules to finalise.
     std::vector<size_t> standalone_jobs;
-    for (size_t u : standalone_units) standalone_jobs.push_back(finalizer.request(units[u].compiled.spirv));
+    for (size_t u : standalone_units)
+      standalone_jobs.push_back(units[u].compiled.ok ? finalizer.request(units[u].compiled.spirv) : kNoJob);
     struct PendingPipeline {
       format::Pipeline pipeline;
       std::vector<const ShaderDesc*> stages;
@@ -216,6 +254,9 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err) {
     std::vector<PendingPipeline> pending;
     for (size_t i = 0; i < notation.pipelines.size(); ++i) {
       const PipelineDesc& p = notation.pipelines[i];
+      if (std::any_of(pipeline_units[i].begin(), pipeline_units[i].end(),
+                      [&](size_t u) { return !units[u].compiled.ok; }))
+        continue;  // its compile errors are reported; the other pipelines go on
       std::vector<StageInput> stages;
       for (size_t u : pipeline_units[i])
         stages.push_back({&units[u].desc, &units[u].compiled.spirv, &units[u].reflection});
@@ -242,12 +283,13 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err) {
     }
 
     // Optimise and validate every distinct module in parallel.
-    if (!diag.has_errors()) finalizer.run(options.threads);
+    finalizer.run(options.threads);
 
     // Assemble in notation order, so the archive does not depend on thread timing.
     for (size_t s = 0; s < notation.shaders.size(); ++s) {
       const CompiledUnit& unit = units[standalone_units[s]];
       size_t job = standalone_jobs[s];
+      if (job == kNoJob) continue;  // did not compile
       if (!finalizer.error(job).empty()) {
         diag.error(unit.desc.where, "shader '" + unit.desc.name + "': " + finalizer.error(job));
         continue;
@@ -305,23 +347,33 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err) {
   }
 
   std::vector<uint8_t> bytes = format::encode(builder.contents);
-  if (std::string error = write_file_atomically(options.output, bytes); !error.empty()) {
-    err << "statepack: error: " << error << '\n';
-    return kExitIoError;
-  }
-  if (options.depfile) {
-    // Make syntax: "<output>: <every JSON and shader file read>".
-    std::set<std::string> deps;
-    for (const auto& f : notation.files_read) deps.insert(f.string());
-    for (const auto& u : units)
-      for (const auto& f : u.compiled.files_read) deps.insert(f.string());
-    std::string text = depfile_escape(options.output.string()) + ":";
-    for (const auto& d : deps) text += " \\\n  " + depfile_escape(d);
-    text += "\n";
-    std::span<const uint8_t> text_bytes(reinterpret_cast<const uint8_t*>(text.data()), text.size());
-    if (std::string error = write_file_atomically(*options.depfile, text_bytes); !error.empty()) {
-      err << "statepack: error: " << error << '\n';
-      return kExitIoError;
+  if (!options.check_only) {
+    // Archive and depfile are written all or nothing: both to temporaries, then both renamed.
+    OutputSet outputs(inputs);
+    std::string text;
+    if (options.depfile) {
+      // Make syntax: "<output>: <every JSON and shader file read>".
+      std::set<std::string> deps;
+      for (const auto& f : inputs) deps.insert(f.path.string());
+      text = ":";
+      for (const auto& path : deps) text += " \\\n  " + depfile_escape(path).value_or("");
+      text += "\n";
+      deps.insert(options.output.string());
+      for (const auto& path : deps)
+        if (!depfile_escape(path)) {
+          err << "statepack: error: cannot write the depfile: the path '" << printable(path)
+              << "' holds a control character, which Make syntax cannot express\n";
+          return kExitIoError;
+        }
+      text = *depfile_escape(options.output.string()) + text;
+    }
+    std::string error = outputs.stage(options.output, bytes);
+    if (error.empty() && options.depfile)
+      error = outputs.stage(*options.depfile, {reinterpret_cast<const uint8_t*>(text.data()), text.size()});
+    if (error.empty()) error = outputs.commit();
+    if (!error.empty()) {
+      err << "statepack: error: " << printable(error) << '\n';
+      return error.starts_with("refusing") ? kExitUsage : kExitIoError;
     }
   }
   if (options.print_contents) {

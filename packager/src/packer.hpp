@@ -27,6 +27,9 @@ struct PackOptions {
   uint32_t content_version = 0;
   uint32_t threads = 0;  // 0: all cores
   bool print_contents = false;
+  bool check_only = false;
+  size_t max_errors =
+      Diagnostics::kDefaultMaxErrors;  // 0: no limit  // --check: pack and validate everything, write nothing
 };
 
 // Runs a whole pack; returns an ExitCode. Diagnostics are printed to `err`, progress to `out`.

@@ -10,10 +10,9 @@
 
 #include <vulkan/vulkan_core.h>
 
-#include <fstream>
+#include <algorithm>
 #include <mutex>
 #include <optional>
-#include <regex>
 #include <sstream>
 
 namespace statepack::packager {
@@ -37,27 +36,27 @@ EShLanguage to_glslang_stage(uint32_t stage) {
   }
 }
 
-std::optional<std::string> read_text(const fs::path& path) {
-  std::ifstream file(path, std::ios::binary);
-  if (!file) return std::nullopt;
-  std::stringstream buffer;
-  buffer << file.rdbuf();
-  return buffer.str();
-}
+// Expanded #include text per shader beyond this is refused: includes without guards can otherwise
+// double the source with every level (a includes b twice, b includes c twice, ...).
+constexpr uint64_t kMaxIncludedBytes = 64ull << 20;
 
 // Resolves #include "x" next to the including file first, then in the -s directories, and records
-// every file it opens so the depfile can list it.
+// every file it opens so the depfile can list it. statepack resolves includes itself, so it also
+// refuses include cycles (reported with their chain) and runaway expansion, which glslang would
+// follow until memory runs out.
 class Includer final : public glslang::TShader::Includer {
  public:
-  Includer(const std::vector<fs::path>& dirs, std::vector<fs::path>& files_read)
-      : dirs_(dirs), files_read_(files_read) {}
-
-  IncludeResult* includeLocal(const char* header, const char* includer, size_t) override {
-    fs::path base = fs::path(includer).parent_path();
-    return open(resolve_file(header, base, dirs_));
+  Includer(const std::vector<fs::path>& dirs, std::vector<InputFile>& files_read, fs::path root_file)
+      : dirs_(dirs), files_read_(files_read) {
+    chain_.push_back(std::move(root_file));
   }
-  IncludeResult* includeSystem(const char* header, const char*, size_t) override {
-    return open(resolve_file(header, fs::path(), dirs_));
+
+  IncludeResult* includeLocal(const char* header, const char* includer, size_t depth) override {
+    fs::path base = fs::path(includer).parent_path();
+    return open(header, resolve_file(header, base, dirs_), depth);
+  }
+  IncludeResult* includeSystem(const char* header, const char*, size_t depth) override {
+    return open(header, resolve_file(header, fs::path(), dirs_), depth);
   }
   void releaseInclude(IncludeResult* result) override {
     if (!result) return;
@@ -65,34 +64,83 @@ class Includer final : public glslang::TShader::Includer {
     delete result;
   }
 
+  // The first problem that stopped an include, if any; it explains glslang's error better.
+  const std::string& problem() const { return problem_; }
+
  private:
-  IncludeResult* open(const fs::path& path) {
-    if (path.empty()) return nullptr;  // glslang reports "cannot find include file"
-    auto text = read_text(path);
-    if (!text) return nullptr;
-    files_read_.push_back(fs::absolute(path).lexically_normal());
-    auto* owned = new std::string(std::move(*text));
+  IncludeResult* open(const std::string& header, const fs::path& path, size_t depth) {
+    if (!problem_.empty()) return nullptr;  // one cause, one message
+    if (path.empty()) return nullptr;       // glslang reports "cannot find include file"
+    // `depth` is the nesting of this #include (1 inside the shader itself): the files still open are
+    // the first `depth` of the chain.
+    chain_.resize(std::min(chain_.size(), std::max<size_t>(depth, 1)));
+    std::error_code ec;
+    fs::path canonical = fs::weakly_canonical(path, ec);
+    if (ec) canonical = path.lexically_normal();
+    for (size_t i = 0; i < chain_.size(); ++i) {
+      if (chain_[i] != canonical) continue;
+      problem_ = "#include cycle: ";
+      for (size_t k = i; k < chain_.size(); ++k) problem_ += display_path(chain_[k]) + " -> ";
+      problem_ += display_path(canonical);
+      return nullptr;
+    }
+    InputText input = read_input_file(path);
+    if (!input.error.empty()) {
+      problem_ = "#include \"" + header + "\": " + input.error;
+      return nullptr;
+    }
+    included_bytes_ += input.text.size();
+    if (included_bytes_ > kMaxIncludedBytes) {
+      problem_ = "#include \"" + header + "\": the includes expand to more than " +
+                 std::to_string(kMaxIncludedBytes >> 20) +
+                 " MiB of source (files included repeatedly "
+                 "without include guards?)";
+      return nullptr;
+    }
+    files_read_.push_back({fs::absolute(path, ec).lexically_normal(), input.identity});
+    chain_.push_back(canonical);
+    auto* owned = new std::string(std::move(input.text));
     return new IncludeResult(path.string(), owned->data(), owned->size(), owned);
   }
 
   const std::vector<fs::path>& dirs_;
-  std::vector<fs::path>& files_read_;
+  std::vector<InputFile>& files_read_;
+  std::vector<fs::path> chain_;  // canonical paths: the shader, then each open #include
+  uint64_t included_bytes_ = 0;
+  std::string problem_;
 };
 
-// glslang logs "ERROR: file:line: message"; turn each into a diagnostic at that file and line.
+// glslang logs "ERROR: file:line: message"; turn each into a diagnostic at that file and line. Parsed
+// by hand: std::regex recurses per character and a long log line would exhaust the stack.
 void report_log(const std::string& log, const ShaderDesc& shader, Diagnostics& diag,
                 const std::string& fallback_file) {
-  static const std::regex kLine(R"(^(ERROR|WARNING): (.*?):(\d+): (.*)$)");
   std::istringstream lines(log);
   std::string line;
   bool any = false;
   while (std::getline(lines, line)) {
-    std::smatch m;
-    if (!std::regex_match(line, m, kLine)) continue;
-    if (m[1] == "WARNING" || m[4].str().find("compilation terminated") != std::string::npos) continue;
-    Location where{m[2].str(), std::stoi(m[3].str()), 0, ""};
+    std::string_view rest = line;
+    bool warning = rest.starts_with("WARNING: ");
+    if (!warning && !rest.starts_with("ERROR: ")) continue;
+    rest.remove_prefix(warning ? 9 : 7);
+    // "file:line: message": the first ":digits: " after the file name (which may hold colons).
+    size_t colon = 0, number_end = 0;
+    int line_number = 0;
+    for (size_t i = rest.find(':'); i != std::string_view::npos; i = rest.find(':', i + 1)) {
+      size_t k = i + 1;
+      long value = 0;
+      while (k < rest.size() && rest[k] >= '0' && rest[k] <= '9' && k - i < 10)
+        value = value * 10 + (rest[k++] - '0');
+      if (k > i + 1 && k + 1 < rest.size() + 1 && k < rest.size() && rest[k] == ':') {
+        colon = i, number_end = k, line_number = int(value);
+        break;
+      }
+    }
+    if (number_end == 0) continue;
+    std::string message(rest.substr(std::min(number_end + 1, rest.size())));
+    while (!message.empty() && message.front() == ' ') message.erase(message.begin());
+    if (warning || message.find("compilation terminated") != std::string::npos) continue;
+    Location where{std::string(rest.substr(0, colon)), line_number, 0, ""};
     if (where.file.empty() || where.file == "0") where.file = fallback_file;
-    std::string message = m[4].str();
     while (!message.empty() && message.back() == ' ') message.pop_back();
     diag.error(where, "shader '" + shader.name + "': " + message);
     any = true;
@@ -128,14 +176,19 @@ CompiledShader compile_shader(const ShaderDesc& shader, const CompileOptions& op
   std::string source = shader.source;
   std::string file_name = "<inline source of '" + shader.name + "'>";
   if (!shader.file.empty()) {
-    auto text = read_text(shader.file);
-    if (!text) {
-      diag.error(shader.where, "cannot read shader file '" + shader.file.string() + "'");
+    InputText input = read_input_file(shader.file);
+    if (!input.error.empty()) {
+      diag.error(shader.where, "shader '" + shader.name + "': " + input.error);
       return result;
     }
-    source = std::move(*text);
+    source = std::move(input.text);
     file_name = display_path(shader.file);
-    result.files_read.push_back(fs::absolute(shader.file).lexically_normal());
+    std::error_code ec;
+    result.files_read.push_back({fs::absolute(shader.file, ec).lexically_normal(), input.identity});
+  }
+  if (source.size() > size_t(INT32_MAX)) {  // glslang takes int lengths
+    diag.error(shader.where, "shader '" + shader.name + "': the source is too large");
+    return result;
   }
 
   const EShLanguage stage = to_glslang_stage(shader.stage);
@@ -170,9 +223,14 @@ CompiledShader compile_shader(const ShaderDesc& shader, const CompileOptions& op
   ts.setAutoMapBindings(true);  // resources without explicit bindings get one; the layout step finalises them
   auto messages =
       static_cast<EShMessages>(EShMsgSpvRules | EShMsgVulkanRules | (hlsl ? int(EShMsgReadHlsl) : 0));
-  Includer includer(options.include_dirs, result.files_read);
+  std::error_code ec;
+  Includer includer(options.include_dirs, result.files_read,
+                    shader.file.empty() ? fs::path() : fs::weakly_canonical(shader.file, ec));
   if (!ts.parse(GetDefaultResources(), 450, false, messages, includer)) {
-    report_log(ts.getInfoLog(), shader, diag, file_name);
+    if (!includer.problem().empty())
+      diag.error(shader.where, "shader '" + shader.name + "': " + includer.problem());
+    else
+      report_log(ts.getInfoLog(), shader, diag, file_name);
     return result;
   }
   glslang::TProgram program;

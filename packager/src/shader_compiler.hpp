@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "diagnostics.hpp"
+#include "input_file.hpp"
 #include "notation.hpp"
 
 namespace statepack::packager {
@@ -23,7 +24,7 @@ struct CompileOptions {
 
 struct CompiledShader {
   std::vector<uint32_t> spirv;
-  std::vector<std::filesystem::path> files_read;  // the source and every #include, for the depfile
+  std::vector<InputFile> files_read;  // the source and every #include, for the depfile and output checks
   bool ok = false;
 };
 

@@ -1,0 +1,50 @@
+// Writing a run's outputs (archive, depfile, dumps) all or nothing, without ever replacing an input or
+// following a planted link.
+//
+// Every output is first written in full to a temporary beside it (an unnamed O_TMPFILE where the file
+// system has them, so a killed run leaves nothing behind; else a new file created with O_EXCL, which
+// never follows a symlink). Only when every output of the run has been written are they renamed over
+// their destinations, so an unwritable depfile can no longer leave a new archive with an old depfile.
+// Temporaries of killed runs are named ".NAME.statepack-tmp-PID-N" and removed by the next run that
+// writes NAME, once no process PID is alive.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "input_file.hpp"
+
+namespace statepack::packager {
+
+class OutputSet {
+ public:
+  explicit OutputSet(std::vector<InputFile> inputs) : inputs_(std::move(inputs)) {}
+  OutputSet(const OutputSet&) = delete;
+  OutputSet& operator=(const OutputSet&) = delete;
+  ~OutputSet();  // removes temporaries that were not committed
+
+  // Why `path` cannot be an output of this run, or an empty string: it is a symbolic link, a directory,
+  // a device or any other non-regular file, one of the run's inputs (by identity: the same path, a `..`
+  // spelling, a symlink or a hard link all count), or another output of the run.
+  std::string refuse_reason(const std::filesystem::path& path) const;
+
+  // Checks `path`, then writes `bytes` to a temporary beside it. Returns an empty string or the reason.
+  std::string stage(const std::filesystem::path& path, std::span<const uint8_t> bytes);
+
+  // Renames every staged temporary over its destination. Returns an empty string or the reason.
+  std::string commit();
+
+ private:
+  struct Staged {
+    std::filesystem::path path;
+    int fd = -1;                 // the O_TMPFILE, until it is linked
+    std::filesystem::path temp;  // its name once it has one
+  };
+  std::vector<InputFile> inputs_;
+  std::vector<Staged> staged_;
+};
+
+}  // namespace statepack::packager
