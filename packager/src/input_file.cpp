@@ -19,9 +19,9 @@ std::string file_type_name(mode_t mode) {
   return "not a regular file";
 }
 
-InputText read_input_file(const std::filesystem::path& path, uint64_t max_bytes) {
+InputText read_input_file(const std::filesystem::path& path, const std::string& display, uint64_t max_bytes) {
   InputText out;
-  const std::string name = "'" + path.string() + "'";
+  const std::string name = "'" + (display.empty() ? path.string() : display) + "'";
   // O_NONBLOCK: opening a FIFO with no writer would otherwise wait forever; regular files ignore it.
   int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
   if (fd < 0) {

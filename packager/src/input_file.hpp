@@ -28,8 +28,9 @@ struct InputText {
   FileIdentity identity;
 };
 
-// Reads a whole regular file of at most `max_bytes`.
-InputText read_input_file(const std::filesystem::path& path, uint64_t max_bytes = kMaxInputBytes);
+// Reads a whole regular file of at most `max_bytes`; messages name it `display` (default: the path).
+InputText read_input_file(const std::filesystem::path& path, const std::string& display = {},
+                          uint64_t max_bytes = kMaxInputBytes);
 
 // "a directory", "a FIFO", "a character device", ... for messages about non-regular files.
 std::string file_type_name(mode_t mode);

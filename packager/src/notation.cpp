@@ -411,7 +411,7 @@ class FileReader {
       else
         input.error = "cannot open '" + path.string() + "': not among the in-memory files";
     } else {
-      input = read_input_file(path);
+      input = read_input_file(path, display);
     }
     if (!input.error.empty())
       return diag.error(imported_at.file.empty() ? Location{display} : imported_at, input.error);

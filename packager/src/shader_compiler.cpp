@@ -84,7 +84,7 @@ class Includer final : public glslang::TShader::Includer {
       problem_ += display_path(canonical);
       return nullptr;
     }
-    InputText input = read_input_file(path);
+    InputText input = read_input_file(path, display_path(path));
     if (!input.error.empty()) {
       problem_ = "#include \"" + header + "\": " + input.error;
       return nullptr;
@@ -176,7 +176,7 @@ CompiledShader compile_shader(const ShaderDesc& shader, const CompileOptions& op
   std::string source = shader.source;
   std::string file_name = "<inline source of '" + shader.name + "'>";
   if (!shader.file.empty()) {
-    InputText input = read_input_file(shader.file);
+    InputText input = read_input_file(shader.file, display_path(shader.file));
     if (!input.error.empty()) {
       diag.error(shader.where, "shader '" + shader.name + "': " + input.error);
       return result;
