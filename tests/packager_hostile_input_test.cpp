@@ -139,6 +139,7 @@ TEST_F(HostileInput, DeepNestingIsRefusedWithItsPlaceNotACrash) {
   write_file(dir_ / "strings.json", "{\"Ignore\": {\"Signatures\": [\"" + std::string(1000, '[') + "\"]}}");
   CliRun strings = pack("strings.json", "--check");
   EXPECT_EQ(strings.output.find("nested deeper"), std::string::npos) << strings.output;
+  EXPECT_EQ(strings.exit_code, 0) << strings.output;
   EXPECT_NE(strings.output.find("Ignore.Signatures names '[[["), std::string::npos) << strings.output;
 }
 

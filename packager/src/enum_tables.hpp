@@ -88,7 +88,20 @@ inline constexpr EnumEntry kShaderTypes[] = {
     {"TILE", kUnsupportedValue},
 };
 
-// Shader stage flags (bit-flag enum: one string or an array). Combined aliases as in Diligent.
+// Stages DRSN names that the Vulkan backend of statepack cannot produce (mesh, ray tracing, tile):
+// bits above Vulkan's stage bits, so a flags value can say that it named one. Readers strip them (see
+// stage_flags_field) and report a value that names nothing else.
+inline constexpr uint32_t kStageAmplification = 1u << 24, kStageMesh = 1u << 25, kStageRayGen = 1u << 26,
+                          kStageRayMiss = 1u << 27, kStageRayClosestHit = 1u << 28,
+                          kStageRayAnyHit = 1u << 29, kStageRayIntersection = 1u << 30,
+                          kStageCallable = 1u << 31, kStageTile = 1u << 23;
+inline constexpr uint32_t kStagesRayTracing = kStageRayGen | kStageRayMiss | kStageRayClosestHit |
+                                              kStageRayAnyHit | kStageRayIntersection | kStageCallable;
+inline constexpr uint32_t kUnproducibleStages =
+    kStageAmplification | kStageMesh | kStagesRayTracing | kStageTile;
+
+// Shader stage flags (bit-flag enum: one string or an array). Every name and alias of Diligent's
+// SHADER_TYPE, with its values.
 inline constexpr EnumEntry kShaderStageFlags[] = {
     {"UNKNOWN", 0},
     {"VERTEX", VK_SHADER_STAGE_VERTEX_BIT},
@@ -97,9 +110,21 @@ inline constexpr EnumEntry kShaderStageFlags[] = {
     {"HULL", VK_SHADER_STAGE_TESSELLATION_CONTROL_BIT},
     {"DOMAIN", VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT},
     {"COMPUTE", VK_SHADER_STAGE_COMPUTE_BIT},
+    {"AMPLIFICATION", kStageAmplification},
+    {"MESH", kStageMesh},
+    {"RAY_GEN", kStageRayGen},
+    {"RAY_MISS", kStageRayMiss},
+    {"RAY_CLOSEST_HIT", kStageRayClosestHit},
+    {"RAY_ANY_HIT", kStageRayAnyHit},
+    {"RAY_INTERSECTION", kStageRayIntersection},
+    {"CALLABLE", kStageCallable},
+    {"TILE", kStageTile},
+    {"LAST", kStageTile},
     {"VS_PS", VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT},
     {"ALL_GRAPHICS", VK_SHADER_STAGE_ALL_GRAPHICS},
-    {"ALL", VK_SHADER_STAGE_ALL_GRAPHICS | VK_SHADER_STAGE_COMPUTE_BIT},
+    {"ALL_MESH", kStageAmplification | kStageMesh | VK_SHADER_STAGE_FRAGMENT_BIT},
+    {"ALL_RAY_TRACING", kStagesRayTracing},
+    {"ALL", VK_SHADER_STAGE_ALL_GRAPHICS | VK_SHADER_STAGE_COMPUTE_BIT | kUnproducibleStages},
 };
 
 inline constexpr EnumEntry kPipelineTypes[] = {

@@ -1,6 +1,7 @@
 #include "json_reader.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cfloat>
 #include <cmath>
 
@@ -121,6 +122,27 @@ void JsonReader::flags_field(const Json& object, const char* key, const std::str
   auto it = object.find(key);
   if (it == object.end()) return;
   if (auto v = flags_value(*it, pointer + "/" + key, table, enum_name)) out = *v;
+}
+
+void JsonReader::stage_flags_field(const Json& object, const char* key, const std::string& pointer,
+                                   uint32_t& out) {
+  uint32_t bits = 0;
+  auto it = object.find(key);
+  if (it == object.end()) return;
+  if (auto v = flags_value(*it, pointer + "/" + key, kShaderStageFlags, "shader stage"))
+    bits = *v;
+  else
+    return;
+  out = bits & ~kUnproducibleStages;
+  if (out != 0 || (bits & kUnproducibleStages) == 0) return;
+  std::string names;
+  for (const auto& [name, value] : kShaderStageFlags)
+    if (std::has_single_bit(value) && (value & bits) && name != "LAST")
+      names += std::string(names.empty() ? "" : ", ") + std::string(name);
+  error(pointer + "/" + key, "'" + std::string(key) +
+                                 "' names only stages that the Vulkan backend of statepack "
+                                 "cannot produce (" +
+                                 names + "): mesh, ray-tracing and tile shaders are not supported");
 }
 
 void JsonReader::boolean(const Json& object, const char* key, const std::string& pointer, uint32_t& out) {

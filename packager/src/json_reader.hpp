@@ -52,6 +52,9 @@ class JsonReader {
                   const char* enum_name, uint32_t& out);
   void flags_field(const Json& object, const char* key, const std::string& pointer, EnumTable table,
                    const char* enum_name, uint32_t& out);
+  // A ShaderStages-like field: Vulkan stage bits in `out`. Stages statepack cannot produce (mesh, ray
+  // tracing, tile) are dropped; naming only such stages is one error that says so.
+  void stage_flags_field(const Json& object, const char* key, const std::string& pointer, uint32_t& out);
   void boolean(const Json& object, const char* key, const std::string& pointer, uint32_t& out);
   void unsigned_number(const Json& object, const char* key, const std::string& pointer, uint32_t& out);
   void signed_number(const Json& object, const char* key, const std::string& pointer, int32_t& out);

@@ -202,9 +202,22 @@ class FileReader {
   std::optional<ShaderDesc> shader_object(const Json& j, const std::string& pointer, uint32_t slot_stage) {
     if (!j.is_object()) return read_shader(ctx_, j, pointer, slot_stage);  // reports the type error
     auto shader = read_shader(ctx_, merge(defaults_.shader, j), pointer, slot_stage);
-    if (shader && slot_stage == 0)
-      add_named(
-          out_.shaders, out_.shader_index, *shader, [](const ShaderDesc& s) { return s.name; }, "shader");
+    if (!shader) return shader;
+    // One name, one shader, whether it is defined in the Shaders section or inline in a pipeline.
+    auto name_of = [](const ShaderDesc& s) { return s.name; };
+    const auto& other_index = slot_stage == 0 ? out_.inline_shader_index : out_.shader_index;
+    const auto& others = slot_stage == 0 ? out_.inline_shaders : out_.shaders;
+    if (auto it = other_index.find(shader->name); it != other_index.end()) {
+      if (!others[it->second].same_as(*shader))
+        json_.diagnostics().error(shader->where, "shader '" + shader->name +
+                                                     "' is defined again differently (first at " +
+                                                     location_text(others[it->second].where) + ")");
+      if (slot_stage != 0) return shader;  // the Shaders-section definition stands for it
+    }
+    if (slot_stage == 0)
+      add_named(out_.shaders, out_.shader_index, *shader, name_of, "shader");
+    else
+      add_named(out_.inline_shaders, out_.inline_shader_index, *shader, name_of, "shader");
     return shader;
   }
 
@@ -272,7 +285,7 @@ class FileReader {
       ResourceVariable var;
       var.name = json_.string(v, "Name", vp).value_or("");
       if (var.name.empty()) json_.error(vp, "a variable needs a 'Name'");
-      json_.flags_field(v, "ShaderStages", vp, kShaderStageFlags, "shader stage", var.stages);
+      json_.stage_flags_field(v, "ShaderStages", vp, var.stages);
       json_.enum_field(v, "Type", vp, kVariableTypes, "variable type", unused);
       json_.flags_field(v, "Flags", vp, kVariableFlags, "variable flag", unused);
       p.variables.push_back(std::move(var));
@@ -377,6 +390,11 @@ class FileReader {
       if (auto rp = g->find("pRenderPass"); rp != g->end())
         if (auto name = render_pass_object(*rp, pointer + "/GraphicsPipeline/pRenderPass"))
           p.render_pass = *name;
+      if (p.graphics.subpass != 0 && !g->contains("pRenderPass"))
+        json_.error(
+            pointer + "/GraphicsPipeline/SubpassIndex",
+            "pipeline '" + p.name + "': 'SubpassIndex' " + std::to_string(p.graphics.subpass) +
+                " needs a render pass ('pRenderPass'); without one the pipeline uses dynamic rendering");
     }
 
     if (!p.name.empty()) {
@@ -456,18 +474,27 @@ void read_notation(const fs::path& input, const NotationOptions& options, Notati
 void resolve_references(Notation& notation, Diagnostics& diag) {
   std::vector<std::string> shader_names, signature_names, pass_names;
   for (const auto& s : notation.shaders) shader_names.push_back(s.name);
+  for (const auto& s : notation.inline_shaders) shader_names.push_back(s.name);
   for (const auto& s : notation.signatures) signature_names.push_back(s.name);
   for (const auto& r : notation.render_passes) pass_names.push_back(r.pass.name);
   for (auto& pipeline : notation.pipelines) {
     for (auto& shader : pipeline.shaders) {
       if (!shader.is_reference) continue;
-      auto index = notation.shader_index.find(shader.name);
-      if (index == notation.shader_index.end()) {
+      const ShaderDesc* found = nullptr;
+      if (auto it = notation.shader_index.find(shader.name); it != notation.shader_index.end())
+        found = &notation.shaders[it->second];
+      else if (auto inl = notation.inline_shader_index.find(shader.name);
+               inl != notation.inline_shader_index.end())
+        found = &notation.inline_shaders[inl->second];
+      if (!found) {
         diag.error(shader.where, "pipeline '" + pipeline.name + "' refers to unknown shader '" + shader.name +
                                      "'" + did_you_mean(shader.name, shader_names));
         continue;
       }
-      const ShaderDesc* found = &notation.shaders[index->second];
+      if (found->broken) {  // its errors are reported where it is defined
+        shader.broken = true;
+        continue;
+      }
       if (found->stage != shader.stage) {
         diag.error(shader.where, "pipeline '" + pipeline.name + "': shader '" + shader.name +
                                      "' has another stage than the slot it is used in");

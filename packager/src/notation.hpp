@@ -27,6 +27,7 @@ struct ShaderDesc {
   std::string entry_point = "main";
   std::vector<std::pair<std::string, std::string>> macros;
   bool is_reference = false;  // a pipeline slot that names a shader of the Shaders section
+  bool broken = false;        // read with errors (already reported): never compiled
   Location where;
 
   // Same compilation input (the location does not count): identical redefinitions are allowed.
@@ -58,6 +59,7 @@ struct SignatureDesc {
   std::vector<ImmutableSamplerDesc> immutable_samplers;
   std::string combined_sampler_suffix = "_sampler";
   Location where;
+  bool broken = false;  // read with errors (already reported)
   bool same_as(const SignatureDesc& o) const {
     return name == o.name && binding_index == o.binding_index && resources == o.resources &&
            immutable_samplers == o.immutable_samplers && combined_sampler_suffix == o.combined_sampler_suffix;
@@ -67,6 +69,7 @@ struct SignatureDesc {
 struct RenderPassDesc {
   format::RenderPass pass;  // pass.name is the name
   Location where;
+  bool broken = false;  // read with errors (already reported)
   bool same_as(const RenderPassDesc& o) const { return pass == o.pass; }
 };
 
@@ -91,11 +94,15 @@ struct PipelineDesc {
 
 struct Notation {
   std::vector<ShaderDesc> shaders;  // the Shaders section: archived as standalone shaders
+  // Shaders defined inline in pipeline slots: registered by name as in DRSN (a later pipeline may name
+  // them; a different redefinition is an error), but not archived as standalone shaders.
+  std::vector<ShaderDesc> inline_shaders;
   std::vector<SignatureDesc> signatures;
   std::vector<RenderPassDesc> render_passes;
   std::vector<PipelineDesc> pipelines;
   // name -> index in the lists above
-  std::unordered_map<std::string, size_t> shader_index, signature_index, render_pass_index, pipeline_index;
+  std::unordered_map<std::string, size_t> shader_index, inline_shader_index, signature_index,
+      render_pass_index, pipeline_index;
   std::set<std::string> ignored_signatures;         // Ignore.Signatures
   std::vector<InputFile> files_read;                // every JSON file, for the depfile and output checks
   std::set<std::filesystem::path> files_done;       // canonical paths already read (imports once)

@@ -4,6 +4,7 @@
 #include <bit>
 #include <cfloat>
 #include <map>
+#include <set>
 
 namespace statepack::packager {
 namespace fs = std::filesystem;
@@ -251,7 +252,12 @@ std::optional<ShaderDesc> read_shader(ReadContext& ctx, const Json& j, const std
       shader.macros.emplace_back(*name, json.string(m, "Definition", mp).value_or(""));
     }
   }
-  if (json.error_count() != errors_before) return std::nullopt;
+  // With errors the object is still returned, marked broken, when it has a name: references to it
+  // then resolve (one cause, one message) and a different redefinition is still reported.
+  if (json.error_count() != errors_before) {
+    if (shader.name.empty()) return std::nullopt;
+    shader.broken = true;
+  }
   return shader;
 }
 
@@ -425,7 +431,7 @@ std::vector<ImmutableSamplerDesc> read_immutable_samplers(ReadContext& ctx, cons
     if (!json.expect_object(e, sp, "an immutable sampler")) continue;
     json.check_keys(e, sp, {"ShaderStages", "SamplerOrTextureName", "Desc"}, "immutable sampler");
     ImmutableSamplerDesc desc;
-    json.flags_field(e, "ShaderStages", sp, kShaderStageFlags, "shader stage", desc.stages);
+    json.stage_flags_field(e, "ShaderStages", sp, desc.stages);
     desc.name = json.string(e, "SamplerOrTextureName", sp).value_or("");
     if (desc.name.empty()) json.error(sp, "an immutable sampler needs 'SamplerOrTextureName'");
     if (auto d = e.find("Desc"); d != e.end()) {
@@ -464,6 +470,7 @@ std::optional<SignatureDesc> read_signature(ReadContext& ctx, const Json& j, con
     sig.immutable_samplers = read_immutable_samplers(ctx, *samplers, pointer + "/ImmutableSamplers");
 
   auto resources = j.find("Resources");
+  std::set<std::string> resource_names;
   if (resources != j.end() && json.expect_array(*resources, pointer + "/Resources", "'Resources'")) {
     for (size_t i = 0; i < resources->size(); ++i) {
       std::string rp = pointer + "/Resources/" + std::to_string(i);
@@ -475,8 +482,10 @@ std::optional<SignatureDesc> read_signature(ReadContext& ctx, const Json& j, con
       SignatureResource res;
       res.name = json.string(r, "Name", rp).value_or("");
       if (res.name.empty()) json.error(rp, "a resource needs a 'Name'");
-      json.flags_field(r, "ShaderStages", rp, kShaderStageFlags, "shader stage", res.stages);
-      if (res.stages == 0) json.error(rp, "resource '" + res.name + "' needs 'ShaderStages'");
+      const size_t before_stages = json.error_count();
+      json.stage_flags_field(r, "ShaderStages", rp, res.stages);
+      if (res.stages == 0 && json.error_count() == before_stages)
+        json.error(rp, "resource '" + res.name + "' needs 'ShaderStages'");
       json.unsigned_number(r, "ArraySize", rp, res.array_size);
       if (res.array_size == 0) json.error(rp + "/ArraySize", "'ArraySize' must be at least 1");
       uint32_t var_type = 0, flags = 0, type = kUnsupportedValue;
@@ -514,12 +523,40 @@ std::optional<SignatureDesc> read_signature(ReadContext& ctx, const Json& j, con
         default:
           break;
       }
-      for (const auto& other : sig.resources)
-        if (other.name == res.name) json.error(rp + "/Name", "resource '" + res.name + "' is listed twice");
+      if (res.descriptor_type == VK_DESCRIPTOR_TYPE_INPUT_ATTACHMENT &&
+          (res.stages & ~VK_SHADER_STAGE_FRAGMENT_BIT))
+        json.error(rp + "/ShaderStages", "input attachment '" + res.name +
+                                             "' may only be in the PIXEL stage "
+                                             "(VUID-VkDescriptorSetLayoutBinding-descriptorType-01510)");
+      if (!resource_names.insert(res.name).second)
+        json.error(rp + "/Name", "resource '" + res.name + "' is listed twice");
       sig.resources.push_back(std::move(res));
     }
   }
-  if (json.error_count() != errors_before) return std::nullopt;
+  // An immutable sampler named like a resource that takes no sampler: with combined samplers and a
+  // texture, it becomes the texture's sampler (NAME + CombinedSamplerSuffix, as the shader declares it);
+  // anything else would be a second binding under the same name, so it is an error.
+  for (size_t i = 0; i < sig.immutable_samplers.size(); ++i) {
+    const ImmutableSamplerDesc& s = sig.immutable_samplers[i];
+    for (const SignatureResource& r : sig.resources) {
+      if (r.name != s.name || r.descriptor_type == VK_DESCRIPTOR_TYPE_SAMPLER ||
+          r.descriptor_type == VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER)
+        continue;
+      if (r.descriptor_type == VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE && !sig.combined_sampler_suffix.empty())
+        continue;
+      json.error(
+          pointer + "/ImmutableSamplers/" + std::to_string(i) + "/SamplerOrTextureName",
+          "immutable sampler '" + s.name + "' names resource '" + r.name +
+              "', which takes no sampler (a sampler, a combined texture, or a texture of a signature with "
+              "'UseCombinedTextureSamplers' may have one)");
+    }
+  }
+  // With errors the object is still returned, marked broken, when it has a name: references to it
+  // then resolve (one cause, one message) and a different redefinition is still reported.
+  if (json.error_count() != errors_before) {
+    if (sig.name.empty()) return std::nullopt;
+    sig.broken = true;
+  }
   return sig;
 }
 
@@ -568,6 +605,25 @@ std::optional<RenderPassDesc> read_render_pass(ReadContext& ctx, const Json& j, 
       json.enum_field(a, "FinalState", ap, kResourceStates, "resource state", att.final_layout);
       if (att.final_layout == VK_IMAGE_LAYOUT_UNDEFINED)
         json.error(ap, "an attachment needs a 'FinalState' (Vulkan cannot end a render pass in UNDEFINED)");
+      // Diligent's defaults (LoadOp LOAD, InitialState UNKNOWN) ask Vulkan to load an image whose layout
+      // is UNDEFINED, i.e. whose contents are gone: an error here instead of at pipeline creation.
+      const bool stencil_only = att.format == VK_FORMAT_S8_UINT;
+      const bool has_stencil = stencil_only || att.format == VK_FORMAT_D24_UNORM_S8_UINT ||
+                               att.format == VK_FORMAT_D32_SFLOAT_S8_UINT ||
+                               att.format == VK_FORMAT_D16_UNORM_S8_UINT;
+      if (!ctx.defaults_mode && att.initial_layout == VK_IMAGE_LAYOUT_UNDEFINED) {
+        if (att.load_op == VK_ATTACHMENT_LOAD_OP_LOAD && !stencil_only)
+          json.error(
+              ap, "attachment " + std::to_string(i) +
+                      ": LoadOp LOAD (the default) needs an 'InitialState': an image in the UNDEFINED layout "
+                      "has no contents to load (VUID-VkAttachmentDescription-format-06699); set "
+                      "'InitialState' or use LoadOp CLEAR or DISCARD");
+        else if (att.stencil_load_op == VK_ATTACHMENT_LOAD_OP_LOAD && has_stencil)
+          json.error(ap, "attachment " + std::to_string(i) +
+                             ": StencilLoadOp LOAD (the default) needs an 'InitialState' "
+                             "(VUID-VkAttachmentDescription-format-06700); set 'InitialState' or use "
+                             "StencilLoadOp CLEAR or DISCARD");
+      }
       rp.attachments.push_back(att);
     }
   }
@@ -579,6 +635,10 @@ std::optional<RenderPassDesc> read_render_pass(ReadContext& ctx, const Json& j, 
     if (out.attachment != format::kNone && out.attachment >= rp.attachments.size())
       json.error(rp_ptr + "/AttachmentIndex",
                  "attachment " + std::to_string(out.attachment) + " does not exist");
+    else if (out.attachment != format::kNone && out.layout == VK_IMAGE_LAYOUT_UNDEFINED && !ctx.defaults_mode)
+      json.error(rp_ptr,
+                 "an attachment reference needs a 'State' (a subpass cannot use an attachment in the "
+                 "UNDEFINED layout: VUID-VkAttachmentReference-layout-03077)");
   };
   auto references = [&](const Json& s, const char* key, const std::string& sp,
                         std::vector<format::AttachmentRef>& out) {
@@ -647,6 +707,14 @@ std::optional<RenderPassDesc> read_render_pass(ReadContext& ctx, const Json& j, 
       json.flags_field(d, "DstStageMask", dp, kPipelineStages, "pipeline stage", dep.dst_stages);
       json.flags_field(d, "SrcAccessMask", dp, kAccessFlags, "access flag", dep.src_access);
       json.flags_field(d, "DstAccessMask", dp, kAccessFlags, "access flag", dep.dst_access);
+      for (auto [key, mask] :
+           {std::pair{"SrcStageMask", dep.src_stages}, std::pair{"DstStageMask", dep.dst_stages}})
+        if (mask == 0 && !ctx.defaults_mode)
+          json.error(dp, std::string("a dependency needs a '") + key +
+                             "' naming at least one pipeline stage (" +
+                             (key[0] == 'S' ? "VUID-VkSubpassDependency-srcStageMask-03937"
+                                            : "VUID-VkSubpassDependency-dstStageMask-03937") +
+                             ")");
       for (auto [key, index] :
            {std::pair{"SrcSubpass", dep.src_subpass}, std::pair{"DstSubpass", dep.dst_subpass}})
         if (index != format::kNone && index >= rp.subpasses.size())
@@ -655,7 +723,12 @@ std::optional<RenderPassDesc> read_render_pass(ReadContext& ctx, const Json& j, 
       rp.dependencies.push_back(dep);
     }
   }
-  if (json.error_count() != errors_before) return std::nullopt;
+  // With errors the object is still returned, marked broken, when it has a name: references to it
+  // then resolve (one cause, one message) and a different redefinition is still reported.
+  if (json.error_count() != errors_before) {
+    if (desc.pass.name.empty()) return std::nullopt;
+    desc.broken = true;
+  }
   return desc;
 }
 

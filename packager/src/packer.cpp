@@ -187,7 +187,8 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err) {
   resolve_references(notation, diag);
   if (notation.pipelines.empty() && notation.shaders.empty() && notation.signatures.empty() &&
       notation.render_passes.empty() && !diag.has_errors())
-    diag.error({options.inputs.empty() ? "" : options.inputs.front().string()}, "nothing to pack");
+    diag.note({options.inputs.empty() ? "" : options.inputs.front().string()},
+              "no pipelines, shaders, signatures or render passes: the archive is empty");
 
   // Distinct shaders, each compiled once, in parallel.
   std::vector<CompiledUnit> units;

@@ -254,9 +254,14 @@ format::SetLayout signature_set_layout(const SignatureDesc& signature, bool name
   std::vector<Slot> extra;
   for (const ImmutableSamplerDesc& s : signature.immutable_samplers) {
     if (attach_sampler(candidates, s, signature.combined_sampler_suffix, builder)) continue;
-    // A sampler the shaders declare but Resources do not list: it gets a binding of its own.
+    // A sampler the shaders declare but Resources do not list: it gets a binding of its own. Named after
+    // a texture of a combined-sampler signature, it is that texture's sampler (the suffixed name).
+    std::string name = s.name;
+    for (const SignatureResource& r : signature.resources)
+      if (r.name == s.name && r.descriptor_type == VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE)
+        name = s.name + signature.combined_sampler_suffix;
     uint32_t binding = static_cast<uint32_t>(slots.size() + extra.size());
-    extra.push_back({format::Binding{s.name, binding, VK_DESCRIPTOR_TYPE_SAMPLER, 1,
+    extra.push_back({format::Binding{name, binding, VK_DESCRIPTOR_TYPE_SAMPLER, 1,
                                      s.stages ? s.stages : all_stages, builder.add_sampler(s.sampler)},
                      signature.binding_index});
   }

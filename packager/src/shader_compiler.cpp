@@ -166,6 +166,23 @@ spv_target_env target_env(uint32_t vulkan_version) {
   }
 }
 
+std::string remove_unused_globals(std::vector<uint32_t>& spirv, uint32_t vulkan_version) {
+  std::string messages;
+  spvtools::Optimizer optimizer(target_env(vulkan_version));
+  optimizer.SetMessageConsumer([&](spv_message_level_t, const char*, const spv_position_t&, const char* m) {
+    messages += m;
+    messages += '\n';
+  });
+  optimizer.RegisterPass(spvtools::CreateRemoveUnusedInterfaceVariablesPass());
+  optimizer.RegisterPass(spvtools::CreateDeadVariableEliminationPass());
+  std::vector<uint32_t> out;
+  // No validation here: the finalised module is validated once, with the layout applied.
+  if (!optimizer.Run(spirv.data(), spirv.size(), &out, spvtools::ValidatorOptions(), true))
+    return "removing unused globals failed: " + messages;
+  spirv = std::move(out);
+  return "";
+}
+
 }  // namespace
 
 CompiledShader compile_shader(const ShaderDesc& shader, const CompileOptions& options, Diagnostics& diag) {
@@ -247,6 +264,13 @@ CompiledShader compile_shader(const ShaderDesc& shader, const CompileOptions& op
     diag.error(shader.where, "shader '" + shader.name + "': SPIR-V generation failed: " + messages_text);
     return result;
   }
+  // A resource counts as used by what the entry point statically uses: glslang keeps every global of
+  // the source (one HLSL file often holds VSMain and PSMain with disjoint resources), so module-scope
+  // variables nothing references are removed before reflection decides the layout.
+  if (std::string error = remove_unused_globals(result.spirv, options.vulkan_version); !error.empty()) {
+    diag.error(shader.where, "shader '" + shader.name + "': " + error);
+    return result;
+  }
 
   result.ok = true;
   return result;
@@ -255,8 +279,13 @@ CompiledShader compile_shader(const ShaderDesc& shader, const CompileOptions& op
 std::string finalize_spirv(std::vector<uint32_t>& spirv, const CompileOptions& options) {
   const spv_target_env env = target_env(options.vulkan_version);
   std::string messages;
+  // SPIRV-Tools messages span lines (the message, then the instruction); one diagnostic line each.
   auto consumer = [&](spv_message_level_t, const char*, const spv_position_t& pos, const char* message) {
-    messages += "word " + std::to_string(pos.index) + ": " + message + "\n";
+    std::string text = message;
+    for (char& ch : text)
+      if (ch == '\n') ch = ' ';
+    while (!text.empty() && text.back() == ' ') text.pop_back();
+    messages += (messages.empty() ? "" : "; ") + ("word " + std::to_string(pos.index) + ": " + text);
   };
   if (options.optimization != Optimization::none || options.strip_debug_info) {
     spvtools::Optimizer optimizer(env);
