@@ -359,8 +359,8 @@ TEST_F(HostileOutput, NoOutputReplacesAnInputHoweverItIsSpelled) {
   EXPECT_NE(link.output.find("refusing to write 'link.spk': it is a symbolic link"), std::string::npos)
       << link.output;
   // --dump_dir files are outputs too.
-  fs::create_directories(dir_ / "dump" / "Vulkan" / "Compute" / "P");
-  fs::create_hard_link(dir_ / "base.json", dir_ / "dump" / "Vulkan" / "Compute" / "P" / "P CS.spv");
+  fs::create_directories(dir_ / "dump" / "Vulkan" / "compute" / "P");
+  fs::create_hard_link(dir_ / "base.json", dir_ / "dump" / "Vulkan" / "compute" / "P" / "P CS.spv");
   CliRun dump = pack("a.json", "-o out.spk -d dump");
   EXPECT_EQ(dump.exit_code, 3) << dump.output;
   EXPECT_NE(dump.output.find("it is the input '" + cwd + "/base.json' of this run"), std::string::npos)

@@ -6,6 +6,7 @@
 #include "archive_format.hpp"
 #include "inspect.hpp"
 #include "packer.hpp"
+#include "version.hpp"
 
 namespace {
 
@@ -39,7 +40,7 @@ int run(int argc, char** argv) {
   CLI::App app{
       "statepack: packs render-state notation (DRSN JSON) and GLSL/HLSL shaders into one archive of\n"
       "pre-compiled SPIR-V that libstatepack_dearchiver turns into Vulkan pipelines."};
-  app.set_version_flag("--version", "statepack 0.1.0 (archive format " +
+  app.set_version_flag("--version", std::string("statepack ") + kVersionString + " (archive format " +
                                         std::to_string(statepack::format::kFormatVersion) + ")");
   app.require_subcommand(1);
   app.footer("Exit codes: 0 success, 1 input error (notation, shader), 2 usage error, 3 I/O error.");

@@ -16,13 +16,13 @@
 #include "output_files.hpp"
 #include "pipeline_layout.hpp"
 #include "spirv_reflect.hpp"
+#include "version.hpp"
 
 namespace statepack::packager {
 namespace fs = std::filesystem;
 namespace {
 
 constexpr size_t kNoJob = SIZE_MAX;
-constexpr uint32_t kProducerVersion = (0u << 22) | (2u << 12) | 0u;  // 0.2.0
 
 // Two slots compile to the same module when everything that feeds glslang is equal.
 std::string compile_key(const ShaderDesc& s) {
@@ -295,7 +295,7 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err) {
         diag.error(unit.desc.where, "shader '" + unit.desc.name + "': " + finalizer.error(job));
         continue;
       }
-      dumper.write(fs::path("Shaders") / file_name_of(unit.desc.name), finalizer.words(job), io_error);
+      dumper.write(fs::path("shaders") / file_name_of(unit.desc.name), finalizer.words(job), io_error);
       uint32_t blob = builder.add_blob(finalizer.words(job));
       builder.contents.standalone_shaders.push_back(
           builder.add_shader({unit.desc.name, unit.desc.stage, blob, unit.desc.entry_point}));
@@ -311,7 +311,7 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err) {
           ok = false;
           continue;
         }
-        const std::string kind = p.kind == format::PipelineKind::compute ? "Compute" : "Graphics";
+        const std::string kind = p.kind == format::PipelineKind::compute ? "compute" : "graphics";  // as Diligent names them
         dumper.write(fs::path(kind) / file_name_of(p.name) / file_name_of(pp.stages[s]->name),
                      finalizer.words(job), io_error);
         uint32_t blob = builder.add_blob(finalizer.words(job));
