@@ -9,13 +9,17 @@
 #     [CONTENT_VERSION <n>]           # -v: user content version in the header
 #     [VULKAN_VERSION 1.0|1.1|1.2|1.3]
 #     [PACKAGER <path or target>]     # default: the statepack target of this build, else `statepack` on PATH
+#     [VERIFY]                        # also run `statepack verify` on the local Vulkan device
 #     [ARGS <extra packager args>...])
 #
 # The archive is a build product of <target> (built by `all`). The packager writes a depfile listing
 # every JSON and shader file it read, so the archive is repacked exactly when one of them changes.
-# The archive's path is stored in the target property STATEPACK_ARCHIVE.
+# The archive's path is stored in the target property STATEPACK_ARCHIVE. With VERIFY, every object of
+# the archive is also created on the build machine's Vulkan device with the validation layer on (when
+# installed), and the build fails on any error or validation message; a stamp file beside the archive
+# records a passed verification, so it runs again only when the archive changes.
 function(statepack_add_archive target)
-  cmake_parse_arguments(PARSE_ARGV 1 ARG "" "OUTPUT;CONTENT_VERSION;VULKAN_VERSION;PACKAGER"
+  cmake_parse_arguments(PARSE_ARGV 1 ARG "VERIFY" "OUTPUT;CONTENT_VERSION;VULKAN_VERSION;PACKAGER"
                         "INPUTS;SHADER_DIRS;RENDER_STATE_DIRS;DEFINES;ARGS")
   if(NOT ARG_OUTPUT OR NOT ARG_INPUTS)
     message(FATAL_ERROR "statepack_add_archive(${target}): OUTPUT and INPUTS are required")
@@ -67,14 +71,28 @@ function(statepack_add_archive target)
   endif()
   list(APPEND args ${ARG_ARGS})
 
+  # Ninja creates an output's directory itself; Make and the Visual Studio generators do not.
+  cmake_path(GET output PARENT_PATH output_dir)
   add_custom_command(
     OUTPUT "${output}"
+    COMMAND ${CMAKE_COMMAND} -E make_directory "${output_dir}"
     COMMAND ${packager_command} ${args}
     DEPENDS ${inputs} ${packager_dependency}
     DEPFILE "${output}.d"
     WORKING_DIRECTORY "${CMAKE_CURRENT_SOURCE_DIR}"
     COMMENT "statepack: packing ${output}"
     VERBATIM)
-  add_custom_target(${target} ALL DEPENDS "${output}")
+  set(products "${output}")
+  if(ARG_VERIFY)
+    add_custom_command(
+      OUTPUT "${output}.verified"
+      COMMAND ${packager_command} verify "${output}"
+      COMMAND ${CMAKE_COMMAND} -E touch "${output}.verified"
+      DEPENDS "${output}" ${packager_dependency}
+      COMMENT "statepack: verifying ${output} on the local Vulkan device"
+      VERBATIM)
+    list(APPEND products "${output}.verified")
+  endif()
+  add_custom_target(${target} ALL DEPENDS ${products})
   set_target_properties(${target} PROPERTIES STATEPACK_ARCHIVE "${output}")
 endfunction()

@@ -6,6 +6,7 @@
 #include "archive_format.hpp"
 #include "inspect.hpp"
 #include "packer.hpp"
+#include "verify.hpp"
 #include "version.hpp"
 
 namespace {
@@ -99,6 +100,27 @@ int run(int argc, char** argv) {
   inspect->add_option("archive", inspect_path, "The archive")->required();
   inspect->add_flag("--json", inspect_json, "Print JSON instead of text");
 
+  VerifyOptions verify_options;
+  std::vector<std::string> verify_paths;
+  std::string verify_format = "RGBA8_UNORM", verify_cache;
+  bool verify_no_validation = false;
+  CLI::App* verify = app.add_subcommand(
+      "verify",
+      "Unpack every object of archives on a local Vulkan device, validation layer on; exit 1 on any "
+      "error or validation message");
+  verify->add_option("archives", verify_paths, "Archives to verify")->required();
+  verify->add_option(
+      "--device", verify_options.device_index,
+      "Vulkan device index (vkEnumeratePhysicalDevices order; default: the first Vulkan 1.3 one)");
+  verify
+      ->add_option("--format", verify_format,
+                   "Format for render targets the archive leaves UNKNOWN (patched at run time)")
+      ->capture_default_str();
+  verify->add_option(
+      "--cache", verify_cache,
+      "Pipeline cache file: loaded when present and valid for this device, saved after (warming)");
+  verify->add_flag("--no-validation", verify_no_validation, "Do not enable the validation layer");
+
   try {
     std::vector<char*> raw;
     for (auto& a : args) raw.push_back(a.data());
@@ -109,6 +131,19 @@ int run(int argc, char** argv) {
   }
 
   if (inspect->parsed()) return run_inspect(inspect_path, inspect_json, std::cout, std::cerr);
+  if (verify->parsed()) {
+    for (const auto& p : verify_paths) verify_options.archives.emplace_back(p);
+    auto format = parse_vk_format(verify_format);
+    if (!format) {
+      std::cerr << "statepack: error: --format: unknown texture format '" << printable(verify_format)
+                << "' (use the notation's names, e.g. RGBA8_UNORM or BGRA8_UNORM_SRGB)\n";
+      return kExitUsage;
+    }
+    verify_options.color_format = *format;
+    verify_options.validation = !verify_no_validation;
+    if (!verify_cache.empty()) verify_options.cache = verify_cache;
+    return run_verify(verify_options, std::cout, std::cerr);
+  }
   if (output_option->count() == 0 && !options.check_only) {
     std::cerr << "statepack: error: --output is required (or --check to write nothing)\n";
     return kExitUsage;

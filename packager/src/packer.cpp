@@ -311,7 +311,8 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err) {
           ok = false;
           continue;
         }
-        const std::string kind = p.kind == format::PipelineKind::compute ? "compute" : "graphics";  // as Diligent names them
+        const std::string kind =
+            p.kind == format::PipelineKind::compute ? "compute" : "graphics";  // as Diligent names them
         dumper.write(fs::path(kind) / file_name_of(p.name) / file_name_of(pp.stages[s]->name),
                      finalizer.words(job), io_error);
         uint32_t blob = builder.add_blob(finalizer.words(job));

@@ -37,9 +37,12 @@ VKAPI_ATTR VkBool32 VKAPI_CALL VulkanContext::on_message(VkDebugUtilsMessageSeve
 Result<std::unique_ptr<VulkanContext>> VulkanContext::create(const VulkanContextOptions& options) {
   std::unique_ptr<VulkanContext> ctx(new VulkanContext());
   constexpr const char* kValidationLayer = "VK_LAYER_KHRONOS_validation";
-  if (options.validation && !has_layer(kValidationLayer))
+  const bool validation =
+      options.validation && (!options.validation_if_present || has_layer(kValidationLayer));
+  if (validation && !has_layer(kValidationLayer))
     return Error{ErrorCode::unsupported,
                  "the Vulkan validation layer is missing: apt-get install vulkan-validationlayers"};
+  ctx->validation_enabled = validation;
 
   VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
   app.pApplicationName = "statepack";
@@ -55,7 +58,7 @@ Result<std::unique_ptr<VulkanContext>> VulkanContext::create(const VulkanContext
   messenger_info.pfnUserCallback = &VulkanContext::on_message;
   messenger_info.pUserData = ctx.get();
   VkInstanceCreateInfo instance_info{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
-  if (options.validation) {
+  if (validation) {
     layers.push_back(kValidationLayer);
     extensions.push_back(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
     instance_info.pNext = &messenger_info;  // also catches messages from instance creation itself
@@ -67,7 +70,7 @@ Result<std::unique_ptr<VulkanContext>> VulkanContext::create(const VulkanContext
   instance_info.ppEnabledExtensionNames = extensions.data();
   if (VkResult r = vkCreateInstance(&instance_info, nullptr, &ctx->instance); r != VK_SUCCESS)
     return vk_error("vkCreateInstance", r);
-  if (options.validation) {
+  if (validation) {
     auto create_messenger = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
         vkGetInstanceProcAddr(ctx->instance, "vkCreateDebugUtilsMessengerEXT"));
     if (VkResult r = create_messenger(ctx->instance, &messenger_info, nullptr, &ctx->messenger_);
@@ -80,12 +83,24 @@ Result<std::unique_ptr<VulkanContext>> VulkanContext::create(const VulkanContext
   std::vector<VkPhysicalDevice> devices(count);
   vkEnumeratePhysicalDevices(ctx->instance, &count, devices.data());
   std::string seen;
-  for (VkPhysicalDevice pd : devices) {
+  if (options.device_index >= 0 && size_t(options.device_index) >= devices.size())
+    return Error{ErrorCode::unsupported, "there is no Vulkan device " + std::to_string(options.device_index) +
+                                             " (this machine has " + std::to_string(devices.size()) + ")"};
+  for (size_t index = 0; index < devices.size(); ++index) {
+    VkPhysicalDevice pd = devices[index];
     VkPhysicalDeviceDriverProperties driver{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES};
     VkPhysicalDeviceProperties2 props{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &driver};
     vkGetPhysicalDeviceProperties2(pd, &props);
-    seen += std::string(seen.empty() ? "" : ", ") + props.properties.deviceName;
-    if (props.properties.apiVersion < VK_API_VERSION_1_3) continue;
+    seen +=
+        std::string(seen.empty() ? "" : ", ") + std::to_string(index) + ": " + props.properties.deviceName;
+    if (options.device_index >= 0 && size_t(options.device_index) != index) continue;
+    if (props.properties.apiVersion < VK_API_VERSION_1_3) {
+      if (options.device_index >= 0)
+        return Error{ErrorCode::unsupported, std::string("device ") + std::to_string(index) + " (" +
+                                                 props.properties.deviceName +
+                                                 ") does not support Vulkan 1.3"};
+      continue;
+    }
     if (options.require_lavapipe && driver.driverID != VK_DRIVER_ID_MESA_LLVMPIPE) continue;
     ctx->physical_device = pd;
     ctx->device_name = props.properties.deviceName;
@@ -115,6 +130,13 @@ Result<std::unique_ptr<VulkanContext>> VulkanContext::create(const VulkanContext
 
   VkPhysicalDeviceVulkan13Features features13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
   features13.dynamicRendering = VK_TRUE;
+  VkPhysicalDeviceFeatures2 features{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &features13};
+  if (options.enable_supported_features) {
+    vkGetPhysicalDeviceFeatures(ctx->physical_device, &features.features);
+    // Robust buffer access changes behaviour and costs speed; nothing archived needs it.
+    features.features.robustBufferAccess = VK_FALSE;
+  }
+  ctx->enabled_features = features.features;
   const float priority = 1.0f;
   VkDeviceQueueCreateInfo queue_info{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
   queue_info.queueFamilyIndex = ctx->queue_family;
@@ -123,7 +145,7 @@ Result<std::unique_ptr<VulkanContext>> VulkanContext::create(const VulkanContext
   std::vector<const char*> device_extensions;
   if (!options.instance_extensions.empty()) device_extensions.push_back(VK_KHR_SWAPCHAIN_EXTENSION_NAME);
   VkDeviceCreateInfo device_info{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
-  device_info.pNext = &features13;
+  device_info.pNext = &features;
   device_info.queueCreateInfoCount = 1;
   device_info.pQueueCreateInfos = &queue_info;
   device_info.enabledExtensionCount = static_cast<uint32_t>(device_extensions.size());

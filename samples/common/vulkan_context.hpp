@@ -15,8 +15,11 @@
 namespace statepack::samples {
 
 struct VulkanContextOptions {
-  bool validation = true;         // enable VK_LAYER_KHRONOS_validation (an error when it is missing)
-  bool require_lavapipe = false;  // only accept Mesa's CPU driver (tests: same results everywhere)
+  bool validation = true;              // enable VK_LAYER_KHRONOS_validation (an error when it is missing)
+  bool validation_if_present = false;  // with validation: enable it only when installed, no error
+  bool require_lavapipe = false;       // only accept Mesa's CPU driver (tests: same results everywhere)
+  int device_index = -1;  // >= 0: that entry of vkEnumeratePhysicalDevices, else the first 1.3 one
+  bool enable_supported_features = false;        // enable every core feature the device supports
   std::vector<const char*> instance_extensions;  // e.g. what GLFW needs
 };
 
@@ -35,6 +38,8 @@ class VulkanContext {
   VkCommandPool command_pool = VK_NULL_HANDLE;
   std::string device_name;
   std::string driver_name;
+  bool validation_enabled = false;
+  VkPhysicalDeviceFeatures enabled_features{};  // what the device was created with
 
   // Destroys the device while the messenger still listens, so objects left alive are reported
   // (tests call this before checking validation_messages()).

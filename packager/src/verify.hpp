@@ -1,0 +1,32 @@
+// statepack verify: "will this archive work on this machine?" Loads each archive, unpacks every object
+// on a local Vulkan device with the validation layer on (when installed), prints one line per object,
+// and fails on any error or validation message. Like fossilize-replay, it can warm a pipeline cache.
+#pragma once
+
+#include <filesystem>
+#include <iosfwd>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <vulkan/vulkan_core.h>
+
+namespace statepack::packager {
+
+struct VerifyOptions {
+  std::vector<std::filesystem::path> archives;
+  int device_index = -1;   // -1: the first Vulkan 1.3 device
+  bool validation = true;  // the layer when installed (a note when it is not)
+  // Render targets the archive leaves UNKNOWN (patched at run time) are verified with these formats.
+  VkFormat color_format = VK_FORMAT_R8G8B8A8_UNORM;
+  std::optional<std::filesystem::path> cache;  // pipeline cache to load (if present) and save
+};
+
+// Returns an ExitCode: 0 every object unpacked without a validation message, 1 an object failed or the
+// layer spoke, 2 usage, 3 an archive could not be read or no device could be created.
+int run_verify(const VerifyOptions& options, std::ostream& out, std::ostream& err);
+
+// Vulkan's name for a format ("R8G8B8A8_UNORM", as VK_FORMAT_ spells it) and back.
+std::optional<VkFormat> parse_vk_format(const std::string& name);
+
+}  // namespace statepack::packager
