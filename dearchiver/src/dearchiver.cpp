@@ -16,6 +16,7 @@
 #include "api_guard.hpp"
 #include "archive_format.hpp"
 #include "device_limits.hpp"
+#include "spirv_walk.hpp"
 #include "suggest.hpp"
 #include "vk_result_string.hpp"
 
@@ -208,14 +209,15 @@ struct Dearchiver::State {
     info.addressModeV = static_cast<VkSamplerAddressMode>(s.address_v);
     info.addressModeW = static_cast<VkSamplerAddressMode>(s.address_w);
     info.mipLodBias = s.mip_lod_bias;
-    info.anisotropyEnable = s.anisotropy_enable;
+    info.anisotropyEnable = s.anisotropy_enable != 0;  // VkBool32 must be exactly 0 or 1
     info.maxAnisotropy = s.max_anisotropy;
-    info.compareEnable = s.compare_enable;
+    info.compareEnable = s.compare_enable != 0;
     info.compareOp = static_cast<VkCompareOp>(s.compare_op);
     info.minLod = s.min_lod;
     info.maxLod = s.max_lod;
     info.borderColor = static_cast<VkBorderColor>(s.border_color);
-    info.unnormalizedCoordinates = s.unnormalized_coordinates;
+    info.unnormalizedCoordinates = s.unnormalized_coordinates != 0;
+    if (auto ok = check_sampler(s, caps, binding); !ok) return ok.error();
     if (s.anisotropy_enable) {
       if (!features.samplerAnisotropy)
         return Error{ErrorCode::unsupported,
@@ -233,7 +235,7 @@ struct Dearchiver::State {
     auto key = std::pair{archive, index};
     if (auto it = render_passes.find(key); it != render_passes.end()) return it->second;
     const format::RenderPass& rp = archives[archive].contents().render_passes[index];
-    if (auto ok = check_render_pass(rp, caps); !ok) return ok.error();
+    if (auto ok = check_render_pass(rp, caps, features); !ok) return ok.error();
     std::vector<VkAttachmentDescription> attachments;
     for (const auto& a : rp.attachments)
       attachments.push_back(
@@ -419,13 +421,30 @@ struct Dearchiver::State {
                                                     std::to_string(settled.color_count) +
                                                     " render targets (at most 8)"};
     if (auto missing = check_features(name, settled)) return *missing;
+    // Adjacency topologies need the geometry shader feature; patch lists go with tessellation, only.
+    if (g.topology >= VK_PRIMITIVE_TOPOLOGY_LINE_LIST_WITH_ADJACENCY &&
+        g.topology <= VK_PRIMITIVE_TOPOLOGY_TRIANGLE_STRIP_WITH_ADJACENCY && !features.geometryShader)
+      return missing_feature(name, "geometryShader");
+    {
+      bool tessellation = false;
+      for (uint32_t index : found.pipeline->shaders)
+        tessellation |=
+            (archives[found.archive].contents().shaders[index].stage &
+             (VK_SHADER_STAGE_TESSELLATION_CONTROL_BIT | VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT)) != 0;
+      if (tessellation != (g.topology == VK_PRIMITIVE_TOPOLOGY_PATCH_LIST))
+        return Error{ErrorCode::corrupt,
+                     "pipeline '" + name + "' " +
+                         (tessellation ? "tessellates without" : "draws patches without") +
+                         " a patch list topology and tessellation shaders together"};
+    }
     std::array<bool, 8> blend_enabled{};
     for (size_t i = 0; i < blend_enabled.size(); ++i) blend_enabled[i] = settled.blend[i].enable;
     const GraphicsTargets targets{settled.color_count, settled.color_formats.data(),
                                   settled.depth_stencil_format, settled.samples, blend_enabled.data()};
     const auto& contents = archives[found.archive].contents();
     if (uses_render_pass)
-      if (auto ok = check_render_pass(contents.render_passes[g.render_pass], caps); !ok) return ok.error();
+      if (auto ok = check_render_pass(contents.render_passes[g.render_pass], caps, features); !ok)
+        return ok.error();
     if (auto ok = check_graphics_state(contents, *found.pipeline, targets, caps); !ok) return ok.error();
 
     auto planned = plan_common(found);
@@ -444,8 +463,24 @@ struct Dearchiver::State {
 
     for (const auto& b : g.vertex_bindings)
       pl.vertex_bindings.push_back({b.binding, b.stride, static_cast<VkVertexInputRate>(b.input_rate)});
+    // Attributes the vertex shader does not read have no effect; leaving them out keeps the layer
+    // from warning about them (a re-sealed archive can add any).
+    std::optional<spirv::Module> vertex_module;
+    for (uint32_t index : found.pipeline->shaders) {
+      const format::Shader& shader = contents.shaders[index];
+      if (shader.stage != VK_SHADER_STAGE_VERTEX_BIT) continue;
+      if (auto walked = spirv::walk(contents.spirv[shader.blob])) vertex_module = std::move(walked.value());
+    }
+    auto read_by_shader = [&](uint32_t location) {
+      if (!vertex_module) return true;
+      return std::any_of(vertex_module->inputs.begin(), vertex_module->inputs.end(),
+                         [&](const spirv::Input& in) {
+                           return location >= in.location && location < uint64_t(in.location) + in.locations;
+                         });
+    };
     for (const auto& a : g.vertex_attributes)
-      pl.vertex_attributes.push_back({a.location, a.binding, static_cast<VkFormat>(a.format), a.offset});
+      if (read_by_shader(a.location))
+        pl.vertex_attributes.push_back({a.location, a.binding, static_cast<VkFormat>(a.format), a.offset});
     pl.vertex_input.vertexBindingDescriptionCount = static_cast<uint32_t>(pl.vertex_bindings.size());
     pl.vertex_input.pVertexBindingDescriptions = pl.vertex_bindings.data();
     pl.vertex_input.vertexAttributeDescriptionCount = static_cast<uint32_t>(pl.vertex_attributes.size());
@@ -465,7 +500,7 @@ struct Dearchiver::State {
     pl.multisample.rasterizationSamples = s.samples;
     pl.sample_mask = g.sample_mask;
     pl.multisample.pSampleMask = &pl.sample_mask;
-    pl.multisample.alphaToCoverageEnable = g.alpha_to_coverage;
+    pl.multisample.alphaToCoverageEnable = g.alpha_to_coverage != 0;  // VkBool32: exactly 0 or 1
     const bool depth_attachment = has_depth(s.depth_stencil_format);
     const bool stencil_attachment = has_stencil(s.depth_stencil_format);
     pl.depth.depthTestEnable = depth_attachment && s.depth_stencil.depth_test;
@@ -519,7 +554,8 @@ struct Dearchiver::State {
       auto dual = [](VkBlendFactor f) {
         return f >= VK_BLEND_FACTOR_SRC1_COLOR && f <= VK_BLEND_FACTOR_ONE_MINUS_SRC1_ALPHA;
       };
-      if (b.enable && (dual(b.src_color) || dual(b.dst_color) || dual(b.src_alpha) || dual(b.dst_alpha)) &&
+      // Dual-source factors need the feature even when blending is off (VUID-...-00608).
+      if ((dual(b.src_color) || dual(b.dst_color) || dual(b.src_alpha) || dual(b.dst_alpha)) &&
           !features.dualSrcBlend)
         return missing_feature(name, "dualSrcBlend");
       if (i > 0 && !features.independentBlend &&

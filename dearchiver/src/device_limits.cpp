@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
+#include <optional>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -124,6 +126,82 @@ bool input_layout(uint32_t l) {
 bool is_depth_format(uint32_t f) {
   return f >= VK_FORMAT_D16_UNORM && f <= VK_FORMAT_D32_SFLOAT_S8_UINT;
 }
+bool read_only_layout(uint32_t l) {
+  return l == VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL ||
+         l == VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL ||
+         l == VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_STENCIL_ATTACHMENT_OPTIMAL ||
+         l == VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_STENCIL_READ_ONLY_OPTIMAL;
+}
+
+// Vulkan 1.0 pipeline stages and access flags (archives hold nothing newer), and which stages perform
+// which accesses (the spec's "supported access types" table).
+constexpr uint32_t kCoreStages = 0x1FFFF;
+constexpr uint32_t kShaderStages =
+    VK_PIPELINE_STAGE_VERTEX_SHADER_BIT | VK_PIPELINE_STAGE_TESSELLATION_CONTROL_SHADER_BIT |
+    VK_PIPELINE_STAGE_TESSELLATION_EVALUATION_SHADER_BIT | VK_PIPELINE_STAGE_GEOMETRY_SHADER_BIT |
+    VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT;
+constexpr uint32_t kFramebufferStages =
+    VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT |
+    VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
+bool access_fits(uint32_t access, uint32_t stages) {
+  if (access & ~0x1FFFFu) return false;
+  if (stages & VK_PIPELINE_STAGE_ALL_COMMANDS_BIT) return true;
+  if (stages & VK_PIPELINE_STAGE_ALL_GRAPHICS_BIT) stages |= 0x7FF & ~VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT;
+  const std::pair<uint32_t, uint32_t> table[] = {
+      {VK_ACCESS_INDIRECT_COMMAND_READ_BIT, VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT},
+      {VK_ACCESS_INDEX_READ_BIT, VK_PIPELINE_STAGE_VERTEX_INPUT_BIT},
+      {VK_ACCESS_VERTEX_ATTRIBUTE_READ_BIT, VK_PIPELINE_STAGE_VERTEX_INPUT_BIT},
+      {VK_ACCESS_UNIFORM_READ_BIT, kShaderStages},
+      {VK_ACCESS_INPUT_ATTACHMENT_READ_BIT, VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT},
+      {VK_ACCESS_SHADER_READ_BIT, kShaderStages},
+      {VK_ACCESS_SHADER_WRITE_BIT, kShaderStages},
+      {VK_ACCESS_COLOR_ATTACHMENT_READ_BIT, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT},
+      {VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT},
+      {VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT,
+       VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT},
+      {VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT,
+       VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT},
+      {VK_ACCESS_TRANSFER_READ_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT},
+      {VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT},
+      {VK_ACCESS_HOST_READ_BIT, VK_PIPELINE_STAGE_HOST_BIT},
+      {VK_ACCESS_HOST_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT},
+  };
+  for (auto [bit, allowed] : table)
+    if ((access & bit) && !(stages & allowed)) return false;
+  return true;  // MEMORY_READ and MEMORY_WRITE fit every stage
+}
+
+// The numeric type a format's components are read or written as.
+spirv::Numeric numeric_of_format(uint32_t f) {
+  using spirv::Numeric;
+  auto in_group = [&](uint32_t first, uint32_t last, uint32_t size,
+                      uint32_t uint_at) -> std::optional<Numeric> {
+    if (f < first || f > last) return std::nullopt;
+    const uint32_t at = (f - first) % size;
+    return at == uint_at ? Numeric::uint : at == uint_at + 1 ? Numeric::sint : Numeric::float_;
+  };
+  if (auto n = in_group(VK_FORMAT_R8_UNORM, VK_FORMAT_A8B8G8R8_SRGB_PACK32, 7, 4)) return *n;
+  if (auto n = in_group(VK_FORMAT_A2R10G10B10_UNORM_PACK32, VK_FORMAT_A2B10G10R10_SINT_PACK32, 6, 4))
+    return *n;
+  if (auto n = in_group(VK_FORMAT_R16_UNORM, VK_FORMAT_R16G16B16A16_SFLOAT, 7, 4)) return *n;
+  if (auto n = in_group(VK_FORMAT_R32_UINT, VK_FORMAT_R64G64B64A64_SFLOAT, 3, 0)) return *n;
+  if (f == VK_FORMAT_S8_UINT) return Numeric::uint;
+  return f == VK_FORMAT_UNDEFINED ? Numeric::other : Numeric::float_;
+}
+
+// Shader interface variables and the formats they meet agree on the numeric type (else the layer
+// warns that values are undefined).
+Result<void> check_numeric(const std::vector<spirv::Input>& variables, uint32_t location, uint32_t format,
+                           const std::string& what) {
+  for (const auto& v : variables) {
+    if (location < v.location || location >= uint64_t(v.location) + v.locations) continue;
+    const spirv::Numeric wanted = numeric_of_format(format);
+    if (v.numeric != spirv::Numeric::other && wanted != spirv::Numeric::other && v.numeric != wanted)
+      return Error{ErrorCode::corrupt, what + " has format " + std::to_string(format) +
+                                           ", whose numeric type differs from the shader's variable"};
+  }
+  return {};
+}
 
 }  // namespace
 
@@ -140,7 +218,45 @@ Result<void> check_set_layout(const format::SetLayout& layout, const DeviceCaps&
   return check_layout_totals(totals, caps.properties.limits, std::string(owner));
 }
 
-Result<void> check_render_pass(const format::RenderPass& pass, const DeviceCaps& caps) {
+Result<void> check_dependencies(const format::RenderPass& pass, const VkPhysicalDeviceFeatures& features) {
+  const std::string who = "render pass '" + pass.name + "'";
+  for (size_t i = 0; i < pass.dependencies.size(); ++i) {
+    const auto& d = pass.dependencies[i];
+    const std::string dependency = who + ": dependency " + std::to_string(i);
+    auto bad = [&](const std::string& why) { return Error{ErrorCode::corrupt, dependency + " " + why}; };
+    if (d.src_subpass == format::kNone && d.dst_subpass == format::kNone)
+      return bad("is external on both sides");
+    if (d.src_subpass != format::kNone && d.dst_subpass != format::kNone && d.src_subpass > d.dst_subpass)
+      return bad("goes from a later subpass to an earlier one");
+    if (d.flags & ~uint32_t{VK_DEPENDENCY_BY_REGION_BIT}) return bad("has unsupported flags");
+    for (uint32_t stages : {d.src_stages, d.dst_stages}) {
+      if (stages == 0 || (stages & ~kCoreStages)) return bad("has an empty or unknown stage mask");
+      if ((stages & VK_PIPELINE_STAGE_GEOMETRY_SHADER_BIT) && !features.geometryShader)
+        return bad("names the geometry stage, but the geometryShader feature is not enabled");
+      if ((stages & (VK_PIPELINE_STAGE_TESSELLATION_CONTROL_SHADER_BIT |
+                     VK_PIPELINE_STAGE_TESSELLATION_EVALUATION_SHADER_BIT)) &&
+          !features.tessellationShader)
+        return bad("names a tessellation stage, but the tessellationShader feature is not enabled");
+    }
+    if (!access_fits(d.src_access, d.src_stages) || !access_fits(d.dst_access, d.dst_stages))
+      return bad("has access flags that its stages do not perform");
+    // A side inside the render pass runs in the graphics pipeline: compute, transfer and host stages
+    // are only for the external side.
+    constexpr uint32_t kNonGraphics =
+        VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_HOST_BIT;
+    if ((d.src_subpass != format::kNone && (d.src_stages & kNonGraphics)) ||
+        (d.dst_subpass != format::kNone && (d.dst_stages & kNonGraphics)))
+      return bad("names a stage outside the graphics pipeline for a subpass");
+    if (d.src_subpass == d.dst_subpass &&
+        ((d.src_stages | d.dst_stages) & ~kFramebufferStages || !(d.flags & VK_DEPENDENCY_BY_REGION_BIT)))
+      return bad("is a self-dependency outside framebuffer-space stages or not by region");
+  }
+  return {};
+}
+
+Result<void> check_render_pass(const format::RenderPass& pass, const DeviceCaps& caps,
+                               const VkPhysicalDeviceFeatures& features) {
+  if (auto ok = check_dependencies(pass, features); !ok) return ok;
   const VkPhysicalDeviceLimits& l = caps.properties.limits;
   const std::string who = "render pass '" + pass.name + "'";
   for (size_t i = 0; i < pass.attachments.size(); ++i) {
@@ -162,6 +278,24 @@ Result<void> check_render_pass(const format::RenderPass& pass, const DeviceCaps&
     if (!(counts & a.samples))
       return Error{ErrorCode::unsupported, attachment + " has " + std::to_string(a.samples) +
                                                " samples, which the device does not support"};
+  }
+  // An attachment cleared on load must first be used in a layout that can be written.
+  for (uint32_t i = 0; i < pass.attachments.size(); ++i) {
+    const auto& a = pass.attachments[i];
+    if (a.load_op != VK_ATTACHMENT_LOAD_OP_CLEAR && a.stencil_load_op != VK_ATTACHMENT_LOAD_OP_CLEAR)
+      continue;
+    for (const auto& sp : pass.subpasses) {
+      std::optional<uint32_t> layout;
+      for (const auto* list : {&sp.colors, &sp.resolves, &sp.inputs})
+        for (const auto& r : *list)
+          if (r.attachment == i && !layout) layout = r.layout;
+      if (sp.depth_stencil.attachment == i && !layout) layout = sp.depth_stencil.layout;
+      if (!layout) continue;
+      if (read_only_layout(*layout))
+        return Error{ErrorCode::corrupt, who + ": attachment " + std::to_string(i) +
+                                             " is cleared but first used in a read-only layout"};
+      break;
+    }
   }
   for (size_t s = 0; s < pass.subpasses.size(); ++s) {
     const auto& sp = pass.subpasses[s];
@@ -213,6 +347,27 @@ Result<void> check_render_pass(const format::RenderPass& pass, const DeviceCaps&
         return Error{ErrorCode::corrupt, subpass + " preserves an attachment it uses"};
     }
   }
+  return {};
+}
+
+Result<void> check_sampler(const format::Sampler& s, const DeviceCaps& caps, std::string_view owner) {
+  const VkPhysicalDeviceLimits& l = caps.properties.limits;
+  const std::string who = "immutable sampler of '" + std::string(owner) + "'";
+  auto bad = [&](const char* why) { return Error{ErrorCode::corrupt, who + " " + why}; };
+  for (float f : {s.mip_lod_bias, s.max_anisotropy, s.min_lod, s.max_lod})
+    if (!std::isfinite(f)) return bad("has a value that is not a finite number");
+  if (std::fabs(s.mip_lod_bias) > l.maxSamplerLodBias) return bad("has a LOD bias beyond maxSamplerLodBias");
+  if (s.anisotropy_enable && (s.max_anisotropy < 1 || s.max_anisotropy > l.maxSamplerAnisotropy))
+    return bad("has an anisotropy beyond 1 to maxSamplerAnisotropy");
+  if (s.min_lod > s.max_lod) return bad("has a minimum LOD above its maximum LOD");
+  if (s.unnormalized_coordinates &&
+      (s.min_filter != s.mag_filter || s.mipmap_mode != VK_SAMPLER_MIPMAP_MODE_NEAREST || s.min_lod != 0 ||
+       s.max_lod != 0 || s.anisotropy_enable || s.compare_enable ||
+       (s.address_u != VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE &&
+        s.address_u != VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_BORDER) ||
+       (s.address_v != VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE &&
+        s.address_v != VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_BORDER)))
+    return bad("uses unnormalized coordinates with filters, LODs or address modes they do not allow");
   return {};
 }
 
@@ -346,6 +501,51 @@ Result<void> check_graphics_state(const format::Contents& c, const format::Pipel
                     VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BLEND_BIT))
         return Error{ErrorCode::unsupported, who + ": render target " + std::to_string(i) +
                                                  " blends a format the device cannot blend"};
+  }
+  // Points need a PointSize from the last stage before rasterization (here only the vertex stage can
+  // be: geometry and tessellation shaders leave it to their own output).
+  uint32_t stages = 0;
+  for (uint32_t index : p.shaders) stages |= c.shaders[index].stage;
+  if (g.topology == VK_PRIMITIVE_TOPOLOGY_POINT_LIST &&
+      !(stages & (VK_SHADER_STAGE_GEOMETRY_BIT | VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT))) {
+    for (uint32_t index : p.shaders) {
+      const format::Shader& shader = c.shaders[index];
+      if (shader.stage != VK_SHADER_STAGE_VERTEX_BIT) continue;
+      auto module = spirv::walk(c.spirv[shader.blob]);
+      if (!module) return module.error();
+      if (!module->writes_point_size)
+        return Error{ErrorCode::corrupt, who + " draws points, but its vertex shader '" + shader.name +
+                                             "' does not write PointSize"};
+    }
+  }
+  // Vertex inputs and fragment outputs against the formats they meet.
+  for (uint32_t index : p.shaders) {
+    const format::Shader& shader = c.shaders[index];
+    if (shader.stage != VK_SHADER_STAGE_VERTEX_BIT && shader.stage != VK_SHADER_STAGE_FRAGMENT_BIT) continue;
+    auto module = spirv::walk(c.spirv[shader.blob]);  // cheap, and it was accepted at load
+    if (!module) return module.error();
+    if (shader.stage == VK_SHADER_STAGE_VERTEX_BIT) {
+      for (const auto& a : g.vertex_attributes)
+        if (auto ok = check_numeric(module->inputs, a.location, a.format,
+                                    who + ": the vertex attribute at location " + std::to_string(a.location));
+            !ok)
+          return ok;
+    } else if (dynamic_rendering) {
+      for (uint32_t i = 0; i < t.color_count; ++i)
+        if (auto ok = check_numeric(module->outputs, i, t.color_formats[i],
+                                    who + ": render target " + std::to_string(i));
+            !ok)
+          return ok;
+    } else {
+      const format::RenderPass& pass = c.render_passes[g.render_pass];
+      const format::Subpass& sp = pass.subpasses[g.subpass];
+      for (uint32_t i = 0; i < sp.colors.size(); ++i)
+        if (sp.colors[i].attachment != format::kNone)
+          if (auto ok = check_numeric(module->outputs, i, pass.attachments[sp.colors[i].attachment].format,
+                                      who + ": render target " + std::to_string(i));
+              !ok)
+            return ok;
+    }
   }
   return {};
 }

@@ -24,8 +24,13 @@ struct DeviceCaps {
 Result<void> check_set_layout(const format::SetLayout& layout, const DeviceCaps& caps,
                               std::string_view owner);
 
-// A render pass: attachment formats and sample counts, attachments per subpass.
-Result<void> check_render_pass(const format::RenderPass& pass, const DeviceCaps& caps);
+// A render pass: attachment formats, sample counts and layouts, attachments per subpass, and
+// dependencies (stage and access masks that agree, features for the stages they name).
+Result<void> check_render_pass(const format::RenderPass& pass, const DeviceCaps& caps,
+                               const VkPhysicalDeviceFeatures& features);
+
+// An immutable sampler: anisotropy, LOD bias and the rules for unnormalized coordinates.
+Result<void> check_sampler(const format::Sampler& sampler, const DeviceCaps& caps, std::string_view owner);
 
 // A pipeline's layout and shaders (SPIR-V version, sets, descriptors per stage and per layout,
 // push constants).

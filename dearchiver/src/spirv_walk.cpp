@@ -32,7 +32,21 @@ enum Op : uint32_t {
   kOpVariable = 59,
   kOpDecorate = 71,
   kOpMemberDecorate = 72,
+  kOpFunction = 54,
+  kOpFunctionParameter = 55,
+  kOpFunctionEnd = 56,
+  kOpAccessChain = 65,
+  kOpInBoundsAccessChain = 66,
+  kOpStore = 62,
+  kOpLabel = 248,
 };
+
+// Instructions that end a block.
+bool is_terminator(uint32_t op) {
+  return (op >= 249 && op <= 255) || op == 4416 /* OpTerminateInvocation */ ||
+         op == 4448 /* OpIgnoreIntersectionKHR */ || op == 4449 /* OpTerminateRayKHR */ ||
+         op == 5380 /* OpEmitMeshTasksEXT */;
+}
 enum Decoration : uint32_t {
   kBlock = 2,
   kBufferBlock = 3,
@@ -45,10 +59,12 @@ enum Decoration : uint32_t {
   kDescriptorSet = 34,
   kOffset = 35,
 };
+constexpr uint32_t kBuiltInPointSize = 1;
 enum StorageClass : uint32_t {
   kUniformConstant = 0,
   kInput = 1,
   kUniform = 2,
+  kOutput = 3,
   kPushConstant = 9,
   kStorageBuffer = 12,
 };
@@ -64,11 +80,11 @@ constexpr uint32_t kSampler = 0, kCombined = 1, kSampledImage = 2, kStorageImage
 
 struct Decorations {
   std::optional<uint32_t> set, binding, location, array_stride;
-  bool block = false, buffer_block = false, builtin = false;
+  bool block = false, buffer_block = false, builtin = false, point_size = false;
 };
 struct MemberDecorations {
   std::optional<uint32_t> offset, matrix_stride;
-  bool row_major = false;
+  bool row_major = false, point_size = false;
 };
 
 struct Walker {
@@ -82,6 +98,8 @@ struct Walker {
     uint32_t id, pointer_type, storage;
   };
   std::vector<Variable> variables;
+  std::vector<uint32_t> stores;                                               // pointers stored to
+  std::unordered_map<uint32_t, std::pair<uint32_t, uint32_t>> access_chains;  // id -> base, first index
 
   static Error fail(size_t at, const std::string& what) {
     return Error{ErrorCode::corrupt, "SPIR-V word " + std::to_string(at) + ": " + what};
@@ -95,6 +113,7 @@ struct Walker {
         if (!need(3)) return fail(at, "OpEntryPoint is too short");
         EntryPoint entry;
         entry.execution_model = operands[0];
+        entry.function = operands[1];
         // The name is a NUL-terminated literal packed four bytes a word, inside the instruction.
         const auto* bytes = reinterpret_cast<const char*>(operands.data() + 2);
         const size_t max_bytes = (operands.size() - 2) * 4;
@@ -127,6 +146,13 @@ struct Walker {
         types_op[operands[0]] = op;
         return {};
       }
+      case kOpStore:
+        if (need(1)) stores.push_back(operands[0]);
+        return {};
+      case kOpAccessChain:
+      case kOpInBoundsAccessChain:
+        if (need(4)) access_chains[operands[1]] = {operands[2], operands[3]};
+        return {};
       case kOpConstant:
         if (need(3) && id_ok(operands[1])) constants[operands[1]] = operands[2];
         return {};
@@ -141,7 +167,7 @@ struct Walker {
         const bool has_value = need(3);
         if (kind == kBlock) d.block = true;
         if (kind == kBufferBlock) d.buffer_block = true;
-        if (kind == kBuiltIn) d.builtin = true;
+        if (kind == kBuiltIn) d.builtin = true, d.point_size = has_value && operands[2] == kBuiltInPointSize;
         if (kind == kDescriptorSet || kind == kBinding || kind == kLocation || kind == kArrayStride) {
           if (!has_value) return fail(at, "OpDecorate lacks its value");
           if (kind == kDescriptorSet) d.set = operands[2];
@@ -157,6 +183,7 @@ struct Walker {
         MemberDecorations& m = members[{operands[0], operands[1]}];
         const uint32_t kind = operands[2];
         if (kind == kRowMajor) m.row_major = true;
+        if (kind == kBuiltIn && need(4) && operands[3] == kBuiltInPointSize) m.point_size = true;
         if (kind == kOffset || kind == kMatrixStride) {
           if (!need(4)) return fail(at, "OpMemberDecorate lacks its value");
           (kind == kOffset ? m.offset : m.matrix_stride) = operands[3];
@@ -263,6 +290,34 @@ struct Walker {
     return 1;
   }
 
+  // Component type of a scalar, vector or array of them.
+  Numeric numeric_of(uint32_t type_id, int depth) const {
+    auto t = type(type_id);
+    if (!t || depth > kMaxTypeDepth) return Numeric::other;
+    auto [op, o] = *t;
+    if (op == kOpTypeFloat) return Numeric::float_;
+    if (op == kOpTypeInt) return o[1] ? Numeric::sint : Numeric::uint;
+    if (op == kOpTypeVector || op == kOpTypeArray || op == kOpTypeMatrix) return numeric_of(o[0], depth + 1);
+    return Numeric::other;
+  }
+
+  // Whether a store reaches the PointSize built-in through this Output variable: directly, or through
+  // an access chain into the member of gl_PerVertex that carries it (how compilers write it).
+  bool writes_point_size(uint32_t variable, uint32_t pointee, const Decorations* d) const {
+    auto stored = [&](uint32_t pointer) {
+      return std::find(stores.begin(), stores.end(), pointer) != stores.end();
+    };
+    if (d && d->point_size) return stored(variable);
+    for (const auto& [id, chain] : access_chains) {
+      if (chain.first != variable) continue;
+      auto index = constants.find(chain.second);
+      if (index == constants.end()) continue;
+      auto member = members.find({pointee, index->second});
+      if (member != members.end() && member->second.point_size && stored(id)) return true;
+    }
+    return false;
+  }
+
   Result<void> resolve() {
     for (const Variable& v : variables) {
       auto pointer = type(v.pointer_type);
@@ -296,8 +351,11 @@ struct Walker {
         if (module.push_constants) return Error{ErrorCode::corrupt, "more than one push constant block"};
         module.push_constants = PushConstantBlock{
             v.id, static_cast<uint32_t>(std::min<uint64_t>(size_of(pointee, nullptr, 0), 0xFFFFFFFFu))};
-      } else if (v.storage == kInput && d && d->location && !d->builtin) {
-        module.inputs.push_back({v.id, *d->location, locations_of(pointee, 0)});
+      } else if (v.storage == kOutput && writes_point_size(v.id, pointee, d)) {
+        module.writes_point_size = true;
+      } else if ((v.storage == kInput || v.storage == kOutput) && d && d->location && !d->builtin) {
+        (v.storage == kInput ? module.inputs : module.outputs)
+            .push_back({v.id, *d->location, locations_of(pointee, 0), numeric_of(pointee, 0)});
       }
     }
     return {};
@@ -330,14 +388,41 @@ Result<Module> walk(std::span<const uint32_t> words) {
   w.words = words;
   w.module.version = version;
   w.module.bound = words[3];
+  // Function structure is checked too: a module cut at an instruction boundary (a shortened blob) must
+  // not reach the validation layer or the driver, which assume every function and block is closed.
+  bool in_function = false, in_block = false;
+  std::vector<uint32_t> functions;
   for (size_t at = 5; at < words.size();) {
     const uint32_t count = words[at] >> 16, op = words[at] & 0xFFFFu;
     if (count == 0) return Walker::fail(at, "instruction with a word count of zero");
     if (count > words.size() - at) return Walker::fail(at, "instruction runs past the end of the module");
     if (auto ok = w.record(at, op, words.subspan(at + 1, count - 1)); !ok) return ok.error();
+    if (op == kOpFunction) {
+      if (in_function || count < 5) return Walker::fail(at, "OpFunction inside a function or too short");
+      in_function = true;
+      functions.push_back(words[at + 2]);
+    } else if (op == kOpFunctionEnd) {
+      if (!in_function || in_block)
+        return Walker::fail(at, "OpFunctionEnd outside a function or inside a block");
+      in_function = false;
+    } else if (op == kOpLabel) {
+      if (!in_function || in_block) return Walker::fail(at, "OpLabel outside a function or inside a block");
+      in_block = true;
+    } else if (is_terminator(op)) {
+      if (!in_block) return Walker::fail(at, "block terminator outside a block");
+      in_block = false;
+    } else if (in_function && !in_block && op != kOpFunctionParameter && op != 8 /* OpLine */ &&
+               op != 317 /* OpNoLine */) {
+      return Walker::fail(at, "instruction outside a block of its function");
+    }
     at += count;
   }
+  if (in_function) return Error{ErrorCode::corrupt, "SPIR-V module ends inside a function"};
   if (w.module.entry_points.empty()) return Error{ErrorCode::corrupt, "SPIR-V module has no entry point"};
+  for (const auto& entry : w.module.entry_points)
+    if (std::find(functions.begin(), functions.end(), entry.function) == functions.end())
+      return Error{ErrorCode::corrupt,
+                   "SPIR-V entry point '" + entry.name + "' names no function of the module"};
   if (auto ok = w.resolve(); !ok) return Error{ErrorCode::corrupt, "SPIR-V " + ok.error().message};
   return std::move(w.module);
 }

@@ -24,11 +24,15 @@ struct Resource {
   uint32_t array_size = 1;            // elements the binding must hold at least (0: runtime array)
 };
 
-// A vertex shader input with a location (built-ins have none).
+// The numeric type of a shader interface variable's components, to match attachment and vertex formats.
+enum class Numeric : uint8_t { other, float_, sint, uint };
+
+// A shader input or output with a location (built-ins have none).
 struct Input {
   uint32_t variable = 0;
   uint32_t location = 0;
   uint32_t locations = 1;  // consecutive locations it occupies (matrices and arrays take several)
+  Numeric numeric = Numeric::other;
 };
 
 struct PushConstantBlock {
@@ -38,6 +42,7 @@ struct PushConstantBlock {
 
 struct EntryPoint {
   uint32_t execution_model = 0;  // SpvExecutionModel
+  uint32_t function = 0;         // id of its OpFunction
   std::string name;
   std::vector<uint32_t> interface;  // ids listed by OpEntryPoint
 };
@@ -48,7 +53,9 @@ struct Module {
   std::vector<EntryPoint> entry_points;
   std::vector<Resource> resources;  // every descriptor variable of the module
   std::vector<Input> inputs;        // every Input variable with a Location
+  std::vector<Input> outputs;       // every Output variable with a Location
   std::optional<PushConstantBlock> push_constants;
+  bool writes_point_size = false;  // point lists need it from the last pre-rasterization stage
 
   const EntryPoint* find(uint32_t execution_model, std::string_view name) const;
   // Whether the entry point may use the variable: from SPIR-V 1.4 on, its interface lists every global
