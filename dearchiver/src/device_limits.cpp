@@ -195,6 +195,9 @@ Result<void> check_numeric(const std::vector<spirv::Input>& variables, uint32_t 
                            const std::string& what) {
   for (const auto& v : variables) {
     if (location < v.location || location >= uint64_t(v.location) + v.locations) continue;
+    if (format == VK_FORMAT_UNDEFINED)
+      return Error{ErrorCode::corrupt, what + " has no format, but the shader's variable at location " +
+                                           std::to_string(location) + " is there"};
     const spirv::Numeric wanted = numeric_of_format(format);
     if (v.numeric != spirv::Numeric::other && wanted != spirv::Numeric::other && v.numeric != wanted)
       return Error{ErrorCode::corrupt, what + " has format " + std::to_string(format) +
@@ -266,9 +269,10 @@ Result<void> check_render_pass(const format::RenderPass& pass, const DeviceCaps&
     if (a.final_layout == VK_IMAGE_LAYOUT_UNDEFINED || a.final_layout == VK_IMAGE_LAYOUT_PREINITIALIZED)
       return Error{ErrorCode::corrupt, attachment + " has an invalid final layout"};
     const bool depth = is_depth_format(a.format);
-    if (depth ? a.final_layout == VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL
-              : depth_layout(a.final_layout) && a.final_layout != VK_IMAGE_LAYOUT_GENERAL)
-      return Error{ErrorCode::corrupt, attachment + "'s final layout does not fit its format"};
+    for (uint32_t layout : {a.initial_layout, a.final_layout})
+      if (depth ? layout == VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL
+                : depth_layout(layout) && layout != VK_IMAGE_LAYOUT_GENERAL)
+        return Error{ErrorCode::corrupt, attachment + "'s initial or final layout does not fit its format"};
     const VkFormatFeatureFlags needed =
         depth ? VK_FORMAT_FEATURE_DEPTH_STENCIL_ATTACHMENT_BIT : VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BIT;
     if (!supports(caps.format(a.format), needed))
