@@ -98,6 +98,8 @@ Result<void> check_stage_totals(const DescriptorTotals& t, const VkPhysicalDevic
   return {};
 }
 
+constexpr uint32_t kMaxBindingNumber = 65535;
+
 bool supports(const VkFormatProperties& p, VkFormatFeatureFlags features) {
   return (p.optimalTilingFeatures & features) == features;
 }
@@ -217,7 +219,16 @@ VkFormatProperties DeviceCaps::format(uint32_t f) const {
 Result<void> check_set_layout(const format::SetLayout& layout, const DeviceCaps& caps,
                               std::string_view owner) {
   DescriptorTotals totals;
-  for (const auto& b : layout.bindings) totals.add(b.descriptor_type, b.count);
+  for (const auto& b : layout.bindings) {
+    // Vulkan sets no limit on binding numbers, but drivers size a set layout by its largest one
+    // (lavapipe fails with VK_ERROR_OUT_OF_HOST_MEMORY at 2^31), so a sparse absurd one is refused.
+    if (b.binding > kMaxBindingNumber)
+      return Error{ErrorCode::unsupported, std::string(owner) + ": binding '" + b.name + "' has the number " +
+                                               std::to_string(b.binding) + ", beyond the " +
+                                               std::to_string(kMaxBindingNumber) +
+                                               " this dearchiver accepts"};
+    totals.add(b.descriptor_type, b.count);
+  }
   return check_layout_totals(totals, caps.properties.limits, std::string(owner));
 }
 
