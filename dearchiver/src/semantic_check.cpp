@@ -30,6 +30,9 @@ std::string type_names(spirv::DescriptorTypeMask mask) {
   return out;
 }
 
+// No device has more vertex attributes than this; an input claiming more is hostile.
+constexpr uint32_t kMaxVertexLocations = 64;
+
 Error corrupt(std::string message) {
   return Error{ErrorCode::corrupt, "corrupt archive: " + std::move(message)};
 }
@@ -48,9 +51,11 @@ Result<void> check_pipeline(const Contents& c, const Pipeline& p, const std::vec
       const SetLayout* layout = nullptr;
       if (r.set < p.set_layouts.size() && p.set_layouts[r.set] != kNone)
         layout = &c.set_layouts[p.set_layouts[r.set]];
-      auto b = layout ? std::find_if(layout->bindings.begin(), layout->bindings.end(),
-                                     [&](const Binding& x) { return x.binding == r.binding; })
+      // Bindings are sorted by number (checked by decode).
+      auto b = layout ? std::lower_bound(layout->bindings.begin(), layout->bindings.end(), r.binding,
+                                         [](const Binding& x, uint32_t n) { return x.binding < n; })
                       : std::vector<Binding>::const_iterator{};
+      if (layout && b != layout->bindings.end() && b->binding != r.binding) b = layout->bindings.end();
       if (!layout || b == layout->bindings.end())
         return corrupt(pipeline + ": " + who + " uses " + slot + ", which the pipeline's layout lacks");
       const std::string binding = pipeline + ": binding '" + b->name + "' (" + slot + ")";
@@ -77,12 +82,16 @@ Result<void> check_pipeline(const Contents& c, const Pipeline& p, const std::vec
                        " bytes, but " + who + " uses " + std::to_string(module.push_constants->size));
     }
     if (shader.stage == 0x1 && p.kind == PipelineKind::graphics) {
+      std::vector<uint32_t> provided;  // attribute locations, sorted for lookups
+      for (const auto& a : p.graphics.vertex_attributes) provided.push_back(a.location);
+      std::sort(provided.begin(), provided.end());
       for (const spirv::Input& in : module.inputs) {
         if (!module.uses(*entry, in.variable)) continue;
+        if (in.locations > kMaxVertexLocations)
+          return corrupt(pipeline + ": vertex " + who + " reads " + std::to_string(in.locations) +
+                         " locations from one input");
         for (uint64_t location = in.location; location < uint64_t(in.location) + in.locations; ++location) {
-          const auto& attributes = p.graphics.vertex_attributes;
-          if (std::none_of(attributes.begin(), attributes.end(),
-                           [&](const VertexAttribute& a) { return a.location == location; }))
+          if (!std::binary_search(provided.begin(), provided.end(), location))
             return corrupt(pipeline + ": vertex " + who + " reads input location " +
                            std::to_string(location) + ", which has no vertex attribute");
         }
@@ -109,6 +118,20 @@ Result<void> check_shader_interfaces(const Contents& c) {
     if (!model || !modules[shader.blob].find(*model, shader.entry_point))
       return corrupt(who + " has no " + spirv::stage_name(shader.stage) + " entry point named '" +
                      shader.entry_point + "' in its SPIR-V");
+  }
+  // Pipelines may share shaders, so the checks below cost pipelines x resources per shader: bounded, like
+  // decoding, by the file's own size, so that a small archive cannot make loading take minutes.
+  uint64_t work = 0, budget = 64;
+  for (auto blob : c.spirv) budget += blob.size_bytes();
+  budget *= 16;
+  for (const Pipeline& p : c.pipelines) {
+    for (uint32_t index : p.shaders) {
+      const spirv::Module& m = modules[c.shaders[index].blob];
+      work += 1 + m.resources.size() + m.inputs.size();
+    }
+    if (work > budget)
+      return corrupt("checking pipeline '" + p.name + "' against its shaders expands beyond " +
+                     std::to_string(budget) + " steps (16 x the SPIR-V size): pipelines share huge shaders");
   }
   for (const Pipeline& p : c.pipelines)
     if (auto ok = check_pipeline(c, p, modules); !ok) return ok;

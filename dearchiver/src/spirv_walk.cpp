@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <map>
 #include <unordered_map>
+#include <unordered_set>
 
 namespace statepack::spirv {
 namespace {
@@ -13,6 +14,8 @@ namespace {
 constexpr uint32_t kMagic = 0x07230203u;
 constexpr uint32_t kMaxBound = 4194303;  // SPIR-V's universal limit on the id bound
 constexpr int kMaxTypeDepth = 16;        // nesting deeper than this is treated as hostile
+constexpr size_t kMaxEntryPoints = 1024;
+constexpr uint64_t kMaxSizeSteps = 1 << 16;  // type visits spent sizing push constant blocks
 
 enum Op : uint32_t {
   kOpName = 5,
@@ -98,8 +101,11 @@ struct Walker {
     uint32_t id, pointer_type, storage;
   };
   std::vector<Variable> variables;
-  std::vector<uint32_t> stores;                                               // pointers stored to
-  std::unordered_map<uint32_t, std::pair<uint32_t, uint32_t>> access_chains;  // id -> base, first index
+  // Hash containers keep every lookup below constant-time: a hostile module of a million words
+  // must not turn the walk quadratic.
+  std::unordered_set<uint32_t> stores;                                             // pointers stored to
+  std::unordered_multimap<uint32_t, std::pair<uint32_t, uint32_t>> access_chains;  // base -> id, first index
+  mutable uint64_t size_steps = 0;  // work spent in size_of, which branches over struct members
 
   static Error fail(size_t at, const std::string& what) {
     return Error{ErrorCode::corrupt, "SPIR-V word " + std::to_string(at) + ": " + what};
@@ -147,11 +153,11 @@ struct Walker {
         return {};
       }
       case kOpStore:
-        if (need(1)) stores.push_back(operands[0]);
+        if (need(1)) stores.insert(operands[0]);
         return {};
       case kOpAccessChain:
       case kOpInBoundsAccessChain:
-        if (need(4)) access_chains[operands[1]] = {operands[2], operands[3]};
+        if (need(4)) access_chains.emplace(operands[2], std::pair{operands[1], operands[3]});
         return {};
       case kOpConstant:
         if (need(3) && id_ok(operands[1])) constants[operands[1]] = operands[2];
@@ -239,7 +245,8 @@ struct Walker {
   // Bytes a type spans in a block, or 0 when not computed here (then only "non-zero" is checked).
   uint64_t size_of(uint32_t type_id, const MemberDecorations* member, int depth) const {
     auto t = type(type_id);
-    if (!t || depth > kMaxTypeDepth) return 0;
+    // Structs of structs branch: nesting alone could make this exponential, so the work is bounded.
+    if (!t || depth > kMaxTypeDepth || ++size_steps > kMaxSizeSteps) return 0;
     auto [op, o] = *t;
     switch (op) {
       case kOpTypeInt:
@@ -304,16 +311,14 @@ struct Walker {
   // Whether a store reaches the PointSize built-in through this Output variable: directly, or through
   // an access chain into the member of gl_PerVertex that carries it (how compilers write it).
   bool writes_point_size(uint32_t variable, uint32_t pointee, const Decorations* d) const {
-    auto stored = [&](uint32_t pointer) {
-      return std::find(stores.begin(), stores.end(), pointer) != stores.end();
-    };
-    if (d && d->point_size) return stored(variable);
-    for (const auto& [id, chain] : access_chains) {
-      if (chain.first != variable) continue;
-      auto index = constants.find(chain.second);
+    if (d && d->point_size) return stores.count(variable) > 0;
+    auto [first, last] = access_chains.equal_range(variable);
+    for (auto it = first; it != last; ++it) {
+      const auto [id, index_id] = it->second;
+      auto index = constants.find(index_id);
       if (index == constants.end()) continue;
       auto member = members.find({pointee, index->second});
-      if (member != members.end() && member->second.point_size && stored(id)) return true;
+      if (member != members.end() && member->second.point_size && stores.count(id)) return true;
     }
     return false;
   }
@@ -372,7 +377,7 @@ const EntryPoint* Module::find(uint32_t execution_model, std::string_view name) 
 
 bool Module::uses(const EntryPoint& entry, uint32_t variable) const {
   if (version < 0x00010400u) return true;
-  return std::find(entry.interface.begin(), entry.interface.end(), variable) != entry.interface.end();
+  return std::binary_search(entry.interface.begin(), entry.interface.end(), variable);  // sorted by walk()
 }
 
 Result<Module> walk(std::span<const uint32_t> words) {
@@ -391,7 +396,7 @@ Result<Module> walk(std::span<const uint32_t> words) {
   // Function structure is checked too: a module cut at an instruction boundary (a shortened blob) must
   // not reach the validation layer or the driver, which assume every function and block is closed.
   bool in_function = false, in_block = false;
-  std::vector<uint32_t> functions;
+  std::unordered_set<uint32_t> functions;
   for (size_t at = 5; at < words.size();) {
     const uint32_t count = words[at] >> 16, op = words[at] & 0xFFFFu;
     if (count == 0) return Walker::fail(at, "instruction with a word count of zero");
@@ -400,7 +405,7 @@ Result<Module> walk(std::span<const uint32_t> words) {
     if (op == kOpFunction) {
       if (in_function || count < 5) return Walker::fail(at, "OpFunction inside a function or too short");
       in_function = true;
-      functions.push_back(words[at + 2]);
+      functions.insert(words[at + 2]);
     } else if (op == kOpFunctionEnd) {
       if (!in_function || in_block)
         return Walker::fail(at, "OpFunctionEnd outside a function or inside a block");
@@ -418,9 +423,14 @@ Result<Module> walk(std::span<const uint32_t> words) {
     at += count;
   }
   if (in_function) return Error{ErrorCode::corrupt, "SPIR-V module ends inside a function"};
+  for (auto& entry : w.module.entry_points) std::sort(entry.interface.begin(), entry.interface.end());
   if (w.module.entry_points.empty()) return Error{ErrorCode::corrupt, "SPIR-V module has no entry point"};
+  // Entry points are looked up linearly per shader record; real modules have a handful.
+  if (w.module.entry_points.size() > kMaxEntryPoints)
+    return Error{ErrorCode::corrupt,
+                 "SPIR-V module declares more than " + std::to_string(kMaxEntryPoints) + " entry points"};
   for (const auto& entry : w.module.entry_points)
-    if (std::find(functions.begin(), functions.end(), entry.function) == functions.end())
+    if (!functions.count(entry.function))
       return Error{ErrorCode::corrupt,
                    "SPIR-V entry point '" + entry.name + "' names no function of the module"};
   if (auto ok = w.resolve(); !ok) return Error{ErrorCode::corrupt, "SPIR-V " + ok.error().message};

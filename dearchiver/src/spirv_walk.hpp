@@ -44,7 +44,7 @@ struct EntryPoint {
   uint32_t execution_model = 0;  // SpvExecutionModel
   uint32_t function = 0;         // id of its OpFunction
   std::string name;
-  std::vector<uint32_t> interface;  // ids listed by OpEntryPoint
+  std::vector<uint32_t> interface;  // ids listed by OpEntryPoint, sorted
 };
 
 struct Module {
