@@ -287,6 +287,24 @@ TEST(HostileArchive, SpirvHeaderAndInstructionsAreWalkedWithBounds) {
       "count of zero");
 }
 
+TEST(HostileArchive, ShortenedSpirvIsRefused) {
+  // Cutting the last instruction (OpFunctionEnd) keeps every word count valid: only the function
+  // structure shows the cut, which the validation layer would otherwise crash on.
+  Slice slice;
+  const uint32_t blob = [&] {
+    for (const auto& s : slice.contents.shaders)
+      if (s.name == "Fill Buffer CS") return s.blob;
+    return 0u;
+  }();
+  std::vector<uint32_t> words(slice.contents.spirv[blob].begin(), slice.contents.spirv[blob].end());
+  ASSERT_EQ(words.back(), 0x00010038u);  // OpFunctionEnd
+  words.pop_back();
+  slice.contents.spirv[blob] = words;
+  EXPECT_EQ(
+      load_error(slice.contents),
+      "archive in memory: corrupt archive: shader 'Fill Buffer CS': SPIR-V module ends inside a function");
+}
+
 // --- device limits (at unpack, before any vkCreate*) -----------------------------------------------
 
 class HostileUnpack : public VulkanTest {
@@ -396,6 +414,17 @@ TEST_F(HostileUnpack, SignatureBeyondTheDevice) {
             "resource signature 'Frame Signature': the descriptor count is 1073741824, beyond "
             "the device's maxDescriptorSetUniformBuffers of " +
                 std::to_string(limits().maxDescriptorSetUniformBuffers));
+}
+
+TEST_F(HostileUnpack, SparseBindingNumberIsRefused) {
+  Slice slice;
+  auto& p = slice.pipeline("Fill Buffer PSO");
+  slice.contents.set_layouts[p.set_layouts[0]].bindings.push_back(
+      {"Huge", 0x7FFFFFFC, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, format::kNone});
+  EXPECT_EQ(unpack_error(slice.contents, "Fill Buffer PSO"),
+            "a set layout of pipeline 'Fill Buffer PSO': binding 'Huge' has the number 2147483644, beyond "
+            "the 65535 "
+            "this dearchiver accepts");
 }
 
 TEST_F(HostileUnpack, PipelineCacheFromADirectoryStartsEmpty) {
