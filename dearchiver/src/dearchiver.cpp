@@ -98,8 +98,9 @@ struct Dearchiver::State {
   // (set layouts, push constant size, push constant stages) -> layout
   std::map<std::tuple<std::vector<VkDescriptorSetLayout>, uint32_t, uint32_t>, VkPipelineLayout>
       pipeline_layouts;
-  std::deque<UnpackedPipeline> pipelines;                                  // stable addresses
-  std::map<std::string, const UnpackedPipeline*, std::less<>> unmodified;  // cache by name
+  std::deque<UnpackedPipeline> pipelines;                                              // stable addresses
+  std::map<std::string, const UnpackedPipeline*, std::less<>> unmodified;              // cache by name
+  std::map<std::pair<size_t, uint32_t>, std::optional<spirv::Module>> walked_modules;  // (archive, blob)
   std::mutex mutex;
 
   ~State() {
@@ -149,6 +150,15 @@ struct Dearchiver::State {
     return Error{ErrorCode::not_found, "no pipeline named '" + std::string(name) + "' in " +
                                            std::to_string(archives.size()) + " loaded archive(s)" +
                                            did_you_mean(name, names)};
+  }
+
+  // A blob's declarations, walked once (the walk succeeded at load; nullptr if it somehow does not).
+  const spirv::Module* walked(size_t archive, uint32_t blob) {
+    auto [it, inserted] = walked_modules.try_emplace({archive, blob});
+    if (inserted)
+      if (auto module = spirv::walk(archives[archive].contents().spirv[blob]))
+        it->second = std::move(module.value());
+    return it->second ? &*it->second : nullptr;
   }
 
   Result<VkShaderModule> module(size_t archive, uint32_t blob, const std::string& shader_name) {
@@ -445,7 +455,10 @@ struct Dearchiver::State {
     if (uses_render_pass)
       if (auto ok = check_render_pass(contents.render_passes[g.render_pass], caps, features); !ok)
         return ok.error();
-    if (auto ok = check_graphics_state(contents, *found.pipeline, targets, caps); !ok) return ok.error();
+    if (auto ok = check_graphics_state(contents, *found.pipeline, targets, caps,
+                                       [&](uint32_t blob) { return walked(found.archive, blob); });
+        !ok)
+      return ok.error();
 
     auto planned = plan_common(found);
     if (!planned) return planned.error();
@@ -465,12 +478,10 @@ struct Dearchiver::State {
       pl.vertex_bindings.push_back({b.binding, b.stride, static_cast<VkVertexInputRate>(b.input_rate)});
     // Attributes the vertex shader does not read have no effect; leaving them out keeps the layer
     // from warning about them (a re-sealed archive can add any).
-    std::optional<spirv::Module> vertex_module;
-    for (uint32_t index : found.pipeline->shaders) {
-      const format::Shader& shader = contents.shaders[index];
-      if (shader.stage != VK_SHADER_STAGE_VERTEX_BIT) continue;
-      if (auto walked = spirv::walk(contents.spirv[shader.blob])) vertex_module = std::move(walked.value());
-    }
+    const spirv::Module* vertex_module = nullptr;
+    for (uint32_t index : found.pipeline->shaders)
+      if (contents.shaders[index].stage == VK_SHADER_STAGE_VERTEX_BIT)
+        vertex_module = walked(found.archive, contents.shaders[index].blob);
     auto read_by_shader = [&](uint32_t location) {
       if (!vertex_module) return true;
       return std::any_of(vertex_module->inputs.begin(), vertex_module->inputs.end(),

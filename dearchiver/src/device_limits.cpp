@@ -428,7 +428,8 @@ Result<void> check_pipeline_layout(const format::Contents& c, const format::Pipe
 }
 
 Result<void> check_graphics_state(const format::Contents& c, const format::Pipeline& p,
-                                  const GraphicsTargets& t, const DeviceCaps& caps) {
+                                  const GraphicsTargets& t, const DeviceCaps& caps,
+                                  const ModuleOf& module_of) {
   const VkPhysicalDeviceLimits& l = caps.properties.limits;
   const std::string who = "pipeline '" + p.name + "'";
   const format::GraphicsState& g = p.graphics;
@@ -526,8 +527,8 @@ Result<void> check_graphics_state(const format::Contents& c, const format::Pipel
     for (uint32_t index : p.shaders) {
       const format::Shader& shader = c.shaders[index];
       if (shader.stage != VK_SHADER_STAGE_VERTEX_BIT) continue;
-      auto module = spirv::walk(c.spirv[shader.blob]);
-      if (!module) return module.error();
+      const spirv::Module* module = module_of(shader.blob);
+      if (!module) return Error{ErrorCode::corrupt, "shader '" + shader.name + "' has no readable SPIR-V"};
       if (!module->writes_point_size)
         return Error{ErrorCode::corrupt, who + " draws points, but its vertex shader '" + shader.name +
                                              "' does not write PointSize"};
@@ -537,8 +538,8 @@ Result<void> check_graphics_state(const format::Contents& c, const format::Pipel
   for (uint32_t index : p.shaders) {
     const format::Shader& shader = c.shaders[index];
     if (shader.stage != VK_SHADER_STAGE_VERTEX_BIT && shader.stage != VK_SHADER_STAGE_FRAGMENT_BIT) continue;
-    auto module = spirv::walk(c.spirv[shader.blob]);  // cheap, and it was accepted at load
-    if (!module) return module.error();
+    const spirv::Module* module = module_of(shader.blob);
+    if (!module) return Error{ErrorCode::corrupt, "shader '" + shader.name + "' has no readable SPIR-V"};
     if (shader.stage == VK_SHADER_STAGE_VERTEX_BIT) {
       for (const auto& a : g.vertex_attributes)
         if (auto ok = check_numeric(module->inputs, a.location, a.format,

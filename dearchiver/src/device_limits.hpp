@@ -6,9 +6,11 @@
 
 #include <vulkan/vulkan.h>
 
+#include <functional>
 #include <string_view>
 
 #include "archive_format.hpp"
+#include "spirv_walk.hpp"
 
 namespace statepack {
 
@@ -46,7 +48,10 @@ struct GraphicsTargets {
   VkSampleCountFlagBits samples = VK_SAMPLE_COUNT_1_BIT;
   const bool* blend_enabled = nullptr;  // color_count entries
 };
+// The walked module of a blob (walked once per archive by the caller; every blob walked at load).
+using ModuleOf = std::function<const spirv::Module*(uint32_t blob)>;
 Result<void> check_graphics_state(const format::Contents& contents, const format::Pipeline& pipeline,
-                                  const GraphicsTargets& targets, const DeviceCaps& caps);
+                                  const GraphicsTargets& targets, const DeviceCaps& caps,
+                                  const ModuleOf& module_of);
 
 }  // namespace statepack
