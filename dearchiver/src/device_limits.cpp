@@ -227,6 +227,10 @@ Result<void> check_set_layout(const format::SetLayout& layout, const DeviceCaps&
                                                std::to_string(b.binding) + ", beyond the " +
                                                std::to_string(kMaxBindingNumber) +
                                                " this dearchiver accepts"};
+    if (b.descriptor_type == VK_DESCRIPTOR_TYPE_INPUT_ATTACHMENT &&
+        (b.stage_flags & ~VK_SHADER_STAGE_FRAGMENT_BIT))
+      return Error{ErrorCode::corrupt, std::string(owner) + ": input attachment '" + b.name +
+                                           "' is visible to stages other than the fragment stage"};
     totals.add(b.descriptor_type, b.count);
   }
   return check_layout_totals(totals, caps.properties.limits, std::string(owner));
