@@ -259,9 +259,9 @@ Result<void> check_dependencies(const format::RenderPass& pass, const VkPhysical
     if (!access_fits(d.src_access, d.src_stages) || !access_fits(d.dst_access, d.dst_stages))
       return bad("has access flags that its stages do not perform");
     // A side inside the render pass runs in the graphics pipeline: compute, transfer and host stages
-    // are only for the external side.
-    constexpr uint32_t kNonGraphics =
-        VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_HOST_BIT;
+    // (and ALL_COMMANDS, which holds them) are only for the external side.
+    constexpr uint32_t kNonGraphics = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT |
+                                      VK_PIPELINE_STAGE_HOST_BIT | VK_PIPELINE_STAGE_ALL_COMMANDS_BIT;
     if ((d.src_subpass != format::kNone && (d.src_stages & kNonGraphics)) ||
         (d.dst_subpass != format::kNone && (d.dst_stages & kNonGraphics)))
       return bad("names a stage outside the graphics pipeline for a subpass");
