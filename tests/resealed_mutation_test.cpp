@@ -194,6 +194,29 @@ std::string mutate_structure(format::Contents& c, format::Pipeline& p, Rng& rng)
   }
 }
 
+// One edit of a declaration in a SPIR-V blob that keeps the module valid SPIR-V (a descriptor set or
+// binding number, an entry point's execution model), so that only our checks against the stored
+// records stand in the way. Block member offsets are not edited: a bad one makes invalid SPIR-V (layout
+// rules), which only a full validator catches (see docs/api.md). The edited copy lives in `storage`,
+// which must outlive the encoding.
+std::string mutate_spirv(format::Contents& c, std::vector<uint32_t>& storage, Rng& rng) {
+  if (c.spirv.empty()) return "none";
+  const uint32_t blob = pick(rng, uint32_t(c.spirv.size()));
+  storage.assign(c.spirv[blob].begin(), c.spirv[blob].end());
+  std::vector<size_t> targets;  // word positions worth editing
+  for (size_t at = 5; at < storage.size() && (storage[at] >> 16) > 0; at += storage[at] >> 16) {
+    const uint32_t count = storage[at] >> 16, op = storage[at] & 0xFFFF;
+    if (op == 71 && count == 4 && (storage[at + 2] == 33 || storage[at + 2] == 34)) targets.push_back(at + 3);
+    if (op == 15) targets.push_back(at + 1);
+  }
+  if (targets.empty()) return "none";
+  const size_t at = targets[pick(rng, uint32_t(targets.size()))];
+  storage[at] = pick(rng, 2) ? pick(rng, 6) : any_u32(rng) & 0xFFFF;
+  c.spirv[blob] = storage;
+  return "SPIR-V blob " + std::to_string(blob) + " word " + std::to_string(at) + " = " +
+         std::to_string(storage[at]);
+}
+
 class ResealedMutations : public VulkanTest {};
 
 TEST_F(ResealedMutations, NeverCrashOrReachVulkanUnchecked) {
@@ -203,7 +226,7 @@ TEST_F(ResealedMutations, NeverCrashOrReachVulkanUnchecked) {
   for (const auto& path : paths) seeds.push_back(Archive::from_file(path).value());
   // A fixed count keeps the run reproducible; STATEPACK_MUTATIONS changes it for longer runs.
   const char* env = std::getenv("STATEPACK_MUTATIONS");
-  const uint32_t total = env ? static_cast<uint32_t>(std::strtoul(env, nullptr, 10)) : 30000;
+  const uint32_t total = env ? static_cast<uint32_t>(std::strtoul(env, nullptr, 10)) : 50000;
   size_t loaded = 0, unpacked = 0, rejected_at_load = 0, rejected_at_unpack = 0;
   size_t messages_before = 0;
   std::vector<std::string> noisy;
@@ -225,7 +248,11 @@ TEST_F(ResealedMutations, NeverCrashOrReachVulkanUnchecked) {
     }
     std::string what;
     std::vector<uint8_t> bytes;
-    if (pick(rng, 3) != 0 && !c.pipelines.empty()) {
+    std::vector<uint32_t> spirv_storage;
+    if (pick(rng, 6) == 0) {
+      what = mutate_spirv(c, spirv_storage, rng) + "; ";
+      bytes = format::encode(c);  // with the blob's content hash recomputed
+    } else if (pick(rng, 3) != 0 && !c.pipelines.empty()) {
       for (uint32_t n = 1 + pick(rng, 2); n > 0; --n) what += mutate_structure(c, c.pipelines[0], rng) + "; ";
       bytes = format::encode(c);
     } else {
