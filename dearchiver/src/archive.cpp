@@ -1,7 +1,8 @@
 // Archive: loads bytes (owned or borrowed) and keeps their validated, decoded contents.
-#include <fstream>
-
+#include "api_guard.hpp"
 #include "archive_format.hpp"
+#include "file_io.hpp"
+#include "semantic_check.hpp"
 #include "statepack/dearchiver.hpp"
 
 namespace statepack {
@@ -21,6 +22,9 @@ Result<format::Contents> decode_checked(std::span<const uint8_t> bytes, std::opt
                                         const std::string& origin) {
   auto decoded = format::decode(bytes);
   if (!decoded) return Error{decoded.error().code, origin + ": " + decoded.error().message};
+  // What the SPIR-V declares must agree with the stored layouts before anything reaches Vulkan.
+  if (auto consistent = format::check_shader_interfaces(*decoded); !consistent)
+    return Error{consistent.error().code, origin + ": " + consistent.error().message};
   if (required && decoded->content_version != *required)
     return Error{ErrorCode::content_version_mismatch, origin + ": content version " +
                                                           std::to_string(decoded->content_version) +
@@ -30,27 +34,28 @@ Result<format::Contents> decode_checked(std::span<const uint8_t> bytes, std::opt
 }  // namespace
 
 Result<Archive> Archive::from_file(const std::filesystem::path& path, std::optional<uint32_t> required) {
-  std::ifstream file(path, std::ios::binary | std::ios::ate);
-  if (!file) return Error{ErrorCode::io_error, path.string() + ": cannot open archive"};
-  auto size = static_cast<size_t>(file.tellg());
-  auto state = std::make_unique<State>();
-  state->owned.resize((size + 3) / 4);
-  file.seekg(0);
-  if (!file.read(reinterpret_cast<char*>(state->owned.data()), static_cast<std::streamsize>(size)))
-    return Error{ErrorCode::io_error, path.string() + ": cannot read archive"};
-  std::span<const uint8_t> bytes(reinterpret_cast<const uint8_t*>(state->owned.data()), size);
-  auto decoded = decode_checked(bytes, required, path.string());
-  if (!decoded) return decoded.error();
-  state->contents = std::move(decoded.value());
-  return Archive(std::move(state));
+  return api_guard("Archive::from_file", [&]() -> Result<Archive> {
+    // Record offsets are 32-bit, so no valid archive is larger than 4 GiB.
+    auto file = read_regular_file(path, uint64_t{0xFFFFFFFFu});
+    if (!file) return file.error();
+    auto state = std::make_unique<State>();
+    state->owned = std::move(file->words);
+    std::span<const uint8_t> bytes(reinterpret_cast<const uint8_t*>(state->owned.data()), file->size);
+    auto decoded = decode_checked(bytes, required, path.string());
+    if (!decoded) return decoded.error();
+    state->contents = std::move(decoded.value());
+    return Archive(std::move(state));
+  });
 }
 
 Result<Archive> Archive::from_memory(std::span<const uint8_t> bytes, std::optional<uint32_t> required) {
-  auto decoded = decode_checked(bytes, required, "archive in memory");
-  if (!decoded) return decoded.error();
-  auto state = std::make_unique<State>();
-  state->contents = std::move(decoded.value());
-  return Archive(std::move(state));
+  return api_guard("Archive::from_memory", [&]() -> Result<Archive> {
+    auto decoded = decode_checked(bytes, required, "archive in memory");
+    if (!decoded) return decoded.error();
+    auto state = std::make_unique<State>();
+    state->contents = std::move(decoded.value());
+    return Archive(std::move(state));
+  });
 }
 
 uint32_t Archive::content_version() const {

@@ -73,6 +73,8 @@ constexpr uint32_t kTagStrings = make_tag("STRS"), kTagData = make_tag("DATA"), 
                    kTagGraphics = make_tag("GFXS");
 constexpr uint32_t kSpirvMagic = 0x07230203u;
 constexpr size_t kChecksumOffset = 40;
+// The decoding budget: encoded bytes that records may materialise, lists and strings included.
+constexpr uint64_t kExpansionFactor = 8, kExpansionSlack = 1 << 20;
 #ifdef FUZZING_BUILD_MODE_UNSAFE_FOR_PRODUCTION
 constexpr bool kFuzzing = true;
 #else
@@ -310,14 +312,34 @@ Error corrupt(std::string message) {
 
 // Reads records; remembers the first problem instead of throwing. Section sizes were checked
 // against their record counts before any record is read, and every list against its section.
+//
+// Lists and strings are references, so records may share them: a few kilobytes of PIPE records that
+// all point at one long list would decode into gigabytes. Every element and string byte materialised
+// is charged, in encoded bytes, to a budget proportional to the file size (a packager never shares,
+// so a real archive decodes to about its own size) before anything is allocated for it.
 struct Reader {
   std::span<const uint8_t> file;
   std::map<uint32_t, Section> sections;
   const uint8_t* cursor = nullptr;
   std::optional<std::string> problem;
+  uint64_t budget = 0;  // encoded bytes still allowed to be materialised
+  uint64_t initial_budget = 0;
+  std::string current;                        // the top-level record being read, for messages
+  const std::string* current_name = nullptr;  // its name, once read
 
   void fail(std::string message) {
     if (!problem) problem = std::move(message);
+  }
+  bool charge(uint64_t bytes) {
+    if (bytes <= budget) {
+      budget -= bytes;
+      return true;
+    }
+    fail(current + (current_name && !current_name->empty() ? " '" + *current_name + "'" : "") +
+         " expands beyond the decoding budget of " + std::to_string(initial_budget) + " bytes (" +
+         std::to_string(kExpansionFactor) + " x the file size + " + std::to_string(kExpansionSlack) +
+         "): records share lists or strings to amplify the archive");
+    return false;
   }
   uint32_t next() {
     uint32_t value = get_u32(cursor);
@@ -332,6 +354,7 @@ struct Reader {
     if (uint64_t(offset) + length >= strings.size) return fail("string reference outside the string pool");
     const uint8_t* p = file.data() + strings.offset + offset;
     if (p[length] != 0) return fail("string is not NUL-terminated");
+    if (!charge(length)) return;
     s.assign(reinterpret_cast<const char*>(p), length);
   }
   std::optional<uint32_t> range(uint32_t tag, uint32_t& count, const char* what) {
@@ -346,7 +369,7 @@ struct Reader {
   void indices(std::vector<uint32_t>& out) {
     uint32_t count = 0;
     auto first = range(kTagIndices, count, "index");
-    if (!first) return;
+    if (!first || !charge(uint64_t(count) * 4)) return;
     out.resize(count);
     const uint8_t* p = file.data() + sections[kTagIndices].offset + size_t(*first) * 4;
     for (uint32_t i = 0; i < count; ++i) out[i] = get_u32(p + 4 * i);
@@ -362,7 +385,7 @@ struct Reader {
   void list(std::vector<T>& out) {
     uint32_t count = 0;
     auto first = range(Tag<T>::value, count, "record");
-    if (!first) return;
+    if (!first || !charge(uint64_t(count) * record_size<T>())) return;
     out.resize(count);
     for (uint32_t i = 0; i < count && !problem; ++i) read_at(*first + i, out[i]);
   }
@@ -374,12 +397,22 @@ struct Reader {
     }
     if (index >= sections[kTagGraphics].count)
       return fail("pipeline '" + p.name + "' graphics state index out of range");
+    if (!charge(record_size<GraphicsState>())) return;
     read_at(index, p.graphics);
   }
   template <class T>
-  std::vector<T> all() {
-    std::vector<T> items(sections[Tag<T>::value].count);
-    for (uint32_t i = 0; i < items.size() && !problem; ++i) read_at(i, items[i]);
+  std::vector<T> all(const char* kind) {
+    // Top-level records are charged too: they are in the file, so they cost at most its size.
+    const uint32_t count = sections[Tag<T>::value].count;
+    current = std::string(kind) + " records";
+    if (!charge(uint64_t(count) * record_size<T>())) return {};
+    std::vector<T> items(count);
+    for (uint32_t i = 0; i < items.size() && !problem; ++i) {
+      current = std::string(kind) + " " + std::to_string(i);
+      if constexpr (requires { items[i].name; }) current_name = &items[i].name;
+      read_at(i, items[i]);
+      current_name = nullptr;
+    }
     return items;
   }
 };
@@ -706,11 +739,12 @@ Result<Contents> decode(std::span<const uint8_t> file) {
   for (uint32_t i = 0; i < standalone.count; ++i)
     c.standalone_shaders.push_back(get_u32(file.data() + standalone.offset + 4 * i));
 
-  c.shaders = r.all<Shader>();
-  c.samplers = r.all<Sampler>();
-  c.set_layouts = r.all<SetLayout>();
-  c.render_passes = r.all<RenderPass>();
-  c.pipelines = r.all<Pipeline>();
+  r.initial_budget = r.budget = uint64_t(file.size()) * kExpansionFactor + kExpansionSlack;
+  c.shaders = r.all<Shader>("shader");
+  c.samplers = r.all<Sampler>("sampler");
+  c.set_layouts = r.all<SetLayout>("set layout");
+  c.render_passes = r.all<RenderPass>("render pass");
+  c.pipelines = r.all<Pipeline>("pipeline");
   if (r.problem) return corrupt(*r.problem);
   if (auto valid = validate(c); !valid) return valid.error();
   return c;

@@ -13,7 +13,10 @@
 #include <thread>
 #include <tuple>
 
+#include "api_guard.hpp"
 #include "archive_format.hpp"
+#include "device_limits.hpp"
+#include "spirv_walk.hpp"
 #include "suggest.hpp"
 #include "vk_result_string.hpp"
 
@@ -82,6 +85,7 @@ PatchableState to_patchable(const format::GraphicsState& g) {
 
 struct Dearchiver::State {
   DeviceContext context;
+  DeviceCaps caps;                      // limits and formats, checked before any vkCreate*
   VkPhysicalDeviceFeatures features{};  // enabled (as the caller says) or supported ones
   std::vector<Archive> archives;
   std::map<std::pair<size_t, uint32_t>, VkShaderModule> modules;             // (archive, blob)
@@ -94,8 +98,9 @@ struct Dearchiver::State {
   // (set layouts, push constant size, push constant stages) -> layout
   std::map<std::tuple<std::vector<VkDescriptorSetLayout>, uint32_t, uint32_t>, VkPipelineLayout>
       pipeline_layouts;
-  std::deque<UnpackedPipeline> pipelines;                                  // stable addresses
-  std::map<std::string, const UnpackedPipeline*, std::less<>> unmodified;  // cache by name
+  std::deque<UnpackedPipeline> pipelines;                                              // stable addresses
+  std::map<std::string, const UnpackedPipeline*, std::less<>> unmodified;              // cache by name
+  std::map<std::pair<size_t, uint32_t>, std::optional<spirv::Module>> walked_modules;  // (archive, blob)
   std::mutex mutex;
 
   ~State() {
@@ -147,6 +152,15 @@ struct Dearchiver::State {
                                            did_you_mean(name, names)};
   }
 
+  // A blob's declarations, walked once (the walk succeeded at load; nullptr if it somehow does not).
+  const spirv::Module* walked(size_t archive, uint32_t blob) {
+    auto [it, inserted] = walked_modules.try_emplace({archive, blob});
+    if (inserted)
+      if (auto module = spirv::walk(archives[archive].contents().spirv[blob]))
+        it->second = std::move(module.value());
+    return it->second ? &*it->second : nullptr;
+  }
+
   Result<VkShaderModule> module(size_t archive, uint32_t blob, const std::string& shader_name) {
     auto key = std::pair{archive, blob};
     if (auto it = modules.find(key); it != modules.end()) return it->second;
@@ -175,6 +189,9 @@ struct Dearchiver::State {
     auto key = std::pair{archive, index};
     if (auto it = set_layouts.find(key); it != set_layouts.end()) return it->second;
     const auto& stored = archives[archive].contents().set_layouts[index];
+    const std::string owner = stored.name.empty() ? "a set layout of pipeline '" + std::string(pipeline) + "'"
+                                                  : "resource signature '" + stored.name + "'";
+    if (auto ok = check_set_layout(stored, caps, owner); !ok) return ok.error();
     std::vector<VkDescriptorSetLayoutBinding> bindings;
     for (const auto& b : stored.bindings)
       bindings.push_back(
@@ -202,14 +219,15 @@ struct Dearchiver::State {
     info.addressModeV = static_cast<VkSamplerAddressMode>(s.address_v);
     info.addressModeW = static_cast<VkSamplerAddressMode>(s.address_w);
     info.mipLodBias = s.mip_lod_bias;
-    info.anisotropyEnable = s.anisotropy_enable;
+    info.anisotropyEnable = s.anisotropy_enable != 0;  // VkBool32 must be exactly 0 or 1
     info.maxAnisotropy = s.max_anisotropy;
-    info.compareEnable = s.compare_enable;
+    info.compareEnable = s.compare_enable != 0;
     info.compareOp = static_cast<VkCompareOp>(s.compare_op);
     info.minLod = s.min_lod;
     info.maxLod = s.max_lod;
     info.borderColor = static_cast<VkBorderColor>(s.border_color);
-    info.unnormalizedCoordinates = s.unnormalized_coordinates;
+    info.unnormalizedCoordinates = s.unnormalized_coordinates != 0;
+    if (auto ok = check_sampler(s, caps, binding); !ok) return ok.error();
     if (s.anisotropy_enable) {
       if (!features.samplerAnisotropy)
         return Error{ErrorCode::unsupported,
@@ -227,6 +245,7 @@ struct Dearchiver::State {
     auto key = std::pair{archive, index};
     if (auto it = render_passes.find(key); it != render_passes.end()) return it->second;
     const format::RenderPass& rp = archives[archive].contents().render_passes[index];
+    if (auto ok = check_render_pass(rp, caps, features); !ok) return ok.error();
     std::vector<VkAttachmentDescription> attachments;
     for (const auto& a : rp.attachments)
       attachments.push_back(
@@ -321,6 +340,7 @@ struct Dearchiver::State {
     const auto& contents = archives[found.archive].contents();
     if (!(contents.backends & format::kBackendVulkan))
       return Error{ErrorCode::missing_backend, "pipeline '" + p.name + "': the archive has no Vulkan data"};
+    if (auto ok = check_pipeline_layout(contents, p, caps); !ok) return ok.error();
     auto plan = std::make_unique<Plan>();
     UnpackedPipeline& out = plan->out;
     out.name = p.name;
@@ -393,41 +413,85 @@ struct Dearchiver::State {
     if (!uses_render_pass && !context.dynamic_rendering_enabled)
       return Error{ErrorCode::unsupported,
                    "pipeline '" + name + "' uses dynamic rendering, which the device was not created with"};
+    // The state is settled and checked first, so that nothing is created for a pipeline that fails.
+    PatchableState settled = to_patchable(g);
+    if (modify) {
+      const PatchableState before = settled;
+      modify(settled);
+      if (uses_render_pass &&
+          (settled.color_count != before.color_count || settled.color_formats != before.color_formats ||
+           settled.depth_stencil_format != before.depth_stencil_format || settled.samples != before.samples))
+        return Error{ErrorCode::invalid_argument,
+                     "pipeline '" + name +
+                         "' uses a render pass, which fixes its attachment formats and "
+                         "sample count; the modify callback may not change them"};
+    }
+    if (settled.color_count > settled.color_formats.size())
+      return Error{ErrorCode::invalid_argument, "pipeline '" + name + "': the modify callback set " +
+                                                    std::to_string(settled.color_count) +
+                                                    " render targets (at most 8)"};
+    if (auto missing = check_features(name, settled)) return *missing;
+    // Adjacency topologies need the geometry shader feature; patch lists go with tessellation, only.
+    if (g.topology >= VK_PRIMITIVE_TOPOLOGY_LINE_LIST_WITH_ADJACENCY &&
+        g.topology <= VK_PRIMITIVE_TOPOLOGY_TRIANGLE_STRIP_WITH_ADJACENCY && !features.geometryShader)
+      return missing_feature(name, "geometryShader");
+    {
+      bool tessellation = false;
+      for (uint32_t index : found.pipeline->shaders)
+        tessellation |=
+            (archives[found.archive].contents().shaders[index].stage &
+             (VK_SHADER_STAGE_TESSELLATION_CONTROL_BIT | VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT)) != 0;
+      if (tessellation != (g.topology == VK_PRIMITIVE_TOPOLOGY_PATCH_LIST))
+        return Error{ErrorCode::corrupt,
+                     "pipeline '" + name + "' " +
+                         (tessellation ? "tessellates without" : "draws patches without") +
+                         " a patch list topology and tessellation shaders together"};
+    }
+    std::array<bool, 8> blend_enabled{};
+    for (size_t i = 0; i < blend_enabled.size(); ++i) blend_enabled[i] = settled.blend[i].enable;
+    const GraphicsTargets targets{settled.color_count, settled.color_formats.data(),
+                                  settled.depth_stencil_format, settled.samples, blend_enabled.data()};
+    const auto& contents = archives[found.archive].contents();
+    if (uses_render_pass)
+      if (auto ok = check_render_pass(contents.render_passes[g.render_pass], caps, features); !ok)
+        return ok.error();
+    if (auto ok = check_graphics_state(contents, *found.pipeline, targets, caps,
+                                       [&](uint32_t blob) { return walked(found.archive, blob); });
+        !ok)
+      return ok.error();
+
     auto planned = plan_common(found);
     if (!planned) return planned.error();
     Plan& pl = **planned;
     pl.out.bind_point = VK_PIPELINE_BIND_POINT_GRAPHICS;
     pl.cacheable = !modify;
-
-    PatchableState& s = pl.state;
-    s = to_patchable(g);
+    pl.state = settled;
+    const PatchableState& s = pl.state;
     VkRenderPass render_pass = VK_NULL_HANDLE;
     if (uses_render_pass) {
       auto pass = this->render_pass(found.archive, g.render_pass);
       if (!pass) return pass.error();
       render_pass = *pass;
     }
-    if (modify) {
-      const PatchableState before = s;
-      modify(s);
-      if (uses_render_pass &&
-          (s.color_count != before.color_count || s.color_formats != before.color_formats ||
-           s.depth_stencil_format != before.depth_stencil_format || s.samples != before.samples))
-        return Error{ErrorCode::invalid_argument,
-                     "pipeline '" + name +
-                         "' uses a render pass, which fixes its attachment formats and "
-                         "sample count; the modify callback may not change them"};
-    }
-    if (s.color_count > s.color_formats.size())
-      return Error{ErrorCode::invalid_argument, "pipeline '" + name + "': the modify callback set " +
-                                                    std::to_string(s.color_count) +
-                                                    " render targets (at most 8)"};
-    if (auto missing = check_features(name, s)) return *missing;
 
     for (const auto& b : g.vertex_bindings)
       pl.vertex_bindings.push_back({b.binding, b.stride, static_cast<VkVertexInputRate>(b.input_rate)});
+    // Attributes the vertex shader does not read have no effect; leaving them out keeps the layer
+    // from warning about them (a re-sealed archive can add any).
+    const spirv::Module* vertex_module = nullptr;
+    for (uint32_t index : found.pipeline->shaders)
+      if (contents.shaders[index].stage == VK_SHADER_STAGE_VERTEX_BIT)
+        vertex_module = walked(found.archive, contents.shaders[index].blob);
+    auto read_by_shader = [&](uint32_t location) {
+      if (!vertex_module) return true;
+      return std::any_of(vertex_module->inputs.begin(), vertex_module->inputs.end(),
+                         [&](const spirv::Input& in) {
+                           return location >= in.location && location < uint64_t(in.location) + in.locations;
+                         });
+    };
     for (const auto& a : g.vertex_attributes)
-      pl.vertex_attributes.push_back({a.location, a.binding, static_cast<VkFormat>(a.format), a.offset});
+      if (read_by_shader(a.location))
+        pl.vertex_attributes.push_back({a.location, a.binding, static_cast<VkFormat>(a.format), a.offset});
     pl.vertex_input.vertexBindingDescriptionCount = static_cast<uint32_t>(pl.vertex_bindings.size());
     pl.vertex_input.pVertexBindingDescriptions = pl.vertex_bindings.data();
     pl.vertex_input.vertexAttributeDescriptionCount = static_cast<uint32_t>(pl.vertex_attributes.size());
@@ -447,7 +511,7 @@ struct Dearchiver::State {
     pl.multisample.rasterizationSamples = s.samples;
     pl.sample_mask = g.sample_mask;
     pl.multisample.pSampleMask = &pl.sample_mask;
-    pl.multisample.alphaToCoverageEnable = g.alpha_to_coverage;
+    pl.multisample.alphaToCoverageEnable = g.alpha_to_coverage != 0;  // VkBool32: exactly 0 or 1
     const bool depth_attachment = has_depth(s.depth_stencil_format);
     const bool stencil_attachment = has_stencil(s.depth_stencil_format);
     pl.depth.depthTestEnable = depth_attachment && s.depth_stencil.depth_test;
@@ -501,7 +565,8 @@ struct Dearchiver::State {
       auto dual = [](VkBlendFactor f) {
         return f >= VK_BLEND_FACTOR_SRC1_COLOR && f <= VK_BLEND_FACTOR_ONE_MINUS_SRC1_ALPHA;
       };
-      if (b.enable && (dual(b.src_color) || dual(b.dst_color) || dual(b.src_alpha) || dual(b.dst_alpha)) &&
+      // Dual-source factors need the feature even when blending is off (VUID-...-00608).
+      if ((dual(b.src_color) || dual(b.dst_color) || dual(b.src_alpha) || dual(b.dst_alpha)) &&
           !features.dualSrcBlend)
         return missing_feature(name, "dualSrcBlend");
       if (i > 0 && !features.independentBlend &&
@@ -566,21 +631,27 @@ Dearchiver& Dearchiver::operator=(Dearchiver&&) noexcept = default;
 Dearchiver::~Dearchiver() = default;
 
 Result<Dearchiver> Dearchiver::create(const DeviceContext& context) {
-  if (context.device == VK_NULL_HANDLE || context.physical_device == VK_NULL_HANDLE)
-    return Error{ErrorCode::invalid_argument, "Dearchiver::create needs a VkPhysicalDevice and a VkDevice"};
-  auto state = std::make_unique<State>();
-  state->context = context;
-  if (context.enabled_features)
-    state->features = *context.enabled_features;
-  else
-    vkGetPhysicalDeviceFeatures(context.physical_device, &state->features);
-  return Dearchiver(std::move(state));
+  return api_guard("Dearchiver::create", [&]() -> Result<Dearchiver> {
+    if (context.device == VK_NULL_HANDLE || context.physical_device == VK_NULL_HANDLE)
+      return Error{ErrorCode::invalid_argument, "Dearchiver::create needs a VkPhysicalDevice and a VkDevice"};
+    auto state = std::make_unique<State>();
+    state->context = context;
+    state->caps.physical_device = context.physical_device;
+    vkGetPhysicalDeviceProperties(context.physical_device, &state->caps.properties);
+    if (context.enabled_features)
+      state->features = *context.enabled_features;
+    else
+      vkGetPhysicalDeviceFeatures(context.physical_device, &state->features);
+    return Dearchiver(std::move(state));
+  });
 }
 
 Result<void> Dearchiver::add_archive(Archive archive) {
-  std::lock_guard lock(state_->mutex);
-  state_->archives.push_back(std::move(archive));
-  return {};
+  return api_guard("Dearchiver::add_archive", [&]() -> Result<void> {
+    std::lock_guard lock(state_->mutex);
+    state_->archives.push_back(std::move(archive));
+    return {};
+  });
 }
 
 std::vector<std::string> Dearchiver::pipeline_names() const {
@@ -589,40 +660,46 @@ std::vector<std::string> Dearchiver::pipeline_names() const {
 }
 
 Result<const UnpackedPipeline*> Dearchiver::unpack_compute(std::string_view name) {
-  std::lock_guard lock(state_->mutex);
-  return state_->unpack(name, format::PipelineKind::compute, {});
+  return api_guard("Dearchiver::unpack_compute", [&]() -> Result<const UnpackedPipeline*> {
+    std::lock_guard lock(state_->mutex);
+    return state_->unpack(name, format::PipelineKind::compute, {});
+  });
 }
 
 Result<const UnpackedPipeline*> Dearchiver::unpack_graphics(std::string_view name,
                                                             const ModifyCallback& modify) {
-  std::lock_guard lock(state_->mutex);
-  return state_->unpack(name, format::PipelineKind::graphics, modify);
+  return api_guard("Dearchiver::unpack_graphics", [&]() -> Result<const UnpackedPipeline*> {
+    std::lock_guard lock(state_->mutex);
+    return state_->unpack(name, format::PipelineKind::graphics, modify);
+  });
 }
 
 Result<std::vector<const UnpackedPipeline*>> Dearchiver::unpack_all(uint32_t threads) {
-  auto pipelines = unpack_all_pipelines(threads);
-  if (!pipelines) return pipelines.error();
-  // The other named objects too, so that everything is ready.
-  std::vector<ObjectInfo> objects;
-  {
-    std::lock_guard lock(state_->mutex);
-    for (const auto& archive : state_->archives) {
-      auto more = archive.objects();
-      objects.insert(objects.end(), more.begin(), more.end());
+  return api_guard("Dearchiver::unpack_all", [&]() -> Result<std::vector<const UnpackedPipeline*>> {
+    auto pipelines = unpack_all_pipelines(threads);
+    if (!pipelines) return pipelines.error();
+    // The other named objects too, so that everything is ready.
+    std::vector<ObjectInfo> objects;
+    {
+      std::lock_guard lock(state_->mutex);
+      for (const auto& archive : state_->archives) {
+        auto more = archive.objects();
+        objects.insert(objects.end(), more.begin(), more.end());
+      }
     }
-  }
-  for (const auto& [name, kind] : objects) {
-    Result<void> ok;
-    if (kind == ObjectKind::resource_signature) {
-      if (auto r = unpack_signature(name); !r) ok = r.error();
-    } else if (kind == ObjectKind::render_pass) {
-      if (auto r = unpack_render_pass(name); !r) ok = r.error();
-    } else if (kind == ObjectKind::shader) {
-      if (auto r = unpack_shader(name); !r) ok = r.error();
+    for (const auto& [name, kind] : objects) {
+      Result<void> ok;
+      if (kind == ObjectKind::resource_signature) {
+        if (auto r = unpack_signature(name); !r) ok = r.error();
+      } else if (kind == ObjectKind::render_pass) {
+        if (auto r = unpack_render_pass(name); !r) ok = r.error();
+      } else if (kind == ObjectKind::shader) {
+        if (auto r = unpack_shader(name); !r) ok = r.error();
+      }
+      if (!ok) return ok.error();
     }
-    if (!ok) return ok.error();
-  }
-  return pipelines;
+    return pipelines;
+  });
 }
 
 Result<std::vector<const UnpackedPipeline*>> Dearchiver::unpack_all_pipelines(uint32_t threads) {
@@ -672,64 +749,70 @@ Result<std::vector<const UnpackedPipeline*>> Dearchiver::unpack_all_pipelines(ui
 }
 
 Result<const UnpackedSignature*> Dearchiver::unpack_signature(std::string_view name) {
-  std::lock_guard lock(state_->mutex);
-  auto found = state_->find_named([&](const format::Contents& c) -> std::optional<uint32_t> {
-    for (uint32_t i = 0; i < c.set_layouts.size(); ++i)
-      if (!c.set_layouts[i].name.empty() && c.set_layouts[i].name == name) return i;
-    return std::nullopt;
+  return api_guard("Dearchiver::unpack_signature", [&]() -> Result<const UnpackedSignature*> {
+    std::lock_guard lock(state_->mutex);
+    auto found = state_->find_named([&](const format::Contents& c) -> std::optional<uint32_t> {
+      for (uint32_t i = 0; i < c.set_layouts.size(); ++i)
+        if (!c.set_layouts[i].name.empty() && c.set_layouts[i].name == name) return i;
+      return std::nullopt;
+    });
+    if (!found) {
+      return Error{ErrorCode::not_found,
+                   "no resource signature named '" + std::string(name) + "'" +
+                       did_you_mean(name, state_->names_of({ObjectKind::resource_signature}))};
+    }
+    if (auto it = state_->signature_by_layout.find(*found); it != state_->signature_by_layout.end())
+      return it->second;
+    auto layout = state_->set_layout(found->first, found->second, name);
+    if (!layout) return layout.error();
+    const format::SetLayout& stored = state_->archives[found->first].contents().set_layouts[found->second];
+    UnpackedSignature& sig = state_->signatures.emplace_back();
+    sig.name = stored.name;
+    sig.layout = *layout;
+    sig.set = stored.binding_index;
+    for (const auto& b : stored.bindings)
+      sig.bindings.push_back({b.name, stored.binding_index, b.binding,
+                              static_cast<VkDescriptorType>(b.descriptor_type), b.count, b.stage_flags});
+    state_->signature_by_layout.emplace(*found, &sig);
+    return &sig;
   });
-  if (!found) {
-    return Error{ErrorCode::not_found,
-                 "no resource signature named '" + std::string(name) + "'" +
-                     did_you_mean(name, state_->names_of({ObjectKind::resource_signature}))};
-  }
-  if (auto it = state_->signature_by_layout.find(*found); it != state_->signature_by_layout.end())
-    return it->second;
-  auto layout = state_->set_layout(found->first, found->second, name);
-  if (!layout) return layout.error();
-  const format::SetLayout& stored = state_->archives[found->first].contents().set_layouts[found->second];
-  UnpackedSignature& sig = state_->signatures.emplace_back();
-  sig.name = stored.name;
-  sig.layout = *layout;
-  sig.set = stored.binding_index;
-  for (const auto& b : stored.bindings)
-    sig.bindings.push_back({b.name, stored.binding_index, b.binding,
-                            static_cast<VkDescriptorType>(b.descriptor_type), b.count, b.stage_flags});
-  state_->signature_by_layout.emplace(*found, &sig);
-  return &sig;
 }
 
 Result<VkRenderPass> Dearchiver::unpack_render_pass(std::string_view name) {
-  std::lock_guard lock(state_->mutex);
-  auto found = state_->find_named([&](const format::Contents& c) -> std::optional<uint32_t> {
-    for (uint32_t i = 0; i < c.render_passes.size(); ++i)
-      if (c.render_passes[i].name == name) return i;
-    return std::nullopt;
+  return api_guard("Dearchiver::unpack_render_pass", [&]() -> Result<VkRenderPass> {
+    std::lock_guard lock(state_->mutex);
+    auto found = state_->find_named([&](const format::Contents& c) -> std::optional<uint32_t> {
+      for (uint32_t i = 0; i < c.render_passes.size(); ++i)
+        if (c.render_passes[i].name == name) return i;
+      return std::nullopt;
+    });
+    if (!found) {
+      return Error{ErrorCode::not_found, "no render pass named '" + std::string(name) + "'" +
+                                             did_you_mean(name, state_->names_of({ObjectKind::render_pass}))};
+    }
+    return state_->render_pass(found->first, found->second);
   });
-  if (!found) {
-    return Error{ErrorCode::not_found, "no render pass named '" + std::string(name) + "'" +
-                                           did_you_mean(name, state_->names_of({ObjectKind::render_pass}))};
-  }
-  return state_->render_pass(found->first, found->second);
 }
 
 Result<UnpackedShader> Dearchiver::unpack_shader(std::string_view name) {
-  std::lock_guard lock(state_->mutex);
-  auto found = state_->find_named([&](const format::Contents& c) -> std::optional<uint32_t> {
-    auto it = std::lower_bound(c.standalone_shaders.begin(), c.standalone_shaders.end(), name,
-                               [&](uint32_t s, std::string_view n) { return c.shaders[s].name < n; });
-    if (it != c.standalone_shaders.end() && c.shaders[*it].name == name) return *it;
-    return std::nullopt;
+  return api_guard("Dearchiver::unpack_shader", [&]() -> Result<UnpackedShader> {
+    std::lock_guard lock(state_->mutex);
+    auto found = state_->find_named([&](const format::Contents& c) -> std::optional<uint32_t> {
+      auto it = std::lower_bound(c.standalone_shaders.begin(), c.standalone_shaders.end(), name,
+                                 [&](uint32_t s, std::string_view n) { return c.shaders[s].name < n; });
+      if (it != c.standalone_shaders.end() && c.shaders[*it].name == name) return *it;
+      return std::nullopt;
+    });
+    if (!found) {
+      return Error{ErrorCode::not_found, "no standalone shader named '" + std::string(name) + "'" +
+                                             did_you_mean(name, state_->names_of({ObjectKind::shader}))};
+    }
+    const format::Shader& shader = state_->archives[found->first].contents().shaders[found->second];
+    auto module = state_->module(found->first, shader.blob, shader.name);
+    if (!module) return module.error();
+    return UnpackedShader{shader.name, *module, static_cast<VkShaderStageFlagBits>(shader.stage),
+                          shader.entry_point};
   });
-  if (!found) {
-    return Error{ErrorCode::not_found, "no standalone shader named '" + std::string(name) + "'" +
-                                           did_you_mean(name, state_->names_of({ObjectKind::shader}))};
-  }
-  const format::Shader& shader = state_->archives[found->first].contents().shaders[found->second];
-  auto module = state_->module(found->first, shader.blob, shader.name);
-  if (!module) return module.error();
-  return UnpackedShader{shader.name, *module, static_cast<VkShaderStageFlagBits>(shader.stage),
-                        shader.entry_point};
 }
 
 const char* to_string(ErrorCode code) {
@@ -762,6 +845,8 @@ const char* to_string(ErrorCode code) {
       return "vulkan_error";
     case ErrorCode::invalid_argument:
       return "invalid_argument";
+    case ErrorCode::out_of_memory:
+      return "out_of_memory";
   }
   return "unknown";
 }

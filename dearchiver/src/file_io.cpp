@@ -1,11 +1,40 @@
 #include "file_io.hpp"
 
+#include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <fstream>
+#include <system_error>
 
 namespace statepack {
 namespace fs = std::filesystem;
+
+namespace {
+
+// The OS reason for errno, thread-safe (unlike strerror).
+std::string os_reason(int error) {
+  return std::generic_category().message(error);
+}
+
+const char* file_kind(mode_t mode) {
+  if (S_ISDIR(mode)) return "a directory";
+  if (S_ISFIFO(mode)) return "a FIFO";
+  if (S_ISCHR(mode)) return "a character device";
+  if (S_ISBLK(mode)) return "a block device";
+  if (S_ISSOCK(mode)) return "a socket";
+  return "not a regular file";
+}
+
+struct Descriptor {
+  int fd;
+  ~Descriptor() {
+    if (fd >= 0) ::close(fd);
+  }
+};
+
+}  // namespace
 
 std::string write_file_atomically(const fs::path& path, std::span<const uint8_t> bytes) {
   fs::path temp = path;
@@ -30,14 +59,39 @@ std::string write_file_atomically(const fs::path& path, std::span<const uint8_t>
   return "";
 }
 
-std::optional<std::vector<uint8_t>> read_file(const fs::path& path) {
-  std::ifstream file(path, std::ios::binary | std::ios::ate);
-  if (!file) return std::nullopt;
-  std::vector<uint8_t> bytes(static_cast<size_t>(file.tellg()));
-  file.seekg(0);
-  if (!file.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(bytes.size())))
-    return std::nullopt;
-  return bytes;
+Result<FileBytes> read_regular_file(const fs::path& path, uint64_t max_size) {
+  const std::string name = path.string();
+  // O_NONBLOCK: opening a FIFO for reading would otherwise wait for a writer forever.
+  Descriptor file{::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY)};
+  if (file.fd < 0) return Error{ErrorCode::io_error, name + ": cannot open: " + os_reason(errno)};
+  struct stat info {};
+  if (::fstat(file.fd, &info) != 0)
+    return Error{ErrorCode::io_error, name + ": cannot stat: " + os_reason(errno)};
+  if (!S_ISREG(info.st_mode))
+    return Error{ErrorCode::io_error,
+                 name + ": cannot read: it is " + file_kind(info.st_mode) + ", not a regular file"};
+  const auto size = static_cast<uint64_t>(info.st_size);
+  if (size > max_size)
+    return Error{ErrorCode::io_error, name + ": cannot read: " + std::to_string(size) +
+                                          " bytes is more than the " + std::to_string(max_size) +
+                                          " bytes allowed"};
+  FileBytes out;
+  out.size = static_cast<size_t>(size);
+  out.words.resize((out.size + 3) / 4);
+  auto* cursor = reinterpret_cast<uint8_t*>(out.words.data());
+  // The read is bounded by the size fstat gave: a file that grows meanwhile cannot make us read more.
+  size_t done = 0;
+  while (done < out.size) {
+    ssize_t n = ::read(file.fd, cursor + done, out.size - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) return Error{ErrorCode::io_error, name + ": cannot read: " + os_reason(errno)};
+    if (n == 0)
+      return Error{ErrorCode::io_error, name + ": cannot read: the file shrank from " +
+                                            std::to_string(out.size) + " to " + std::to_string(done) +
+                                            " bytes while being read"};
+    done += static_cast<size_t>(n);
+  }
+  return out;
 }
 
 }  // namespace statepack

@@ -22,6 +22,7 @@
 
 #include <cstring>
 
+#include "api_guard.hpp"
 #include "file_io.hpp"
 #include "statepack/dearchiver.hpp"
 #include "vk_result_string.hpp"
@@ -108,54 +109,62 @@ std::string mismatch(std::span<const uint8_t> file, const Identity& id) {
 
 Result<PipelineCacheLoad> load_pipeline_cache(const DeviceContext& context,
                                               const std::filesystem::path& path) {
-  PipelineCacheLoad out;
-  std::vector<uint8_t> file;
-  if (auto bytes = read_file(path)) {
-    file = std::move(*bytes);
-    out.reason = mismatch(file, identity_of(context.physical_device));
-  } else {
-    out.reason = "no pipeline cache file at '" + path.string() + "'";
-  }
-  out.reused = out.reason.empty();
-  VkPipelineCacheCreateInfo info{VK_STRUCTURE_TYPE_PIPELINE_CACHE_CREATE_INFO};
-  if (out.reused) {
-    info.initialDataSize = file.size() - kHeaderSize;
-    info.pInitialData = file.data() + kHeaderSize;
-  }
-  if (VkResult r = vkCreatePipelineCache(context.device, &info, context.allocator, &out.cache);
-      r != VK_SUCCESS)
-    return Error{ErrorCode::vulkan_error, "vkCreatePipelineCache failed: " + vk_result_string(r)};
-  return out;
+  return api_guard("load_pipeline_cache", [&]() -> Result<PipelineCacheLoad> {
+    PipelineCacheLoad out;
+    // Caches are driver blobs of a few megabytes; a larger file is not ours.
+    auto read = read_regular_file(path, uint64_t{1} << 30);
+    std::span<const uint8_t> file;
+    if (read) {
+      file = read->bytes();
+      out.reason = mismatch(file, identity_of(context.physical_device));
+    } else if (std::error_code ec; !std::filesystem::exists(path, ec)) {
+      out.reason = "no pipeline cache file at '" + path.string() + "'";
+    } else {
+      out.reason = read.error().message;
+    }
+    out.reused = out.reason.empty();
+    VkPipelineCacheCreateInfo info{VK_STRUCTURE_TYPE_PIPELINE_CACHE_CREATE_INFO};
+    if (out.reused) {
+      info.initialDataSize = file.size() - kHeaderSize;
+      info.pInitialData = file.data() + kHeaderSize;
+    }
+    if (VkResult r = vkCreatePipelineCache(context.device, &info, context.allocator, &out.cache);
+        r != VK_SUCCESS)
+      return Error{ErrorCode::vulkan_error, "vkCreatePipelineCache failed: " + vk_result_string(r)};
+    return out;
+  });
 }
 
 Result<void> save_pipeline_cache(const DeviceContext& context, VkPipelineCache cache,
                                  const std::filesystem::path& path) {
-  size_t size = 0;
-  if (VkResult r = vkGetPipelineCacheData(context.device, cache, &size, nullptr); r != VK_SUCCESS)
-    return Error{ErrorCode::vulkan_error, "vkGetPipelineCacheData failed: " + vk_result_string(r)};
-  std::vector<uint8_t> file(kHeaderSize + size);
-  if (VkResult r = vkGetPipelineCacheData(context.device, cache, &size, file.data() + kHeaderSize);
-      r != VK_SUCCESS)
-    return Error{ErrorCode::vulkan_error, "vkGetPipelineCacheData failed: " + vk_result_string(r)};
-  file.resize(kHeaderSize + size);
-  const Identity id = identity_of(context.physical_device);
-  std::memcpy(file.data(), kMagic, 8);
-  put32(file, 8, kVersion);
-  put32(file, 12, kHeaderSize);
-  put32(file, 16, id.vendor);
-  put32(file, 20, id.device);
-  put32(file, 24, id.driver_version);
-  put32(file, 28, id.driver_id);
-  std::memcpy(file.data() + 32, id.cache_uuid, 16);
-  std::memcpy(file.data() + 48, id.device_uuid, 16);
-  put64(file, 64, id.driver_info_hash);
-  put32(file, 72, sizeof(void*));
-  put32(file, 76, 0);
-  put64(file, 80, size);
-  put64(file, 88, XXH3_64bits(file.data() + kHeaderSize, size));
-  if (std::string error = write_file_atomically(path, file); !error.empty())
-    return Error{ErrorCode::io_error, error};
-  return {};
+  return api_guard("save_pipeline_cache", [&]() -> Result<void> {
+    size_t size = 0;
+    if (VkResult r = vkGetPipelineCacheData(context.device, cache, &size, nullptr); r != VK_SUCCESS)
+      return Error{ErrorCode::vulkan_error, "vkGetPipelineCacheData failed: " + vk_result_string(r)};
+    std::vector<uint8_t> file(kHeaderSize + size);
+    if (VkResult r = vkGetPipelineCacheData(context.device, cache, &size, file.data() + kHeaderSize);
+        r != VK_SUCCESS)
+      return Error{ErrorCode::vulkan_error, "vkGetPipelineCacheData failed: " + vk_result_string(r)};
+    file.resize(kHeaderSize + size);
+    const Identity id = identity_of(context.physical_device);
+    std::memcpy(file.data(), kMagic, 8);
+    put32(file, 8, kVersion);
+    put32(file, 12, kHeaderSize);
+    put32(file, 16, id.vendor);
+    put32(file, 20, id.device);
+    put32(file, 24, id.driver_version);
+    put32(file, 28, id.driver_id);
+    std::memcpy(file.data() + 32, id.cache_uuid, 16);
+    std::memcpy(file.data() + 48, id.device_uuid, 16);
+    put64(file, 64, id.driver_info_hash);
+    put32(file, 72, sizeof(void*));
+    put32(file, 76, 0);
+    put64(file, 80, size);
+    put64(file, 88, XXH3_64bits(file.data() + kHeaderSize, size));
+    if (std::string error = write_file_atomically(path, file); !error.empty())
+      return Error{ErrorCode::io_error, error};
+    return {};
+  });
 }
 
 }  // namespace statepack

@@ -24,6 +24,51 @@ std::string hex64(uint64_t v) {
   std::snprintf(text, sizeof text, "%016" PRIx64, v);
   return text;
 }
+// Names come from the archive, which anyone can edit: JSON output replaces bytes that are not UTF-8
+// with U+FFFD (nlohmann's error_handler_t::replace), and text output, which goes to terminals, shows
+// control characters, backslashes and bytes that are not UTF-8 as \xNN escapes.
+std::string printable(const std::string& name) {
+  std::string out;
+  auto escape = [&](unsigned char c) {
+    char text[5];
+    std::snprintf(text, sizeof text, "\\x%02X", c);
+    out += text;
+  };
+  for (size_t i = 0; i < name.size();) {
+    const auto c = static_cast<unsigned char>(name[i]);
+    // Length of a well-formed UTF-8 sequence starting here (RFC 3629: no overlongs, no surrogates).
+    size_t length = 0;
+    if (c < 0x80) {
+      length = 1;
+    } else if (c >= 0xC2 && c <= 0xF4) {
+      length = c < 0xE0 ? 2 : c < 0xF0 ? 3 : 4;
+      if (i + length > name.size()) length = 0;
+      for (size_t k = 1; k < length; ++k)
+        if ((static_cast<unsigned char>(name[i + k]) & 0xC0) != 0x80) length = 0;
+      if (length > 0) {
+        const auto c1 = static_cast<unsigned char>(name[i + 1]);
+        if ((c == 0xE0 && c1 < 0xA0) || (c == 0xED && c1 > 0x9F) || (c == 0xF0 && c1 < 0x90) ||
+            (c == 0xF4 && c1 > 0x8F))
+          length = 0;
+        // C1 controls (U+0080-U+009F) steer terminals as well as C0 ones do.
+        if (c == 0xC2 && c1 < 0xA0) length = 0;
+      }
+    }
+    if (length == 1 && (c < 0x20 || c == 0x7F || c == '\\')) length = 0;
+    if (length == 0) {
+      escape(c);
+      ++i;
+    } else {
+      out.append(name, i, length);
+      i += length;
+    }
+  }
+  return out;
+}
+std::string text(const Json& value) {
+  return printable(value.get<std::string>());
+}
+
 std::string none_or(uint32_t index) {
   return index == format::kNone ? "none" : std::to_string(index);
 }
@@ -205,17 +250,17 @@ void print_text(const Json& j, std::ostream& out) {
   out << j["spirv_blobs"].size() << " SPIR-V blob(s), " << j["shaders"].size() << " shader record(s), "
       << j["samplers"].size() << " sampler(s)\n";
   for (const auto& p : j["pipelines"]) {
-    out << "pipeline '" << p["name"].get<std::string>() << "' (" << p["kind"].get<std::string>() << ")\n";
+    out << "pipeline '" << text(p["name"]) << "' (" << p["kind"].get<std::string>() << ")\n";
     for (const auto& s : p["shaders"])
-      out << "  " << s["stage"].get<std::string>() << ": '" << s["shader"].get<std::string>() << "', "
+      out << "  " << s["stage"].get<std::string>() << ": '" << text(s["shader"]) << "', "
           << s["size"].get<size_t>() << " bytes\n";
     for (const auto& set : p["sets"]) {
       if (!set.contains("bindings")) continue;
       out << "  set " << set["set"].get<uint32_t>();
-      if (set.contains("signature")) out << " (signature '" << set["signature"].get<std::string>() << "')";
+      if (set.contains("signature")) out << " (signature '" << text(set["signature"]) << "')";
       out << "\n";
       for (const auto& b : set["bindings"])
-        out << "    binding " << b["binding"].get<uint32_t>() << ": '" << b["name"].get<std::string>() << "' "
+        out << "    binding " << b["binding"].get<uint32_t>() << ": '" << text(b["name"]) << "' "
             << b["type"].get<std::string>() << " x" << b["count"].get<uint32_t>() << " " << b["stages"].dump()
             << "\n";
     }
@@ -226,17 +271,17 @@ void print_text(const Json& j, std::ostream& out) {
       out << "  " << g["topology"].get<std::string>() << ", cull " << g["cull_mode"].get<std::string>()
           << ", depth test " << (g["depth_test"].get<bool>() ? "on" : "off") << ", targets:";
       for (const auto& t : g["render_targets"]) out << " " << t["format"].get<std::string>();
-      if (g["render_pass"] != "none") out << ", render pass '" << g["render_pass"].get<std::string>() << "'";
+      if (g["render_pass"] != "none") out << ", render pass '" << text(g["render_pass"]) << "'";
       out << "\n";
     }
   }
   for (const auto& s : j["resource_signatures"])
-    out << "resource signature '" << s["name"].get<std::string>() << "' (set " << s["set"].get<uint32_t>()
-        << ", " << s["bindings"].size() << " bindings)\n";
+    out << "resource signature '" << text(s["name"]) << "' (set " << s["set"].get<uint32_t>() << ", "
+        << s["bindings"].size() << " bindings)\n";
   for (const auto& r : j["render_passes"])
-    out << "render pass '" << r["name"].get<std::string>() << "' (" << r["attachments"].size()
-        << " attachments, " << r["subpasses"].size() << " subpasses)\n";
-  for (const auto& s : j["standalone_shaders"]) out << "standalone shader '" << s.get<std::string>() << "'\n";
+    out << "render pass '" << text(r["name"]) << "' (" << r["attachments"].size() << " attachments, "
+        << r["subpasses"].size() << " subpasses)\n";
+  for (const auto& s : j["standalone_shaders"]) out << "standalone shader '" << text(s) << "'\n";
 }
 
 }  // namespace
@@ -255,7 +300,7 @@ int run_inspect(const std::string& path, bool as_json, std::ostream& out, std::o
 void print_archive(const format::Contents& contents, size_t size, bool as_json, std::ostream& out) {
   Json j = contents_json(contents, size);
   if (as_json)
-    out << j.dump(2) << '\n';
+    out << j.dump(2, ' ', false, Json::error_handler_t::replace) << '\n';
   else
     print_text(j, out);
 }

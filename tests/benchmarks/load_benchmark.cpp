@@ -178,11 +178,9 @@ int main(int argc, char** argv) {
   }
   const std::string archive_path = argv[1];
   const int repeats = argc > 4 ? std::max(1, std::atoi(argv[4])) : 5;
-  auto file = read_file(archive_path);
-  if (!file) return std::fprintf(stderr, "cannot read %s\n", archive_path.c_str()), 1;
-  std::vector<uint32_t> aligned((file->size() + 3) / 4);
-  std::memcpy(aligned.data(), file->data(), file->size());
-  std::span<const uint8_t> bytes(reinterpret_cast<const uint8_t*>(aligned.data()), file->size());
+  auto file = read_regular_file(archive_path, uint64_t{0xFFFFFFFFu});
+  if (!file) return std::fprintf(stderr, "%s\n", file.error().message.c_str()), 1;
+  std::span<const uint8_t> bytes = file->bytes();
 
   samples::VulkanContextOptions options;
   options.validation = false;  // timing the driver, not the layer

@@ -24,6 +24,7 @@ enum class ErrorCode {
   unsupported,               // the device lacks a feature the object needs
   vulkan_error,              // a Vulkan call failed; the message names the call and VkResult
   invalid_argument,          // the caller passed something unusable
+  out_of_memory,             // an allocation failed
 };
 
 const char* to_string(ErrorCode code);

@@ -1,0 +1,141 @@
+#include "semantic_check.hpp"
+
+#include <algorithm>
+#include <optional>
+
+#include "spirv_walk.hpp"
+
+namespace statepack::format {
+namespace {
+
+const char* descriptor_type_name(uint32_t type) {
+  static constexpr const char* kNames[] = {"SAMPLER",
+                                           "COMBINED_IMAGE_SAMPLER",
+                                           "SAMPLED_IMAGE",
+                                           "STORAGE_IMAGE",
+                                           "UNIFORM_TEXEL_BUFFER",
+                                           "STORAGE_TEXEL_BUFFER",
+                                           "UNIFORM_BUFFER",
+                                           "STORAGE_BUFFER",
+                                           "UNIFORM_BUFFER_DYNAMIC",
+                                           "STORAGE_BUFFER_DYNAMIC",
+                                           "INPUT_ATTACHMENT"};
+  return type < std::size(kNames) ? kNames[type] : "unknown";
+}
+
+std::string type_names(spirv::DescriptorTypeMask mask) {
+  std::string out;
+  for (uint32_t t = 0; t < 11; ++t)
+    if (mask & (1u << t)) out += std::string(out.empty() ? "" : " or ") + descriptor_type_name(t);
+  return out;
+}
+
+// No device has more vertex attributes than this; an input claiming more is hostile.
+constexpr uint32_t kMaxVertexLocations = 64;
+
+Error corrupt(std::string message) {
+  return Error{ErrorCode::corrupt, "corrupt archive: " + std::move(message)};
+}
+
+Result<void> check_pipeline(const Contents& c, const Pipeline& p, const std::vector<spirv::Module>& modules) {
+  const std::string pipeline = "pipeline '" + p.name + "'";
+  for (uint32_t index : p.shaders) {
+    const Shader& shader = c.shaders[index];
+    const spirv::Module& module = modules[shader.blob];
+    const spirv::EntryPoint* entry =
+        module.find(*spirv::execution_model_of_stage(shader.stage), shader.entry_point);
+    const std::string who = "shader '" + shader.name + "'";
+    for (const spirv::Resource& r : module.resources) {
+      if (!module.uses(*entry, r.variable)) continue;
+      const std::string slot = "set " + std::to_string(r.set) + ", binding " + std::to_string(r.binding);
+      const SetLayout* layout = nullptr;
+      if (r.set < p.set_layouts.size() && p.set_layouts[r.set] != kNone)
+        layout = &c.set_layouts[p.set_layouts[r.set]];
+      // Bindings are sorted by number (checked by decode).
+      auto b = layout ? std::lower_bound(layout->bindings.begin(), layout->bindings.end(), r.binding,
+                                         [](const Binding& x, uint32_t n) { return x.binding < n; })
+                      : std::vector<Binding>::const_iterator{};
+      if (layout && b != layout->bindings.end() && b->binding != r.binding) b = layout->bindings.end();
+      if (!layout || b == layout->bindings.end())
+        return corrupt(pipeline + ": " + who + " uses " + slot + ", which the pipeline's layout lacks");
+      const std::string binding = pipeline + ": binding '" + b->name + "' (" + slot + ")";
+      if (r.compatible == 0)
+        return corrupt(pipeline + ": " + who + " uses " + slot +
+                       " as a resource no core descriptor type holds");
+      if (!(r.compatible & (1u << b->descriptor_type)))
+        return corrupt(binding + " is a " + descriptor_type_name(b->descriptor_type) + " descriptor, but " +
+                       who + " declares a " + type_names(r.compatible));
+      if (!(b->stage_flags & shader.stage))
+        return corrupt(binding + " is not visible to the " + spirv::stage_name(shader.stage) +
+                       " stage, which " + who + " uses it from");
+      if (r.array_size > b->count)
+        return corrupt(binding + " holds " + std::to_string(b->count) + " descriptor(s), but " + who +
+                       " declares an array of " + std::to_string(r.array_size));
+    }
+    if (module.push_constants && module.uses(*entry, module.push_constants->variable)) {
+      if (p.push_constant_size == 0 || !(p.push_constant_stages & shader.stage))
+        return corrupt(pipeline + ": " + who +
+                       " uses push constants, which the pipeline's layout lacks for the " +
+                       spirv::stage_name(shader.stage) + " stage");
+      if (p.push_constant_size < module.push_constants->size)
+        return corrupt(pipeline + ": push constants are " + std::to_string(p.push_constant_size) +
+                       " bytes, but " + who + " uses " + std::to_string(module.push_constants->size));
+    }
+    if (shader.stage == 0x1 && p.kind == PipelineKind::graphics) {
+      std::vector<uint32_t> provided;  // attribute locations, sorted for lookups
+      for (const auto& a : p.graphics.vertex_attributes) provided.push_back(a.location);
+      std::sort(provided.begin(), provided.end());
+      for (const spirv::Input& in : module.inputs) {
+        if (!module.uses(*entry, in.variable)) continue;
+        if (in.locations > kMaxVertexLocations)
+          return corrupt(pipeline + ": vertex " + who + " reads " + std::to_string(in.locations) +
+                         " locations from one input");
+        for (uint64_t location = in.location; location < uint64_t(in.location) + in.locations; ++location) {
+          if (!std::binary_search(provided.begin(), provided.end(), location))
+            return corrupt(pipeline + ": vertex " + who + " reads input location " +
+                           std::to_string(location) + ", which has no vertex attribute");
+        }
+      }
+    }
+  }
+  return {};
+}
+
+}  // namespace
+
+Result<void> check_shader_interfaces(const Contents& c) {
+  std::vector<spirv::Module> modules(c.spirv.size());
+  std::vector<bool> walked(c.spirv.size());
+  for (const Shader& shader : c.shaders) {
+    const std::string who = "shader '" + shader.name + "'";
+    if (!walked[shader.blob]) {
+      auto module = spirv::walk(c.spirv[shader.blob]);
+      if (!module) return corrupt(who + ": " + module.error().message);
+      modules[shader.blob] = std::move(module.value());
+      walked[shader.blob] = true;
+    }
+    const auto model = spirv::execution_model_of_stage(shader.stage);
+    if (!model || !modules[shader.blob].find(*model, shader.entry_point))
+      return corrupt(who + " has no " + spirv::stage_name(shader.stage) + " entry point named '" +
+                     shader.entry_point + "' in its SPIR-V");
+  }
+  // Pipelines may share shaders, so the checks below cost pipelines x resources per shader: bounded, like
+  // decoding, by the file's own size, so that a small archive cannot make loading take minutes.
+  uint64_t work = 0, budget = 64;
+  for (auto blob : c.spirv) budget += blob.size_bytes();
+  budget *= 16;
+  for (const Pipeline& p : c.pipelines) {
+    for (uint32_t index : p.shaders) {
+      const spirv::Module& m = modules[c.shaders[index].blob];
+      work += 1 + m.resources.size() + m.inputs.size();
+    }
+    if (work > budget)
+      return corrupt("checking pipeline '" + p.name + "' against its shaders expands beyond " +
+                     std::to_string(budget) + " steps (16 x the SPIR-V size): pipelines share huge shaders");
+  }
+  for (const Pipeline& p : c.pipelines)
+    if (auto ok = check_pipeline(c, p, modules); !ok) return ok;
+  return {};
+}
+
+}  // namespace statepack::format

@@ -1,0 +1,17 @@
+// Checks that an archive's records agree with its SPIR-V: what a checksum cannot promise once someone
+// edits an archive and re-seals it. No Vulkan here (the fuzzer runs it); the device's limits are
+// checked at unpack time by device_limits.hpp.
+#pragma once
+
+#include "archive_format.hpp"
+
+namespace statepack::format {
+
+// Every shader's entry point exists in its module with the stored stage's execution model; every
+// descriptor a pipeline's shader uses is in the pipeline's stored layout, of a compatible type, with
+// enough descriptors and visible to that stage; push constant blocks fit the stored push constant
+// range; every vertex input location a vertex shader reads has an attribute. The error names the
+// pipeline or shader, the binding and the reason.
+Result<void> check_shader_interfaces(const Contents& contents);
+
+}  // namespace statepack::format

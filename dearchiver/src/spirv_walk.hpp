@@ -1,0 +1,76 @@
+// A light SPIR-V reader: just enough of a module to check it against the archive's stored layouts
+// before Vulkan sees it (entry points, descriptor bindings, push constants, vertex inputs). It is not
+// a validator and links no SPIR-V library: the dearchiver stays free of shader compilers.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "statepack/result.hpp"
+
+namespace statepack::spirv {
+
+// What a descriptor binding must be to match a shader resource, as a set of VkDescriptorType bits
+// (bit n: VkDescriptorType n, core types 0-10).
+using DescriptorTypeMask = uint32_t;
+
+struct Resource {
+  uint32_t variable = 0;  // result id of the OpVariable
+  uint32_t set = 0, binding = 0;
+  DescriptorTypeMask compatible = 0;  // 0: a kind no core descriptor type holds
+  uint32_t array_size = 1;            // elements the binding must hold at least (0: runtime array)
+};
+
+// The numeric type of a shader interface variable's components, to match attachment and vertex formats.
+enum class Numeric : uint8_t { other, float_, sint, uint };
+
+// A shader input or output with a location (built-ins have none).
+struct Input {
+  uint32_t variable = 0;
+  uint32_t location = 0;
+  uint32_t locations = 1;  // consecutive locations it occupies (matrices and arrays take several)
+  Numeric numeric = Numeric::other;
+};
+
+struct PushConstantBlock {
+  uint32_t variable = 0;
+  uint32_t size = 0;  // bytes the block spans; 0 when its layout is not computed here
+};
+
+struct EntryPoint {
+  uint32_t execution_model = 0;  // SpvExecutionModel
+  uint32_t function = 0;         // id of its OpFunction
+  std::string name;
+  std::vector<uint32_t> interface;  // ids listed by OpEntryPoint, sorted
+};
+
+struct Module {
+  uint32_t version = 0;  // 0x00MMmm00
+  uint32_t bound = 0;
+  std::vector<EntryPoint> entry_points;
+  std::vector<Resource> resources;  // every descriptor variable of the module
+  std::vector<Input> inputs;        // every Input variable with a Location
+  std::vector<Input> outputs;       // every Output variable with a Location
+  std::optional<PushConstantBlock> push_constants;
+  bool writes_point_size = false;  // point lists need it from the last pre-rasterization stage
+
+  const EntryPoint* find(uint32_t execution_model, std::string_view name) const;
+  // Whether the entry point may use the variable: from SPIR-V 1.4 on, its interface lists every global
+  // it uses; before, only inputs and outputs, so any module-scope variable counts as used.
+  bool uses(const EntryPoint& entry, uint32_t variable) const;
+};
+
+// Walks the module: header (magic, version, bound), every instruction's word count, then the
+// declarations above. The error message says what is wrong and at which word.
+Result<Module> walk(std::span<const uint32_t> words);
+
+// The SpvExecutionModel of a VkShaderStageFlagBits stage (vertex to compute), or nullopt.
+std::optional<uint32_t> execution_model_of_stage(uint32_t stage);
+
+// "vertex", "fragment", ... for messages.
+const char* stage_name(uint32_t stage);
+
+}  // namespace statepack::spirv
