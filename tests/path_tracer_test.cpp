@@ -2,6 +2,7 @@
 // finite output, the light's pixels at the light's radiance, red left and green right walls, and the
 // same image bit for bit for the same seed.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <cmath>
 #include <cstdio>
@@ -23,6 +24,11 @@ namespace fs = std::filesystem;
 
 using Image = statepack::testing::PfmImage;
 using statepack::testing::read_pfm;
+
+std::string read_text(const fs::path& path) {
+  std::ifstream file(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>()};
+}
 
 int run(const std::string& args, std::string& output) {
   auto result =
@@ -165,6 +171,58 @@ TEST(PathTracer, BadSceneIsAClearError) {
   EXPECT_NE(run("--scene '" + scene.string() + "' --out x.pfm", output), 0);
   EXPECT_NE(output.find("bad_scene.json"), std::string::npos) << output;
   EXPECT_NE(output.find("/boxes/0/half_size/1"), std::string::npos) << output;
+}
+
+TEST(PathTracer, HostileScenesAndOutputsAreErrorsNotCrashesOrBadImages) {
+  const fs::path dir = fs::path(STATEPACK_TEST_OUTPUT_DIR) / "hostile";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  std::string output;
+  // A number beyond a double, and a FIFO (refused without blocking), as the scene.
+  std::ofstream(dir / "overflow.json") << R"({"light": {"intensity": 1e999}})";
+  EXPECT_EQ(run("--scene '" + (dir / "overflow.json").string() + "' --out '" + (dir / "a.pfm").string() + "'",
+                output),
+            1);
+  EXPECT_NE(output.find("overflow.json: invalid JSON: "), std::string::npos) << output;
+  EXPECT_NE(output.find("number overflow parsing '1e999'"), std::string::npos) << output;
+  ASSERT_EQ(::mkfifo((dir / "fifo.json").c_str(), 0600), 0);
+  EXPECT_EQ(
+      run("--scene '" + (dir / "fifo.json").string() + "' --out '" + (dir / "a.pfm").string() + "'", output),
+      1);
+  EXPECT_NE(output.find("fifo.json: cannot read: it is a FIFO, not a regular file"), std::string::npos)
+      << output;
+  // Coordinates beyond any room are refused by the scene reader.
+  std::ofstream(dir / "far.json") << R"({"camera": {"position": [0, 1, -3e30]}})";
+  EXPECT_EQ(
+      run("--scene '" + (dir / "far.json").string() + "' --out '" + (dir / "a.pfm").string() + "'", output),
+      1);
+  EXPECT_NE(output.find("must be a number from -1e6 to 1e6 [/camera/position/2]"), std::string::npos)
+      << output;
+  // Radiance beyond what any light needs is refused before rendering (sums stay finite in float).
+  std::string bright = read_text(STATEPACK_DEFAULT_SCENE_FILE);
+  ASSERT_NE(bright.find("\"intensity\": 15"), std::string::npos);
+  bright.replace(bright.find("\"intensity\": 15"), 15, "\"intensity\": 3e38");
+  std::ofstream(dir / "bright.json") << bright;
+  EXPECT_EQ(
+      run("--scene '" + (dir / "bright.json").string() + "' --out '" + (dir / "bright.pfm").string() + "'",
+          output),
+      1);
+  EXPECT_NE(output.find("bright.json: must be from 0 to 1e6 [/light/intensity]"), std::string::npos)
+      << output;
+  EXPECT_FALSE(fs::exists(dir / "bright.pfm"));
+  // The output may not replace the scene it read, nor follow a link.
+  fs::copy_file(STATEPACK_DEFAULT_SCENE_FILE, dir / "scene.png");
+  const std::string before = read_text(dir / "scene.png");
+  EXPECT_EQ(run("--width 16 --height 12 --spp 1 --scene '" + (dir / "scene.png").string() + "' --out '" +
+                    (dir / "scene.png").string() + "'",
+                output),
+            1);
+  EXPECT_NE(output.find("it is the input"), std::string::npos) << output;
+  EXPECT_EQ(read_text(dir / "scene.png"), before);
+  fs::create_symlink(dir / "scene.png", dir / "link.png");
+  EXPECT_EQ(run("--width 16 --height 12 --spp 1 --out '" + (dir / "link.png").string() + "'", output), 1);
+  EXPECT_NE(output.find("it is a symbolic link"), std::string::npos) << output;
+  EXPECT_EQ(read_text(dir / "scene.png"), before);
 }
 
 }  // namespace

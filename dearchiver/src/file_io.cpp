@@ -1,11 +1,12 @@
 #include "file_io.hpp"
 
+#include "output_files.hpp"
+
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
-#include <fstream>
 #include <system_error>
 
 namespace statepack {
@@ -18,7 +19,9 @@ std::string os_reason(int error) {
   return std::generic_category().message(error);
 }
 
-const char* file_kind(mode_t mode) {
+}  // namespace
+
+const char* file_kind(unsigned mode) {
   if (S_ISDIR(mode)) return "a directory";
   if (S_ISFIFO(mode)) return "a FIFO";
   if (S_ISCHR(mode)) return "a character device";
@@ -26,6 +29,8 @@ const char* file_kind(mode_t mode) {
   if (S_ISSOCK(mode)) return "a socket";
   return "not a regular file";
 }
+
+namespace {
 
 struct Descriptor {
   int fd;
@@ -36,31 +41,24 @@ struct Descriptor {
 
 }  // namespace
 
-std::string write_file_atomically(const fs::path& path, std::span<const uint8_t> bytes) {
-  fs::path temp = path;
-  temp += ".tmp-" + std::to_string(::getpid());
-  std::error_code ec;
-  {
-    std::ofstream file(temp, std::ios::binary | std::ios::trunc);
-    if (!file) return "cannot create '" + temp.string() + "'";
-    file.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
-    file.flush();
-    if (!file) {
-      fs::remove(temp, ec);
-      return "cannot write '" + temp.string() + "'";
-    }
-  }
-  fs::rename(temp, path, ec);
-  if (ec) {
-    std::string reason = "cannot rename '" + temp.string() + "' to '" + path.string() + "': " + ec.message();
-    fs::remove(temp, ec);
-    return reason;
-  }
-  return "";
+std::optional<FileIdentity> file_identity(const fs::path& path) {
+  struct stat info {};
+  if (::stat(path.c_str(), &info) != 0) return std::nullopt;
+  return FileIdentity{uint64_t(info.st_dev), uint64_t(info.st_ino)};
 }
 
-Result<FileBytes> read_regular_file(const fs::path& path, uint64_t max_size) {
-  const std::string name = path.string();
+std::string write_file_atomically(const fs::path& path, std::span<const uint8_t> bytes,
+                                  const std::vector<fs::path>& inputs) {
+  std::vector<InputFile> protected_inputs;
+  for (const auto& input : inputs)
+    if (auto id = file_identity(input)) protected_inputs.push_back({input, *id});
+  OutputSet output(std::move(protected_inputs));
+  std::string error = output.stage(path, bytes);
+  return error.empty() ? output.commit() : error;
+}
+
+Result<FileBytes> read_regular_file(const fs::path& path, uint64_t max_size, const std::string& display) {
+  const std::string name = display.empty() ? path.string() : display;
   // O_NONBLOCK: opening a FIFO for reading would otherwise wait for a writer forever.
   Descriptor file{::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY)};
   if (file.fd < 0) return Error{ErrorCode::io_error, name + ": cannot open: " + os_reason(errno)};
@@ -76,6 +74,7 @@ Result<FileBytes> read_regular_file(const fs::path& path, uint64_t max_size) {
                                           " bytes is more than the " + std::to_string(max_size) +
                                           " bytes allowed"};
   FileBytes out;
+  out.identity = {uint64_t(info.st_dev), uint64_t(info.st_ino)};
   out.size = static_cast<size_t>(size);
   out.words.resize((out.size + 3) / 4);
   auto* cursor = reinterpret_cast<uint8_t*>(out.words.data());

@@ -431,8 +431,8 @@ class FileReader {
     } else {
       input = read_input_file(path, display);
     }
-    if (!input.error.empty())
-      return diag.error(imported_at.file.empty() ? Location{display} : imported_at, input.error);
+    // The message names the file; a location adds only where it was imported from.
+    if (!input.error.empty()) return diag.error(imported_at.line > 0 ? imported_at : Location{}, input.error);
     out.files_read.push_back({canonical, input.identity});
     out.import_stack.push_back(canonical);
     const std::string_view text = strip_utf8_bom(input.text);  // positions count after a BOM

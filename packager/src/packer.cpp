@@ -12,8 +12,8 @@
 
 #include "archive_format.hpp"
 #include "contents_builder.hpp"
+#include "input_file.hpp"
 #include "inspect.hpp"
-#include "output_files.hpp"
 #include "pipeline_layout.hpp"
 #include "spirv_reflect.hpp"
 #include "version.hpp"

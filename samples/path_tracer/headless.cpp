@@ -59,7 +59,8 @@ int run_headless(const Options& o) {
     if (!rendered) {
       std::fprintf(stderr, "path_tracer: %s\n", rendered.error().message.c_str());
       status = 1;
-    } else if (std::string error = write_image(o.out, rendered->rgba, o.width, o.height, o.settings.exposure);
+    } else if (std::string error = write_image(o.out, rendered->rgba, o.width, o.height, o.settings.exposure,
+                                               {o.scene, o.archive});
                !error.empty()) {
       std::fprintf(stderr, "path_tracer: %s: %s\n", o.out.c_str(), error.c_str());
       status = 1;

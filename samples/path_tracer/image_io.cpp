@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 
 #include "file_io.hpp"
@@ -28,7 +29,7 @@ std::span<const uint8_t> as_bytes(const std::vector<uint8_t>& v) {
 }  // namespace
 
 std::string write_png_rgb8(const std::filesystem::path& path, const std::vector<uint8_t>& rgb, uint32_t width,
-                           uint32_t height) {
+                           uint32_t height, const std::vector<std::filesystem::path>& inputs) {
   std::vector<uint8_t> file;
   stbi_write_png_to_func(
       [](void* out, void* data, int size) {
@@ -38,19 +39,24 @@ std::string write_png_rgb8(const std::filesystem::path& path, const std::vector<
       },
       &file, int(width), int(height), 3, rgb.data(), int(width * 3));
   if (file.empty()) return "PNG encoding failed";
-  return write_file_atomically(path, as_bytes(file));
+  return write_file_atomically(path, as_bytes(file), inputs);
 }
 
 std::string write_image(const std::filesystem::path& path, const std::vector<float>& rgba, uint32_t width,
-                        uint32_t height, float exposure) {
+                        uint32_t height, float exposure, const std::vector<std::filesystem::path>& inputs) {
   const std::string ext = path.extension().string();
   const size_t pixels = size_t(width) * height;
+  if (rgba.size() < pixels * 4) return "the image has fewer pixels than its size says";
+  for (size_t i = 0; i < pixels * 4; ++i)
+    if (!std::isfinite(rgba[i]))
+      return "the render holds a non-finite value (NaN or infinity) at pixel (" +
+             std::to_string(i / 4 % width) + ", " + std::to_string(i / 4 / width) + "): no image written";
   std::vector<uint8_t> file;
   if (ext == ".png") {
     std::vector<uint8_t> rgb(pixels * 3);
     for (size_t i = 0; i < pixels; ++i)
       for (int c = 0; c < 3; ++c) rgb[i * 3 + c] = srgb_byte(rgba[i * 4 + c] * exposure);
-    return write_png_rgb8(path, rgb, width, height);
+    return write_png_rgb8(path, rgb, width, height, inputs);
   } else if (ext == ".pfm") {
     // Portable float map: "PF", size, negative scale = little-endian, rows bottom to top.
     std::string header = "PF\n" + std::to_string(width) + " " + std::to_string(height) + "\n-1.0\n";
@@ -64,26 +70,46 @@ std::string write_image(const std::filesystem::path& path, const std::vector<flo
           file.insert(file.end(), b, b + 4);
         }
   } else if (ext == ".exr") {
-    std::vector<float> rgb(pixels * 3);
-    for (size_t i = 0; i < pixels; ++i)
-      for (int c = 0; c < 3; ++c) rgb[i * 3 + c] = rgba[i * 4 + c];
-    // tinyexr writes the file itself; write beside the target, then rename (atomic like the rest).
-    std::filesystem::path temp = path;
-    temp += ".tmp-exr";
+    // Encoded in memory (tinyexr's file writer would follow a link planted at its path), then written
+    // like every other output: atomically, never through a link.
+    std::vector<float> planes[3];  // EXR viewers expect B, G, R channel order
+    for (int ch = 0; ch < 3; ++ch) {
+      planes[ch].resize(pixels);
+      for (size_t i = 0; i < pixels; ++i) planes[ch][i] = rgba[i * 4 + size_t(2 - ch)];
+    }
+    float* plane_pointers[3] = {planes[0].data(), planes[1].data(), planes[2].data()};
+    EXRImage image;
+    InitEXRImage(&image);
+    image.num_channels = 3;
+    image.images = reinterpret_cast<unsigned char**>(plane_pointers);
+    image.width = int(width);
+    image.height = int(height);
+    EXRHeader header;
+    InitEXRHeader(&header);
+    header.compression_type =
+        width < 16 && height < 16 ? TINYEXR_COMPRESSIONTYPE_NONE : TINYEXR_COMPRESSIONTYPE_ZIP;
+    EXRChannelInfo channels[3] = {};
+    int pixel_types[3] = {TINYEXR_PIXELTYPE_FLOAT, TINYEXR_PIXELTYPE_FLOAT, TINYEXR_PIXELTYPE_FLOAT};
+    const char* names[3] = {"B", "G", "R"};
+    for (int ch = 0; ch < 3; ++ch) std::memcpy(channels[ch].name, names[ch], 2);
+    header.num_channels = 3;
+    header.channels = channels;
+    header.pixel_types = pixel_types;
+    header.requested_pixel_types = pixel_types;
+    unsigned char* memory = nullptr;
     const char* err = nullptr;
-    if (SaveEXR(rgb.data(), int(width), int(height), 3, /*save_as_fp16=*/0, temp.c_str(), &err) !=
-        TINYEXR_SUCCESS) {
+    size_t size = SaveEXRImageToMemory(&image, &header, &memory, &err);
+    if (size == 0) {
       std::string reason = err ? err : "unknown";
       FreeEXRErrorMessage(err);
       return "EXR encoding failed: " + reason;
     }
-    std::error_code ec;
-    std::filesystem::rename(temp, path, ec);
-    return ec ? "cannot write '" + path.string() + "': " + ec.message() : "";
+    file.assign(memory, memory + size);
+    std::free(memory);
   } else {
     return "unknown image type '" + ext + "' (use .png, .exr or .pfm)";
   }
-  return write_file_atomically(path, as_bytes(file));
+  return write_file_atomically(path, as_bytes(file), inputs);
 }
 
 }  // namespace statepack::path_tracer

@@ -1,13 +1,18 @@
 #include "scene.hpp"
 
 #include <cmath>
-#include <fstream>
 #include <nlohmann/json.hpp>
+
+#include "file_io.hpp"
 
 namespace statepack::path_tracer {
 namespace {
 
 using nlohmann::json;
+
+constexpr float kMaxCoordinate = 1e6f;
+// Radiance far above any light keeps every sum of path contributions finite in float.
+constexpr float kMaxRadiance = 1e6f;
 
 struct Reader {
   std::string file;
@@ -30,9 +35,10 @@ struct Reader {
       if (!(*it)[i].is_number())
         return fail(pointer + "/" + key + "/" + std::to_string(i), "must be a number");
       out[i] = (*it)[i].get<float>();
-      if (!std::isfinite(out[i]) || (positive && out[i] <= 0))
+      // Far beyond any room, float intersection distances overflow: bounded like the scene needs.
+      if (!std::isfinite(out[i]) || std::fabs(out[i]) > kMaxCoordinate || (positive && out[i] <= 0))
         return fail(pointer + "/" + key + "/" + std::to_string(i),
-                    positive ? "must be a positive number" : "must be finite");
+                    positive ? "must be a positive number up to 1e6" : "must be a number from -1e6 to 1e6");
     }
   }
   void number(const json& j, const char* key, const std::string& pointer, float& out) {
@@ -51,12 +57,14 @@ struct Reader {
 }  // namespace
 
 Result<Scene> load_scene(const std::filesystem::path& path) {
-  std::ifstream file(path);
-  if (!file) return Error{ErrorCode::io_error, path.string() + ": cannot open scene file"};
+  // Bounded and non-blocking: a scene is a few KiB; FIFOs, devices and directories are refused.
+  auto file = read_regular_file(path, 1u << 20);
+  if (!file) return file.error();
+  auto bytes = file->bytes();
   json root;
   try {
-    root = json::parse(file);
-  } catch (const json::parse_error& e) {
+    root = json::parse(bytes.begin(), bytes.end());
+  } catch (const json::exception& e) {  // syntax errors, and numbers beyond a double (out_of_range)
     return Error{ErrorCode::invalid_argument, path.string() + ": invalid JSON: " + e.what()};
   }
   Reader r{path.string(), ""};
@@ -95,7 +103,7 @@ Result<Scene> load_scene(const std::filesystem::path& path) {
       r.albedo(p, box.albedo);
       r.vec3(b, "emittance", p, box.emittance);
       for (float e : box.emittance)
-        if (e < 0) r.fail(p + "/emittance", "emittance must not be negative");
+        if (e < 0 || e > kMaxRadiance) r.fail(p + "/emittance", "emittance must be from 0 to 1e6");
       r.number(b, "rotation_degrees", p, box.rotation_degrees);
       scene.boxes.push_back(box);
     }
@@ -108,7 +116,8 @@ Result<Scene> load_scene(const std::filesystem::path& path) {
     r.albedo("/light", scene.light.albedo);
     r.vec3(*l, "color", "/light", scene.light.color);
     r.number(*l, "intensity", "/light", scene.light.intensity);
-    if (scene.light.intensity < 0) r.fail("/light/intensity", "must not be negative");
+    if (scene.light.intensity < 0 || scene.light.intensity > kMaxRadiance)
+      r.fail("/light/intensity", "must be from 0 to 1e6");
   } else {
     r.fail("/light", "the scene needs a 'light'");
   }

@@ -1,5 +1,5 @@
-// Writing a run's outputs (archive, depfile, dumps) all or nothing, without ever replacing an input or
-// following a planted link.
+// Writing outputs (archives, depfiles, dumps, pipeline caches, images) all or nothing, without ever replacing
+// an input or following a planted link.
 //
 // Every output is first written in full to a temporary beside it (an unnamed O_TMPFILE where the file
 // system has them, so a killed run leaves nothing behind; else a new file created with O_EXCL, which
@@ -15,9 +15,15 @@
 #include <string>
 #include <vector>
 
-#include "input_file.hpp"
+#include "file_io.hpp"
 
-namespace statepack::packager {
+namespace statepack {
+
+// A file a run read, by path (for messages) and identity (so that no output replaces it).
+struct InputFile {
+  std::filesystem::path path;
+  FileIdentity identity;
+};
 
 class OutputSet {
  public:
@@ -47,4 +53,4 @@ class OutputSet {
   std::vector<Staged> staged_;
 };
 
-}  // namespace statepack::packager
+}  // namespace statepack

@@ -9,8 +9,10 @@
 #include <atomic>
 #include <cerrno>
 #include <cstring>
+#include <string>
+#include <system_error>
 
-namespace statepack::packager {
+namespace statepack {
 namespace fs = std::filesystem;
 namespace {
 
@@ -60,7 +62,7 @@ std::string write_all(int fd, std::span<const uint8_t> bytes) {
   while (done < bytes.size()) {
     ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
     if (n < 0 && errno == EINTR) continue;
-    if (n < 0) return std::strerror(errno);
+    if (n < 0) return std::generic_category().message(errno);
     done += size_t(n);
   }
   return "";
@@ -84,9 +86,9 @@ std::string OutputSet::refuse_reason(const fs::path& path) const {
              ": it is a symbolic link, and statepack replaces outputs by renaming, which would replace the "
              "link rather than write its target; name the target itself";
     if (!S_ISREG(st.st_mode))
-      return "refusing to write " + quoted(path) + ": it is " + file_type_name(st.st_mode) +
+      return "refusing to write " + quoted(path) + ": it is " + file_kind(st.st_mode) +
              ", and outputs must be regular files (use --check to pack without writing)";
-    FileIdentity id{st.st_dev, st.st_ino};
+    FileIdentity id{uint64_t(st.st_dev), uint64_t(st.st_ino)};
     for (const auto& input : inputs_)
       if (input.identity == id)
         return "refusing to write " + quoted(path) + ": it is the input " + quoted(input.path) +
@@ -113,13 +115,14 @@ std::string OutputSet::stage(const fs::path& path, std::span<const uint8_t> byte
   s.fd = ::open(directory_of(path).c_str(), O_TMPFILE | O_WRONLY | O_CLOEXEC, 0666);
   if (s.fd < 0) {
     if (errno != EOPNOTSUPP && errno != EISDIR && errno != EINVAL)
-      return "cannot create " + quoted(path) + ": " + std::strerror(errno);
+      return "cannot create " + quoted(path) + ": " + std::generic_category().message(errno);
     // No O_TMPFILE on this file system: a new named file; O_EXCL never follows a planted symlink.
     for (int attempt = 0; attempt < 100 && s.fd < 0; ++attempt) {
       s.temp = next_temp_name(path);
       s.fd = ::open(s.temp.c_str(), O_CREAT | O_EXCL | O_WRONLY | O_CLOEXEC, 0666);
       if (s.fd < 0 && errno != EEXIST) {
-        std::string reason = "cannot create " + quoted(s.temp) + ": " + std::strerror(errno);
+        std::string reason =
+            "cannot create " + quoted(s.temp) + ": " + std::generic_category().message(errno);
         s.temp.clear();
         return reason;
       }
@@ -145,24 +148,24 @@ std::string OutputSet::commit() {
            ::linkat(AT_FDCWD, proc.c_str(), AT_FDCWD, name.c_str(), AT_SYMLINK_FOLLOW) == 0))
         s.temp = name;
       else if (errno != EEXIST)
-        return "cannot create " + quoted(name) + ": " + std::strerror(errno);
+        return "cannot create " + quoted(name) + ": " + std::generic_category().message(errno);
     }
     if (s.temp.empty()) return "cannot create a temporary beside " + quoted(s.path);
   }
   for (auto& s : staged_) {
     if (::close(s.fd) != 0) {
       s.fd = -1;
-      return "cannot write " + quoted(s.path) + ": " + std::strerror(errno);
+      return "cannot write " + quoted(s.path) + ": " + std::generic_category().message(errno);
     }
     s.fd = -1;
   }
   for (auto& s : staged_) {
     if (::rename(s.temp.c_str(), s.path.c_str()) != 0)
-      return "cannot replace " + quoted(s.path) + ": " + std::strerror(errno);
+      return "cannot replace " + quoted(s.path) + ": " + std::generic_category().message(errno);
     s.temp.clear();
   }
   staged_.clear();
   return "";
 }
 
-}  // namespace statepack::packager
+}  // namespace statepack
