@@ -9,7 +9,22 @@
 namespace statepack::testing {
 namespace {
 
-class CorpusUnpack : public VulkanTest {};
+class CorpusUnpack : public VulkanTest {
+ protected:
+  // An unpacked binding matches the archived one in every field, and carries a sampler exactly where
+  // the archive stores an immutable sampler.
+  static void expect_binding(const BindingInfo& got, const format::Binding& want, uint32_t set,
+                             const std::string& owner) {
+    SCOPED_TRACE(owner + ": binding '" + want.name + "'");
+    EXPECT_EQ(got.name, want.name);
+    EXPECT_EQ(got.set, set);
+    EXPECT_EQ(got.binding, want.binding);
+    EXPECT_EQ(got.type, static_cast<VkDescriptorType>(want.descriptor_type));
+    EXPECT_EQ(got.count, want.count);
+    EXPECT_EQ(got.stages, want.stage_flags);
+    EXPECT_EQ(got.immutable_sampler != VK_NULL_HANDLE, want.immutable_sampler != format::kNone);
+  }
+};
 
 TEST_F(CorpusUnpack, EveryObjectOfEveryArchiveUnpacks) {
   auto archives = corpus_archives();
@@ -28,7 +43,25 @@ TEST_F(CorpusUnpack, EveryObjectOfEveryArchiveUnpacks) {
                                                          : dearchiver->unpack_graphics(p.name);
       ASSERT_TRUE(pso) << p.name << ": " << pso.error().message;
       EXPECT_NE((*pso)->pipeline, VK_NULL_HANDLE);
-      EXPECT_EQ((*pso)->set_layouts.size(), p.set_layouts.size());
+      EXPECT_EQ((*pso)->bind_point, p.kind == format::PipelineKind::compute
+                                        ? VK_PIPELINE_BIND_POINT_COMPUTE
+                                        : VK_PIPELINE_BIND_POINT_GRAPHICS);
+      EXPECT_EQ((*pso)->push_constant_size, p.push_constant_size);
+      EXPECT_EQ((*pso)->push_constant_stages, p.push_constant_stages);
+      ASSERT_EQ((*pso)->set_layouts.size(), p.set_layouts.size());
+      // The binding table says exactly what the archive stores, set by set.
+      std::vector<format::Binding> stored;
+      std::vector<uint32_t> stored_sets;
+      for (uint32_t set = 0; set < p.set_layouts.size(); ++set) {
+        if (p.set_layouts[set] == format::kNone) continue;
+        for (const auto& b : contents.set_layouts[p.set_layouts[set]].bindings) {
+          stored.push_back(b);
+          stored_sets.push_back(set);
+        }
+      }
+      ASSERT_EQ((*pso)->bindings.size(), stored.size()) << p.name;
+      for (size_t i = 0; i < stored.size(); ++i)
+        expect_binding((*pso)->bindings[i], stored[i], stored_sets[i], p.name);
       ++pipelines;
     }
     for (const auto& layout : contents.set_layouts) {
@@ -36,7 +69,9 @@ TEST_F(CorpusUnpack, EveryObjectOfEveryArchiveUnpacks) {
       auto sig = dearchiver->unpack_signature(layout.name);
       ASSERT_TRUE(sig) << sig.error().message;
       EXPECT_EQ((*sig)->set, layout.binding_index);
-      EXPECT_EQ((*sig)->bindings.size(), layout.bindings.size());
+      ASSERT_EQ((*sig)->bindings.size(), layout.bindings.size());
+      for (size_t i = 0; i < layout.bindings.size(); ++i)
+        expect_binding((*sig)->bindings[i], layout.bindings[i], layout.binding_index, layout.name);
       ++signatures;
     }
     for (const auto& rp : contents.render_passes) {
@@ -48,6 +83,8 @@ TEST_F(CorpusUnpack, EveryObjectOfEveryArchiveUnpacks) {
       auto shader = dearchiver->unpack_shader(contents.shaders[s].name);
       ASSERT_TRUE(shader) << shader.error().message;
       EXPECT_EQ(shader->stage, static_cast<VkShaderStageFlagBits>(contents.shaders[s].stage));
+      EXPECT_EQ(shader->entry_point, contents.shaders[s].entry_point);
+      EXPECT_NE(shader->module, VK_NULL_HANDLE);
       ++shaders;
     }
   }

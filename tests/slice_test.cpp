@@ -15,58 +15,6 @@ using samples::create_host_buffer;
 
 class SliceTest : public VulkanTest {
  protected:
-  // Draws `pso` (a full-screen triangle) into a width x height image of `format` and returns its bytes.
-  std::vector<uint8_t> render(const UnpackedPipeline& pso, VkFormat format, uint32_t width, uint32_t height) {
-    auto target = samples::create_device_image(
-        *vk_, format, width, height, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
-    EXPECT_TRUE(target);
-    VkImage image = (*target)->image;
-    VkImageView view = (*target)->view;
-    auto readback =
-        create_host_buffer(*vk_, VkDeviceSize(width) * height * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT);
-    EXPECT_TRUE(readback);
-
-    auto barrier = [&](VkCommandBuffer cmd, VkImageLayout from, VkImageLayout to, VkAccessFlags src_access,
-                       VkAccessFlags dst_access, VkPipelineStageFlags src_stage,
-                       VkPipelineStageFlags dst_stage) {
-      samples::image_barrier(cmd, image, from, to, src_access, dst_access, src_stage, dst_stage);
-    };
-    auto submitted = vk_->submit_and_wait([&](VkCommandBuffer cmd) {
-      barrier(cmd, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, 0,
-              VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT,
-              VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT);
-      VkRenderingAttachmentInfo color{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
-      color.imageView = view;
-      color.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
-      color.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
-      color.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
-      VkRenderingInfo rendering{VK_STRUCTURE_TYPE_RENDERING_INFO};
-      rendering.renderArea = {{0, 0}, {width, height}};
-      rendering.layerCount = 1;
-      rendering.colorAttachmentCount = 1;
-      rendering.pColorAttachments = &color;
-      vkCmdBeginRendering(cmd, &rendering);
-      VkViewport viewport{0, 0, float(width), float(height), 0, 1};
-      VkRect2D scissor{{0, 0}, {width, height}};
-      vkCmdSetViewport(cmd, 0, 1, &viewport);
-      vkCmdSetScissor(cmd, 0, 1, &scissor);
-      vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pso.pipeline);
-      vkCmdDraw(cmd, 3, 1, 0, 0);
-      vkCmdEndRendering(cmd);
-      barrier(cmd, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-              VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, VK_ACCESS_TRANSFER_READ_BIT,
-              VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT);
-      VkBufferImageCopy copy{};
-      copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-      copy.imageExtent = {width, height, 1};
-      vkCmdCopyImageToBuffer(cmd, image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, (*readback)->buffer, 1, &copy);
-    });
-    EXPECT_TRUE(submitted);
-    const auto* bytes = static_cast<const uint8_t*>((*readback)->mapped);
-    std::vector<uint8_t> pixels(bytes, bytes + size_t(width) * height * 4);
-    return pixels;
-  }
-
   // The gradient shader writes (u, v, 0.25, 1) with u, v the pixel centre in 0..1.
   static std::array<int, 4> expected_rgba(uint32_t x, uint32_t y, uint32_t width, uint32_t height) {
     auto unorm = [](double v) { return int(std::lround(v * 255.0)); };
@@ -113,7 +61,7 @@ TEST_F(SliceTest, GraphicsPipelineDrawsGradient) {
   auto pso = dearchiver.unpack_graphics("Gradient PSO");
   ASSERT_TRUE(pso) << pso.error().message;
   constexpr uint32_t kWidth = 64, kHeight = 48;
-  auto pixels = render(**pso, VK_FORMAT_R8G8B8A8_UNORM, kWidth, kHeight);
+  auto pixels = render_fullscreen(**pso, VK_FORMAT_R8G8B8A8_UNORM, kWidth, kHeight);
   ASSERT_EQ(pixels.size(), size_t(kWidth) * kHeight * 4);
   for (uint32_t y = 0; y < kHeight; ++y) {
     for (uint32_t x = 0; x < kWidth; ++x) {
@@ -137,7 +85,7 @@ TEST_F(SliceTest, ModifyCallbackPatchesRenderTargetFormat) {
   ASSERT_TRUE(pso) << pso.error().message;
   EXPECT_TRUE(called);
   constexpr uint32_t kWidth = 16, kHeight = 16;
-  auto pixels = render(**pso, VK_FORMAT_B8G8R8A8_UNORM, kWidth, kHeight);
+  auto pixels = render_fullscreen(**pso, VK_FORMAT_B8G8R8A8_UNORM, kWidth, kHeight);
   // Same colours, stored blue-first: proves the pipeline really targets the patched format.
   for (uint32_t y = 0; y < kHeight; ++y) {
     for (uint32_t x = 0; x < kWidth; ++x) {

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <functional>
 #include <memory>
 #include <sstream>
 #include <string>
@@ -49,6 +50,62 @@ class VulkanTest : public ::testing::Test {
     auto added = dearchiver->add_archive(std::move(archive.value()));
     EXPECT_TRUE(added);
     return std::move(dearchiver.value());
+  }
+
+  // Draws `pso` (a full-screen triangle, 3 vertices) into a width x height image of `format` (4 bytes per
+  // pixel) and returns its bytes; `bind` records what the draw needs bound besides the pipeline.
+  std::vector<uint8_t> render_fullscreen(const UnpackedPipeline& pso, VkFormat format, uint32_t width,
+                                         uint32_t height,
+                                         const std::function<void(VkCommandBuffer)>& bind = {}) {
+    auto target = samples::create_device_image(
+        *vk_, format, width, height, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
+    EXPECT_TRUE(target);
+    VkImage image = (*target)->image;
+    VkImageView view = (*target)->view;
+    auto readback =
+        samples::create_host_buffer(*vk_, VkDeviceSize(width) * height * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT);
+    EXPECT_TRUE(readback);
+
+    auto barrier = [&](VkCommandBuffer cmd, VkImageLayout from, VkImageLayout to, VkAccessFlags src_access,
+                       VkAccessFlags dst_access, VkPipelineStageFlags src_stage,
+                       VkPipelineStageFlags dst_stage) {
+      samples::image_barrier(cmd, image, from, to, src_access, dst_access, src_stage, dst_stage);
+    };
+    auto submitted = vk_->submit_and_wait([&](VkCommandBuffer cmd) {
+      barrier(cmd, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, 0,
+              VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT,
+              VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT);
+      VkRenderingAttachmentInfo color{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+      color.imageView = view;
+      color.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+      color.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+      color.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+      VkRenderingInfo rendering{VK_STRUCTURE_TYPE_RENDERING_INFO};
+      rendering.renderArea = {{0, 0}, {width, height}};
+      rendering.layerCount = 1;
+      rendering.colorAttachmentCount = 1;
+      rendering.pColorAttachments = &color;
+      vkCmdBeginRendering(cmd, &rendering);
+      VkViewport viewport{0, 0, float(width), float(height), 0, 1};
+      VkRect2D scissor{{0, 0}, {width, height}};
+      vkCmdSetViewport(cmd, 0, 1, &viewport);
+      vkCmdSetScissor(cmd, 0, 1, &scissor);
+      vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pso.pipeline);
+      if (bind) bind(cmd);  // descriptor sets, push constants
+      vkCmdDraw(cmd, 3, 1, 0, 0);
+      vkCmdEndRendering(cmd);
+      barrier(cmd, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+              VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, VK_ACCESS_TRANSFER_READ_BIT,
+              VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT);
+      VkBufferImageCopy copy{};
+      copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+      copy.imageExtent = {width, height, 1};
+      vkCmdCopyImageToBuffer(cmd, image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, (*readback)->buffer, 1, &copy);
+    });
+    EXPECT_TRUE(submitted);
+    const auto* bytes = static_cast<const uint8_t*>((*readback)->mapped);
+    std::vector<uint8_t> pixels(bytes, bytes + size_t(width) * height * 4);
+    return pixels;
   }
 
   std::unique_ptr<samples::VulkanContext> vk_;

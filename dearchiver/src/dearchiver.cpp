@@ -193,9 +193,19 @@ struct Dearchiver::State {
                                                   : "resource signature '" + stored.name + "'";
     if (auto ok = check_set_layout(stored, caps, owner); !ok) return ok.error();
     std::vector<VkDescriptorSetLayoutBinding> bindings;
-    for (const auto& b : stored.bindings)
-      bindings.push_back(
-          {b.binding, static_cast<VkDescriptorType>(b.descriptor_type), b.count, b.stage_flags, nullptr});
+    std::deque<std::vector<VkSampler>> immutable;  // alive until the layout is created
+    for (const auto& b : stored.bindings) {
+      const VkSampler* samplers_of_binding = nullptr;
+      if (b.immutable_sampler != format::kNone) {
+        // One sampler object per distinct archived sampler, shared by every layout that uses it; every
+        // array element of the binding gets it (the layout owns no sampler: we destroy them last).
+        auto made = sampler(archive, b.immutable_sampler, b.name);
+        if (!made) return made.error();
+        samplers_of_binding = immutable.emplace_back(b.count, *made).data();
+      }
+      bindings.push_back({b.binding, static_cast<VkDescriptorType>(b.descriptor_type), b.count, b.stage_flags,
+                          samplers_of_binding});
+    }
     VkDescriptorSetLayoutCreateInfo info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
     info.bindingCount = static_cast<uint32_t>(bindings.size());
     info.pBindings = bindings.data();
@@ -239,6 +249,13 @@ struct Dearchiver::State {
       return vulkan_failure("vkCreateSampler", r, binding);
     samplers.emplace(key, sampler);
     return sampler;
+  }
+
+  // The sampler object created for a binding's immutable sampler (set_layout made it), or null.
+  VkSampler immutable_sampler_of(size_t archive, const format::Binding& b) const {
+    if (b.immutable_sampler == format::kNone) return VK_NULL_HANDLE;
+    auto it = samplers.find(std::pair{archive, b.immutable_sampler});
+    return it == samplers.end() ? VK_NULL_HANDLE : it->second;
   }
 
   Result<VkRenderPass> render_pass(size_t archive, uint32_t index) {
@@ -353,7 +370,7 @@ struct Dearchiver::State {
       if (p.set_layouts[set] == format::kNone) continue;
       for (const auto& b : contents.set_layouts[p.set_layouts[set]].bindings)
         out.bindings.push_back({b.name, set, b.binding, static_cast<VkDescriptorType>(b.descriptor_type),
-                                b.count, b.stage_flags});
+                                b.count, b.stage_flags, immutable_sampler_of(found.archive, b)});
     }
     auto layout_key = std::tuple{out.set_layouts, p.push_constant_size, p.push_constant_stages};
     if (auto it = pipeline_layouts.find(layout_key); it != pipeline_layouts.end()) {
@@ -772,7 +789,8 @@ Result<const UnpackedSignature*> Dearchiver::unpack_signature(std::string_view n
     sig.set = stored.binding_index;
     for (const auto& b : stored.bindings)
       sig.bindings.push_back({b.name, stored.binding_index, b.binding,
-                              static_cast<VkDescriptorType>(b.descriptor_type), b.count, b.stage_flags});
+                              static_cast<VkDescriptorType>(b.descriptor_type), b.count, b.stage_flags,
+                              state_->immutable_sampler_of(found->first, b)});
     state_->signature_by_layout.emplace(*found, &sig);
     return &sig;
   });

@@ -119,6 +119,9 @@ struct BindingInfo {
   VkDescriptorType type = VK_DESCRIPTOR_TYPE_MAX_ENUM;
   uint32_t count = 1;
   VkShaderStageFlags stages = 0;
+  // The sampler baked into the set layout (the notation's immutable sampler), owned by the Dearchiver;
+  // null when the application writes the sampler. Descriptor writes for such a binding give no sampler.
+  VkSampler immutable_sampler = VK_NULL_HANDLE;
 };
 
 struct UnpackedPipeline {
