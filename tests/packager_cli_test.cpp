@@ -278,3 +278,31 @@ TEST_F(Verify, DamagedArchivesAndMissingDevicesAreErrors) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST_F(PackagerCli, InspectShowsTheWholeGraphicsState) {
+  fs::path out = dir_ / "full.spk";
+  CliRun pack =
+      statepack("pack -i '" + std::string(STATEPACK_CORPUS_DIR) + "/valid/full_graphics_state.json' -s '" +
+                STATEPACK_CORPUS_DIR + "/shaders' -o '" + out.string() + "' --vulkan");
+  ASSERT_EQ(pack.exit_code, 0) << pack.output;
+  CliRun text = statepack("inspect '" + out.string() + "'");
+  for (const char* line :
+       {"    raster: Fill, front face Clockwise, depth clamp off, depth bias 2 (clamp 0.25, slope 1.5)\n",
+        "    stencil: on, read mask 0xf, write mask 0xf0, front NotEqual fail Keep pass Replace depth-fail "
+        "IncrementAndClamp, back Always fail Keep pass Zero depth-fail Keep\n",
+        "    multisample: 1 sample(s), mask 0xffffffff, alpha to coverage off\n",
+        "    target 0: blend on, color SrcAlpha Add OneMinusSrcAlpha, alpha One Max Zero, write mask 0x7\n",
+        "  dependency external -> 0: stages { ColorAttachmentOutput } -> { EarlyFragmentTests | "
+        "ColorAttachmentOutput }, access {} -> { ColorAttachmentWrite | DepthStencilAttachmentWrite }\n"})
+    EXPECT_NE(text.output.find(line), std::string::npos) << line << "\nin:\n" << text.output;
+  CliRun json = statepack("inspect --json '" + out.string() + "'");
+  for (const char* field : {"\"slope\": 1.5", "\"write_mask\": 240", "\"depth_fail\": \"IncrementAndClamp\"",
+                            "\"sample_mask\": 4294967295",
+                            "\"dst_access\": \"{ ColorAttachmentWrite | "
+                            "DepthStencilAttachmentWrite }\""})
+    EXPECT_NE(json.output.find(field), std::string::npos) << field;
+}
+
+}  // namespace

@@ -100,14 +100,29 @@ Json graphics_json(const format::Contents& c, const format::GraphicsState& g) {
   j["depth_test"] = g.depth_test != 0;
   j["depth_write"] = g.depth_write != 0;
   j["depth_compare"] = vk::to_string(vk::CompareOp(g.depth_compare));
+  j["depth_clamp"] = g.depth_clamp != 0;
+  j["depth_bias"] = {
+      {"constant", g.depth_bias}, {"clamp", g.depth_bias_clamp}, {"slope", g.depth_bias_slope}};
   j["stencil_test"] = g.stencil_test != 0;
+  auto stencil_ops = [](const format::StencilOpState& s) {
+    return Json{{"fail", vk::to_string(vk::StencilOp(s.fail_op))},
+                {"pass", vk::to_string(vk::StencilOp(s.pass_op))},
+                {"depth_fail", vk::to_string(vk::StencilOp(s.depth_fail_op))},
+                {"compare", vk::to_string(vk::CompareOp(s.compare_op))}};
+  };
+  j["stencil"] = {{"read_mask", g.stencil_read_mask},
+                  {"write_mask", g.stencil_write_mask},
+                  {"front", stencil_ops(g.front)},
+                  {"back", stencil_ops(g.back)}};
   j["samples"] = g.samples;
+  j["sample_mask"] = g.sample_mask;
+  j["alpha_to_coverage"] = g.alpha_to_coverage != 0;
   Json formats = Json::array();
   for (uint32_t i = 0; i < g.color_count; ++i) {
     Json target;
     target["format"] = vk::to_string(vk::Format(g.color_formats[i]));
     target["blend"] = g.blend[i].enable != 0;
-    if (g.blend[i].enable) {
+    {  // factors and ops are stored (and shown) even when blending is off
       target["color"] = vk::to_string(vk::BlendFactor(g.blend[i].src_color)) + " " +
                         vk::to_string(vk::BlendOp(g.blend[i].color_op)) + " " +
                         vk::to_string(vk::BlendFactor(g.blend[i].dst_color));
@@ -190,6 +205,8 @@ Json contents_json(const format::Contents& c, size_t size) {
                              {"samples", a.samples},
                              {"load", vk::to_string(vk::AttachmentLoadOp(a.load_op))},
                              {"store", vk::to_string(vk::AttachmentStoreOp(a.store_op))},
+                             {"stencil_load", vk::to_string(vk::AttachmentLoadOp(a.stencil_load_op))},
+                             {"stencil_store", vk::to_string(vk::AttachmentStoreOp(a.stencil_store_op))},
                              {"initial_layout", vk::to_string(vk::ImageLayout(a.initial_layout))},
                              {"final_layout", vk::to_string(vk::ImageLayout(a.final_layout))}});
     pass["attachments"] = attachments;
@@ -206,7 +223,17 @@ Json contents_json(const format::Contents& c, size_t size) {
                            {"depth_stencil", none_or(s.depth_stencil.attachment)}});
     }
     pass["subpasses"] = subpasses;
-    pass["dependencies"] = rp.dependencies.size();
+    Json dependencies = Json::array();
+    for (const auto& d : rp.dependencies)
+      dependencies.push_back(
+          {{"src_subpass", d.src_subpass == format::kNone ? Json("external") : Json(d.src_subpass)},
+           {"dst_subpass", d.dst_subpass == format::kNone ? Json("external") : Json(d.dst_subpass)},
+           {"src_stages", vk::to_string(vk::PipelineStageFlags(d.src_stages))},
+           {"dst_stages", vk::to_string(vk::PipelineStageFlags(d.dst_stages))},
+           {"src_access", vk::to_string(vk::AccessFlags(d.src_access))},
+           {"dst_access", vk::to_string(vk::AccessFlags(d.dst_access))},
+           {"flags", vk::to_string(vk::DependencyFlags(d.flags))}});
+    pass["dependencies"] = dependencies;
     passes.push_back(pass);
   }
   j["render_passes"] = passes;
@@ -273,14 +300,54 @@ void print_text(const Json& j, std::ostream& out) {
       for (const auto& t : g["render_targets"]) out << " " << t["format"].get<std::string>();
       if (g["render_pass"] != "none") out << ", render pass '" << text(g["render_pass"]) << "'";
       out << "\n";
+      out << "    raster: " << g["polygon_mode"].get<std::string>() << ", front face "
+          << g["front_face"].get<std::string>() << ", depth clamp "
+          << (g["depth_clamp"].get<bool>() ? "on" : "off") << ", depth bias "
+          << g["depth_bias"]["constant"].get<float>() << " (clamp " << g["depth_bias"]["clamp"].get<float>()
+          << ", slope " << g["depth_bias"]["slope"].get<float>() << ")\n";
+      out << "    depth: write " << (g["depth_write"].get<bool>() ? "on" : "off") << ", compare "
+          << g["depth_compare"].get<std::string>() << ", format "
+          << g["depth_stencil_format"].get<std::string>() << "\n";
+      const auto& st = g["stencil"];
+      auto ops = [](const Json& s) {
+        return s["compare"].get<std::string>() + " fail " + s["fail"].get<std::string>() + " pass " +
+               s["pass"].get<std::string>() + " depth-fail " + s["depth_fail"].get<std::string>();
+      };
+      out << "    stencil: " << (g["stencil_test"].get<bool>() ? "on" : "off") << ", read mask 0x" << std::hex
+          << st["read_mask"].get<uint32_t>() << ", write mask 0x" << st["write_mask"].get<uint32_t>()
+          << std::dec << ", front " << ops(st["front"]) << ", back " << ops(st["back"]) << "\n";
+      out << "    multisample: " << g["samples"].get<uint32_t>() << " sample(s), mask 0x" << std::hex
+          << g["sample_mask"].get<uint32_t>() << std::dec << ", alpha to coverage "
+          << (g["alpha_to_coverage"].get<bool>() ? "on" : "off") << "\n";
+      for (size_t i = 0; i < g["render_targets"].size(); ++i) {
+        const auto& t = g["render_targets"][i];
+        out << "    target " << i << ": blend " << (t["blend"].get<bool>() ? "on" : "off") << ", color "
+            << t["color"].get<std::string>() << ", alpha " << t["alpha"].get<std::string>()
+            << ", write mask 0x" << std::hex << t["write_mask"].get<uint32_t>() << std::dec << "\n";
+      }
     }
   }
   for (const auto& s : j["resource_signatures"])
     out << "resource signature '" << text(s["name"]) << "' (set " << s["set"].get<uint32_t>() << ", "
         << s["bindings"].size() << " bindings)\n";
-  for (const auto& r : j["render_passes"])
+  for (const auto& r : j["render_passes"]) {
     out << "render pass '" << text(r["name"]) << "' (" << r["attachments"].size() << " attachments, "
         << r["subpasses"].size() << " subpasses)\n";
+    for (size_t i = 0; i < r["attachments"].size(); ++i) {
+      const auto& a = r["attachments"][i];
+      out << "  attachment " << i << ": " << a["format"].get<std::string>() << " x"
+          << a["samples"].get<uint32_t>() << ", " << a["load"].get<std::string>() << "/"
+          << a["store"].get<std::string>() << ", stencil " << a["stencil_load"].get<std::string>() << "/"
+          << a["stencil_store"].get<std::string>() << ", " << a["initial_layout"].get<std::string>() << " -> "
+          << a["final_layout"].get<std::string>() << "\n";
+    }
+    auto subpass = [](const Json& s) { return s.is_string() ? s.get<std::string>() : s.dump(); };
+    for (const auto& d : r["dependencies"])
+      out << "  dependency " << subpass(d["src_subpass"]) << " -> " << subpass(d["dst_subpass"])
+          << ": stages " << d["src_stages"].get<std::string>() << " -> " << d["dst_stages"].get<std::string>()
+          << ", access " << d["src_access"].get<std::string>() << " -> " << d["dst_access"].get<std::string>()
+          << "\n";
+  }
   for (const auto& s : j["standalone_shaders"]) out << "standalone shader '" << text(s) << "'\n";
 }
 
