@@ -30,6 +30,8 @@ class VulkanTest : public ::testing::Test {
     samples::VulkanContextOptions options;
     options.validation = true;
     options.require_lavapipe = true;
+    // The dearchiver (given no feature list) assumes every supported feature is enabled: make it so.
+    options.enable_supported_features = true;
     auto created = samples::VulkanContext::create(options);
     ASSERT_TRUE(created) << created.error().message;
     vk_ = std::move(created.value());
