@@ -306,9 +306,10 @@ void read_graphics_state(ReadContext& ctx, const Json& j, const std::string& poi
     g.depth_bias = static_cast<float>(bias);
     json.float_number(*r, "DepthBiasClamp", rp, g.depth_bias_clamp);
     if (g.depth_bias_clamp != 0 && !ctx.defaults_mode)
-      json.warning(rp + "/DepthBiasClamp",
-                   "a non-zero 'DepthBiasClamp' needs the depthBiasClamp device feature, which Vulkan does not "
-                   "guarantee: devices without it refuse the pipeline");
+      json.warning(
+          rp + "/DepthBiasClamp",
+          "a non-zero 'DepthBiasClamp' needs the depthBiasClamp device feature, which Vulkan does not "
+          "guarantee: devices without it refuse the pipeline");
     json.float_number(*r, "SlopeScaledDepthBias", rp, g.depth_bias_slope);
   }
   if (auto d = j.find("DepthStencilDesc");
