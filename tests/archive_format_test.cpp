@@ -79,10 +79,13 @@ struct Fixture {
     graphics.graphics.vertex_attributes = {{0, 0, 106, 0}, {1, 0, 103, 12}, {2, 1, 109, 0}};
     graphics.graphics.render_pass = 0;
     graphics.graphics.subpass = 0;
+    graphics.dynamic_states = kDynamicDefault | kDynamicLineWidth | (1u << kDynamicExtendedFirstBit);
+    graphics.constants = {{"kTint", 0x10, 3, 4, 0x3F800000u}, {"kCount", 0x1, 0, 4, 7}};
     Pipeline compute;
     compute.name = "Alpha compute";
     compute.kind = PipelineKind::compute;
     compute.shaders = {2};
+    compute.constants = {{"kScale", 0x20, 1, 8, 0x4000000000000000ull}};
     contents.pipelines = {graphics, compute};
   }
 };
@@ -119,14 +122,52 @@ TEST(ArchiveFormat, RoundTripKeepsEveryField) {
   EXPECT_EQ(g.set_layouts, (std::vector<uint32_t>{kNone, 0}));
   EXPECT_EQ(g.push_constant_size, 16u);
   EXPECT_EQ(g.graphics, f.contents.pipelines[0].graphics);
+  // Format 2: dynamic states and specialization constants (values with all their bytes).
+  EXPECT_EQ(g.dynamic_states, f.contents.pipelines[0].dynamic_states);
+  EXPECT_EQ(g.constants, f.contents.pipelines[0].constants);
+  EXPECT_EQ(c.pipelines[0].dynamic_states, 0u);  // compute pipelines have none
+  EXPECT_EQ(c.pipelines[0].constants, f.contents.pipelines[1].constants);
+}
+
+// An archive of format 1 (no PEXT/SPEC sections) still reads: viewport and scissor dynamic, no constants.
+TEST(ArchiveFormat, FormatOneArchivesStillRead) {
+  Fixture f;
+  auto bytes = encode(f.contents);
+  auto u32 = [&](size_t at) {
+    return uint32_t(bytes[at]) | uint32_t(bytes[at + 1]) << 8 | uint32_t(bytes[at + 2]) << 16 |
+           uint32_t(bytes[at + 3]) << 24;
+  };
+  // Drop the PEXT and SPEC entries from the section table (their bytes stay, unreferenced).
+  const uint32_t count = u32(48);
+  std::vector<std::array<uint8_t, 16>> kept;
+  for (uint32_t i = 0; i < count; ++i) {
+    std::array<uint8_t, 16> entry;
+    std::copy_n(bytes.begin() + 64 + 16 * i, 16, entry.begin());
+    const std::string tag(entry.begin(), entry.begin() + 4);
+    if (tag != "PEXT" && tag != "SPEC") kept.push_back(entry);
+  }
+  ASSERT_EQ(kept.size(), count - 2);
+  for (size_t i = 0; i < kept.size(); ++i)
+    std::copy(kept[i].begin(), kept[i].end(), bytes.begin() + 64 + 16 * i);
+  put_u32(bytes, 48, count - 2);
+  put_u32(bytes, 8, 1);   // format_version
+  put_u32(bytes, 12, 1);  // oldest_readable_version
+  reseal(bytes);
+  Aligned aligned(bytes);
+  auto decoded = decode(aligned.span());
+  ASSERT_TRUE(decoded) << decoded.error().message;
+  EXPECT_EQ(decoded->format_version, 1u);
+  EXPECT_EQ(decoded->pipelines[1].dynamic_states, kDynamicLegacy);
+  EXPECT_TRUE(decoded->pipelines[1].constants.empty());
+  EXPECT_EQ(decoded->pipelines[0].dynamic_states, 0u);
 }
 
 // docs/archive-format.md gives every record's size; the encoder must agree with it.
 TEST(ArchiveFormat, SectionRecordSizesMatchTheSpec) {
-  const std::map<std::string, uint32_t> spec = {{"BLOB", 16}, {"IDXS", 4},  {"SIDX", 4},   {"SHDR", 24},
-                                                {"SAMP", 60}, {"BIND", 28}, {"SETL", 20},  {"ATCH", 32},
-                                                {"AREF", 8},  {"SUBP", 40}, {"DEPS", 28},  {"RPAS", 32},
-                                                {"VTXB", 12}, {"VTXA", 16}, {"GFXS", 420}, {"PIPE", 40}};
+  const std::map<std::string, uint32_t> spec = {
+      {"BLOB", 16}, {"IDXS", 4},  {"SIDX", 4},   {"SHDR", 24}, {"SAMP", 60}, {"BIND", 28},
+      {"SETL", 20}, {"ATCH", 32}, {"AREF", 8},   {"SUBP", 40}, {"DEPS", 28}, {"RPAS", 32},
+      {"VTXB", 12}, {"VTXA", 16}, {"GFXS", 420}, {"PIPE", 40}, {"PEXT", 12}, {"SPEC", 28}};
   Fixture f;
   auto bytes = encode(f.contents);
   auto u32 = [&](size_t at) {
@@ -202,14 +243,15 @@ TEST(ArchiveFormat, ResealedStructuralDamageIsRejected) {
 TEST(ArchiveFormat, NewerFormatIsRefusedWithVersions) {
   Fixture f;
   auto bytes = encode(f.contents);
-  put_u32(bytes, 8, 3);   // format_version
-  put_u32(bytes, 12, 2);  // oldest_readable_version
+  put_u32(bytes, 8, 4);   // format_version
+  put_u32(bytes, 12, 3);  // oldest_readable_version
   reseal(bytes);
   Aligned aligned(bytes);
   auto decoded = decode(aligned.span());
   ASSERT_FALSE(decoded);
   EXPECT_EQ(decoded.error().code, ErrorCode::unsupported_version);
-  EXPECT_NE(decoded.error().message.find("version 3"), std::string::npos) << decoded.error().message;
+  EXPECT_NE(decoded.error().message.find("version 4 needs a reader of version 3 or newer"), std::string::npos)
+      << decoded.error().message;
 }
 
 TEST(ArchiveFormat, WrongMagicMisalignmentAndTrailingBytes) {

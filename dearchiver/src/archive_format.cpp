@@ -47,6 +47,8 @@
 // | GFXS | graphics state (see visit(GraphicsState))                                         |
 // | PIPE | pipeline: str name, kind, list<IDXS> shaders, list<IDXS> set layouts, push size,   |
 // |      | push stages, u32 GFXS index (0xFFFFFFFF for compute); sorted by name              |
+// | PEXT | (format 2) one per PIPE record, same order: u32 dynamic states, list<SPEC>       |
+// | SPEC | (format 2) specialization constant: str name, stage, constant id, size, u64 value |
 #include "archive_format.hpp"
 
 #define XXH_STATIC_LINKING_ONLY  // XXH3_state_t on the stack
@@ -57,6 +59,8 @@
 #include <cstring>
 #include <map>
 #include <optional>
+#include <set>
+#include <string_view>
 
 static_assert(std::endian::native == std::endian::little,
               "SPIR-V blobs are handed to Vulkan in place; big-endian hosts need a byte-swapping path");
@@ -98,6 +102,7 @@ template <> struct Tag<VertexBinding> { static constexpr uint32_t value = make_t
 template <> struct Tag<VertexAttribute> { static constexpr uint32_t value = make_tag("VTXA"); };
 template <> struct Tag<GraphicsState> { static constexpr uint32_t value = make_tag("GFXS"); };
 template <> struct Tag<Pipeline> { static constexpr uint32_t value = make_tag("PIPE"); };
+template <> struct Tag<SpecConstant> { static constexpr uint32_t value = make_tag("SPEC"); };
 // clang-format on
 
 // --- field order of every record, shared by the size counter, the writer and the reader ----------
@@ -189,6 +194,27 @@ void visit(V& v, Pipeline& p) {
   v.indices(p.shaders), v.indices(p.set_layouts);
   v.u32(p.push_constant_size), v.u32(p.push_constant_stages);
   v.graphics(p);
+}
+
+// The PEXT record: what format 2 added to a pipeline, kept out of PIPE so PIPE records keep their size.
+struct PipelineExtras {
+  uint32_t dynamic_states = kDynamicLegacy;
+  std::vector<SpecConstant> constants;
+};
+template <>
+struct Tag<PipelineExtras> {
+  static constexpr uint32_t value = make_tag("PEXT");
+};
+
+template <class V>
+void visit(V& v, SpecConstant& s) {
+  uint32_t low = uint32_t(s.value), high = uint32_t(s.value >> 32);
+  v.str(s.name), v.u32(s.stage), v.u32(s.constant_id), v.u32(s.size), v.u32(low), v.u32(high);
+  s.value = uint64_t(low) | uint64_t(high) << 32;
+}
+template <class V>
+void visit(V& v, PipelineExtras& e) {
+  v.u32(e.dynamic_states), v.list(e.constants);
 }
 
 // Counts a record's encoded size.
@@ -547,6 +573,21 @@ Result<void> validate(const Contents& c) {
         return corrupt("pipeline '" + p.name + "' refers to a missing set layout");
     if ((p.push_constant_stages & ~kAllStages) != 0 || p.push_constant_size % 4 != 0)
       return corrupt("pipeline '" + p.name + "' has invalid push constants");
+    if (p.kind == PipelineKind::compute ? p.dynamic_states != 0
+                                        : (p.dynamic_states & ~kDynamicAllowed) != 0 ||
+                                              (p.dynamic_states & kDynamicLegacy) != kDynamicLegacy)
+      return corrupt("pipeline '" + p.name + "' has invalid dynamic states");
+    std::set<std::pair<uint32_t, uint32_t>> ids;            // (stage, constant id)
+    std::set<std::pair<uint32_t, std::string_view>> names;  // (stage, name): linear-log, not quadratic
+    for (const SpecConstant& s : p.constants) {
+      const std::string what = "pipeline '" + p.name + "': specialization constant '" + s.name + "'";
+      if (s.name.empty() || !std::has_single_bit(s.stage) || (s.stage & stages) == 0)
+        return corrupt(what + " has no name or names a stage the pipeline lacks");
+      if ((s.size != 4 && s.size != 8) || (s.size == 4 && (s.value >> 32) != 0))
+        return corrupt(what + " has an invalid size");
+      if (!ids.emplace(s.stage, s.constant_id).second || !names.emplace(s.stage, s.name).second)
+        return corrupt(what + " is given twice for one stage");
+    }
     if (p.kind == PipelineKind::graphics)
       if (auto valid = validate_graphics(c, p); !valid) return valid;
   }
@@ -583,6 +624,10 @@ std::vector<uint8_t> encode(const Contents& input) {
   for (auto& s : c.set_layouts) w.append(s);
   for (auto& r : c.render_passes) w.append(r);
   for (auto& p : c.pipelines) w.append(p);
+  for (auto& p : c.pipelines) {
+    PipelineExtras extras{p.kind == PipelineKind::graphics ? p.dynamic_states : 0, p.constants};
+    w.append(extras);
+  }
 
   struct SectionOut {
     uint32_t tag;
@@ -600,6 +645,10 @@ std::vector<uint8_t> encode(const Contents& input) {
     PoolOut& pool = w.pools[Tag<decltype(record)>::value];
     sections.push_back({Tag<decltype(record)>::value, std::move(pool.bytes), pool.count});
   });
+  for (uint32_t tag : {Tag<PipelineExtras>::value, Tag<SpecConstant>::value}) {
+    PoolOut& pool = w.pools[tag];
+    sections.push_back({tag, std::move(pool.bytes), pool.count});
+  }
   sections.push_back({kTagData, {}, 0});
 
   // Lay out: header, section table, sections, then DATA with 16-byte aligned blobs.
@@ -745,6 +794,21 @@ Result<Contents> decode(std::span<const uint8_t> file) {
   c.set_layouts = r.all<SetLayout>("set layout");
   c.render_passes = r.all<RenderPass>("render pass");
   c.pipelines = r.all<Pipeline>("pipeline");
+  // Format 2's PEXT (with its SPEC pool), one record per pipeline; absent in format 1.
+  if (r.sections.count(Tag<PipelineExtras>::value)) {
+    for (auto [tag, size] : {std::pair{Tag<PipelineExtras>::value, record_size<PipelineExtras>()},
+                             std::pair{Tag<SpecConstant>::value, record_size<SpecConstant>()}})
+      if (auto valid = check(tag, size); !valid) return valid.error();
+    if (r.sections[Tag<PipelineExtras>::value].count != c.pipelines.size())
+      return corrupt("section PEXT does not have one record per pipeline");
+    std::vector<PipelineExtras> extras = r.all<PipelineExtras>("pipeline extension");
+    for (size_t i = 0; i < extras.size() && !r.problem; ++i) {
+      c.pipelines[i].dynamic_states = extras[i].dynamic_states;
+      c.pipelines[i].constants = std::move(extras[i].constants);
+    }
+  } else {
+    for (auto& p : c.pipelines) p.dynamic_states = p.kind == PipelineKind::graphics ? kDynamicLegacy : 0;
+  }
   if (r.problem) return corrupt(*r.problem);
   if (auto valid = validate(c); !valid) return valid.error();
   return c;

@@ -19,8 +19,12 @@
 namespace statepack::format {
 
 inline constexpr std::array<uint8_t, 8> kMagic = {0x89, 'S', 'P', 'K', '\r', '\n', 0x1A, '\n'};
-inline constexpr uint32_t kFormatVersion = 1;          // what this code writes
-inline constexpr uint32_t kOldestReadableVersion = 1;  // what a reader must at least understand
+inline constexpr uint32_t kFormatVersion = 2;          // what this code writes (and reads: 1 and 2)
+inline constexpr uint32_t kOldestReadableVersion = 2;  // what a reader must at least understand
+// Version 2 adds the PEXT and SPEC sections (dynamic states, specialization constants). A version-1
+// reader would ignore them and create pipelines with other dynamic states and no constants, so
+// archives written now need a version-2 reader; version-1 archives still read (no PEXT: the legacy
+// dynamic states, viewport and scissor).
 inline constexpr uint32_t kHeaderSize = 64;
 inline constexpr uint32_t kBlobAlignment = 16;  // SPIR-V blobs start on 16-byte file offsets
 inline constexpr uint32_t kNone = 0xFFFFFFFFu;  // "no index" in index fields
@@ -169,6 +173,36 @@ struct GraphicsState {
   bool operator==(const GraphicsState&) const = default;
 };
 
+// Dynamic states are a bit mask in the archive: bit i for VkDynamicState i (0..8, Vulkan 1.0's), and
+// bit 9 + k for VK_DYNAMIC_STATE_CULL_MODE + k (Vulkan 1.3's extended dynamic state, 1000267000 + k).
+inline constexpr uint32_t kDynamicViewport = 1u << 0, kDynamicScissor = 1u << 1, kDynamicLineWidth = 1u << 2,
+                          kDynamicDepthBias = 1u << 3, kDynamicBlendConstants = 1u << 4,
+                          kDynamicDepthBounds = 1u << 5, kDynamicStencilCompareMask = 1u << 6,
+                          kDynamicStencilWriteMask = 1u << 7, kDynamicStencilReference = 1u << 8;
+inline constexpr uint32_t kDynamicExtendedFirstBit = 9;  // VK_DYNAMIC_STATE_CULL_MODE
+// Extended states statepack supports: cull mode, front face, topology, depth test/write/compare, depth
+// bounds test, stencil test and op (not the *_WITH_COUNT or vertex-stride ones: viewport and scissor
+// stay plain dynamic states and vertex strides are fixed by the input layout).
+inline constexpr uint32_t kDynamicExtendedMask =
+    (1u << 9) | (1u << 10) | (1u << 11) | (1u << 15) | (1u << 16) | (1u << 17) | (1u << 18) | (1u << 19) |
+    (1u << 20);
+inline constexpr uint32_t kDynamicAllowed = 0x1FFu | kDynamicExtendedMask;
+// What every graphics pipeline has: viewport and scissor, and what Diligent's Vulkan backend adds (blend
+// constants, stencil reference). Archives of format 1 made viewport and scissor dynamic only.
+inline constexpr uint32_t kDynamicDefault =
+    kDynamicViewport | kDynamicScissor | kDynamicBlendConstants | kDynamicStencilReference;
+inline constexpr uint32_t kDynamicLegacy = kDynamicViewport | kDynamicScissor;
+
+// One specialization constant of one stage of a pipeline (SPEC record).
+struct SpecConstant {
+  std::string name;          // as the shader names it (OpName), for the modify callback
+  uint32_t stage = 0;        // VkShaderStageFlagBits of the shader it specialises
+  uint32_t constant_id = 0;  // the SpecId decoration
+  uint32_t size = 4;         // bytes: 4 (bool as VkBool32, int, uint, float) or 8 (double, 64-bit int)
+  uint64_t value = 0;        // the value's bytes, little-endian; `size` of them are used
+  bool operator==(const SpecConstant&) const = default;
+};
+
 struct Pipeline {
   std::string name;
   PipelineKind kind = PipelineKind::graphics;
@@ -177,6 +211,10 @@ struct Pipeline {
   uint32_t push_constant_size = 0;
   uint32_t push_constant_stages = 0;
   GraphicsState graphics;  // meaningful for graphics pipelines only
+  // Format 2 (PEXT section, parallel to PIPE): dynamic states of a graphics pipeline, and the
+  // specialization constants of every stage.
+  uint32_t dynamic_states = kDynamicDefault;
+  std::vector<SpecConstant> constants;
 };
 
 // Everything an archive holds. When decoding, `spirv` points into the archive bytes (zero copy);

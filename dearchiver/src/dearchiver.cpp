@@ -12,6 +12,7 @@
 #include <set>
 #include <thread>
 #include <tuple>
+#include <unordered_map>
 
 #include "api_guard.hpp"
 #include "archive_format.hpp"
@@ -43,8 +44,64 @@ bool has_depth(VkFormat format) {
   return format != VK_FORMAT_UNDEFINED && format != VK_FORMAT_S8_UINT;
 }
 
-PatchableState to_patchable(const format::GraphicsState& g) {
+// Dynamic states: the archive's bit mask <-> VkDynamicState (archive_format.hpp has the numbering).
+std::optional<uint32_t> dynamic_state_bit(VkDynamicState state) {
+  if (state >= VK_DYNAMIC_STATE_VIEWPORT && state <= VK_DYNAMIC_STATE_STENCIL_REFERENCE) return 1u << state;
+  if (state >= VK_DYNAMIC_STATE_CULL_MODE && state <= VK_DYNAMIC_STATE_STENCIL_OP) {
+    const uint32_t bit = 1u << (format::kDynamicExtendedFirstBit + (state - VK_DYNAMIC_STATE_CULL_MODE));
+    if (bit & format::kDynamicExtendedMask) return bit;
+  }
+  return std::nullopt;
+}
+VkDynamicState dynamic_state_of_bit(uint32_t index) {
+  return index < format::kDynamicExtendedFirstBit
+             ? VkDynamicState(index)
+             : VkDynamicState(VK_DYNAMIC_STATE_CULL_MODE + (index - format::kDynamicExtendedFirstBit));
+}
+std::string dynamic_state_name(VkDynamicState state) {
+  static constexpr const char* kCore[] = {
+      "VIEWPORT",         "SCISSOR",      "LINE_WIDTH",           "DEPTH_BIAS",
+      "BLEND_CONSTANTS",  "DEPTH_BOUNDS", "STENCIL_COMPARE_MASK", "STENCIL_WRITE_MASK",
+      "STENCIL_REFERENCE"};
+  static constexpr const char* kExtended[] = {"CULL_MODE",           "FRONT_FACE",
+                                              "PRIMITIVE_TOPOLOGY",  "VIEWPORT_WITH_COUNT",
+                                              "SCISSOR_WITH_COUNT",  "VERTEX_INPUT_BINDING_STRIDE",
+                                              "DEPTH_TEST_ENABLE",   "DEPTH_WRITE_ENABLE",
+                                              "DEPTH_COMPARE_OP",    "DEPTH_BOUNDS_TEST_ENABLE",
+                                              "STENCIL_TEST_ENABLE", "STENCIL_OP"};
+  if (state >= 0 && size_t(state) < std::size(kCore)) return kCore[state];
+  if (state >= VK_DYNAMIC_STATE_CULL_MODE && state <= VK_DYNAMIC_STATE_STENCIL_OP)
+    return kExtended[state - VK_DYNAMIC_STATE_CULL_MODE];
+  return std::to_string(int64_t(state));
+}
+
+// What the callback sees of a pipeline's constants: one entry per name, stages merged.
+std::vector<SpecializationConstant> constants_of(const format::Pipeline& p) {
+  std::vector<SpecializationConstant> out;
+  std::unordered_map<std::string_view, size_t> index;  // name -> entry of `out`: linear, not quadratic
+  for (const auto& s : p.constants) {
+    if (auto it = index.find(s.name); it != index.end()) {
+      out[it->second].stages |= s.stage;
+      continue;
+    }
+    index.emplace(s.name, out.size());
+    SpecializationConstant c;
+    c.name = s.name;
+    c.stages = s.stage;
+    c.size = s.size;
+    for (uint32_t i = 0; i < 8; ++i) c.value[i] = uint8_t(s.value >> (8 * i));
+    out.push_back(std::move(c));
+  }
+  return out;
+}
+
+PatchableState to_patchable(const format::Pipeline& p) {
   PatchableState s;
+  for (uint32_t i = 0; i < 32; ++i)
+    if (p.dynamic_states & (1u << i)) s.dynamic_states.push_back(dynamic_state_of_bit(i));
+  s.constants = constants_of(p);
+  if (p.kind != format::PipelineKind::graphics) return s;
+  const format::GraphicsState& g = p.graphics;
   s.color_count = g.color_count;
   for (size_t i = 0; i < s.color_formats.size(); ++i) {
     s.color_formats[i] = static_cast<VkFormat>(g.color_formats[i]);
@@ -345,14 +402,44 @@ struct Dearchiver::State {
     VkPipelineDepthStencilStateCreateInfo depth{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
     std::array<VkPipelineColorBlendAttachmentState, 8> attachments{};
     VkPipelineColorBlendStateCreateInfo blend{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
-    std::array<VkDynamicState, 2> dynamic_states{VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
+    std::vector<VkDynamicState> dynamic_states;
+    struct StageConstants {
+      std::vector<VkSpecializationMapEntry> entries;
+      std::vector<uint8_t> data;
+      VkSpecializationInfo info{};
+    };
+    std::vector<StageConstants> constants;  // one per stage, sized before pointers into it are taken
     VkPipelineDynamicStateCreateInfo dynamic{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
     VkPipelineRenderingCreateInfo rendering{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
     VkGraphicsPipelineCreateInfo graphics{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
   };
 
   // Layout, set layouts, binding table and shader stages: what both kinds of pipeline need.
-  Result<std::unique_ptr<Plan>> plan_common(const Found& found) {
+  // The constants a callback settled, checked against the archive's: known names, unchanged sizes.
+  static Result<std::vector<SpecializationConstant>> settle_constants(
+      const format::Pipeline& p, std::vector<SpecializationConstant> given) {
+    std::vector<SpecializationConstant> archived = constants_of(p);
+    std::unordered_map<std::string_view, size_t> index;
+    for (size_t i = 0; i < archived.size(); ++i) index.emplace(archived[i].name, i);
+    for (const auto& g : given) {
+      auto it = index.find(g.name);
+      if (it == index.end())
+        return Error{ErrorCode::invalid_argument, "pipeline '" + p.name +
+                                                      "' has no specialization constant '" + g.name +
+                                                      "' (the modify callback added it)"};
+      SpecializationConstant& a = archived[it->second];
+      if (g.size != a.size)
+        return Error{ErrorCode::invalid_argument, "pipeline '" + p.name + "': specialization constant '" +
+                                                      g.name + "' is " + std::to_string(a.size) +
+                                                      " bytes, but the modify callback gave " +
+                                                      std::to_string(g.size)};
+      a.value = g.value;  // a constant the callback removed keeps the archived value
+    }
+    return archived;
+  }
+
+  Result<std::unique_ptr<Plan>> plan_common(const Found& found,
+                                            const std::vector<SpecializationConstant>& constants) {
     const format::Pipeline& p = *found.pipeline;
     const auto& contents = archives[found.archive].contents();
     if (!(contents.backends & format::kBackendVulkan))
@@ -388,6 +475,9 @@ struct Dearchiver::State {
       pipeline_layouts.emplace(std::move(layout_key), out.layout);
     }
     uint32_t stages = 0;
+    plan->constants.resize(p.shaders.size());
+    std::unordered_map<std::string_view, const SpecializationConstant*> value_of;
+    for (const auto& v : constants) value_of.emplace(v.name, &v);
     for (uint32_t s : p.shaders) {
       const format::Shader& shader = contents.shaders[s];
       auto module = this->module(found.archive, shader.blob, shader.name);
@@ -396,6 +486,18 @@ struct Dearchiver::State {
       stage.stage = static_cast<VkShaderStageFlagBits>(shader.stage);
       stage.module = *module;
       stage.pName = shader.entry_point.c_str();
+      // This stage's specialization constants: one map entry each, values packed one after another.
+      Plan::StageConstants& sc = plan->constants[plan->stages.size()];
+      for (const auto& k : p.constants) {
+        if (k.stage != shader.stage) continue;
+        const SpecializationConstant* v = value_of.at(k.name);
+        sc.entries.push_back({k.constant_id, uint32_t(sc.data.size()), k.size});
+        sc.data.insert(sc.data.end(), v->value.begin(), v->value.begin() + k.size);
+      }
+      if (!sc.entries.empty()) {
+        sc.info = {uint32_t(sc.entries.size()), sc.entries.data(), sc.data.size(), sc.data.data()};
+        stage.pSpecializationInfo = &sc.info;
+      }
       plan->stages.push_back(stage);
       stages |= shader.stage;
     }
@@ -413,10 +515,15 @@ struct Dearchiver::State {
                                              "', which is not enabled"};
   }
 
-  Result<std::unique_ptr<Plan>> plan_compute(const Found& found) {
-    auto plan = plan_common(found);
+  Result<std::unique_ptr<Plan>> plan_compute(const Found& found, const ModifyCallback& modify) {
+    PatchableState settled = to_patchable(*found.pipeline);
+    if (modify) modify(settled);  // only the constants apply to a compute pipeline
+    auto constants = settle_constants(*found.pipeline, std::move(settled.constants));
+    if (!constants) return constants.error();
+    auto plan = plan_common(found, *constants);
     if (!plan) return plan.error();
     Plan& pl = **plan;
+    pl.cacheable = !modify;
     pl.out.bind_point = VK_PIPELINE_BIND_POINT_COMPUTE;
     pl.compute.stage = pl.stages.at(0);
     pl.compute.layout = pl.out.layout;
@@ -431,7 +538,7 @@ struct Dearchiver::State {
       return Error{ErrorCode::unsupported,
                    "pipeline '" + name + "' uses dynamic rendering, which the device was not created with"};
     // The state is settled and checked first, so that nothing is created for a pipeline that fails.
-    PatchableState settled = to_patchable(g);
+    PatchableState settled = to_patchable(*found.pipeline);
     if (modify) {
       const PatchableState before = settled;
       modify(settled);
@@ -448,6 +555,10 @@ struct Dearchiver::State {
                                                     std::to_string(settled.color_count) +
                                                     " render targets (at most 8)"};
     if (auto missing = check_features(name, settled)) return *missing;
+    auto dynamic_mask = settle_dynamic_states(name, settled.dynamic_states);
+    if (!dynamic_mask) return dynamic_mask.error();
+    auto constants = settle_constants(*found.pipeline, settled.constants);
+    if (!constants) return constants.error();
     // Adjacency topologies need the geometry shader feature; patch lists go with tessellation, only.
     if (g.topology >= VK_PRIMITIVE_TOPOLOGY_LINE_LIST_WITH_ADJACENCY &&
         g.topology <= VK_PRIMITIVE_TOPOLOGY_TRIANGLE_STRIP_WITH_ADJACENCY && !features.geometryShader)
@@ -477,7 +588,7 @@ struct Dearchiver::State {
         !ok)
       return ok.error();
 
-    auto planned = plan_common(found);
+    auto planned = plan_common(found, *constants);
     if (!planned) return planned.error();
     Plan& pl = **planned;
     pl.out.bind_point = VK_PIPELINE_BIND_POINT_GRAPHICS;
@@ -520,7 +631,9 @@ struct Dearchiver::State {
     pl.raster.polygonMode = s.rasterizer.polygon_mode;
     pl.raster.cullMode = s.rasterizer.cull_mode;
     pl.raster.frontFace = s.rasterizer.front_face;
-    pl.raster.depthBiasEnable = s.rasterizer.depth_bias != 0 || s.rasterizer.depth_bias_slope != 0;
+    // With a dynamic depth bias the bias is set per draw, so biasing must be on.
+    pl.raster.depthBiasEnable = s.rasterizer.depth_bias != 0 || s.rasterizer.depth_bias_slope != 0 ||
+                                (*dynamic_mask & format::kDynamicDepthBias) != 0;
     pl.raster.depthBiasConstantFactor = s.rasterizer.depth_bias;
     pl.raster.depthBiasClamp = s.rasterizer.depth_bias_clamp;
     pl.raster.depthBiasSlopeFactor = s.rasterizer.depth_bias_slope;
@@ -538,6 +651,8 @@ struct Dearchiver::State {
     pl.depth.front = s.depth_stencil.front;
     pl.depth.back = s.depth_stencil.back;
     pl.depth.maxDepthBounds = 1.0f;
+    // Dynamic depth bounds are set per draw: the test is on (settle_dynamic_states checked the feature).
+    pl.depth.depthBoundsTestEnable = (*dynamic_mask & format::kDynamicDepthBounds) != 0;
     for (uint32_t i = 0; i < s.color_count; ++i) {
       const auto& b = s.blend[i];
       pl.attachments[i] = {b.enable,    b.src_color, b.dst_color, b.color_op,
@@ -545,6 +660,7 @@ struct Dearchiver::State {
     }
     pl.blend.attachmentCount = s.color_count;
     pl.blend.pAttachments = pl.attachments.data();
+    pl.dynamic_states = s.dynamic_states;
     pl.dynamic.dynamicStateCount = static_cast<uint32_t>(pl.dynamic_states.size());
     pl.dynamic.pDynamicStates = pl.dynamic_states.data();
     pl.rendering.colorAttachmentCount = s.color_count;
@@ -568,6 +684,35 @@ struct Dearchiver::State {
     info.pDynamicState = &pl.dynamic;
     info.layout = pl.out.layout;
     return planned;
+  }
+
+  // The dynamic states a callback settled: each one statepack supports and the device has, viewport and
+  // scissor included, none twice. Returns them as the archive's bit mask.
+  Result<uint32_t> settle_dynamic_states(const std::string& name, std::vector<VkDynamicState>& states) {
+    uint32_t mask = 0;
+    for (VkDynamicState state : states) {
+      auto bit = dynamic_state_bit(state);
+      if (!bit)
+        return Error{ErrorCode::unsupported, "pipeline '" + name + "': dynamic state " +
+                                                 dynamic_state_name(state) +
+                                                 " is not supported by the dearchiver"};
+      if ((*bit & format::kDynamicExtendedMask) && caps.properties.apiVersion < VK_API_VERSION_1_3)
+        return Error{ErrorCode::unsupported,
+                     "pipeline '" + name + "': dynamic state " + dynamic_state_name(state) +
+                         " needs Vulkan 1.3 (extended dynamic state), which the device lacks"};
+      if ((*bit & (format::kDynamicDepthBounds | (1u << 18))) && !features.depthBounds)
+        return missing_feature(name, "depthBounds");
+      mask |= *bit;
+    }
+    if ((mask & format::kDynamicLegacy) != format::kDynamicLegacy)
+      return Error{ErrorCode::invalid_argument,
+                   "pipeline '" + name +
+                       "': viewport and scissor must stay dynamic (the modify callback removed one)"};
+    // Canonical order, duplicates gone: what Vulkan gets and what the callback of the next unpack sees.
+    states.clear();
+    for (uint32_t i = 0; i < 32; ++i)
+      if (mask & (1u << i)) states.push_back(dynamic_state_of_bit(i));
+    return mask;
   }
 
   // The device features a graphics state needs, checked against the enabled ones.
@@ -635,7 +780,8 @@ struct Dearchiver::State {
         return it->second;
     auto found = find(name, kind);
     if (!found) return found.error();
-    auto plan = kind == format::PipelineKind::compute ? plan_compute(*found) : plan_graphics(*found, modify);
+    auto plan =
+        kind == format::PipelineKind::compute ? plan_compute(*found, modify) : plan_graphics(*found, modify);
     if (!plan) return plan.error();
     if (auto created = create(**plan); !created) return created.error();
     return keep(**plan);
@@ -676,10 +822,11 @@ std::vector<std::string> Dearchiver::pipeline_names() const {
   return state_->all_names();
 }
 
-Result<const UnpackedPipeline*> Dearchiver::unpack_compute(std::string_view name) {
+Result<const UnpackedPipeline*> Dearchiver::unpack_compute(std::string_view name,
+                                                           const ModifyCallback& modify) {
   return api_guard("Dearchiver::unpack_compute", [&]() -> Result<const UnpackedPipeline*> {
     std::lock_guard lock(state_->mutex);
-    return state_->unpack(name, format::PipelineKind::compute, {});
+    return state_->unpack(name, format::PipelineKind::compute, modify);
   });
 }
 
@@ -734,7 +881,7 @@ Result<std::vector<const UnpackedPipeline*>> Dearchiver::unpack_all_pipelines(ui
         continue;
       }
       State::Found found{a, &p};
-      auto plan = p.kind == format::PipelineKind::compute ? state_->plan_compute(found)
+      auto plan = p.kind == format::PipelineKind::compute ? state_->plan_compute(found, {})
                                                           : state_->plan_graphics(found, {});
       if (!plan) return plan.error();
       plans.push_back(std::move(plan.value()));

@@ -81,6 +81,20 @@ Result<void> check_pipeline(const Contents& c, const Pipeline& p, const std::vec
         return corrupt(pipeline + ": push constants are " + std::to_string(p.push_constant_size) +
                        " bytes, but " + who + " uses " + std::to_string(module.push_constants->size));
     }
+    // Specialization constants: a map entry must match the size of the constant the shader declares
+    // (VUID-VkSpecializationMapEntry-constantID-00776); one the shader does not declare is harmless
+    // to Vulkan but a mistake of the archive.
+    for (const SpecConstant& s : p.constants) {
+      if (s.stage != shader.stage) continue;
+      const spirv::SpecConstant* declared = module.find_spec_constant(s.constant_id);
+      const std::string what =
+          pipeline + ": specialization constant '" + s.name + "' (id " + std::to_string(s.constant_id) + ")";
+      if (!declared) return corrupt(what + " is not declared by " + who);
+      if (declared->size != s.size)
+        return corrupt(
+            what + " is " + std::to_string(s.size) + " bytes, but " + who + " declares " +
+            (declared->size ? std::to_string(declared->size) + " bytes" : "a type it cannot size"));
+    }
     if (shader.stage == 0x1 && p.kind == PipelineKind::graphics) {
       std::vector<uint32_t> provided;  // attribute locations, sorted for lookups
       for (const auto& a : p.graphics.vertex_attributes) provided.push_back(a.location);
@@ -127,7 +141,7 @@ Result<void> check_shader_interfaces(const Contents& c) {
   for (const Pipeline& p : c.pipelines) {
     for (uint32_t index : p.shaders) {
       const spirv::Module& m = modules[c.shaders[index].blob];
-      work += 1 + m.resources.size() + m.inputs.size();
+      work += 1 + m.resources.size() + m.inputs.size() + p.constants.size();
     }
     if (work > budget)
       return corrupt("checking pipeline '" + p.name + "' against its shaders expands beyond " +

@@ -20,6 +20,7 @@ constexpr uint64_t kMaxSizeSteps = 1 << 16;  // type visits spent sizing push co
 enum Op : uint32_t {
   kOpName = 5,
   kOpEntryPoint = 15,
+  kOpTypeBool = 20,
   kOpTypeInt = 21,
   kOpTypeFloat = 22,
   kOpTypeVector = 23,
@@ -32,6 +33,9 @@ enum Op : uint32_t {
   kOpTypeStruct = 30,
   kOpTypePointer = 32,
   kOpConstant = 43,
+  kOpSpecConstantTrue = 48,
+  kOpSpecConstantFalse = 49,
+  kOpSpecConstant = 50,
   kOpVariable = 59,
   kOpDecorate = 71,
   kOpMemberDecorate = 72,
@@ -51,6 +55,7 @@ bool is_terminator(uint32_t op) {
          op == 5380 /* OpEmitMeshTasksEXT */;
 }
 enum Decoration : uint32_t {
+  kSpecId = 1,
   kBlock = 2,
   kBufferBlock = 3,
   kRowMajor = 4,
@@ -82,7 +87,7 @@ constexpr uint32_t kSampler = 0, kCombined = 1, kSampledImage = 2, kStorageImage
                    kStorageDynamic = 9, kInputAttachment = 10;
 
 struct Decorations {
-  std::optional<uint32_t> set, binding, location, array_stride;
+  std::optional<uint32_t> set, binding, location, array_stride, spec_id;
   bool block = false, buffer_block = false, builtin = false, point_size = false;
 };
 struct MemberDecorations {
@@ -101,6 +106,7 @@ struct Walker {
     uint32_t id, pointer_type, storage;
   };
   std::vector<Variable> variables;
+  std::vector<std::pair<uint32_t, uint32_t>> spec_constants;  // (result id, result type)
   // Hash containers keep every lookup below constant-time: a hostile module of a million words
   // must not turn the walk quadratic.
   std::unordered_set<uint32_t> stores;                                             // pointers stored to
@@ -130,6 +136,7 @@ struct Walker {
         module.entry_points.push_back(std::move(entry));
         return {};
       }
+      case kOpTypeBool:
       case kOpTypeInt:
       case kOpTypeFloat:
       case kOpTypeVector:
@@ -162,6 +169,12 @@ struct Walker {
       case kOpConstant:
         if (need(3) && id_ok(operands[1])) constants[operands[1]] = operands[2];
         return {};
+      case kOpSpecConstantTrue:
+      case kOpSpecConstantFalse:
+      case kOpSpecConstant:
+        if (!need(2) || !id_ok(operands[1])) return fail(at, "OpSpecConstant is too short or has a bad id");
+        spec_constants.emplace_back(operands[1], operands[0]);  // (id, type)
+        return {};
       case kOpVariable:
         if (!need(3) || !id_ok(operands[1])) return fail(at, "OpVariable is too short or has a bad id");
         variables.push_back({operands[1], operands[0], operands[2]});
@@ -174,8 +187,10 @@ struct Walker {
         if (kind == kBlock) d.block = true;
         if (kind == kBufferBlock) d.buffer_block = true;
         if (kind == kBuiltIn) d.builtin = true, d.point_size = has_value && operands[2] == kBuiltInPointSize;
-        if (kind == kDescriptorSet || kind == kBinding || kind == kLocation || kind == kArrayStride) {
+        if (kind == kDescriptorSet || kind == kBinding || kind == kLocation || kind == kArrayStride ||
+            kind == kSpecId) {
           if (!has_value) return fail(at, "OpDecorate lacks its value");
+          if (kind == kSpecId) d.spec_id = operands[2];
           if (kind == kDescriptorSet) d.set = operands[2];
           if (kind == kBinding) d.binding = operands[2];
           if (kind == kLocation) d.location = operands[2];
@@ -324,6 +339,19 @@ struct Walker {
   }
 
   Result<void> resolve() {
+    for (auto [id, type_id] : spec_constants) {
+      auto d = decorations.find(id);
+      if (d == decorations.end() || !d->second.spec_id) continue;  // not specializable
+      auto t = type(type_id);
+      uint32_t size = 0;
+      if (t && t->first == kOpTypeBool) size = 4;  // VkBool32
+      if (t && (t->first == kOpTypeInt || t->first == kOpTypeFloat) &&
+          (t->second[0] == 32 || t->second[0] == 64))
+        size = t->second[0] / 8;
+      module.spec_constants.push_back({*d->second.spec_id, size});
+    }
+    std::sort(module.spec_constants.begin(), module.spec_constants.end(),
+              [](const SpecConstant& a, const SpecConstant& b) { return a.constant_id < b.constant_id; });
     for (const Variable& v : variables) {
       auto pointer = type(v.pointer_type);
       if (!pointer || pointer->first != kOpTypePointer) continue;  // checked by the driver, not needed here
@@ -373,6 +401,12 @@ const EntryPoint* Module::find(uint32_t execution_model, std::string_view name) 
   for (const auto& e : entry_points)
     if (e.execution_model == execution_model && e.name == name) return &e;
   return nullptr;
+}
+
+const SpecConstant* Module::find_spec_constant(uint32_t constant_id) const {
+  auto it = std::lower_bound(spec_constants.begin(), spec_constants.end(), constant_id,
+                             [](const SpecConstant& s, uint32_t id) { return s.constant_id < id; });
+  return it != spec_constants.end() && it->constant_id == constant_id ? &*it : nullptr;
 }
 
 bool Module::uses(const EntryPoint& entry, uint32_t variable) const {

@@ -47,6 +47,13 @@ struct EntryPoint {
   std::vector<uint32_t> interface;  // ids listed by OpEntryPoint, sorted
 };
 
+// A specialization constant the module declares: its SpecId and the byte size Vulkan's map entry for it
+// must have (4 for booleans, as VkBool32).
+struct SpecConstant {
+  uint32_t constant_id = 0;
+  uint32_t size = 0;  // 0: a type this walker does not size (a map entry for it is refused)
+};
+
 struct Module {
   uint32_t version = 0;  // 0x00MMmm00
   uint32_t bound = 0;
@@ -56,6 +63,9 @@ struct Module {
   std::vector<Input> outputs;       // every Output variable with a Location
   std::optional<PushConstantBlock> push_constants;
   bool writes_point_size = false;  // point lists need it from the last pre-rasterization stage
+  std::vector<SpecConstant> spec_constants;  // sorted by constant_id
+
+  const SpecConstant* find_spec_constant(uint32_t constant_id) const;
 
   const EntryPoint* find(uint32_t execution_model, std::string_view name) const;
   // Whether the entry point may use the variable: from SPIR-V 1.4 on, its interface lists every global

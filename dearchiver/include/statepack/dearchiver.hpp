@@ -15,8 +15,10 @@
 
 #include <vulkan/vulkan.h>
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
+#include <cstring>
 #include <filesystem>
 #include <functional>
 #include <memory>
@@ -24,6 +26,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <type_traits>
 #include <vector>
 
 #include "statepack/result.hpp"
@@ -96,6 +99,24 @@ struct DepthStencilState {
   VkStencilOpState front{}, back{};
 };
 
+// A specialization constant of a pipeline, by the name its shaders give it (an OpName, e.g. GLSL's
+// `layout(constant_id = 0) const uint kCount = 64;` is "kCount").
+struct SpecializationConstant {
+  std::string name;
+  VkShaderStageFlags stages = 0;   // the stages whose shaders declare it
+  uint32_t size = 4;               // bytes: 4 (bool as VkBool32, int, uint, float) or 8 (double, 64-bit int)
+  std::array<uint8_t, 8> value{};  // little-endian; `size` bytes are used
+
+  // The value as T (sizeof(T) must be `size`; bool reads a VkBool32).
+  template <class T>
+  T get() const {
+    if constexpr (std::is_same_v<T, bool>) return get<uint32_t>() != 0;
+    T out{};
+    std::memcpy(&out, value.data(), std::min<size_t>(sizeof(T), value.size()));
+    return out;
+  }
+};
+
 // What the modify callback may change at unpack time. The resource layout is deliberately absent:
 // the stored SPIR-V is bound to it, so it cannot change without recompiling. For a pipeline that
 // uses an explicit render pass the attachment formats and sample count come from the render pass and
@@ -108,6 +129,34 @@ struct PatchableState {
   std::array<BlendAttachmentState, 8> blend{};
   RasterizerState rasterizer;
   DepthStencilState depth_stencil;
+  // The pipeline's dynamic states: viewport and scissor always, blend constants and stencil reference by
+  // default (as Diligent's Vulkan backend), and what the notation's `DynamicStates` adds. The callback may
+  // add or remove any of Vulkan 1.0's and these of 1.3's extended dynamic state: cull mode, front face,
+  // primitive topology, depth test/write enable, depth compare op, depth bounds test enable, stencil test
+  // enable, stencil op. One the device lacks is an `unsupported` error naming it.
+  std::vector<VkDynamicState> dynamic_states;
+  // The pipeline's specialization constants (graphics and compute); the callback may change values.
+  std::vector<SpecializationConstant> constants;
+
+  // Sets a constant by name; false when there is none or sizeof(T) differs from its size (bool is
+  // stored as a VkBool32).
+  template <class T>
+  bool set_constant(std::string_view name, T v) {
+    if constexpr (std::is_same_v<T, bool>) return set_constant(name, uint32_t(v ? 1 : 0));
+    for (auto& c : constants) {
+      if (c.name != name) continue;
+      if (c.size != sizeof(T)) return false;
+      c.value = {};
+      std::memcpy(c.value.data(), &v, sizeof(T));
+      return true;
+    }
+    return false;
+  }
+  const SpecializationConstant* find_constant(std::string_view name) const {
+    for (const auto& c : constants)
+      if (c.name == name) return &c;
+    return nullptr;
+  }
 };
 using ModifyCallback = std::function<void(PatchableState&)>;
 
@@ -181,7 +230,8 @@ class Dearchiver {
   // Unpacks a pipeline by name. The pointer stays valid for the Dearchiver's lifetime. Unpacking the
   // same name twice without a callback returns the same pipeline.
   Result<const UnpackedPipeline*> unpack_graphics(std::string_view name, const ModifyCallback& modify = {});
-  Result<const UnpackedPipeline*> unpack_compute(std::string_view name);
+  // For compute pipelines the callback may change `constants` only (the rest does not apply).
+  Result<const UnpackedPipeline*> unpack_compute(std::string_view name, const ModifyCallback& modify = {});
 
   // Unpacks every pipeline of every added archive (the earliest archive wins a name), creating the
   // pipelines on `threads` threads (0: all cores), then every signature, render pass and standalone
