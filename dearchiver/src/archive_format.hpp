@@ -183,9 +183,9 @@ inline constexpr uint32_t kDynamicExtendedFirstBit = 9;  // VK_DYNAMIC_STATE_CUL
 // Extended states statepack supports: cull mode, front face, topology, depth test/write/compare, depth
 // bounds test, stencil test and op (not the *_WITH_COUNT or vertex-stride ones: viewport and scissor
 // stay plain dynamic states and vertex strides are fixed by the input layout).
-inline constexpr uint32_t kDynamicExtendedMask =
-    (1u << 9) | (1u << 10) | (1u << 11) | (1u << 15) | (1u << 16) | (1u << 17) | (1u << 18) | (1u << 19) |
-    (1u << 20);
+inline constexpr uint32_t kDynamicExtendedMask = (1u << 9) | (1u << 10) | (1u << 11) | (1u << 15) |
+                                                 (1u << 16) | (1u << 17) | (1u << 18) | (1u << 19) |
+                                                 (1u << 20);
 inline constexpr uint32_t kDynamicAllowed = 0x1FFu | kDynamicExtendedMask;
 // What every graphics pipeline has: viewport and scissor, and what Diligent's Vulkan backend adds (blend
 // constants, stencil reference). Archives of format 1 made viewport and scissor dynamic only.

@@ -62,7 +62,7 @@ struct Module {
   std::vector<Input> inputs;        // every Input variable with a Location
   std::vector<Input> outputs;       // every Output variable with a Location
   std::optional<PushConstantBlock> push_constants;
-  bool writes_point_size = false;  // point lists need it from the last pre-rasterization stage
+  bool writes_point_size = false;            // point lists need it from the last pre-rasterization stage
   std::vector<SpecConstant> spec_constants;  // sorted by constant_id
 
   const SpecConstant* find_spec_constant(uint32_t constant_id) const;
