@@ -9,6 +9,8 @@
 #include <string_view>
 #include <utility>
 
+#include "archive_format.hpp"
+
 namespace statepack::packager {
 
 using EnumEntry = std::pair<std::string_view, uint32_t>;
@@ -273,6 +275,34 @@ enum PipelineFlag : uint32_t {
   kDontRemapShaderResources = 4,
   kAsynchronous = 8,
 };
+// GraphicsPipeline.DynamicStates (a statepack extension): the archive's dynamic-state bits
+// (archive_format.hpp). Viewport, scissor, blend constants and stencil reference are always dynamic.
+inline constexpr EnumEntry kDynamicStates[] = {
+    {"VIEWPORT", format::kDynamicViewport},
+    {"SCISSOR", format::kDynamicScissor},
+    {"LINE_WIDTH", format::kDynamicLineWidth},
+    {"DEPTH_BIAS", format::kDynamicDepthBias},
+    {"BLEND_CONSTANTS", format::kDynamicBlendConstants},
+    {"DEPTH_BOUNDS", format::kDynamicDepthBounds},
+    {"STENCIL_COMPARE_MASK", format::kDynamicStencilCompareMask},
+    {"STENCIL_WRITE_MASK", format::kDynamicStencilWriteMask},
+    {"STENCIL_REFERENCE", format::kDynamicStencilReference},
+    {"CULL_MODE", 1u << 9},
+    {"FRONT_FACE", 1u << 10},
+    {"PRIMITIVE_TOPOLOGY", 1u << 11},
+    {"DEPTH_TEST_ENABLE", 1u << 15},
+    {"DEPTH_WRITE_ENABLE", 1u << 16},
+    {"DEPTH_COMPARE_OP", 1u << 17},
+    {"DEPTH_BOUNDS_TEST_ENABLE", 1u << 18},
+    {"STENCIL_TEST_ENABLE", 1u << 19},
+    {"STENCIL_OP", 1u << 20},
+    // Vulkan's, but not statepack's: viewport and scissor stay plain dynamic states, and vertex strides
+    // come from the input layout.
+    {"VIEWPORT_WITH_COUNT", kUnsupportedValue},
+    {"SCISSOR_WITH_COUNT", kUnsupportedValue},
+    {"VERTEX_INPUT_BINDING_STRIDE", kUnsupportedValue},
+};
+
 inline constexpr EnumEntry kPipelineFlags[] = {
     {"NONE", 0},
     {"IGNORE_MISSING_VARIABLES", kIgnoreMissingVariables},

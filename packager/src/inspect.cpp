@@ -1,6 +1,8 @@
 // statepack inspect: every object of an archive, as text or as JSON.
 #include "inspect.hpp"
 
+#include "enum_tables.hpp"
+
 #include <cinttypes>
 #include <cstdio>
 #include <nlohmann/json.hpp>
@@ -262,7 +264,27 @@ Json contents_json(const format::Contents& c, size_t size) {
     if (p.push_constant_size)
       pj["push_constants"] = {{"size", p.push_constant_size},
                               {"stages", stages_json(p.push_constant_stages)}};
-    if (p.kind == format::PipelineKind::graphics) pj["graphics"] = graphics_json(c, p.graphics);
+    if (p.kind == format::PipelineKind::graphics) {
+      pj["graphics"] = graphics_json(c, p.graphics);
+      Json dynamic = Json::array();
+      for (const auto& [name, bit] : kDynamicStates)
+        if (bit != kUnsupportedValue && (p.dynamic_states & bit)) dynamic.push_back(name);
+      pj["dynamic_states"] = dynamic;
+    }
+    if (!p.constants.empty()) {
+      Json constants = Json::array();
+      for (const auto& k : p.constants) {
+        char value[24];
+        std::snprintf(value, sizeof value, k.size == 8 ? "0x%016llx" : "0x%08llx",
+                      static_cast<unsigned long long>(k.value));
+        constants.push_back({{"name", k.name},
+                             {"stage", vk::to_string(vk::ShaderStageFlagBits(k.stage))},
+                             {"constant_id", k.constant_id},
+                             {"size", k.size},
+                             {"value", value}});
+      }
+      pj["specialization_constants"] = constants;
+    }
     pipelines.push_back(pj);
   }
   j["pipelines"] = pipelines;
@@ -293,6 +315,16 @@ void print_text(const Json& j, std::ostream& out) {
     }
     if (p.contains("push_constants"))
       out << "  push constants: " << p["push_constants"]["size"].get<uint32_t>() << " bytes\n";
+    if (p.contains("specialization_constants"))
+      for (const auto& k : p["specialization_constants"])
+        out << "  specialization constant '" << text(k["name"]) << "' (" << k["stage"].get<std::string>()
+            << ", id " << k["constant_id"].get<uint32_t>() << ", " << k["size"].get<uint32_t>()
+            << " bytes) = " << k["value"].get<std::string>() << "\n";
+    if (p.contains("dynamic_states")) {
+      out << "  dynamic:";
+      for (const auto& d : p["dynamic_states"]) out << " " << d.get<std::string>();
+      out << "\n";
+    }
     if (p.contains("graphics")) {
       const auto& g = p["graphics"];
       out << "  " << g["topology"].get<std::string>() << ", cull " << g["cull_mode"].get<std::string>()

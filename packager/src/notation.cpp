@@ -292,6 +292,59 @@ class FileReader {
     }
   }
 
+  // pSpecializationConstants: [{Name, ShaderStages, Value, Size}] (Diligent's field; Value is statepack's
+  // typed spelling of pData, its type decided by the shader's declaration).
+  void specialization_constants(const Json& j, const std::string& pointer, PipelineDesc& p) {
+    uint32_t unused = 0;
+    json_.unsigned_number(j, "NumSpecializationConstants", pointer, unused);
+    auto list = j.find("pSpecializationConstants");
+    const std::string lp = pointer + "/pSpecializationConstants";
+    if (list == j.end() || !json_.expect_array(*list, lp, "'pSpecializationConstants'")) return;
+    std::set<std::string> seen;
+    for (size_t i = 0; i < list->size(); ++i) {
+      const std::string sp = lp + "/" + std::to_string(i);
+      const Json& e = (*list)[i];
+      if (!json_.expect_object(e, sp, "a specialization constant")) continue;
+      json_.check_keys(e, sp, {"Name", "ShaderStages", "Value", "Size", "pData"}, "specialization constant");
+      SpecConstantDesc k;
+      k.where = json_.at(sp);
+      k.name = json_.string(e, "Name", sp).value_or("");
+      if (k.name.empty()) json_.error(sp, "a specialization constant needs a 'Name'");
+      json_.stage_flags_field(e, "ShaderStages", sp, k.stages);
+      if (e.contains("pData"))
+        json_.error(sp + "/pData",
+                    "'pData' (raw bytes) is not supported: give the value as 'Value' (a number or "
+                    "true/false), typed by the shader's declaration");
+      if (e.contains("Size")) {
+        uint32_t size = 0;
+        json_.unsigned_number(e, "Size", sp, size);
+        k.size = size;
+      }
+      auto value = e.find("Value");
+      if (value == e.end()) {
+        json_.error(sp, "specialization constant '" + k.name + "' needs a 'Value'");
+        continue;
+      }
+      k.value.text = describe_value(*value);
+      if (value->is_boolean()) {
+        k.value.kind = ScalarValue::Kind::boolean, k.value.boolean = value->get<bool>();
+      } else if (value->is_number_unsigned()) {
+        k.value.kind = ScalarValue::Kind::unsigned_integer, k.value.unsigned_integer = value->get<uint64_t>();
+      } else if (value->is_number_integer()) {
+        k.value.kind = ScalarValue::Kind::signed_integer, k.value.signed_integer = value->get<int64_t>();
+      } else if (value->is_number_float()) {
+        k.value.kind = ScalarValue::Kind::floating, k.value.floating = value->get<double>();
+      } else {
+        json_.error(sp + "/Value",
+                    "'Value' must be a number or true/false, but is " + describe_value(*value));
+        continue;
+      }
+      if (!k.name.empty() && !seen.insert(k.name).second)
+        json_.error(sp + "/Name", "specialization constant '" + k.name + "' is listed twice");
+      p.constants.push_back(std::move(k));
+    }
+  }
+
   void pipeline(const Json& raw, const std::string& pointer) {
     if (!json_.expect_object(raw, pointer, "a pipeline")) return;
     PipelineDesc p;
@@ -347,12 +400,15 @@ class FileReader {
     }
     p.kind = *type == 1 ? format::PipelineKind::compute : format::PipelineKind::graphics;
     if (p.kind == format::PipelineKind::compute)
-      json_.check_keys(j, pointer, {"PSODesc", "Flags", "ppResourceSignatures", "pCS"}, "compute pipeline");
+      json_.check_keys(j, pointer,
+                       {"PSODesc", "Flags", "ppResourceSignatures", "pCS", "pSpecializationConstants",
+                        "NumSpecializationConstants"},
+                       "compute pipeline");
     else
-      json_.check_keys(
-          j, pointer,
-          {"PSODesc", "Flags", "ppResourceSignatures", "GraphicsPipeline", "pVS", "pPS", "pDS", "pHS", "pGS"},
-          "graphics pipeline");
+      json_.check_keys(j, pointer,
+                       {"PSODesc", "Flags", "ppResourceSignatures", "GraphicsPipeline", "pVS", "pPS", "pDS",
+                        "pHS", "pGS", "pSpecializationConstants", "NumSpecializationConstants"},
+                       "graphics pipeline");
     json_.flags_field(j, "Flags", pointer, kPipelineFlags, "pipeline flag", p.flags);
     if (auto s = j.find("ppResourceSignatures"); s != j.end())
       p.signatures = signature_list(*s, pointer + "/ppResourceSignatures");
@@ -385,8 +441,13 @@ class FileReader {
 
     if (auto layout = pso_desc->find("ResourceLayout"); layout != pso_desc->end())
       resource_layout(*layout, pointer + "/PSODesc/ResourceLayout", p);
+    specialization_constants(j, pointer, p);
     if (auto g = j.find("GraphicsPipeline"); g != j.end()) {
       read_graphics_state(ctx_, *g, pointer + "/GraphicsPipeline", p.graphics);
+      uint32_t extra = 0;
+      json_.flags_field(*g, "DynamicStates", pointer + "/GraphicsPipeline", kDynamicStates, "dynamic state",
+                        extra);
+      p.dynamic_states |= extra;
       if (auto rp = g->find("pRenderPass"); rp != g->end())
         if (auto name = render_pass_object(*rp, pointer + "/GraphicsPipeline/pRenderPass"))
           p.render_pass = *name;

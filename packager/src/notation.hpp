@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <set>
 #include <string>
 #include <unordered_map>
@@ -78,6 +79,25 @@ struct ResourceVariable {
   uint32_t stages = 0;  // VkShaderStageFlags; 0 = all stages of the pipeline
 };
 
+// A JSON scalar kept for later typing (a specialization constant's value is typed by the shader).
+struct ScalarValue {
+  enum class Kind { boolean, signed_integer, unsigned_integer, floating, other } kind = Kind::other;
+  bool boolean = false;
+  int64_t signed_integer = 0;
+  uint64_t unsigned_integer = 0;
+  double floating = 0;
+  std::string text;  // as written, for messages
+};
+
+// One entry of a pipeline's pSpecializationConstants.
+struct SpecConstantDesc {
+  std::string name;
+  uint32_t stages = 0;  // VkShaderStageFlags; 0: every stage of the pipeline whose shader declares it
+  ScalarValue value;
+  std::optional<uint32_t> size;  // Diligent's Size, checked against the shader's
+  Location where;
+};
+
 struct PipelineDesc {
   std::string name;
   format::PipelineKind kind = format::PipelineKind::graphics;
@@ -88,7 +108,9 @@ struct PipelineDesc {
   std::vector<ResourceVariable> variables;
   std::vector<ImmutableSamplerDesc> immutable_samplers;
   std::string combined_sampler_suffix = "_sampler";
-  uint32_t flags = 0;  // PipelineFlag bits
+  uint32_t flags = 0;                                 // PipelineFlag bits
+  uint32_t dynamic_states = format::kDynamicDefault;  // graphics only: the archive's bit mask
+  std::vector<SpecConstantDesc> constants;
   Location where;
 };
 

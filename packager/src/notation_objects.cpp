@@ -269,7 +269,7 @@ void read_graphics_state(ReadContext& ctx, const Json& j, const std::string& poi
       j, pointer,
       {"BlendDesc", "SampleMask", "RasterizerDesc", "DepthStencilDesc", "InputLayout", "PrimitiveTopology",
        "NumViewports", "NumRenderTargets", "SubpassIndex", "ShadingRateFlags", "RTVFormats", "DSVFormat",
-       "ReadOnlyDSV", "SmplDesc", "NodeMask", "pRenderPass"},
+       "ReadOnlyDSV", "SmplDesc", "NodeMask", "pRenderPass", "DynamicStates"},
       "GraphicsPipeline");
   json.enum_field(j, "PrimitiveTopology", pointer, kTopologies, "primitive topology", g.topology);
   json.unsigned_number(j, "SampleMask", pointer, g.sample_mask);

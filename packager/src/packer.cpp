@@ -15,6 +15,7 @@
 #include "input_file.hpp"
 #include "inspect.hpp"
 #include "pipeline_layout.hpp"
+#include "specialization.hpp"
 #include "spirv_reflect.hpp"
 #include "version.hpp"
 
@@ -263,6 +264,8 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err) {
         stages.push_back({&units[u].desc, &units[u].compiled.spirv, &units[u].reflection});
       PipelineLayout layout;
       if (!build_pipeline_layout(p, stages, notation, builder, layout, diag)) continue;
+      std::vector<format::SpecConstant> constants;
+      if (!resolve_constants(p, stages, constants, diag)) continue;
       PendingPipeline pp{{}, {}, {}, &p};
       format::Pipeline& out_pipeline = pp.pipeline;
       out_pipeline.name = p.name;
@@ -271,6 +274,8 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err) {
       out_pipeline.set_layouts = layout.set_layouts;
       out_pipeline.push_constant_size = layout.push_constant_size;
       out_pipeline.push_constant_stages = layout.push_constant_stages;
+      out_pipeline.dynamic_states = p.kind == format::PipelineKind::graphics ? p.dynamic_states : 0;
+      out_pipeline.constants = std::move(constants);
       if (!p.render_pass.empty()) {
         out_pipeline.graphics.render_pass = pass_index.at(p.render_pass);
         apply_render_pass(builder.contents.render_passes[out_pipeline.graphics.render_pass],

@@ -173,7 +173,12 @@ std::string remove_unused_globals(std::vector<uint32_t>& spirv, uint32_t vulkan_
     messages += m;
     messages += '\n';
   });
-  optimizer.RegisterPass(spvtools::CreateRemoveUnusedInterfaceVariablesPass());
+  // Before SPIR-V 1.4 an entry point's interface lists only its inputs and outputs, so dead-variable
+  // elimination removes unused resources and keeps every declared input and output (an input a stage
+  // declares but does not read still matches the previous stage's output). From 1.4 on every global is
+  // in the interface, so unused ones must first leave it.
+  const uint32_t minor = vulkan_version >> 12 & 0x3FF;
+  if (minor >= 2) optimizer.RegisterPass(spvtools::CreateRemoveUnusedInterfaceVariablesPass());
   optimizer.RegisterPass(spvtools::CreateDeadVariableEliminationPass());
   std::vector<uint32_t> out;
   // No validation here: the finalised module is validated once, with the layout applied.

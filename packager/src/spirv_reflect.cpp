@@ -80,6 +80,45 @@ Reflection reflect_spirv(std::span<const uint32_t> spirv, uint32_t stage) {
       out.bindings.push_back(std::move(b));
     }
   }
+  const spvc_specialization_constant* constants = nullptr;
+  size_t constant_count = 0;
+  spvc_compiler_get_specialization_constants(compiler, &constants, &constant_count);
+  for (size_t i = 0; i < constant_count; ++i) {
+    ReflectedConstant k;
+    k.constant_id = constants[i].constant_id;
+    const char* name = spvc_compiler_get_name(compiler, constants[i].id);
+    k.name = name ? name : "";
+    spvc_constant handle = spvc_compiler_get_constant_handle(compiler, constants[i].id);
+    spvc_type type = spvc_compiler_get_type_handle(compiler, spvc_constant_get_type(handle));
+    using Kind = ReflectedConstant::Kind;
+    switch (spvc_type_get_basetype(type)) {
+      case SPVC_BASETYPE_BOOLEAN:
+        k.kind = Kind::boolean;
+        break;
+      case SPVC_BASETYPE_INT32:
+        k.kind = Kind::int32;
+        break;
+      case SPVC_BASETYPE_UINT32:
+        k.kind = Kind::uint32;
+        break;
+      case SPVC_BASETYPE_FP32:
+        k.kind = Kind::float32;
+        break;
+      case SPVC_BASETYPE_INT64:
+        k.kind = Kind::int64, k.size = 8;
+        break;
+      case SPVC_BASETYPE_UINT64:
+        k.kind = Kind::uint64, k.size = 8;
+        break;
+      case SPVC_BASETYPE_FP64:
+        k.kind = Kind::float64, k.size = 8;
+        break;
+      default:
+        k.kind = Kind::other;
+        break;
+    }
+    out.constants.push_back(std::move(k));
+  }
   const spvc_reflected_resource* push = nullptr;
   size_t push_count = 0;
   spvc_resources_get_resource_list_for_type(resources, SPVC_RESOURCE_TYPE_PUSH_CONSTANT, &push, &push_count);

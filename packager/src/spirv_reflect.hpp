@@ -19,8 +19,17 @@ struct ReflectedBinding {
   uint32_t set_word = 0, binding_word = 0;
 };
 
+// A specialization constant the module declares (SpecId), by the name the source gave it.
+struct ReflectedConstant {
+  enum class Kind { boolean, int32, uint32, float32, int64, uint64, float64, other } kind = Kind::other;
+  std::string name;
+  uint32_t constant_id = 0;
+  uint32_t size = 4;  // bytes in a VkSpecializationMapEntry (booleans: 4, a VkBool32)
+};
+
 struct Reflection {
   std::vector<ReflectedBinding> bindings;
+  std::vector<ReflectedConstant> constants;
   uint32_t push_constant_size = 0;
   std::string error;  // non-empty when reflection failed
 };

@@ -77,7 +77,7 @@ struct HostBuffer {
 Result<std::unique_ptr<HostBuffer>> create_host_buffer(VulkanContext& vk, VkDeviceSize size,
                                                        VkBufferUsageFlags usage);
 
-// A device-local 2D image with a view and its memory, freed on destruction.
+// A device-local 2D image with a view (of every aspect of its format) and its memory, freed on destruction.
 struct DeviceImage {
   VkDevice device = VK_NULL_HANDLE;
   VkImage image = VK_NULL_HANDLE;
@@ -88,10 +88,13 @@ struct DeviceImage {
 Result<std::unique_ptr<DeviceImage>> create_device_image(VulkanContext& vk, VkFormat format, uint32_t width,
                                                          uint32_t height, VkImageUsageFlags usage);
 
-// One image layout transition with its memory dependency (whole color image).
+// The aspects of a format's images: depth and/or stencil for depth-stencil formats, else color.
+VkImageAspectFlags format_aspects(VkFormat format);
+
+// One image layout transition with its memory dependency (the whole image, of the given aspects).
 void image_barrier(VkCommandBuffer cmd, VkImage image, VkImageLayout from, VkImageLayout to,
                    VkAccessFlags src_access, VkAccessFlags dst_access, VkPipelineStageFlags src_stage,
-                   VkPipelineStageFlags dst_stage);
+                   VkPipelineStageFlags dst_stage, VkImageAspectFlags aspects = VK_IMAGE_ASPECT_COLOR_BIT);
 
 // A descriptor pool with one set that binds one storage buffer; both freed on destruction.
 struct StorageBufferSet {
