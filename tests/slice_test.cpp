@@ -105,6 +105,31 @@ TEST_F(SliceTest, ModifyCallbackPatchesRenderTargetFormat) {
   EXPECT_NE((*plain1)->pipeline, (*pso)->pipeline);
 }
 
+TEST_F(SliceTest, RunTimeFormatsLeftUnknownAreErrors) {
+  // The slice archive with its gradient target made UNKNOWN ("patched at run time").
+  auto original = Archive::from_file(STATEPACK_TEST_ARCHIVE);
+  ASSERT_TRUE(original);
+  format::Contents contents = original->contents();
+  for (auto& p : contents.pipelines)
+    if (p.name == "Gradient PSO") p.graphics.color_formats[0] = VK_FORMAT_UNDEFINED;
+  std::vector<uint8_t> bytes = format::encode(contents);
+  std::vector<uint32_t> words((bytes.size() + 3) / 4);
+  std::memcpy(words.data(), bytes.data(), bytes.size());
+  auto archive = Archive::from_memory({reinterpret_cast<const uint8_t*>(words.data()), bytes.size()});
+  ASSERT_TRUE(archive) << archive.error().message;
+  auto dearchiver = Dearchiver::create({vk_->physical_device, vk_->device});
+  ASSERT_TRUE(dearchiver);
+  ASSERT_TRUE(dearchiver->add_archive(std::move(*archive)));
+  auto unpatched = dearchiver->unpack_graphics("Gradient PSO");
+  ASSERT_FALSE(unpatched);
+  EXPECT_EQ(unpatched.error().message,
+            "pipeline 'Gradient PSO': render target 0 is UNKNOWN (a format set at run time); set "
+            "PatchableState::color_formats[0] in the modify callback");
+  auto patched = dearchiver->unpack_graphics(
+      "Gradient PSO", [](PatchableState& s) { s.color_formats[0] = VK_FORMAT_B8G8R8A8_UNORM; });
+  ASSERT_TRUE(patched) << patched.error().message;
+}
+
 TEST_F(SliceTest, UnknownNameIsAnErrorWithSuggestion) {
   Dearchiver dearchiver = make_dearchiver();
   auto pso = dearchiver.unpack_graphics("Gradient PS0");

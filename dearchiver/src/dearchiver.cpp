@@ -554,6 +554,15 @@ struct Dearchiver::State {
       return Error{ErrorCode::invalid_argument, "pipeline '" + name + "': the modify callback set " +
                                                     std::to_string(settled.color_count) +
                                                     " render targets (at most 8)"};
+    // UNKNOWN in RTVFormats means "set at run time" (a swapchain's format): left unset, it is an error
+    // rather than a pipeline silently created for VK_FORMAT_UNDEFINED.
+    if (!uses_render_pass)
+      for (uint32_t i = 0; i < settled.color_count; ++i)
+        if (settled.color_formats[i] == VK_FORMAT_UNDEFINED)
+          return Error{ErrorCode::invalid_argument,
+                       "pipeline '" + name + "': render target " + std::to_string(i) +
+                           " is UNKNOWN (a format set at run time); set PatchableState::color_formats[" +
+                           std::to_string(i) + "] in the modify callback"};
     if (auto missing = check_features(name, settled)) return *missing;
     auto dynamic_mask = settle_dynamic_states(name, settled.dynamic_states);
     if (!dynamic_mask) return dynamic_mask.error();

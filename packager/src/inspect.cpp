@@ -329,7 +329,10 @@ void print_text(const Json& j, std::ostream& out) {
       const auto& g = p["graphics"];
       out << "  " << g["topology"].get<std::string>() << ", cull " << g["cull_mode"].get<std::string>()
           << ", depth test " << (g["depth_test"].get<bool>() ? "on" : "off") << ", targets:";
-      for (const auto& t : g["render_targets"]) out << " " << t["format"].get<std::string>();
+      for (const auto& t : g["render_targets"])
+        out << " "
+            << (t["format"] == "Undefined" ? std::string("UNKNOWN (set at unpack)")
+                                           : t["format"].get<std::string>());
       if (g["render_pass"] != "none") out << ", render pass '" << text(g["render_pass"]) << "'";
       out << "\n";
       out << "    raster: " << g["polygon_mode"].get<std::string>() << ", front face "

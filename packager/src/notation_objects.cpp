@@ -162,6 +162,21 @@ void read_blend(ReadContext& ctx, const Json& b, const std::string& pointer, for
     for (size_t i = 1; i < g.blend.size(); ++i) g.blend[i] = g.blend[0];
 }
 
+bool is_depth_stencil_format(uint32_t format) {
+  switch (format) {
+    case VK_FORMAT_D16_UNORM:
+    case VK_FORMAT_X8_D24_UNORM_PACK32:
+    case VK_FORMAT_D32_SFLOAT:
+    case VK_FORMAT_S8_UINT:
+    case VK_FORMAT_D16_UNORM_S8_UINT:
+    case VK_FORMAT_D24_UNORM_S8_UINT:
+    case VK_FORMAT_D32_SFLOAT_S8_UINT:
+      return true;
+    default:
+      return false;
+  }
+}
+
 }  // namespace
 
 std::optional<ShaderDesc> read_shader(ReadContext& ctx, const Json& j, const std::string& pointer,
@@ -348,8 +363,13 @@ void read_graphics_state(ReadContext& ctx, const Json& j, const std::string& poi
         auto index = parse_index(json, key, pointer + "/RTVFormats");
         if (!index) continue;
         if (auto v =
-                json.enum_value(value, pointer + "/RTVFormats/" + key, kTextureFormats, "texture format"))
+                json.enum_value(value, pointer + "/RTVFormats/" + key, kTextureFormats, "texture format")) {
           g.color_formats[*index] = *v;
+          if (is_depth_stencil_format(*v))
+            json.error(pointer + "/RTVFormats/" + key,
+                       "render target " + key + " has the depth-stencil format " + value.get<std::string>() +
+                           "; render targets take color formats (use 'DSVFormat')");
+        }
       }
     }
   }
@@ -362,6 +382,10 @@ void read_graphics_state(ReadContext& ctx, const Json& j, const std::string& poi
   if (g.color_count > format::kMaxColorTargets)
     json.error(pointer + "/NumRenderTargets", "at most 8 render targets");
   json.enum_field(j, "DSVFormat", pointer, kTextureFormats, "texture format", g.depth_stencil_format);
+  if (g.depth_stencil_format != VK_FORMAT_UNDEFINED && !is_depth_stencil_format(g.depth_stencil_format))
+    json.error(pointer + "/DSVFormat", "'DSVFormat' " + j["DSVFormat"].get<std::string>() +
+                                           " is a color format; the depth-stencil target takes D16_UNORM, "
+                                           "D24_UNORM_S8_UINT, D32_FLOAT or D32_FLOAT_S8X24_UINT");
   if (auto s = j.find("SmplDesc");
       s != j.end() && json.expect_object(*s, pointer + "/SmplDesc", "'SmplDesc'")) {
     json.check_keys(*s, pointer + "/SmplDesc", {"Count", "Quality"}, "SmplDesc");
