@@ -90,31 +90,31 @@ Reflection reflect_spirv(std::span<const uint32_t> spirv, uint32_t stage) {
     k.name = name ? name : "";
     spvc_constant handle = spvc_compiler_get_constant_handle(compiler, constants[i].id);
     spvc_type type = spvc_compiler_get_type_handle(compiler, spvc_constant_get_type(handle));
-    using Kind = ReflectedConstant::Kind;
+    using ConstantKind = ReflectedConstant::Kind;
     switch (spvc_type_get_basetype(type)) {
       case SPVC_BASETYPE_BOOLEAN:
-        k.kind = Kind::boolean;
+        k.kind = ConstantKind::boolean;
         break;
       case SPVC_BASETYPE_INT32:
-        k.kind = Kind::int32;
+        k.kind = ConstantKind::int32;
         break;
       case SPVC_BASETYPE_UINT32:
-        k.kind = Kind::uint32;
+        k.kind = ConstantKind::uint32;
         break;
       case SPVC_BASETYPE_FP32:
-        k.kind = Kind::float32;
+        k.kind = ConstantKind::float32;
         break;
       case SPVC_BASETYPE_INT64:
-        k.kind = Kind::int64, k.size = 8;
+        k.kind = ConstantKind::int64, k.size = 8;
         break;
       case SPVC_BASETYPE_UINT64:
-        k.kind = Kind::uint64, k.size = 8;
+        k.kind = ConstantKind::uint64, k.size = 8;
         break;
       case SPVC_BASETYPE_FP64:
-        k.kind = Kind::float64, k.size = 8;
+        k.kind = ConstantKind::float64, k.size = 8;
         break;
       default:
-        k.kind = Kind::other;
+        k.kind = ConstantKind::other;
         break;
     }
     out.constants.push_back(std::move(k));
