@@ -21,11 +21,15 @@
 function(statepack_add_archive target)
   cmake_parse_arguments(PARSE_ARGV 1 ARG "VERIFY" "OUTPUT;CONTENT_VERSION;VULKAN_VERSION;PACKAGER"
                         "INPUTS;SHADER_DIRS;RENDER_STATE_DIRS;DEFINES;ARGS")
+  # An unknown keyword first: it is usually a misspelt OUTPUT or INPUTS, which would otherwise be reported
+  # as missing.
+  if(ARG_UNPARSED_ARGUMENTS)
+    message(FATAL_ERROR "statepack_add_archive(${target}): unknown arguments ${ARG_UNPARSED_ARGUMENTS} "
+                        "(keywords: OUTPUT INPUTS SHADER_DIRS RENDER_STATE_DIRS DEFINES CONTENT_VERSION "
+                        "VULKAN_VERSION PACKAGER VERIFY ARGS)")
+  endif()
   if(NOT ARG_OUTPUT OR NOT ARG_INPUTS)
     message(FATAL_ERROR "statepack_add_archive(${target}): OUTPUT and INPUTS are required")
-  endif()
-  if(ARG_UNPARSED_ARGUMENTS)
-    message(FATAL_ERROR "statepack_add_archive(${target}): unknown arguments ${ARG_UNPARSED_ARGUMENTS}")
   endif()
   cmake_path(ABSOLUTE_PATH ARG_OUTPUT BASE_DIRECTORY "${CMAKE_CURRENT_BINARY_DIR}" NORMALIZE OUTPUT_VARIABLE output)
 

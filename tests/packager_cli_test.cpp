@@ -306,3 +306,25 @@ TEST_F(PackagerCli, InspectShowsTheWholeGraphicsState) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST_F(PackagerCli, AnUnknownEnumWithNoNearMatchListsTheValidValues) {
+  fs::path json = dir_ / "topology.json";
+  std::ofstream(json)
+      << R"({"Defaults": {"Pipeline": {"GraphicsPipeline": {"PrimitiveTopology": "QUADS"}}}})";
+  CliRun run = statepack("pack --check --vulkan -i '" + json.string() + "'");
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_NE(
+      run.output.find("error: unknown primitive topology 'QUADS' (valid: TRIANGLE_LIST, TRIANGLE_STRIP, "
+                      "POINT_LIST, LINE_LIST, LINE_STRIP, TRIANGLE_LIST_ADJ, TRIANGLE_STRIP_ADJ, "
+                      "LINE_LIST_ADJ, LINE_STRIP_ADJ)"),
+      std::string::npos)
+      << run.output;
+  // Long tables are cut after 20 names.
+  std::ofstream(json) << R"({"Defaults": {"Pipeline": {"GraphicsPipeline": {"DSVFormat": "QQQQ"}}}})";
+  CliRun formats = statepack("pack --check --vulkan -i '" + json.string() + "'");
+  EXPECT_NE(formats.output.find(" more in docs/notation.md)"), std::string::npos) << formats.output;
+}
+
+}  // namespace

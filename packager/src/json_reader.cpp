@@ -87,8 +87,16 @@ std::optional<uint32_t> JsonReader::enum_value(const Json& j, const std::string&
     return value;
   }
   std::vector<std::string> names;
-  for (const auto& [name, value] : table) names.emplace_back(name);
-  error(pointer, "unknown " + std::string(enum_name) + " '" + s + "'" + did_you_mean(s, names));
+  for (const auto& [name, value] : table)
+    if (value != kUnsupportedValue) names.emplace_back(name);
+  std::string hint = did_you_mean(s, names);
+  if (hint.empty()) {  // nothing close: say what is valid (the first 20; docs/notation.md has the rest)
+    hint = " (valid: ";
+    for (size_t i = 0; i < names.size() && i < 20; ++i) hint += (i ? ", " : "") + names[i];
+    hint +=
+        names.size() > 20 ? ", ... " + std::to_string(names.size() - 20) + " more in docs/notation.md)" : ")";
+  }
+  error(pointer, "unknown " + std::string(enum_name) + " '" + s + "'" + hint);
   return std::nullopt;
 }
 

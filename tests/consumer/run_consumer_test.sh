@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # An external CMake project packs its archive through statepack_add_archive: it builds, a second build
 # does nothing, touching an #include'd shader or the JSON repacks, and a broken shader fails the build
-# with the shader's file and line while the previous archive survives.
+# with the shader's file and line while the previous archive survives. Unix Makefiles build it into a new
+# directory, and a misspelt keyword of the function is named.
 # Usage: run_consumer_test.sh <statepack executable> <StatepackAddArchive.cmake> <work dir>
 set -euo pipefail
 statepack=$1 module=$2 work=$3
@@ -31,4 +32,23 @@ sleep 1; printf '#define ANSWER undefined_name\n' > "$work/src/shaders/constants
 if out=$(build); then fail "a broken shader built: $out"; fi
 echo "$out" | grep -q "constants.glsl:1" || echo "$out" | grep -q "work.comp:6" || fail "no file:line for the error: $out"
 [[ "$(cksum < "$archive")" == "$before" ]] || fail "the failed pack changed the previous archive"
+# Unix Makefiles too: the function creates the output's directory itself (Ninja does, Make does not).
+cp -r "$here" "$work/make-src"
+sed -i 's|OUTPUT consumer.spk|OUTPUT nested/dir/consumer.spk|' "$work/make-src/CMakeLists.txt"
+cmake -S "$work/make-src" -B "$work/make/build" -G "Unix Makefiles" -DSTATEPACK_CMAKE="$module" \
+  -DSTATEPACK_EXECUTABLE="$statepack" >/dev/null || fail "Unix Makefiles configure failed"
+out=$(cmake --build "$work/make/build" 2>&1) || fail "Unix Makefiles build failed: $out"
+[[ -s "$work/make/build/nested/dir/consumer.spk" ]] || fail "Unix Makefiles: no archive in a new directory: $out"
+
+# A misspelt keyword is named, not reported as a missing OUTPUT.
+mkdir -p "$work/typo"
+cat > "$work/typo/CMakeLists.txt" <<EOF2
+cmake_minimum_required(VERSION 3.25)
+project(typo NONE)
+include("$module")
+statepack_add_archive(typo OUPTUT x.spk INPUTS states.json PACKAGER "$statepack")
+EOF2
+out=$(cmake -S "$work/typo" -B "$work/typo/build" 2>&1) && fail "a misspelt keyword configured: $out"
+echo "$out" | grep -q "unknown arguments OUPTUT;x.spk" || fail "the misspelt keyword is not named: $out"
+
 echo "consumer project: all checks passed"
