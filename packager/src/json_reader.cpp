@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "suggest.hpp"
+#include "vulkan_spelling.hpp"
 
 namespace statepack::packager {
 
@@ -89,7 +90,11 @@ std::optional<uint32_t> JsonReader::enum_value(const Json& j, const std::string&
   std::vector<std::string> names;
   for (const auto& [name, value] : table)
     if (value != kUnsupportedValue) names.emplace_back(name);
-  std::string hint = did_you_mean(s, names);
+  std::string hint;
+  if (auto vulkan = notation_name_for_vulkan_spelling(table, s))
+    hint = " (Vulkan's name; the notation's is '" + std::string(*vulkan) + "')";
+  else
+    hint = did_you_mean(s, names);
   if (hint.empty()) {  // nothing close: say what is valid (the first 20; docs/notation.md has the rest)
     hint = " (valid: ";
     for (size_t i = 0; i < names.size() && i < 20; ++i) hint += (i ? ", " : "") + names[i];
