@@ -7,6 +7,7 @@
 #include <limits>
 #include <optional>
 
+#include "enum_tables.hpp"
 #include "suggest.hpp"
 
 namespace statepack::packager {
@@ -80,21 +81,10 @@ std::optional<uint64_t> encode_value(const ScalarValue& v, Kind kind) {
   return std::nullopt;
 }
 
+// The notation's name of a single stage (kShaderTypes is the table the reader uses).
 std::string stage_text(uint32_t stage) {
-  switch (stage) {
-    case 0x1:
-      return "VERTEX";
-    case 0x2:
-      return "HULL";
-    case 0x4:
-      return "DOMAIN";
-    case 0x8:
-      return "GEOMETRY";
-    case 0x10:
-      return "PIXEL";
-    case 0x20:
-      return "COMPUTE";
-  }
+  for (const auto& [name, value] : kShaderTypes)
+    if (value == stage) return std::string(name);
   return "stage " + std::to_string(stage);
 }
 
