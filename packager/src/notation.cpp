@@ -41,6 +41,25 @@ fs::path resolve_file(const std::string& name, const fs::path& base_dir, const s
   return {};
 }
 
+std::string_view SourceTexts::add(const std::string& file, std::string text) {
+  auto source = std::make_unique<Source>();
+  source->text = std::move(text);
+  std::string_view view = source->text;
+  by_file_[file] = std::move(source);
+  return view;
+}
+
+Location SourceTexts::at(const Location& object, const std::string& pointer) const {
+  Location where{object.file, object.line, object.column, pointer};
+  auto it = by_file_.find(object.file);
+  if (it == by_file_.end()) return where;
+  Source& source = *it->second;
+  if (!source.positions) source.positions = std::make_unique<JsonPositions>(strip_utf8_bom(source.text));
+  TextPosition p = source.positions->find(where.pointer);
+  if (p.line > 0) where.line = p.line, where.column = p.column;
+  return where;
+}
+
 std::string display_path(const fs::path& path) {
   std::error_code ec;
   fs::path relative = path.lexically_relative(fs::current_path(ec));
@@ -273,8 +292,11 @@ class FileReader {
     json_.flags_field(j, "DefaultVariableMergeStages", pointer, kShaderStageFlags, "shader stage", unused);
     json_.unsigned_number(j, "NumVariables", pointer, unused);
     json_.unsigned_number(j, "NumImmutableSamplers", pointer, unused);
-    if (auto it = j.find("ImmutableSamplers"); it != j.end())
+    if (auto it = j.find("ImmutableSamplers"); it != j.end()) {
       p.immutable_samplers = read_immutable_samplers(ctx_, *it, pointer + "/ImmutableSamplers");
+      for (size_t i = 0; i < p.immutable_samplers.size(); ++i)
+        p.immutable_sampler_pointers.push_back(pointer + "/ImmutableSamplers/" + std::to_string(i));
+    }
     auto vars = j.find("Variables");
     if (vars == j.end() || !json_.expect_array(*vars, pointer + "/Variables", "'Variables'")) return;
     for (size_t i = 0; i < vars->size(); ++i) {
@@ -283,6 +305,7 @@ class FileReader {
       if (!json_.expect_object(v, vp, "a variable")) continue;
       json_.check_keys(v, vp, {"Name", "ShaderStages", "Type", "Flags"}, "variable");
       ResourceVariable var;
+      var.pointer = vp;
       var.name = json_.string(v, "Name", vp).value_or("");
       if (var.name.empty()) json_.error(vp, "a variable needs a 'Name'");
       json_.stage_flags_field(v, "ShaderStages", vp, var.stages);
@@ -421,6 +444,16 @@ class FileReader {
         {"pPS", VK_SHADER_STAGE_FRAGMENT_BIT},
         {"pCS", VK_SHADER_STAGE_COMPUTE_BIT},
     };
+    // Tessellation needs a patch-list topology with its control-point count (Diligent's
+    // N_CONTROL_POINT_PATCHLIST), which the archive cannot hold yet: refused here rather than archived
+    // as a pipeline no device can create.
+    for (const char* slot : {"pHS", "pDS"})
+      if (j.contains(slot)) {
+        json_.error(pointer + "/" + slot, "pipeline '" + p.name +
+                                              "': tessellation (pHS/pDS) is not supported by statepack yet: "
+                                              "the archive has no patch-list topology to draw it with");
+        break;  // once per pipeline
+      }
     for (const auto& [slot, stage] : kSlots) {
       auto s = j.find(slot);
       if (s == j.end()) continue;
@@ -496,7 +529,8 @@ class FileReader {
     if (!input.error.empty()) return diag.error(imported_at.line > 0 ? imported_at : Location{}, input.error);
     out.files_read.push_back({canonical, input.identity});
     out.import_stack.push_back(canonical);
-    const std::string_view text = strip_utf8_bom(input.text);  // positions count after a BOM
+    // Kept for errors found later; positions count after a BOM.
+    const std::string_view text = strip_utf8_bom(out.sources.add(display, std::move(input.text)));
     JsonDocument doc = parse_json_document(text);
     if (!doc.errors.empty()) {
       JsonPositions positions(text);

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <map>
+#include <memory>
 #include <optional>
 #include <set>
 #include <string>
@@ -14,6 +15,7 @@
 #include "archive_format.hpp"
 #include "diagnostics.hpp"
 #include "input_file.hpp"
+#include "json_positions.hpp"
 
 namespace statepack::packager {
 
@@ -77,6 +79,7 @@ struct RenderPassDesc {
 struct ResourceVariable {
   std::string name;
   uint32_t stages = 0;  // VkShaderStageFlags; 0 = all stages of the pipeline
+  std::string pointer;  // JSON pointer of the element, for errors found after compiling
 };
 
 // A JSON scalar kept for later typing (a specialization constant's value is typed by the shader).
@@ -107,11 +110,30 @@ struct PipelineDesc {
   std::vector<std::string> signatures;  // names; empty: implicit layout
   std::vector<ResourceVariable> variables;
   std::vector<ImmutableSamplerDesc> immutable_samplers;
+  std::vector<std::string> immutable_sampler_pointers;  // JSON pointer of each, for errors
   std::string combined_sampler_suffix = "_sampler";
   uint32_t flags = 0;                                 // PipelineFlag bits
   uint32_t dynamic_states = format::kDynamicDefault;  // graphics only: the archive's bit mask
   std::vector<SpecConstantDesc> constants;
   Location where;
+};
+
+// The text of every notation file read, kept so that checks made after reading (against the compiled
+// shaders) can place an error at the element it is about, looked up only when there is an error.
+class SourceTexts {
+ public:
+  // Stores `text` for `file` (a Location's file name) and returns a view of the stored copy.
+  std::string_view add(const std::string& file, std::string text);
+  // The value at JSON `pointer` in the file of `object` (the location of the object it belongs to): at
+  // the line and column where it is written, or its nearest written ancestor (values from Defaults).
+  Location at(const Location& object, const std::string& pointer) const;
+
+ private:
+  struct Source {
+    std::string text;
+    std::unique_ptr<JsonPositions> positions;
+  };
+  std::unordered_map<std::string, std::unique_ptr<Source>> by_file_;
 };
 
 struct Notation {
@@ -129,6 +151,7 @@ struct Notation {
   std::vector<InputFile> files_read;                // every JSON file, for the depfile and output checks
   std::set<std::filesystem::path> files_done;       // canonical paths already read (imports once)
   std::vector<std::filesystem::path> import_stack;  // canonical paths being read (cycle detection)
+  SourceTexts sources;                              // every notation file's text, for error positions
 };
 
 struct NotationOptions {

@@ -14,6 +14,7 @@
 #include "contents_builder.hpp"
 #include "input_file.hpp"
 #include "inspect.hpp"
+#include "interface_check.hpp"
 #include "pipeline_layout.hpp"
 #include "specialization.hpp"
 #include "spirv_reflect.hpp"
@@ -281,6 +282,9 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err) {
         apply_render_pass(builder.contents.render_passes[out_pipeline.graphics.render_pass],
                           out_pipeline.graphics, p, diag);
       }
+      if (p.kind == format::PipelineKind::graphics &&
+          !check_graphics_interfaces(p, out_pipeline.graphics, stages, notation.sources, diag))
+        continue;
       for (size_t s = 0; s < stages.size(); ++s) {
         pp.stages.push_back(stages[s].desc);
         pp.jobs.push_back(finalizer.request(std::move(layout.patched_spirv[s])));

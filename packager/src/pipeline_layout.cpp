@@ -140,8 +140,16 @@ bool layout_from_signatures(const PipelineDesc& p, const std::vector<StageInput>
   return ok;
 }
 
+// Where an error about resource `name` belongs: the ResourceLayout variable naming it, else `fallback`.
+Location variable_location(const PipelineDesc& p, const std::string& name, const SourceTexts& sources,
+                           const Location& fallback) {
+  for (const ResourceVariable& v : p.variables)
+    if (v.name == name) return sources.at(p.where, v.pointer);
+  return fallback;
+}
+
 bool implicit_layout(const PipelineDesc& p, const std::vector<StageInput>& stages, ContentsBuilder& builder,
-                     PipelineLayout& out, Diagnostics& diag) {
+                     const SourceTexts& sources, PipelineLayout& out, Diagnostics& diag) {
   // Merge uses by name across stages; the first use decides type and wished-for slot.
   std::vector<Slot> slots;
   std::map<std::string, size_t> by_name;
@@ -155,11 +163,12 @@ bool implicit_layout(const PipelineDesc& p, const std::vector<StageInput>& stage
       }
       Slot& slot = slots[it->second];
       if (slot.binding.descriptor_type != r.descriptor_type || slot.binding.count != r.count) {
-        diag.error(p.where, where_text(p, stage) + ": resource '" + r.name + "' is declared as a " +
-                                descriptor_name(r.descriptor_type) + " of " + std::to_string(r.count) +
-                                ", but another stage declares it as a " +
-                                descriptor_name(slot.binding.descriptor_type) + " of " +
-                                std::to_string(slot.binding.count));
+        diag.error(variable_location(p, r.name, sources, stage.desc->where),
+                   where_text(p, stage) + ": resource '" + r.name + "' is declared as a " +
+                       descriptor_name(r.descriptor_type) + " of " + std::to_string(r.count) +
+                       ", but another stage declares it as a " +
+                       descriptor_name(slot.binding.descriptor_type) + " of " +
+                       std::to_string(slot.binding.count));
         ok = false;
       }
       slot.binding.stage_flags |= r.stage;
@@ -193,24 +202,27 @@ bool implicit_layout(const PipelineDesc& p, const std::vector<StageInput>& stage
     auto it = by_name.find(v.name);
     if (it == by_name.end()) {
       if (p.flags & kIgnoreMissingVariables) continue;
-      diag.error(p.where, "pipeline '" + p.name + "': ResourceLayout variable '" + v.name +
-                              "' is not used by any of its shaders" + did_you_mean(v.name, names));
+      diag.error(sources.at(p.where, v.pointer), "pipeline '" + p.name + "': ResourceLayout variable '" +
+                                                     v.name + "' is not used by any of its shaders" +
+                                                     did_you_mean(v.name, names));
       ok = false;
     } else if (v.stages != 0 && (slots[it->second].binding.stage_flags & v.stages) == 0) {
-      diag.error(p.where, "pipeline '" + p.name + "': variable '" + v.name +
-                              "' is declared for stages its shaders do not use it in");
+      diag.error(sources.at(p.where, v.pointer), "pipeline '" + p.name + "': variable '" + v.name +
+                                                     "' is declared for stages its shaders do not use it in");
       ok = false;
     }
   }
   std::vector<Slot*> candidates;
   for (Slot& slot : slots) candidates.push_back(&slot);
-  for (const ImmutableSamplerDesc& s : p.immutable_samplers) {
+  for (size_t i = 0; i < p.immutable_samplers.size(); ++i) {
+    const ImmutableSamplerDesc& s = p.immutable_samplers[i];
     if (attach_sampler(candidates, s, p.combined_sampler_suffix, builder) ||
         (p.flags & kIgnoreMissingImmutableSamplers))
       continue;
-    diag.error(p.where, "pipeline '" + p.name + "': immutable sampler '" + s.name +
-                            "' matches no sampler or combined texture of its shaders" +
-                            did_you_mean(s.name, names));
+    diag.error(i < p.immutable_sampler_pointers.size() ? sources.at(p.where, p.immutable_sampler_pointers[i])
+                                                       : p.where,
+               "pipeline '" + p.name + "': immutable sampler '" + s.name +
+                   "' matches no sampler or combined texture of its shaders" + did_you_mean(s.name, names));
     ok = false;
   }
   if (!ok) return false;
@@ -299,7 +311,7 @@ bool build_pipeline_layout(const PipelineDesc& pipeline, const std::vector<Stage
                        "' uses resource signatures; its ResourceLayout is ignored, as in DRSN");
     return layout_from_signatures(pipeline, stages, notation, builder, out, diag);
   }
-  return implicit_layout(pipeline, stages, builder, out, diag);
+  return implicit_layout(pipeline, stages, builder, notation.sources, out, diag);
 }
 
 }  // namespace statepack::packager

@@ -3,6 +3,8 @@
 #include <spirv_cross_c.h>
 #include <vulkan/vulkan_core.h>
 
+#include <algorithm>
+
 namespace statepack::packager {
 namespace {
 
@@ -13,6 +15,87 @@ struct Context {
     if (handle) spvc_context_destroy(handle);
   }
 };
+
+InterfaceVariable::Base base_of(spvc_type type) {
+  switch (spvc_type_get_basetype(type)) {
+    case SPVC_BASETYPE_FP16:
+    case SPVC_BASETYPE_FP32:
+    case SPVC_BASETYPE_FP64:
+      return InterfaceVariable::Base::floating;
+    case SPVC_BASETYPE_INT8:
+    case SPVC_BASETYPE_INT16:
+    case SPVC_BASETYPE_INT32:
+    case SPVC_BASETYPE_INT64:
+      return InterfaceVariable::Base::signed_int;
+    case SPVC_BASETYPE_UINT8:
+    case SPVC_BASETYPE_UINT16:
+    case SPVC_BASETYPE_UINT32:
+    case SPVC_BASETYPE_UINT64:
+      return InterfaceVariable::Base::unsigned_int;
+    default:
+      return InterfaceVariable::Base::other;
+  }
+}
+
+// Fills the scalar/vector/matrix shape of `v` from `type`; `skip_outer` drops the outermost array
+// dimension (the per-vertex one; spirv-cross lists dimensions innermost first).
+void fill_shape(spvc_type type, bool skip_outer, InterfaceVariable& v) {
+  v.base = base_of(type);
+  v.bit_width = spvc_type_get_bit_width(type);
+  v.vector_size = spvc_type_get_vector_size(type);
+  v.columns = spvc_type_get_columns(type);
+  unsigned dims = spvc_type_get_num_array_dimensions(type);
+  if (skip_outer && dims > 0) --dims;
+  v.array_size = 1;
+  for (unsigned d = 0; d < dims; ++d)
+    v.array_size *= std::max<SpvId>(1, spvc_type_get_array_dimension(type, d));
+}
+
+void add_interface(spvc_compiler compiler, const spvc_reflected_resource* list, size_t count,
+                   bool per_vertex_arrays, std::vector<InterfaceVariable>& out) {
+  for (size_t i = 0; i < count; ++i) {
+    const SpvId id = list[i].id;
+    if (spvc_compiler_has_decoration(compiler, id, SpvDecorationBuiltIn)) continue;
+    InterfaceVariable v;
+    v.name = list[i].name;
+    v.patch = spvc_compiler_has_decoration(compiler, id, SpvDecorationPatch);
+    v.flat = spvc_compiler_has_decoration(compiler, id, SpvDecorationFlat);
+    const bool has_location = spvc_compiler_has_decoration(compiler, id, SpvDecorationLocation);
+    v.location = spvc_compiler_get_decoration(compiler, id, SpvDecorationLocation);
+    v.component = spvc_compiler_get_decoration(compiler, id, SpvDecorationComponent);
+    const bool skip_outer = per_vertex_arrays && !v.patch;
+    spvc_type type = spvc_compiler_get_type_handle(compiler, list[i].type_id);
+    spvc_type base = spvc_compiler_get_type_handle(compiler, list[i].base_type_id);
+    if (spvc_type_get_basetype(base) != SPVC_BASETYPE_STRUCT) {
+      if (!has_location) continue;  // Vulkan requires one; nothing to match without it
+      fill_shape(type, skip_outer, v);
+      out.push_back(std::move(v));
+      continue;
+    }
+    // A block: each member takes the next locations unless it names its own. An array of blocks
+    // (other than the per-vertex one) is left out: rare, and its layout is not worth modelling.
+    unsigned dims = spvc_type_get_num_array_dimensions(type);
+    if (dims > (skip_outer ? 1u : 0u)) continue;
+    uint32_t next = v.location;
+    for (unsigned m = 0; m < spvc_type_get_num_member_types(base); ++m) {
+      InterfaceVariable member = v;
+      const char* member_name = spvc_compiler_get_member_name(compiler, list[i].base_type_id, m);
+      member.name = v.name + "." + (member_name ? member_name : std::to_string(m));
+      if (spvc_compiler_has_member_decoration(compiler, list[i].base_type_id, m, SpvDecorationLocation))
+        next = spvc_compiler_get_member_decoration(compiler, list[i].base_type_id, m, SpvDecorationLocation);
+      else if (!has_location)
+        break;  // no location anywhere: nothing to match
+      member.location = next;
+      member.component =
+          spvc_compiler_get_member_decoration(compiler, list[i].base_type_id, m, SpvDecorationComponent);
+      member.flat =
+          v.flat || spvc_compiler_has_member_decoration(compiler, list[i].base_type_id, m, SpvDecorationFlat);
+      fill_shape(spvc_compiler_get_type_handle(compiler, spvc_type_get_member_type(base, m)), false, member);
+      next += member.array_size * member.locations_per_element();
+      out.push_back(std::move(member));
+    }
+  }
+}
 
 }  // namespace
 
@@ -80,6 +163,17 @@ Reflection reflect_spirv(std::span<const uint32_t> spirv, uint32_t stage) {
       out.bindings.push_back(std::move(b));
     }
   }
+  // Tessellation and geometry stages read (and the control stage writes) one value per vertex.
+  const bool arrayed_inputs = stage == VK_SHADER_STAGE_TESSELLATION_CONTROL_BIT ||
+                              stage == VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT ||
+                              stage == VK_SHADER_STAGE_GEOMETRY_BIT;
+  const spvc_reflected_resource* list = nullptr;
+  size_t count = 0;
+  spvc_resources_get_resource_list_for_type(resources, SPVC_RESOURCE_TYPE_STAGE_INPUT, &list, &count);
+  add_interface(compiler, list, count, arrayed_inputs, out.inputs);
+  spvc_resources_get_resource_list_for_type(resources, SPVC_RESOURCE_TYPE_STAGE_OUTPUT, &list, &count);
+  add_interface(compiler, list, count, stage == VK_SHADER_STAGE_TESSELLATION_CONTROL_BIT, out.outputs);
+
   const spvc_specialization_constant* constants = nullptr;
   size_t constant_count = 0;
   spvc_compiler_get_specialization_constants(compiler, &constants, &constant_count);

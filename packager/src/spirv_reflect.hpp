@@ -27,8 +27,24 @@ struct ReflectedConstant {
   uint32_t size = 4;  // bytes in a VkSpecializationMapEntry (booleans: 4, a VkBool32)
 };
 
+// A user-defined stage input or output (built-ins are left out), one per location-occupying value:
+// block members are listed one by one. Per-vertex arrays of tessellation and geometry stages are
+// listed per vertex (their outer array removed), as they match the neighbouring stage's plain values.
+struct InterfaceVariable {
+  enum class Base { floating, signed_int, unsigned_int, other } base = Base::other;  // other: structs, bools
+  std::string name;
+  uint32_t location = 0, component = 0;
+  uint32_t bit_width = 32, vector_size = 1, columns = 1;
+  uint32_t array_size = 1;  // elements, each taking `locations_per_element()` locations
+  bool flat = false, patch = false;
+  uint32_t locations_per_element() const {
+    return columns * ((vector_size * (bit_width == 64 ? 2 : 1) + component) > 4 ? 2 : 1);
+  }
+};
+
 struct Reflection {
   std::vector<ReflectedBinding> bindings;
+  std::vector<InterfaceVariable> inputs, outputs;
   std::vector<ReflectedConstant> constants;
   uint32_t push_constant_size = 0;
   std::string error;  // non-empty when reflection failed
