@@ -1,5 +1,6 @@
 // Archive format v1: round trip, determinism, and clean rejection of damaged bytes.
 #include <gtest/gtest.h>
+#include <algorithm>
 
 #include <cstring>
 #include <fstream>
@@ -243,15 +244,64 @@ TEST(ArchiveFormat, ResealedStructuralDamageIsRejected) {
 TEST(ArchiveFormat, NewerFormatIsRefusedWithVersions) {
   Fixture f;
   auto bytes = encode(f.contents);
-  put_u32(bytes, 8, 4);   // format_version
-  put_u32(bytes, 12, 3);  // oldest_readable_version
+  put_u32(bytes, 8, kFormatVersion + 2);   // format_version
+  put_u32(bytes, 12, kFormatVersion + 1);  // oldest_readable_version
   reseal(bytes);
   Aligned aligned(bytes);
   auto decoded = decode(aligned.span());
   ASSERT_FALSE(decoded);
   EXPECT_EQ(decoded.error().code, ErrorCode::unsupported_version);
-  EXPECT_NE(decoded.error().message.find("version 4 needs a reader of version 3 or newer"), std::string::npos)
-      << decoded.error().message;
+  const std::string expected = "version " + std::to_string(kFormatVersion + 2) +
+                               " needs a reader of version " + std::to_string(kFormatVersion + 1) +
+                               " or newer";
+  EXPECT_NE(decoded.error().message.find(expected), std::string::npos) << decoded.error().message;
+}
+
+uint32_t oldest_readable(const std::vector<uint8_t>& bytes) {
+  return uint32_t(bytes[12]) | uint32_t(bytes[13]) << 8 | uint32_t(bytes[14]) << 16 |
+         uint32_t(bytes[15]) << 24;
+}
+
+// Patch control points live in format 3's TESS section, written only when a pipeline tessellates: other
+// archives stay readable by version-2 readers.
+TEST(ArchiveFormat, PatchControlPointsRoundTripAndNeedAVersion3Reader) {
+  Fixture f;
+  auto plain = encode(f.contents);
+  EXPECT_EQ(oldest_readable(plain), 2u);
+  EXPECT_EQ(std::search(plain.begin(), plain.end(), std::begin("TESS"), std::end("TESS") - 1), plain.end());
+
+  f.contents.pipelines[0].graphics.topology = 10;  // VK_PRIMITIVE_TOPOLOGY_PATCH_LIST
+  f.contents.pipelines[0].graphics.patch_control_points = 4;
+  auto bytes = encode(f.contents);
+  EXPECT_EQ(oldest_readable(bytes), 3u);
+  Aligned aligned(bytes);
+  auto decoded = decode(aligned.span());
+  ASSERT_TRUE(decoded) << decoded.error().message;
+  const Pipeline* tessellated = nullptr;
+  for (const Pipeline& p : decoded->pipelines)
+    if (p.name == "Zeta graphics") tessellated = &p;
+  ASSERT_NE(tessellated, nullptr);
+  EXPECT_EQ(tessellated->graphics.topology, 10u);
+  EXPECT_EQ(tessellated->graphics.patch_control_points, 4u);
+  for (const Pipeline& p : decoded->pipelines) {
+    if (&p != tessellated) {
+      EXPECT_EQ(p.graphics.patch_control_points, 0u);
+    }
+  }
+}
+
+TEST(ArchiveFormat, PatchListsNeedOneToThirtyTwoControlPoints) {
+  for (auto [topology, points] : {std::pair{10u, 0u}, {10u, 33u}, {3u, 3u}}) {
+    Fixture f;
+    f.contents.pipelines[0].graphics.topology = topology;
+    f.contents.pipelines[0].graphics.patch_control_points = points;
+    auto bytes = encode(f.contents);
+    Aligned aligned(bytes);
+    auto decoded = decode(aligned.span());
+    ASSERT_FALSE(decoded) << topology << " " << points;
+    EXPECT_NE(decoded.error().message.find("patch control points"), std::string::npos)
+        << decoded.error().message;
+  }
 }
 
 TEST(ArchiveFormat, WrongMagicMisalignmentAndTrailingBytes) {

@@ -318,7 +318,7 @@ TEST_F(PackagerCli, AnUnknownEnumWithNoNearMatchListsTheValidValues) {
   EXPECT_NE(
       run.output.find("error: unknown primitive topology 'QUADS' (valid: TRIANGLE_LIST, TRIANGLE_STRIP, "
                       "POINT_LIST, LINE_LIST, LINE_STRIP, TRIANGLE_LIST_ADJ, TRIANGLE_STRIP_ADJ, "
-                      "LINE_LIST_ADJ, LINE_STRIP_ADJ)"),
+                      "LINE_LIST_ADJ, LINE_STRIP_ADJ, 1_CONTROL_POINT_PATCHLIST, "),
       std::string::npos)
       << run.output;
   // Long tables are cut after 20 names.

@@ -1,4 +1,4 @@
-// statepack archive format v1: encoder and validating decoder.
+// statepack archive format (versions 1 to 3): encoder and validating decoder.
 //
 // All integers are little-endian; strings are UTF-8. docs/archive-format.md is the full spec; the
 // tables below are its summary, kept next to the code that reads them.
@@ -7,7 +7,7 @@
 // | off | type   | field                                                                  |
 // |-----|--------|------------------------------------------------------------------------|
 // |   0 | u8[8]  | magic 89 'S' 'P' 'K' 0D 0A 1A 0A                                       |
-// |   8 | u32    | format_version (1)                                                     |
+// |   8 | u32    | format_version (3)                                                     |
 // |  12 | u32    | oldest_readable_version: a reader older than this must refuse the file |
 // |  16 | u32    | header_size (64)                                                       |
 // |  20 | u32    | producer_version (major<<22 | minor<<12 | patch)                       |
@@ -49,6 +49,8 @@
 // |      | push stages, u32 GFXS index (0xFFFFFFFF for compute); sorted by name              |
 // | PEXT | (format 2) one per PIPE record, same order: u32 dynamic states, list<SPEC>       |
 // | SPEC | (format 2) specialization constant: str name, stage, constant id, size, u64 value |
+// | TESS | (format 3) one per PIPE record, same order, present only when a pipeline          |
+// |      | tessellates: u32 patch control points (0 unless the topology is PATCH_LIST)       |
 #include "archive_format.hpp"
 
 #define XXH_STATIC_LINKING_ONLY  // XXH3_state_t on the stack
@@ -76,6 +78,8 @@ constexpr uint32_t kTagStrings = make_tag("STRS"), kTagData = make_tag("DATA"), 
                    kTagIndices = make_tag("IDXS"), kTagStandalone = make_tag("SIDX"),
                    kTagGraphics = make_tag("GFXS");
 constexpr uint32_t kSpirvMagic = 0x07230203u;
+constexpr uint32_t kTopologyPatchList =
+    10;  // VK_PRIMITIVE_TOPOLOGY_PATCH_LIST (the codec has no Vulkan headers)
 constexpr size_t kChecksumOffset = 40;
 // The decoding budget: encoded bytes that records may materialise, lists and strings included.
 constexpr uint64_t kExpansionFactor = 8, kExpansionSlack = 1 << 20;
@@ -215,6 +219,19 @@ void visit(V& v, SpecConstant& s) {
 template <class V>
 void visit(V& v, PipelineExtras& e) {
   v.u32(e.dynamic_states), v.list(e.constants);
+}
+
+// The TESS record (format 3): a pipeline's patch control points.
+struct PipelineTessellation {
+  uint32_t patch_control_points = 0;
+};
+template <>
+struct Tag<PipelineTessellation> {
+  static constexpr uint32_t value = make_tag("TESS");
+};
+template <class V>
+void visit(V& v, PipelineTessellation& t) {
+  v.u32(t.patch_control_points);
 }
 
 // Counts a record's encoded size.
@@ -495,6 +512,11 @@ Result<void> validate_graphics(const Contents& c, const Pipeline& p) {
   if (g.topology > 10 || g.polygon_mode > 2 || g.cull_mode > 3 || g.front_face > 1 || g.depth_compare > 7 ||
       !valid_samples(g.samples) || g.color_count > kMaxColorTargets || !valid_format(g.depth_stencil_format))
     return corrupt(what + " has an invalid graphics state");
+  // Vulkan guarantees patches of up to 32 control points (maxTessellationPatchSize); a patch list has a
+  // count and nothing else does.
+  if (g.patch_control_points > 32 || (g.topology == kTopologyPatchList) != (g.patch_control_points != 0))
+    return corrupt(what +
+                   " has a patch list topology without patch control points (1 to 32), or the reverse");
   for (const auto* s : {&g.front, &g.back})
     if (s->fail_op > 7 || s->pass_op > 7 || s->depth_fail_op > 7 || s->compare_op > 7)
       return corrupt(what + " has an invalid stencil state");
@@ -628,6 +650,14 @@ std::vector<uint8_t> encode(const Contents& input) {
     PipelineExtras extras{p.kind == PipelineKind::graphics ? p.dynamic_states : 0, p.constants};
     w.append(extras);
   }
+  const bool tessellation = std::any_of(c.pipelines.begin(), c.pipelines.end(), [](const Pipeline& p) {
+    return p.kind == PipelineKind::graphics && p.graphics.patch_control_points != 0;
+  });
+  if (tessellation)
+    for (auto& p : c.pipelines) {
+      PipelineTessellation t{p.kind == PipelineKind::graphics ? p.graphics.patch_control_points : 0};
+      w.append(t);
+    }
 
   struct SectionOut {
     uint32_t tag;
@@ -648,6 +678,10 @@ std::vector<uint8_t> encode(const Contents& input) {
   for (uint32_t tag : {Tag<PipelineExtras>::value, Tag<SpecConstant>::value}) {
     PoolOut& pool = w.pools[tag];
     sections.push_back({tag, std::move(pool.bytes), pool.count});
+  }
+  if (tessellation) {
+    PoolOut& pool = w.pools[Tag<PipelineTessellation>::value];
+    sections.push_back({Tag<PipelineTessellation>::value, std::move(pool.bytes), pool.count});
   }
   sections.push_back({kTagData, {}, 0});
 
@@ -677,7 +711,7 @@ std::vector<uint8_t> encode(const Contents& input) {
   std::vector<uint8_t> out;
   out.insert(out.end(), kMagic.begin(), kMagic.end());
   put_u32(out, kFormatVersion);
-  put_u32(out, kOldestReadableVersion);
+  put_u32(out, tessellation ? kTessellationVersion : kOldestReadableVersion);
   put_u32(out, kHeaderSize);
   put_u32(out, c.producer_version);
   put_u32(out, c.content_version);
@@ -808,6 +842,19 @@ Result<Contents> decode(std::span<const uint8_t> file) {
     }
   } else {
     for (auto& p : c.pipelines) p.dynamic_states = p.kind == PipelineKind::graphics ? kDynamicLegacy : 0;
+  }
+  // Format 3's TESS, one record per pipeline, present only when a pipeline tessellates.
+  if (r.sections.count(Tag<PipelineTessellation>::value)) {
+    if (auto valid = check(Tag<PipelineTessellation>::value, record_size<PipelineTessellation>()); !valid)
+      return valid.error();
+    if (r.sections[Tag<PipelineTessellation>::value].count != c.pipelines.size())
+      return corrupt("section TESS does not have one record per pipeline");
+    std::vector<PipelineTessellation> tessellation = r.all<PipelineTessellation>("pipeline tessellation");
+    for (size_t i = 0; i < tessellation.size() && !r.problem; ++i) {
+      if (c.pipelines[i].kind != PipelineKind::graphics && tessellation[i].patch_control_points != 0)
+        return corrupt("compute pipeline '" + c.pipelines[i].name + "' has patch control points");
+      c.pipelines[i].graphics.patch_control_points = tessellation[i].patch_control_points;
+    }
   }
   if (r.problem) return corrupt(*r.problem);
   if (auto valid = validate(c); !valid) return valid.error();

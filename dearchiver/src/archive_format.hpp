@@ -19,8 +19,12 @@
 namespace statepack::format {
 
 inline constexpr std::array<uint8_t, 8> kMagic = {0x89, 'S', 'P', 'K', '\r', '\n', 0x1A, '\n'};
-inline constexpr uint32_t kFormatVersion = 2;          // what this code writes (and reads: 1 and 2)
+inline constexpr uint32_t kFormatVersion = 3;          // what this code writes (and reads: 1 to 3)
 inline constexpr uint32_t kOldestReadableVersion = 2;  // what a reader must at least understand
+// Version 3 adds the TESS section (patch control points), written only when a pipeline tessellates; such
+// an archive needs a version-3 reader (a version-2 reader would create its pipelines without the count).
+// Archives without tessellation stay readable by version-2 readers.
+inline constexpr uint32_t kTessellationVersion = 3;
 // Version 2 adds the PEXT and SPEC sections (dynamic states, specialization constants). A version-1
 // reader would ignore them and create pipelines with other dynamic states and no constants, so
 // archives written now need a version-2 reader; version-1 archives still read (no PEXT: the legacy
@@ -170,6 +174,9 @@ struct GraphicsState {
   std::vector<VertexAttribute> vertex_attributes;
   uint32_t render_pass = kNone;  // index into Contents::render_passes; kNone: dynamic rendering
   uint32_t subpass = 0;
+  // Control points per patch, with topology PATCH_LIST only (else 0). In the TESS section, not GFXS, so
+  // that GFXS records keep their format-1 size.
+  uint32_t patch_control_points = 0;
   bool operator==(const GraphicsState&) const = default;
 };
 

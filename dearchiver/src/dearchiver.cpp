@@ -394,6 +394,8 @@ struct Dearchiver::State {
         VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
     VkPipelineInputAssemblyStateCreateInfo assembly{
         VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
+    VkPipelineTessellationStateCreateInfo tessellation{
+        VK_STRUCTURE_TYPE_PIPELINE_TESSELLATION_STATE_CREATE_INFO};
     VkPipelineViewportStateCreateInfo viewport{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
     VkPipelineRasterizationStateCreateInfo raster{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
     VkPipelineMultisampleStateCreateInfo multisample{
@@ -583,6 +585,11 @@ struct Dearchiver::State {
                      "pipeline '" + name + "' " +
                          (tessellation ? "tessellates without" : "draws patches without") +
                          " a patch list topology and tessellation shaders together"};
+      if (g.patch_control_points > caps.properties.limits.maxTessellationPatchSize)
+        return Error{ErrorCode::unsupported,
+                     "pipeline '" + name + "' has patches of " + std::to_string(g.patch_control_points) +
+                         " control points; the device allows " +
+                         std::to_string(caps.properties.limits.maxTessellationPatchSize)};
     }
     std::array<bool, 8> blend_enabled{};
     for (size_t i = 0; i < blend_enabled.size(); ++i) blend_enabled[i] = settled.blend[i].enable;
@@ -634,6 +641,7 @@ struct Dearchiver::State {
     pl.vertex_input.vertexAttributeDescriptionCount = static_cast<uint32_t>(pl.vertex_attributes.size());
     pl.vertex_input.pVertexAttributeDescriptions = pl.vertex_attributes.data();
     pl.assembly.topology = static_cast<VkPrimitiveTopology>(g.topology);
+    pl.tessellation.patchControlPoints = g.patch_control_points;  // 1..32 exactly when a patch list
     pl.viewport.viewportCount = 1;
     pl.viewport.scissorCount = 1;
     pl.raster.depthClampEnable = s.rasterizer.depth_clamp;
@@ -685,6 +693,7 @@ struct Dearchiver::State {
     info.pStages = pl.stages.data();
     info.pVertexInputState = &pl.vertex_input;
     info.pInputAssemblyState = &pl.assembly;
+    info.pTessellationState = g.topology == VK_PRIMITIVE_TOPOLOGY_PATCH_LIST ? &pl.tessellation : nullptr;
     info.pViewportState = &pl.viewport;
     info.pRasterizationState = &pl.raster;
     info.pMultisampleState = &pl.multisample;

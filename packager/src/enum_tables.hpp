@@ -142,6 +142,9 @@ inline constexpr EnumEntry kSourceLanguages[] = {
 
 inline constexpr EnumEntry kShaderCompilers[] = {{"DEFAULT", 0}, {"GLSLANG", 1}, {"DXC", 2}, {"FXC", 3}};
 
+// Diligent's N_CONTROL_POINT_PATCHLIST: read as kPatchListTopology + N, then split into
+// VK_PRIMITIVE_TOPOLOGY_PATCH_LIST and N patch control points.
+inline constexpr uint32_t kPatchListTopology = 0x10000;
 inline constexpr EnumEntry kTopologies[] = {
     {"UNDEFINED", kUnsupportedValue},
     {"TRIANGLE_LIST", VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST},
@@ -153,6 +156,38 @@ inline constexpr EnumEntry kTopologies[] = {
     {"TRIANGLE_STRIP_ADJ", VK_PRIMITIVE_TOPOLOGY_TRIANGLE_STRIP_WITH_ADJACENCY},
     {"LINE_LIST_ADJ", VK_PRIMITIVE_TOPOLOGY_LINE_LIST_WITH_ADJACENCY},
     {"LINE_STRIP_ADJ", VK_PRIMITIVE_TOPOLOGY_LINE_STRIP_WITH_ADJACENCY},
+    {"1_CONTROL_POINT_PATCHLIST", kPatchListTopology + 1},
+    {"2_CONTROL_POINT_PATCHLIST", kPatchListTopology + 2},
+    {"3_CONTROL_POINT_PATCHLIST", kPatchListTopology + 3},
+    {"4_CONTROL_POINT_PATCHLIST", kPatchListTopology + 4},
+    {"5_CONTROL_POINT_PATCHLIST", kPatchListTopology + 5},
+    {"6_CONTROL_POINT_PATCHLIST", kPatchListTopology + 6},
+    {"7_CONTROL_POINT_PATCHLIST", kPatchListTopology + 7},
+    {"8_CONTROL_POINT_PATCHLIST", kPatchListTopology + 8},
+    {"9_CONTROL_POINT_PATCHLIST", kPatchListTopology + 9},
+    {"10_CONTROL_POINT_PATCHLIST", kPatchListTopology + 10},
+    {"11_CONTROL_POINT_PATCHLIST", kPatchListTopology + 11},
+    {"12_CONTROL_POINT_PATCHLIST", kPatchListTopology + 12},
+    {"13_CONTROL_POINT_PATCHLIST", kPatchListTopology + 13},
+    {"14_CONTROL_POINT_PATCHLIST", kPatchListTopology + 14},
+    {"15_CONTROL_POINT_PATCHLIST", kPatchListTopology + 15},
+    {"16_CONTROL_POINT_PATCHLIST", kPatchListTopology + 16},
+    {"17_CONTROL_POINT_PATCHLIST", kPatchListTopology + 17},
+    {"18_CONTROL_POINT_PATCHLIST", kPatchListTopology + 18},
+    {"19_CONTROL_POINT_PATCHLIST", kPatchListTopology + 19},
+    {"20_CONTROL_POINT_PATCHLIST", kPatchListTopology + 20},
+    {"21_CONTROL_POINT_PATCHLIST", kPatchListTopology + 21},
+    {"22_CONTROL_POINT_PATCHLIST", kPatchListTopology + 22},
+    {"23_CONTROL_POINT_PATCHLIST", kPatchListTopology + 23},
+    {"24_CONTROL_POINT_PATCHLIST", kPatchListTopology + 24},
+    {"25_CONTROL_POINT_PATCHLIST", kPatchListTopology + 25},
+    {"26_CONTROL_POINT_PATCHLIST", kPatchListTopology + 26},
+    {"27_CONTROL_POINT_PATCHLIST", kPatchListTopology + 27},
+    {"28_CONTROL_POINT_PATCHLIST", kPatchListTopology + 28},
+    {"29_CONTROL_POINT_PATCHLIST", kPatchListTopology + 29},
+    {"30_CONTROL_POINT_PATCHLIST", kPatchListTopology + 30},
+    {"31_CONTROL_POINT_PATCHLIST", kPatchListTopology + 31},
+    {"32_CONTROL_POINT_PATCHLIST", kPatchListTopology + 32},
 };
 
 inline constexpr EnumEntry kFillModes[] = {

@@ -96,6 +96,7 @@ Json binding_json(const format::Binding& b) {
 Json graphics_json(const format::Contents& c, const format::GraphicsState& g) {
   Json j;
   j["topology"] = vk::to_string(vk::PrimitiveTopology(g.topology));
+  if (g.patch_control_points != 0) j["patch_control_points"] = g.patch_control_points;
   j["polygon_mode"] = vk::to_string(vk::PolygonMode(g.polygon_mode));
   j["cull_mode"] = g.cull_mode == 0 ? "None" : vk::to_string(vk::CullModeFlagBits(g.cull_mode));
   j["front_face"] = vk::to_string(vk::FrontFace(g.front_face));
@@ -327,8 +328,10 @@ void print_text(const Json& j, std::ostream& out) {
     }
     if (p.contains("graphics")) {
       const auto& g = p["graphics"];
-      out << "  " << g["topology"].get<std::string>() << ", cull " << g["cull_mode"].get<std::string>()
-          << ", depth test " << (g["depth_test"].get<bool>() ? "on" : "off") << ", targets:";
+      out << "  " << g["topology"].get<std::string>();
+      if (g.contains("patch_control_points")) out << " of " << g["patch_control_points"].get<uint32_t>();
+      out << ", cull " << g["cull_mode"].get<std::string>() << ", depth test "
+          << (g["depth_test"].get<bool>() ? "on" : "off") << ", targets:";
       for (const auto& t : g["render_targets"])
         out << " "
             << (t["format"] == "Undefined" ? std::string("UNKNOWN (set at unpack)")

@@ -368,6 +368,15 @@ class FileReader {
     }
   }
 
+  // Whether the pipeline's PrimitiveTopology is written as a patch list, known or not (an unknown
+  // count is its own error; no second one about tessellation).
+  static bool names_patch_list(const Json& pipeline) {
+    auto g = pipeline.find("GraphicsPipeline");
+    if (g == pipeline.end() || !g->is_object()) return false;
+    auto t = g->find("PrimitiveTopology");
+    return t != g->end() && t->is_string() && t->get<std::string>().ends_with("_CONTROL_POINT_PATCHLIST");
+  }
+
   void pipeline(const Json& raw, const std::string& pointer) {
     if (!json_.expect_object(raw, pointer, "a pipeline")) return;
     PipelineDesc p;
@@ -444,16 +453,6 @@ class FileReader {
         {"pPS", VK_SHADER_STAGE_FRAGMENT_BIT},
         {"pCS", VK_SHADER_STAGE_COMPUTE_BIT},
     };
-    // Tessellation needs a patch-list topology with its control-point count (Diligent's
-    // N_CONTROL_POINT_PATCHLIST), which the archive cannot hold yet: refused here rather than archived
-    // as a pipeline no device can create.
-    for (const char* slot : {"pHS", "pDS"})
-      if (j.contains(slot)) {
-        json_.error(pointer + "/" + slot, "pipeline '" + p.name +
-                                              "': tessellation (pHS/pDS) is not supported by statepack yet: "
-                                              "the archive has no patch-list topology to draw it with");
-        break;  // once per pipeline
-      }
     for (const auto& [slot, stage] : kSlots) {
       auto s = j.find(slot);
       if (s == j.end()) continue;
@@ -489,6 +488,28 @@ class FileReader {
             pointer + "/GraphicsPipeline/SubpassIndex",
             "pipeline '" + p.name + "': 'SubpassIndex' " + std::to_string(p.graphics.subpass) +
                 " needs a render pass ('pRenderPass'); without one the pipeline uses dynamic rendering");
+    }
+
+    // Tessellation stages come in pairs and draw patches, and patches need them (Vulkan's
+    // VUID-VkGraphicsPipelineCreateInfo-pStages-00729/00730/00736 and topology-08889).
+    if (p.kind == format::PipelineKind::graphics) {
+      const bool hull = j.contains("pHS"), domain = j.contains("pDS");
+      const bool patches = p.graphics.topology == VK_PRIMITIVE_TOPOLOGY_PATCH_LIST;
+      if (hull != domain)
+        json_.error(pointer + (hull ? "/pHS" : "/pDS"),
+                    "pipeline '" + p.name + "': a " +
+                        (hull ? "hull shader needs a domain shader ('pDS')"
+                              : "domain shader needs a hull shader ('pHS')"));
+      else if (hull && !patches && !names_patch_list(j))
+        json_.error(
+            pointer + "/GraphicsPipeline/PrimitiveTopology",
+            "pipeline '" + p.name +
+                "' tessellates (pHS, pDS), so its PrimitiveTopology must be a patch list: "
+                "'N_CONTROL_POINT_PATCHLIST' with N the hull shader's input control points (1 to 32)");
+      else if (!hull && patches)
+        json_.error(
+            pointer + "/GraphicsPipeline/PrimitiveTopology",
+            "pipeline '" + p.name + "' draws patches, which need tessellation shaders ('pHS', 'pDS')");
     }
 
     if (!p.name.empty()) {

@@ -287,6 +287,10 @@ void read_graphics_state(ReadContext& ctx, const Json& j, const std::string& poi
        "ReadOnlyDSV", "SmplDesc", "NodeMask", "pRenderPass", "DynamicStates"},
       "GraphicsPipeline");
   json.enum_field(j, "PrimitiveTopology", pointer, kTopologies, "primitive topology", g.topology);
+  if (g.topology > kPatchListTopology) {
+    g.patch_control_points = g.topology - kPatchListTopology;
+    g.topology = VK_PRIMITIVE_TOPOLOGY_PATCH_LIST;
+  }
   json.unsigned_number(j, "SampleMask", pointer, g.sample_mask);
   json.unsigned_number(j, "SubpassIndex", pointer, g.subpass);
   if (auto it = j.find("InputLayout"); it != j.end())
