@@ -472,7 +472,8 @@ TEST_F(HostileUnpack, ModifyCallbackExceptionsBecomeErrors) {
   auto pso =
       dearchiver.unpack_graphics("Gradient PSO", [](PatchableState&) { throw std::runtime_error("boom"); });
   ASSERT_FALSE(pso);
-  EXPECT_EQ(pso.error().message, "Dearchiver::unpack_graphics: unexpected exception: boom");
+  EXPECT_EQ(pso.error().code, ErrorCode::invalid_argument);
+  EXPECT_EQ(pso.error().message, "pipeline 'Gradient PSO': the modify callback threw: boom");
 }
 
 }  // namespace

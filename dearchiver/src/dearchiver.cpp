@@ -6,8 +6,10 @@
 #include <atomic>
 #include <cstring>
 #include <deque>
+#include <exception>
 #include <map>
 #include <mutex>
+#include <new>
 #include <optional>
 #include <set>
 #include <thread>
@@ -17,6 +19,7 @@
 #include "api_guard.hpp"
 #include "archive_format.hpp"
 #include "device_limits.hpp"
+#include "patched_state_check.hpp"
 #include "spirv_walk.hpp"
 #include "suggest.hpp"
 #include "vk_result_string.hpp"
@@ -517,9 +520,28 @@ struct Dearchiver::State {
                                              "', which is not enabled"};
   }
 
+  // Runs the caller's callback. What it throws becomes an error naming the pipeline, here, so that an
+  // unpack_all caller learns which pipeline's patch failed; bad_alloc goes on to api_guard
+  // (out_of_memory), as for the library's own allocations.
+  static std::optional<Error> run_modify(const std::string& pipeline, const ModifyCallback& modify,
+                                         PatchableState& state) {
+    try {
+      modify(state);
+      return std::nullopt;
+    } catch (const std::bad_alloc&) {
+      throw;
+    } catch (const std::exception& e) {
+      return Error{ErrorCode::invalid_argument,
+                   "pipeline '" + pipeline + "': the modify callback threw: " + e.what()};
+    } catch (...) {
+      return Error{ErrorCode::invalid_argument, "pipeline '" + pipeline + "': the modify callback threw"};
+    }
+  }
+
   Result<std::unique_ptr<Plan>> plan_compute(const Found& found, const ModifyCallback& modify) {
     PatchableState settled = to_patchable(*found.pipeline);
-    if (modify) modify(settled);  // only the constants apply to a compute pipeline
+    if (modify)  // only the constants apply to a compute pipeline
+      if (auto thrown = run_modify(found.pipeline->name, modify, settled)) return *thrown;
     auto constants = settle_constants(*found.pipeline, std::move(settled.constants));
     if (!constants) return constants.error();
     auto plan = plan_common(found, *constants);
@@ -543,7 +565,7 @@ struct Dearchiver::State {
     PatchableState settled = to_patchable(*found.pipeline);
     if (modify) {
       const PatchableState before = settled;
-      modify(settled);
+      if (auto thrown = run_modify(name, modify, settled)) return *thrown;
       if (uses_render_pass &&
           (settled.color_count != before.color_count || settled.color_formats != before.color_formats ||
            settled.depth_stencil_format != before.depth_stencil_format || settled.samples != before.samples))
@@ -552,10 +574,9 @@ struct Dearchiver::State {
                          "' uses a render pass, which fixes its attachment formats and "
                          "sample count; the modify callback may not change them"};
     }
-    if (settled.color_count > settled.color_formats.size())
-      return Error{ErrorCode::invalid_argument, "pipeline '" + name + "': the modify callback set " +
-                                                    std::to_string(settled.color_count) +
-                                                    " render targets (at most 8)"};
+    // Every value the callback left is checked as the archive's were at load, before any reaches Vulkan.
+    if (modify)
+      if (auto bad = check_patched_state(name, settled)) return *bad;
     // UNKNOWN in RTVFormats means "set at run time" (a swapchain's format): left unset, it is an error
     // rather than a pipeline silently created for VK_FORMAT_UNDEFINED.
     if (!uses_render_pass)
@@ -857,8 +878,13 @@ Result<const UnpackedPipeline*> Dearchiver::unpack_graphics(std::string_view nam
 }
 
 Result<std::vector<const UnpackedPipeline*>> Dearchiver::unpack_all(uint32_t threads) {
+  return unpack_all(PatchCallback{}, threads);
+}
+
+Result<std::vector<const UnpackedPipeline*>> Dearchiver::unpack_all(const PatchCallback& patch,
+                                                                    uint32_t threads) {
   return api_guard("Dearchiver::unpack_all", [&]() -> Result<std::vector<const UnpackedPipeline*>> {
-    auto pipelines = unpack_all_pipelines(threads);
+    auto pipelines = unpack_all_pipelines(threads, patch);
     if (!pipelines) return pipelines.error();
     // The other named objects too, so that everything is ready.
     std::vector<ObjectInfo> objects;
@@ -884,7 +910,8 @@ Result<std::vector<const UnpackedPipeline*>> Dearchiver::unpack_all(uint32_t thr
   });
 }
 
-Result<std::vector<const UnpackedPipeline*>> Dearchiver::unpack_all_pipelines(uint32_t threads) {
+Result<std::vector<const UnpackedPipeline*>> Dearchiver::unpack_all_pipelines(uint32_t threads,
+                                                                              const PatchCallback& patch) {
   std::lock_guard lock(state_->mutex);
   // Plan every pipeline not yet unpacked (serially: shared objects are created once), then create the
   // pipelines on `threads` threads: the driver's compile is the expensive part.
@@ -894,13 +921,22 @@ Result<std::vector<const UnpackedPipeline*>> Dearchiver::unpack_all_pipelines(ui
   for (size_t a = 0; a < state_->archives.size(); ++a) {
     for (const auto& p : state_->archives[a].contents().pipelines) {
       if (!seen.insert(p.name).second) continue;  // the earliest archive wins
-      if (auto it = state_->unmodified.find(p.name); it != state_->unmodified.end()) {
-        done.push_back(it->second);
-        continue;
-      }
+      if (!patch)  // a patch callback sees every pipeline, so nothing made earlier is reused then
+        if (auto it = state_->unmodified.find(p.name); it != state_->unmodified.end()) {
+          done.push_back(it->second);
+          continue;
+        }
       State::Found found{a, &p};
-      auto plan = p.kind == format::PipelineKind::compute ? state_->plan_compute(found, {})
-                                                          : state_->plan_graphics(found, {});
+      const bool compute = p.kind == format::PipelineKind::compute;
+      // The single-object path's callback, told which pipeline it patches: the patched state goes
+      // through the same checks as unpack_graphics/unpack_compute with a modify callback.
+      ModifyCallback modify;
+      if (patch) {
+        const ObjectInfo object{p.name,
+                                compute ? ObjectKind::compute_pipeline : ObjectKind::graphics_pipeline};
+        modify = [&patch, object](PatchableState& s) { patch(object, s); };
+      }
+      auto plan = compute ? state_->plan_compute(found, modify) : state_->plan_graphics(found, modify);
       if (!plan) return plan.error();
       plans.push_back(std::move(plan.value()));
     }

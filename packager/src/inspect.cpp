@@ -299,6 +299,10 @@ void print_text(const Json& j, std::ostream& out) {
       << " bytes, backends: " << j["backends"].dump() << "\n";
   out << j["spirv_blobs"].size() << " SPIR-V blob(s), " << j["shaders"].size() << " shader record(s), "
       << j["samplers"].size() << " sampler(s)\n";
+  // The blob table's sizes and content hashes (decode checked each hash against its bytes).
+  for (size_t i = 0; i < j["spirv_blobs"].size(); ++i)
+    out << "  SPIR-V blob " << i << ": " << j["spirv_blobs"][i]["size"].get<size_t>() << " bytes, XXH3 "
+        << j["spirv_blobs"][i]["xxh3"].get<std::string>() << "\n";
   for (const auto& p : j["pipelines"]) {
     out << "pipeline '" << text(p["name"]) << "' (" << p["kind"].get<std::string>() << ")\n";
     for (const auto& s : p["shaders"])

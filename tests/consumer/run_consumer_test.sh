@@ -2,10 +2,12 @@
 # An external CMake project packs its archive through statepack_add_archive: it builds, a second build
 # does nothing, touching an #include'd shader or the JSON repacks, and a broken shader fails the build
 # with the shader's file and line while the previous archive survives. Unix Makefiles build it into a new
-# directory, and a misspelt keyword of the function is named.
-# Usage: run_consumer_test.sh <statepack executable> <StatepackAddArchive.cmake> <work dir>
+# directory, and a misspelt keyword of the function is named. Last, the C++ a user copies from README.md
+# and docs/ compiles against the public headers without warnings (compile_doc_snippets.sh).
+# Usage: run_consumer_test.sh <statepack executable> <StatepackAddArchive.cmake> <work dir> <source root>
+#        <C++ compiler>
 set -euo pipefail
-statepack=$1 module=$2 work=$3
+statepack=$1 module=$2 work=$3 source_root=$4 cxx=$5
 here=$(cd "$(dirname "$0")" && pwd)
 rm -rf "$work" && mkdir -p "$work"
 cp -r "$here" "$work/src"
@@ -50,5 +52,10 @@ statepack_add_archive(typo OUPTUT x.spk INPUTS states.json PACKAGER "$statepack"
 EOF2
 out=$(cmake -S "$work/typo" -B "$work/typo/build" 2>&1) && fail "a misspelt keyword configured: $out"
 echo "$out" | grep -q "unknown arguments OUPTUT;x.spk" || fail "the misspelt keyword is not named: $out"
+
+# The documentation's C++ compiles as an application would compile it.
+out=$(bash "$here/compile_doc_snippets.sh" "$source_root" "$cxx" "$work/doc_snippets" 2>&1) ||
+  fail "documentation snippets: $out"
+echo "$out"
 
 echo "consumer project: all checks passed"

@@ -1,12 +1,16 @@
 // libstatepack_dearchiver — unpacks statepack archives into Vulkan objects.
 //
 //   auto archive = statepack::Archive::from_file("scene.spk");          // or from_memory(bytes)
+//   if (!archive) return fail(archive.error());                         // every call returns a Result
 //   auto dearchiver = statepack::Dearchiver::create({physical_device, device});
-//   dearchiver->add_archive(std::move(*archive));
+//   if (!dearchiver || !dearchiver->add_archive(std::move(*archive))) return ...;
 //   auto pso = dearchiver->unpack_graphics("Resolve PSO", [&](statepack::PatchableState& s) {
 //     s.color_formats[0] = swapchain_format;                            // run-time-only state
 //   });
+//   if (!pso) return fail(pso.error());                                 // names the pipeline and why
 //   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, (*pso)->pipeline);
+//
+// docs/api.md has the complete program (compiled by the test suite) and every PatchableState field.
 //
 // The dearchiver owns every Vulkan object it creates and destroys them with itself. Shader modules
 // and descriptor set layouts are created once and shared between pipelines. No shader compiler is
@@ -158,7 +162,14 @@ struct PatchableState {
     return nullptr;
   }
 };
+// Called with a pipeline's archived state before the pipeline is created; what it leaves in the state
+// is checked like the archive's own values, then used. It runs while the Dearchiver is locked: it must
+// not call the Dearchiver. An exception it throws becomes an `invalid_argument` error naming the pipeline.
 using ModifyCallback = std::function<void(PatchableState&)>;
+// unpack_all's callback: the same, for every pipeline, told which one it patches (its name, and its
+// kind: graphics_pipeline or compute_pipeline), so one callback can give every graphics pipeline the
+// swapchain's format.
+using PatchCallback = std::function<void(const ObjectInfo& pipeline, PatchableState&)>;
 
 // One resource of a pipeline's layout, as the shaders name it.
 struct BindingInfo {
@@ -237,6 +248,11 @@ class Dearchiver {
   // pipelines on `threads` threads (0: all cores), then every signature, render pass and standalone
   // shader. Returns the pipelines.
   Result<std::vector<const UnpackedPipeline*>> unpack_all(uint32_t threads = 0);
+  // The same, with every pipeline's state first given to `patch` (once per pipeline, on the calling
+  // thread, one after another, before any pipeline is created). Patched pipelines are new objects, as
+  // with unpack_graphics(name, modify): none is reused from an earlier unpack or cached for a later one.
+  // An empty `patch` is the call above.
+  Result<std::vector<const UnpackedPipeline*>> unpack_all(const PatchCallback& patch, uint32_t threads = 0);
 
   // Unpack the other named objects. Each is created once and owned by the Dearchiver.
   Result<const UnpackedSignature*> unpack_signature(std::string_view name);
@@ -248,7 +264,8 @@ class Dearchiver {
  private:
   struct State;
   explicit Dearchiver(std::unique_ptr<State> state);
-  Result<std::vector<const UnpackedPipeline*>> unpack_all_pipelines(uint32_t threads);
+  Result<std::vector<const UnpackedPipeline*>> unpack_all_pipelines(uint32_t threads,
+                                                                    const PatchCallback& patch);
   std::unique_ptr<State> state_;
 };
 
