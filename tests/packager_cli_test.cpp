@@ -19,6 +19,11 @@ CliRun statepack(const std::string& args) {
   return statepack::testing::run_command(std::string("'") + STATEPACK_EXE + "' " + args);
 }
 
+// Runs statepack in `dir`, so that file names in its messages are relative to it.
+CliRun statepack_in(const fs::path& dir, const std::string& args) {
+  return statepack::testing::run_command("cd '" + dir.string() + "' && '" + STATEPACK_EXE + "' " + args);
+}
+
 std::string read_file(const fs::path& path) {
   std::ifstream file(path, std::ios::binary);
   return {std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>()};
@@ -325,6 +330,66 @@ TEST_F(PackagerCli, AnUnknownEnumWithNoNearMatchListsTheValidValues) {
   std::ofstream(json) << R"({"Defaults": {"Pipeline": {"GraphicsPipeline": {"DSVFormat": "QQQQ"}}}})";
   CliRun formats = statepack("pack --check --vulkan -i '" + json.string() + "'");
   EXPECT_NE(formats.output.find(" more in docs/notation.md)"), std::string::npos) << formats.output;
+}
+
+}  // namespace
+
+namespace {
+
+// A -s or -r directory that is not there is one error naming it, not a "not found" per shader.
+TEST_F(PackagerCli, AMissingSearchDirectoryIsReportedOnceItself) {
+  std::ofstream(dir_ / "not_a_dir") << "x";
+  const std::string corpus = STATEPACK_CORPUS_DIR;
+  CliRun run =
+      statepack_in(dir_, "pack --check --vulkan -i '" + corpus +
+                             "/valid/standalone_and_compute.json' -s shaderz -s not_a_dir -s shaderz "
+                             "-s '" +
+                             corpus + "/shaders' -r states_dir");
+  EXPECT_EQ(run.exit_code, 2) << run.output;
+  EXPECT_EQ(run.output,
+            "statepack: error: -s 'shaderz': the directory does not exist\n"
+            "statepack: error: -s 'not_a_dir': the directory is not a directory\n"
+            "statepack: error: -r 'states_dir': the directory does not exist\n");
+}
+
+// One file, one name: the main notation file given by its absolute path is named like its imports,
+// relative to the working directory when below it.
+TEST_F(PackagerCli, FileNamesAreRelativeToTheWorkingDirectoryHoweverTheInputIsSpelt) {
+  const fs::path invalid = fs::path(STATEPACK_CORPUS_DIR) / "invalid";
+  for (const std::string& input : {(invalid / "defaults_typo.json").string(),
+                                   std::string("defaults_typo.json"), std::string("./defaults_typo.json")}) {
+    CliRun run = statepack_in(invalid, "pack --check --vulkan -i '" + input + "'");
+    EXPECT_EQ(run.exit_code, 1) << run.output;
+    EXPECT_EQ(run.output.rfind("defaults_typo.json:3:61: error: unknown RasterizerDesc key 'CulMode'", 0), 0u)
+        << input << ":\n"
+        << run.output;
+  }
+  // Imports are named the same way: the error is in the imported file.
+  CliRun import = statepack_in(
+      invalid.parent_path(), "pack --check --vulkan -i '" + (invalid / "import_cycle_a.json").string() + "'");
+  EXPECT_EQ(import.output.rfind(
+                "invalid/import_cycle_b.json:2:15: error: import cycle: invalid/import_cycle_a.json "
+                "-> invalid/import_cycle_b.json -> invalid/import_cycle_a.json",
+                0),
+            0u)
+      << import.output;
+}
+
+// HLSL push constants in glslang's spellings become the pipeline's push-constant range.
+TEST_F(PackagerCli, HlslPushConstantsBecomeThePipelinesRange) {
+  fs::path out = dir_ / "push.spk";
+  const std::string corpus = STATEPACK_CORPUS_DIR;
+  CliRun pack = statepack("pack -i '" + corpus + "/valid/hlsl_push_constants.json' -s '" + corpus +
+                          "/shaders' -o '" + out.string() + "' --vulkan");
+  ASSERT_EQ(pack.exit_code, 0) << pack.output;
+  CliRun json = statepack("inspect --json '" + out.string() + "'");
+  ASSERT_EQ(json.exit_code, 0) << json.output;
+  // Two float4 for vertex and pixel stages; a uint and a float for the compute one.
+  for (const char* range : {"\"push_constants\": {\n        \"size\": 32,\n        \"stages\": [\n          "
+                            "\"Vertex\",\n          \"Fragment\"\n        ]",
+                            "\"push_constants\": {\n        \"size\": 8,\n        \"stages\": [\n          "
+                            "\"Compute\"\n        ]"})
+    EXPECT_NE(json.output.find(range), std::string::npos) << range << "\nin:\n" << json.output;
 }
 
 }  // namespace

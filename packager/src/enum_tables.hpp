@@ -472,4 +472,62 @@ inline constexpr EnumEntry kInputFrequencies[] = {{"UNDEFINED", kUnsupportedValu
                                                   {"PER_VERTEX", VK_VERTEX_INPUT_RATE_VERTEX},
                                                   {"PER_INSTANCE", VK_VERTEX_INPUT_RATE_INSTANCE}};
 
+// Every table above, with Diligent's name of the enum and the notation keys that take it: the
+// reference in docs/notation.md is generated from this list (statepack_docs), so the documented values
+// are the values the reader accepts. A table added above must be added here; a unit test counts them.
+struct EnumTableInfo {
+  std::string_view name;  // Diligent's enum type
+  EnumTable values;
+  bool bit_flags;         // one string or an array of strings, ORed (JsonReader::flags_value)
+  std::string_view keys;  // where the notation takes it, comma-separated
+};
+
+inline constexpr EnumTableInfo kEnumTableInfo[] = {
+    {"TEXTURE_FORMAT", kTextureFormats, false,
+     "GraphicsPipeline.RTVFormats, GraphicsPipeline.DSVFormat, pAttachments[].Format"},
+    {"SHADER_TYPE", kShaderTypes, false, "Desc.ShaderType"},
+    {"SHADER_TYPE (stage flags)", kShaderStageFlags, true,
+     "Resources[].ShaderStages, Variables[].ShaderStages, ImmutableSamplers[].ShaderStages, "
+     "pSpecializationConstants[].ShaderStages, ResourceLayout.DefaultVariableMergeStages"},
+    {"PIPELINE_TYPE", kPipelineTypes, false, "PSODesc.PipelineType"},
+    {"SHADER_RESOURCE_VARIABLE_TYPE", kVariableTypes, false,
+     "ResourceLayout.DefaultVariableType, Variables[].Type, Resources[].VarType"},
+    {"SHADER_SOURCE_LANGUAGE", kSourceLanguages, false, "SourceLanguage"},
+    {"SHADER_COMPILER", kShaderCompilers, false, "ShaderCompiler"},
+    {"PRIMITIVE_TOPOLOGY", kTopologies, false, "GraphicsPipeline.PrimitiveTopology"},
+    {"FILL_MODE", kFillModes, false, "RasterizerDesc.FillMode"},
+    {"CULL_MODE", kCullModes, false, "RasterizerDesc.CullMode"},
+    {"COMPARISON_FUNCTION", kComparisonFuncs, false,
+     "DepthStencilDesc.DepthFunc, FrontFace/BackFace.StencilFunc, ImmutableSamplers[].Desc.ComparisonFunc"},
+    {"STENCIL_OP", kStencilOps, false,
+     "FrontFace/BackFace.StencilFailOp, FrontFace/BackFace.StencilDepthFailOp, "
+     "FrontFace/BackFace.StencilPassOp"},
+    {"BLEND_FACTOR", kBlendFactors, false,
+     "RenderTargets[].SrcBlend, RenderTargets[].DestBlend, RenderTargets[].SrcBlendAlpha, "
+     "RenderTargets[].DestBlendAlpha"},
+    {"BLEND_OPERATION", kBlendOps, false, "RenderTargets[].BlendOp, RenderTargets[].BlendOpAlpha"},
+    {"COLOR_MASK", kColorMasks, true, "RenderTargets[].RenderTargetWriteMask"},
+    {"SHADER_RESOURCE_TYPE", kResourceTypes, false, "Resources[].ResourceType"},
+    {"PIPELINE_RESOURCE_FLAGS", kResourceFlags, true, "Resources[].Flags"},
+    {"SHADER_VARIABLE_FLAGS", kVariableFlags, true, "Variables[].Flags"},
+    {"DYNAMIC_STATE (statepack)", kDynamicStates, true, "GraphicsPipeline.DynamicStates"},
+    {"PSO_CREATE_FLAGS", kPipelineFlags, true, "Pipelines[].Flags"},
+    {"FILTER_TYPE", kFilterTypes, false,
+     "ImmutableSamplers[].Desc.MinFilter, ImmutableSamplers[].Desc.MagFilter, "
+     "ImmutableSamplers[].Desc.MipFilter"},
+    {"TEXTURE_ADDRESS_MODE", kAddressModes, false,
+     "ImmutableSamplers[].Desc.AddressU, ImmutableSamplers[].Desc.AddressV, "
+     "ImmutableSamplers[].Desc.AddressW"},
+    {"SAMPLER_FLAGS", kSamplerFlags, true, "ImmutableSamplers[].Desc.Flags"},
+    {"ATTACHMENT_LOAD_OP", kLoadOps, false, "pAttachments[].LoadOp, pAttachments[].StencilLoadOp"},
+    {"ATTACHMENT_STORE_OP", kStoreOps, false, "pAttachments[].StoreOp, pAttachments[].StencilStoreOp"},
+    {"RESOURCE_STATE", kResourceStates, false,
+     "pAttachments[].InitialState, pAttachments[].FinalState, pSubpasses[] attachment references' State"},
+    {"PIPELINE_STAGE_FLAGS", kPipelineStages, true,
+     "pDependencies[].SrcStageMask, pDependencies[].DstStageMask"},
+    {"ACCESS_FLAGS", kAccessFlags, true, "pDependencies[].SrcAccessMask, pDependencies[].DstAccessMask"},
+    {"VALUE_TYPE", kValueTypes, false, "InputLayout.LayoutElements[].ValueType"},
+    {"INPUT_ELEMENT_FREQUENCY", kInputFrequencies, false, "InputLayout.LayoutElements[].Frequency"},
+};
+
 }  // namespace statepack::packager

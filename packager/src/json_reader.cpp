@@ -105,8 +105,39 @@ std::optional<uint32_t> JsonReader::enum_value(const Json& j, const std::string&
   return std::nullopt;
 }
 
+namespace {
+
+// "VERTEX | PIXEL" as the array the notation takes, each part by its notation name where it is a
+// Vulkan spelling ("VK_SHADER_STAGE_VERTEX_BIT").
+std::string as_flag_array(const std::string& text, EnumTable table) {
+  std::string out = "[";
+  size_t start = 0;
+  while (start <= text.size()) {
+    size_t bar = std::min(text.find('|', start), text.size());
+    std::string part = text.substr(start, bar - start);
+    part.erase(0, part.find_first_not_of(" \t"));
+    part.erase(part.find_last_not_of(" \t") + 1);
+    if (auto name = notation_name_for_vulkan_spelling(table, part)) part = *name;
+    out += (out.size() > 1 ? ", \"" : "\"") + part + "\"";
+    start = bar + 1;
+  }
+  return out + "]";
+}
+
+}  // namespace
+
 std::optional<uint32_t> JsonReader::flags_value(const Json& j, const std::string& pointer, EnumTable table,
                                                 const char* enum_name) {
+  // Diligent's reader takes one name or an array of names (DeserializeBitwiseEnum); "A | B" is an
+  // unknown name there too. Accepting it would make files that only statepack reads, so it stays an
+  // error, one that shows the spelling that works.
+  if (j.is_string() && j.get_ref<const std::string&>().find('|') != std::string::npos) {
+    const auto& s = j.get_ref<const std::string&>();
+    error(pointer, std::string(enum_name) + " '" + s +
+                       "': bit flags are combined as an array, not with '|' (as in Diligent's notation): " +
+                       as_flag_array(s, table));
+    return std::nullopt;
+  }
   if (j.is_string()) return enum_value(j, pointer, table, enum_name);
   if (!j.is_array()) {
     error(pointer,

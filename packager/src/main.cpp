@@ -1,7 +1,9 @@
 // statepack: the offline render-state packager CLI.
 #include <CLI/CLI.hpp>
 
+#include <filesystem>
 #include <iostream>
+#include <set>
 
 #include "archive_format.hpp"
 #include "inspect.hpp"
@@ -18,6 +20,25 @@ std::pair<std::string, std::string> parse_define(const std::string& text) {
   auto eq = text.find('=');
   if (eq == std::string::npos) return {text, "1"};
   return {text.substr(0, eq), text.substr(eq + 1)};
+}
+
+// A -s or -r directory that is not there would fail every lookup in it, each with its own "not found"
+// error; one error naming the directory says what is wrong. Each directory is reported once.
+bool check_search_dirs(const char* option, const std::vector<std::string>& dirs, std::ostream& err) {
+  bool ok = true;
+  std::set<std::string> reported;
+  for (const auto& dir : dirs) {
+    std::error_code ec;
+    auto status = std::filesystem::status(dir, ec);
+    if (std::filesystem::is_directory(status) || !reported.insert(dir).second) continue;
+    std::string reason = status.type() == std::filesystem::file_type::not_found ? "does not exist"
+                         : ec ? "cannot be examined: " + ec.message()
+                              : "is not a directory";
+    err << "statepack: error: " << option << " '" << printable(display_path(dir)) << "': the directory "
+        << reason << '\n';
+    ok = false;
+  }
+  return ok;
 }
 
 std::optional<uint32_t> parse_vulkan_version(const std::string& text) {
@@ -174,6 +195,8 @@ int run(int argc, char** argv) {
     return kExitUsage;
   }
   options.compile.vulkan_version = *version;
+  const bool dirs_ok = check_search_dirs("-s", shader_dirs, std::cerr);
+  if (!check_search_dirs("-r", render_state_dirs, std::cerr) || !dirs_ok) return kExitUsage;
   for (auto& i : inputs) options.inputs.emplace_back(i);
   for (auto& d : render_state_dirs) options.notation.render_state_dirs.emplace_back(d);
   for (auto& d : shader_dirs) {

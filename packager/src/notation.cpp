@@ -583,8 +583,9 @@ void read_notation(const fs::path& input, const NotationOptions& options, Notati
                                options.render_state_dirs, options.memory_files);
   if (path.empty())
     return diag.error({input.string()}, "cannot find render-state file (also searched the -r directories)");
-  std::string display = input.is_absolute() ? input.string() : display_path(path);
-  FileReader::read_file(path, display, notation, options, diag, {input.string()});
+  // Named as imports and shaders are, however the input was spelled: relative to the working directory
+  // when below it, so one file has one name in every message.
+  FileReader::read_file(path, display_path(path), notation, options, diag, {input.string()});
 }
 
 void resolve_references(Notation& notation, Diagnostics& diag) {

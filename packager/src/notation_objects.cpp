@@ -187,13 +187,15 @@ std::optional<ShaderDesc> read_shader(ReadContext& ctx, const Json& j, const std
   shader.stage = slot_stage;
   if (!json.expect_object(j, pointer, slot_stage ? "a shader slot (a name or an object)" : "a shader"))
     return std::nullopt;
+  // Counted from before the key check: a misspelt key ("EntryPont") leaves a default where the user
+  // meant a value, so the shader is not compiled on that guess.
+  const size_t errors_before = json.error_count();
   json.check_keys(
       j, pointer,
       {"Desc", "FilePath", "Source", "SourceLength", "EntryPoint", "Macros", "SourceLanguage",
        "ShaderCompiler", "HLSLVersion", "GLSLVersion", "GLESSLVersion", "MSLVersion", "CompileFlags",
        "LoadConstantBufferReflection", "GLSLExtensions", "WebGPUEmulatedArrayIndexSuffix", "ByteCode"},
       "shader");
-  const size_t errors_before = json.error_count();
   if (j.contains("ByteCode"))
     json.error(pointer + "/ByteCode", "'ByteCode' is not supported: give GLSL or HLSL source");
 

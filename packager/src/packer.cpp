@@ -208,22 +208,25 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err) {
   }
   std::vector<size_t> standalone_units;
   for (const auto& s : notation.shaders) standalone_units.push_back(unit_for(s));
-  // Notation errors stop the run before compiling; a shader that fails to compile stops only the
-  // pipelines that use it, so the others are still laid out and validated and their errors reported.
+  // Every shader whose own description is usable is compiled, even when other objects have notation
+  // errors, so one run reports both (docs/cli.md). Layouts and pipelines are assembled only from an
+  // error-free notation; a shader that fails to compile stops only the pipelines that use it, so the
+  // others are still laid out and validated and their errors reported.
   const bool notation_ok = !diag.has_errors();
-  if (notation_ok) {
-    parallel_for(units.size(), options.threads, [&](size_t i) {
-      CompiledUnit& u = units[i];
-      u.compiled = compile_shader(u.desc, options.compile, diag);
-      if (!u.compiled.ok) return;
-      u.reflection = reflect_spirv(u.compiled.spirv, u.desc.stage);
-      if (!u.reflection.error.empty()) {
-        u.compiled.ok = false;
-        diag.error(u.desc.where,
-                   "shader '" + u.desc.name + "': SPIR-V reflection failed: " + u.reflection.error);
-      }
-    });
-  }
+  ShaderMessages compile_errors;  // an error in a shared #include is reported once
+  parallel_for(units.size(), options.threads, [&](size_t i) {
+    CompiledUnit& u = units[i];
+    if (u.desc.broken) return;  // its notation errors are reported; compiling it would guess
+    u.compiled = compile_shader(u.desc, options.compile, compile_errors);
+    if (!u.compiled.ok) return;
+    u.reflection = reflect_spirv(u.compiled.spirv, u.desc.stage);
+    if (!u.reflection.error.empty()) {
+      u.compiled.ok = false;
+      diag.error(u.desc.where,
+                 "shader '" + u.desc.name + "': SPIR-V reflection failed: " + u.reflection.error);
+    }
+  });
+  compile_errors.report(diag);
   // Every file read so far: no output may replace one of them.
   std::vector<InputFile> inputs = notation.files_read;
   for (const auto& u : units)

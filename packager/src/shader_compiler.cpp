@@ -10,6 +10,8 @@
 
 #include <vulkan/vulkan_core.h>
 
+#include "hlsl_push_constants.hpp"
+
 #include <algorithm>
 #include <mutex>
 #include <optional>
@@ -100,7 +102,9 @@ class Includer final : public glslang::TShader::Includer {
     files_read_.push_back({fs::absolute(path, ec).lexically_normal(), input.identity});
     chain_.push_back(canonical);
     auto* owned = new std::string(std::move(input.text));
-    return new IncludeResult(path.string(), owned->data(), owned->size(), owned);
+    // The name glslang puts in its messages (and resolves nested includes against): relative to the
+    // working directory when below it, as every other file name in statepack's messages.
+    return new IncludeResult(display_path(path), owned->data(), owned->size(), owned);
   }
 
   const std::vector<fs::path>& dirs_;
@@ -112,7 +116,7 @@ class Includer final : public glslang::TShader::Includer {
 
 // glslang logs "ERROR: file:line: message"; turn each into a diagnostic at that file and line. Parsed
 // by hand: std::regex recurses per character and a long log line would exhaust the stack.
-void report_log(const std::string& log, const ShaderDesc& shader, Diagnostics& diag,
+void report_log(const std::string& log, const ShaderDesc& shader, ShaderMessages& messages,
                 const std::string& fallback_file) {
   std::istringstream lines(log);
   std::string line;
@@ -140,16 +144,18 @@ void report_log(const std::string& log, const ShaderDesc& shader, Diagnostics& d
     while (!message.empty() && message.front() == ' ') message.erase(message.begin());
     if (warning || message.find("compilation terminated") != std::string::npos) continue;
     Location where{std::string(rest.substr(0, colon)), line_number, 0, ""};
-    if (where.file.empty() || where.file == "0") where.file = fallback_file;
+    // A number instead of a name is a source-string number: glslang's when `#line N S` (GLSL's form)
+    // renumbered the source. Every string statepack gives glslang is the shader's own file.
+    if (where.file.find_first_not_of("0123456789") == std::string::npos) where.file = fallback_file;
     while (!message.empty() && message.back() == ' ') message.pop_back();
-    diag.error(where, "shader '" + shader.name + "': " + message);
+    messages.error(where, shader.name, message);
     any = true;
   }
   if (!any) {
     std::string trimmed = log;
     while (!trimmed.empty() && (trimmed.back() == '\n' || trimmed.back() == ' ')) trimmed.pop_back();
     if (trimmed.empty()) trimmed = "compilation failed";
-    diag.error(shader.where, "shader '" + shader.name + "': " + trimmed);
+    messages.error(shader.where, shader.name, trimmed);
   }
 }
 
@@ -190,7 +196,8 @@ std::string remove_unused_globals(std::vector<uint32_t>& spirv, uint32_t vulkan_
 
 }  // namespace
 
-CompiledShader compile_shader(const ShaderDesc& shader, const CompileOptions& options, Diagnostics& diag) {
+CompiledShader compile_shader(const ShaderDesc& shader, const CompileOptions& options,
+                              ShaderMessages& errors) {
   static std::once_flag initialized;
   std::call_once(initialized, [] { glslang::InitializeProcess(); });
 
@@ -200,7 +207,7 @@ CompiledShader compile_shader(const ShaderDesc& shader, const CompileOptions& op
   if (!shader.file.empty()) {
     InputText input = read_input_file(shader.file, display_path(shader.file));
     if (!input.error.empty()) {
-      diag.error(shader.where, "shader '" + shader.name + "': " + input.error);
+      errors.error(shader.where, shader.name, input.error);
       return result;
     }
     source = std::move(input.text);
@@ -209,7 +216,7 @@ CompiledShader compile_shader(const ShaderDesc& shader, const CompileOptions& op
     result.files_read.push_back({fs::absolute(shader.file, ec).lexically_normal(), input.identity});
   }
   if (source.size() > size_t(INT32_MAX)) {  // glslang takes int lengths
-    diag.error(shader.where, "shader '" + shader.name + "': the source is too large");
+    errors.error(shader.where, shader.name, "the source is too large");
     return result;
   }
 
@@ -243,22 +250,39 @@ CompiledShader compile_shader(const ShaderDesc& shader, const CompileOptions& op
   // extension that many drivers (lavapipe included) lack, and Vulkan does not use them.
   if (hlsl) ts.setHlslIoMapping(true);
   ts.setAutoMapBindings(true);  // resources without explicit bindings get one; the layout step finalises them
-  auto messages =
-      static_cast<EShMessages>(EShMsgSpvRules | EShMsgVulkanRules | (hlsl ? int(EShMsgReadHlsl) : 0));
+  // EShMsgEnhanced: the first error only. glslang stops at the first error of a file but not of an
+  // #include: after an error in the included file it went on to report a confused second one at the
+  // includer's line after the #include; HLSL also adds follow-on errors ("Could not perform requested
+  // binary operation") to the one that matters.
+  auto messages = static_cast<EShMessages>(EShMsgSpvRules | EShMsgVulkanRules | EShMsgEnhanced |
+                                           (hlsl ? int(EShMsgReadHlsl) : 0));
   std::error_code ec;
   Includer includer(options.include_dirs, result.files_read,
                     shader.file.empty() ? fs::path() : fs::weakly_canonical(shader.file, ec));
   if (!ts.parse(GetDefaultResources(), 450, false, messages, includer)) {
     if (!includer.problem().empty())
-      diag.error(shader.where, "shader '" + shader.name + "': " + includer.problem());
+      errors.error(shader.where, shader.name, includer.problem());
     else
-      report_log(ts.getInfoLog(), shader, diag, file_name);
+      report_log(ts.getInfoLog(), shader, errors, file_name);
     return result;
+  }
+  if (hlsl) {
+    bool misplaced = false;
+    for (const auto& pc : find_misplaced_push_constants(ts)) {
+      const std::string type = pc.type.empty() ? "S" : pc.type;
+      errors.error({pc.file.empty() ? file_name : pc.file, pc.line, 0, ""}, shader.name,
+                   "[[vk::push_constant]] on the global variable '" + pc.variable +
+                       "' is not a push constant for glslang (it would become a member of the $Global "
+                       "uniform buffer); declare it as '[[vk::push_constant]] ConstantBuffer<" +
+                       type + "> " + pc.variable + ";' or as a '[[vk::push_constant]] cbuffer'");
+      misplaced = true;
+    }
+    if (misplaced) return result;
   }
   glslang::TProgram program;
   program.addShader(&ts);
   if (!program.link(messages) || !program.mapIO()) {
-    report_log(program.getInfoLog(), shader, diag, file_name);
+    report_log(program.getInfoLog(), shader, errors, file_name);
     return result;
   }
   glslang::SpvOptions spv_options;
@@ -266,18 +290,25 @@ CompiledShader compile_shader(const ShaderDesc& shader, const CompileOptions& op
   spv::SpvBuildLogger logger;
   glslang::GlslangToSpv(*program.getIntermediate(stage), result.spirv, &logger, &spv_options);
   if (auto messages_text = logger.getAllMessages(); result.spirv.empty()) {
-    diag.error(shader.where, "shader '" + shader.name + "': SPIR-V generation failed: " + messages_text);
+    errors.error(shader.where, shader.name, "SPIR-V generation failed: " + messages_text);
     return result;
   }
   // A resource counts as used by what the entry point statically uses: glslang keeps every global of
   // the source (one HLSL file often holds VSMain and PSMain with disjoint resources), so module-scope
   // variables nothing references are removed before reflection decides the layout.
   if (std::string error = remove_unused_globals(result.spirv, options.vulkan_version); !error.empty()) {
-    diag.error(shader.where, "shader '" + shader.name + "': " + error);
+    errors.error(shader.where, shader.name, error);
     return result;
   }
 
   result.ok = true;
+  return result;
+}
+
+CompiledShader compile_shader(const ShaderDesc& shader, const CompileOptions& options, Diagnostics& diag) {
+  ShaderMessages errors;
+  CompiledShader result = compile_shader(shader, options, errors);
+  errors.report(diag);
   return result;
 }
 

@@ -9,6 +9,7 @@
 #include "diagnostics.hpp"
 #include "input_file.hpp"
 #include "notation.hpp"
+#include "shader_messages.hpp"
 
 namespace statepack::packager {
 
@@ -28,7 +29,11 @@ struct CompiledShader {
   bool ok = false;
 };
 
-// Compiles one shader. Errors are reported against the shader's own file and line.
+// Compiles one shader. Errors are reported against the shader's own file and line (or the #include's);
+// `messages` collects them from every shader, so an error in a shared #include is reported once.
+CompiledShader compile_shader(const ShaderDesc& shader, const CompileOptions& options,
+                              ShaderMessages& messages);
+// The same for a single shader, its errors added to `diagnostics` at once.
 CompiledShader compile_shader(const ShaderDesc& shader, const CompileOptions& options,
                               Diagnostics& diagnostics);
 
