@@ -4,6 +4,7 @@
 
 #include "diagnostics.hpp"
 #include "enum_tables.hpp"
+#include "format_support.hpp"
 #include "packer.hpp"
 #include "statepack/dearchiver.hpp"
 #include "vulkan_context.hpp"
@@ -27,13 +28,19 @@ const char* kind_name(ObjectKind kind) {
   return "object";
 }
 
-Result<void> unpack_one(Dearchiver& dearchiver, const ObjectInfo& object, VkFormat color_format) {
+// `patched_slots` receives the render targets the archive leaves UNKNOWN, which the application must
+// set at run time: verify shows them.
+Result<void> unpack_one(Dearchiver& dearchiver, const ObjectInfo& object, VkFormat color_format,
+                        std::vector<uint32_t>& patched_slots) {
   switch (object.kind) {
     case ObjectKind::graphics_pipeline: {
       // A render target left UNKNOWN is patched at run time (a swapchain format): verify it with one.
       auto patched = dearchiver.unpack_graphics(object.name, [&](PatchableState& s) {
         for (uint32_t i = 0; i < s.color_count && i < s.color_formats.size(); ++i)
-          if (s.color_formats[i] == VK_FORMAT_UNDEFINED) s.color_formats[i] = color_format;
+          if (s.color_formats[i] == VK_FORMAT_UNDEFINED) {
+            s.color_formats[i] = color_format;
+            patched_slots.push_back(i);
+          }
       });
       if (!patched) return patched.error();
       return {};
@@ -122,9 +129,16 @@ int run_verify(const VerifyOptions& options, std::ostream& out, std::ostream& er
         continue;
       }
       for (const ObjectInfo& object : objects) {
-        auto unpacked = unpack_one(*dearchiver, object, options.color_format);
+        std::vector<uint32_t> patched_slots;
+        auto unpacked = unpack_one(*dearchiver, object, options.color_format, patched_slots);
         auto messages = new_messages();
         std::string what = std::string(kind_name(object.kind)) + " '" + printable(object.name) + "'";
+        if (!patched_slots.empty()) {
+          what += " (UNKNOWN render target";
+          for (size_t i = 0; i < patched_slots.size(); ++i)
+            what += (i ? ", " : patched_slots.size() > 1 ? "s " : " ") + std::to_string(patched_slots[i]);
+          what += ", set at run time: verified as " + format_name(options.color_format) + ")";
+        }
         if (unpacked && messages.empty()) {
           out << "ok     " << what << '\n';
           ++ok;
