@@ -401,3 +401,96 @@ TEST_F(PackagerCli, HlslPushConstantsBecomeThePipelinesRange) {
 }
 
 }  // namespace
+
+namespace {
+
+class Merge : public PackagerCli {
+ protected:
+  // A notation with one graphics pipeline 'name' drawing with `topology`, and the Fill Buffer compute
+  // pipeline every archive here shares.
+  fs::path notation(const std::string& file, const std::string& name, const std::string& topology) {
+    fs::path json = dir_ / file;
+    std::ofstream(json)
+        << R"({"Pipelines": [{"PSODesc": {"Name": ")" << name << R"("},
+      "GraphicsPipeline": {"PrimitiveTopology": ")"
+        << topology << R"(", "RTVFormats": {"0": "RGBA8_UNORM"}, "DepthStencilDesc": {"DepthEnable": false}},
+      "pVS": {"Desc": {"Name": "VS", "ShaderType": "VERTEX"}, "FilePath": "fullscreen_triangle.vert"},
+      "pPS": {"Desc": {"Name": "PS", "ShaderType": "PIXEL"}, "FilePath": "gradient.frag"}},
+      {"PSODesc": {"Name": "Fill Buffer PSO"},
+       "pCS": {"Desc": {"Name": "Fill Buffer CS", "ShaderType": "COMPUTE"}, "FilePath": "fill_buffer.comp"}}]})";
+    return json;
+  }
+  fs::path pack(const fs::path& json, const std::string& extra = "") {
+    fs::path out = fs::path(json).replace_extension(".spk");
+    CliRun run = statepack(pack_args(json.string(), out) + extra);
+    EXPECT_EQ(run.exit_code, 0) << run.output;
+    return out;
+  }
+  std::string pipelines_of(const fs::path& archive) {
+    CliRun inspect = statepack("inspect --json '" + archive.string() + "'");
+    EXPECT_EQ(inspect.exit_code, 0) << inspect.output;
+    std::string names;
+    for (size_t at = inspect.output.find("\"name\": \""); at != std::string::npos;
+         at = inspect.output.find("\"name\": \"", at + 1))
+      names += inspect.output.substr(at + 9, inspect.output.find('"', at + 9) - at - 9) + ";";
+    return names;
+  }
+};
+
+TEST_F(Merge, SharedObjectsAreStoredOnceAndTheBytesAreDeterministic) {
+  fs::path a = pack(notation("a.json", "Lines PSO", "LINE_LIST"));
+  fs::path b = pack(notation("b.json", "Strip PSO", "TRIANGLE_STRIP"));
+  fs::path merged = dir_ / "merged.spk", again = dir_ / "again.spk", twice = dir_ / "twice.spk";
+  CliRun run = statepack("merge -o '" + merged.string() + "' '" + a.string() + "' '" + b.string() + "'");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  // Both graphics pipelines, and the compute pipeline both define identically, once.
+  std::string names = pipelines_of(merged);
+  for (const char* name : {"Lines PSO", "Strip PSO", "Fill Buffer PSO", "Fill Buffer CS"})
+    EXPECT_NE(names.find(name), std::string::npos) << name << " missing: " << names;
+  EXPECT_EQ(names.find("Fill Buffer PSO"), names.rfind("Fill Buffer PSO")) << names;
+  // Three shaders' SPIR-V is shared, so the merged archive is much smaller than the two together.
+  EXPECT_NE(run.output.find("3 SPIR-V blob(s)"), std::string::npos) << run.output;
+  EXPECT_LT(fs::file_size(merged), fs::file_size(a) + fs::file_size(b) - 1000);
+  // Same inputs, same bytes; merging an input in again changes nothing.
+  ASSERT_EQ(
+      statepack("merge -o '" + again.string() + "' '" + a.string() + "' '" + b.string() + "'").exit_code, 0);
+  EXPECT_EQ(read_file(merged), read_file(again));
+  ASSERT_EQ(
+      statepack("merge -o '" + twice.string() + "' '" + merged.string() + "' '" + b.string() + "'").exit_code,
+      0);
+  EXPECT_EQ(read_file(merged), read_file(twice));
+  // And it works: every object unpacks on lavapipe with the validation layer on.
+  CliRun verify = statepack("verify '" + merged.string() + "'");
+  EXPECT_EQ(verify.exit_code, 0) << verify.output;
+  EXPECT_NE(verify.output.find("3 of 3 objects ok"), std::string::npos) << verify.output;
+}
+
+TEST_F(Merge, ANameDefinedDifferentlyIsAnErrorNamingBothFiles) {
+  fs::path a = pack(notation("a.json", "Shared PSO", "LINE_LIST"));
+  fs::path b = pack(notation("b.json", "Shared PSO", "TRIANGLE_STRIP"));
+  fs::path merged = dir_ / "merged.spk";
+  CliRun run = statepack("merge -o '" + merged.string() + "' '" + a.string() + "' '" + b.string() + "'");
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_NE(run.output.find("error: pipeline 'Shared PSO' is defined differently in '" + a.string() +
+                            "' and '" + b.string() + "'"),
+            std::string::npos)
+      << run.output;
+  EXPECT_FALSE(fs::exists(merged));
+  // Content versions must agree unless the merged one is given.
+  fs::path c = pack(notation("c.json", "Other PSO", "LINE_LIST"), " -v 7");
+  CliRun versions = statepack("merge -o '" + merged.string() + "' '" + a.string() + "' '" + c.string() + "'");
+  EXPECT_EQ(versions.exit_code, 1);
+  EXPECT_NE(
+      versions.output.find("has content version 7, the archives before it 0: give the merged one with -v"),
+      std::string::npos)
+      << versions.output;
+  EXPECT_EQ(statepack("merge -v 9 -o '" + merged.string() + "' '" + a.string() + "' '" + c.string() + "'")
+                .exit_code,
+            0);
+  // The output never replaces an input.
+  CliRun onto = statepack("merge -o '" + a.string() + "' '" + a.string() + "' '" + c.string() + "'");
+  EXPECT_EQ(onto.exit_code, 2) << onto.output;
+  EXPECT_NE(onto.output.find("statepack never replaces its inputs"), std::string::npos) << onto.output;
+}
+
+}  // namespace

@@ -222,6 +222,7 @@ struct Pipeline {
   // specialization constants of every stage.
   uint32_t dynamic_states = kDynamicDefault;
   std::vector<SpecConstant> constants;
+  bool operator==(const Pipeline&) const = default;
 };
 
 // Everything an archive holds. When decoding, `spirv` points into the archive bytes (zero copy);

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "format_support.hpp"
+#include "spirv_walk.hpp"
 
 namespace statepack::packager {
 namespace {
@@ -392,6 +393,24 @@ bool check_graphics_interfaces(const PipelineDesc& p, const format::GraphicsStat
                              ? ordered.back()
                              : nullptr;
   ok &= check_render_targets(p, g, ps, sources, diag);
+  // Points take their size from the last stage before rasterization; when that is the vertex shader, it
+  // must write PointSize (VUID-VkGraphicsPipelineCreateInfo-topology-08773). The dearchiver's own SPIR-V
+  // walker decides "writes", so pack and unpack cannot disagree.
+  if (g.topology == VK_PRIMITIVE_TOPOLOGY_POINT_LIST && !ordered.empty() &&
+      ordered.front()->desc->stage == VK_SHADER_STAGE_VERTEX_BIT &&
+      std::none_of(ordered.begin(), ordered.end(), [](const StageInput* s) {
+        return s->desc->stage == VK_SHADER_STAGE_GEOMETRY_BIT ||
+               s->desc->stage == VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT;
+      })) {
+    auto module = spirv::walk(*ordered.front()->spirv);
+    if (module && !module->writes_point_size) {
+      diag.error(sources.at(p.where, p.where.pointer + "/GraphicsPipeline/PrimitiveTopology"),
+                 "pipeline '" + p.name + "' draws points (POINT_LIST), but " + shader_text(*ordered.front()) +
+                     " does not write PointSize (gl_PointSize; in HLSL an output with "
+                     "[[vk::builtin(\"PointSize\")]]): Vulkan needs each point's size");
+      ok = false;
+    }
+  }
   return ok;
 }
 

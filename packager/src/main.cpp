@@ -7,6 +7,7 @@
 
 #include "archive_format.hpp"
 #include "inspect.hpp"
+#include "merge.hpp"
 #include "packer.hpp"
 #include "verify.hpp"
 #include "version.hpp"
@@ -121,6 +122,18 @@ int run(int argc, char** argv) {
   inspect->add_option("archive", inspect_path, "The archive")->required();
   inspect->add_flag("--json", inspect_json, "Print JSON instead of text");
 
+  MergeOptions merge_options;
+  std::vector<std::string> merge_inputs;
+  std::string merge_output;
+  CLI::App* merge = app.add_subcommand(
+      "merge",
+      "Merge archives into one: shared SPIR-V, shaders and layouts stored once; a name defined "
+      "differently in two inputs is an error");
+  merge->add_option("archives", merge_inputs, "Archives to merge, in order")->required();
+  merge->add_option("-o,--output", merge_output, "The merged archive")->required();
+  merge->add_option("-v,--content_version", merge_options.content_version,
+                    "Content version of the merged archive (default: the inputs', which must then agree)");
+
   VerifyOptions verify_options;
   std::vector<std::string> verify_paths;
   std::string verify_format = "RGBA8_UNORM", verify_cache;
@@ -152,6 +165,11 @@ int run(int argc, char** argv) {
   }
 
   if (inspect->parsed()) return run_inspect(inspect_path, inspect_json, std::cout, std::cerr);
+  if (merge->parsed()) {
+    for (const auto& p : merge_inputs) merge_options.inputs.emplace_back(p);
+    merge_options.output = merge_output;
+    return run_merge(merge_options, std::cout, std::cerr);
+  }
   if (verify->parsed()) {
     for (const auto& p : verify_paths) verify_options.archives.emplace_back(p);
     auto format = parse_vk_format(verify_format);
