@@ -39,13 +39,22 @@ void JsonReader::warning(const std::string& pointer, std::string message) {
   diag_.warning(diag_.full() ? Location{display_} : at(pointer), std::move(message));
 }
 
+namespace {
+std::vector<std::string> key_names(std::span<const schema::Property> properties) {
+  std::vector<std::string> names;
+  for (const auto& p : properties) names.emplace_back(p.key);
+  return names;
+}
+}  // namespace
+
 void JsonReader::check_keys(const Json& object, const std::string& pointer,
-                            const std::vector<std::string>& allowed, const char* what) {
+                            std::span<const schema::Property> allowed, const char* what) {
   for (const auto& [key, value] : object.items()) {
-    if (std::find(allowed.begin(), allowed.end(), key) != allowed.end()) continue;
+    if (std::any_of(allowed.begin(), allowed.end(), [&](const schema::Property& p) { return p.key == key; }))
+      continue;
     if (diag_.full()) return;  // stop early: a file of a million unknown keys needs no million lines
-    diag_.error(at_key(pointer + "/" + key),
-                "unknown " + std::string(what) + " key '" + key + "'" + did_you_mean(key, allowed));
+    diag_.error(at_key(pointer + "/" + key), "unknown " + std::string(what) + " key '" + key + "'" +
+                                                 did_you_mean(key, key_names(allowed)));
   }
 }
 

@@ -11,6 +11,7 @@
 #include "diagnostics.hpp"
 #include "enum_tables.hpp"
 #include "json_positions.hpp"
+#include "notation_schema.hpp"
 
 namespace statepack::packager {
 
@@ -35,7 +36,7 @@ class JsonReader {
   Diagnostics& diagnostics() { return diag_; }
 
   // Reports keys of `object` that are not in `allowed`, each with a suggestion.
-  void check_keys(const Json& object, const std::string& pointer, const std::vector<std::string>& allowed,
+  void check_keys(const Json& object, const std::string& pointer, std::span<const schema::Property> allowed,
                   const char* what);
   bool expect_object(const Json& j, const std::string& pointer, const char* what);
   bool expect_array(const Json& j, const std::string& pointer, const char* what);

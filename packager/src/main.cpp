@@ -8,6 +8,7 @@
 #include "archive_format.hpp"
 #include "inspect.hpp"
 #include "merge.hpp"
+#include "notation_schema.hpp"
 #include "packer.hpp"
 #include "verify.hpp"
 #include "version.hpp"
@@ -122,6 +123,11 @@ int run(int argc, char** argv) {
   inspect->add_option("archive", inspect_path, "The archive")->required();
   inspect->add_flag("--json", inspect_json, "Print JSON instead of text");
 
+  CLI::App* schema_command = app.add_subcommand(
+      "schema",
+      "Print the notation's JSON Schema (draft-07), for editors: generated from the tables the "
+      "packer reads with");
+
   MergeOptions merge_options;
   std::vector<std::string> merge_inputs;
   std::string merge_output;
@@ -165,6 +171,10 @@ int run(int argc, char** argv) {
   }
 
   if (inspect->parsed()) return run_inspect(inspect_path, inspect_json, std::cout, std::cerr);
+  if (schema_command->parsed()) {
+    std::cout << schema::notation_json_schema().dump(2) << '\n';
+    return kExitSuccess;
+  }
   if (merge->parsed()) {
     for (const auto& p : merge_inputs) merge_options.inputs.emplace_back(p);
     merge_options.output = merge_output;

@@ -9,6 +9,7 @@
 #include "json_document.hpp"
 #include "json_reader.hpp"
 #include "notation_objects.hpp"
+#include "notation_schema.hpp"
 #include "suggest.hpp"
 
 namespace statepack::packager {
@@ -94,10 +95,7 @@ class FileReader {
   void read(const Json& root) {
     if (!root.is_object())
       return json_.error("", std::string("the top level must be an object, but is ") + root.type_name());
-    json_.check_keys(
-        root, "",
-        {"Imports", "Defaults", "Shaders", "RenderPasses", "ResourceSignatures", "Pipelines", "Ignore"},
-        "top-level section");
+    json_.check_keys(root, "", schema::kTopLevel, "top-level section");
     // Imports first, fully, with their own (empty) defaults: DRSN's defaults are file-local.
     if (auto it = root.find("Imports"); it != root.end()) read_imports(*it);
     if (auto it = root.find("Ignore"); it != root.end()) read_ignore(*it);
@@ -142,7 +140,7 @@ class FileReader {
 
   void read_ignore(const Json& ignore) {
     if (!json_.expect_object(ignore, "/Ignore", "'Ignore'")) return;
-    json_.check_keys(ignore, "/Ignore", {"Signatures"}, "Ignore");
+    json_.check_keys(ignore, "/Ignore", schema::kIgnore, "Ignore");
     auto names = ignore.find("Signatures");
     if (names == ignore.end() || !json_.expect_array(*names, "/Ignore/Signatures", "'Signatures'")) return;
     for (size_t i = 0; i < names->size(); ++i) {
@@ -157,8 +155,7 @@ class FileReader {
   // a block with errors is not applied.
   void read_defaults(const Json& defaults) {
     if (!json_.expect_object(defaults, "/Defaults", "'Defaults'")) return;
-    json_.check_keys(defaults, "/Defaults", {"Shader", "RenderPass", "ResourceSignature", "Pipeline"},
-                     "Defaults");
+    json_.check_keys(defaults, "/Defaults", schema::kDefaults, "Defaults");
     ReadContext lenient = ctx_;
     lenient.defaults_mode = true;
     auto checked = [&](const char* key, auto&& check) -> Json {
@@ -177,12 +174,9 @@ class FileReader {
     defaults_.signature = checked(
         "ResourceSignature", [&](const Json& j, const std::string& p) { read_signature(lenient, j, p); });
     defaults_.pipeline = checked("Pipeline", [&](const Json& j, const std::string& p) {
-      json_.check_keys(j, p, {"PSODesc", "Flags", "ppResourceSignatures", "GraphicsPipeline"},
-                       "default pipeline");
+      json_.check_keys(j, p, schema::kDefaultPipeline, "default pipeline");
       if (auto d = j.find("PSODesc"); d != j.end() && json_.expect_object(*d, p + "/PSODesc", "'PSODesc'")) {
-        json_.check_keys(*d, p + "/PSODesc",
-                         {"ResourceLayout", "SRBAllocationGranularity", "ImmediateContextMask"},
-                         "default PSODesc");
+        json_.check_keys(*d, p + "/PSODesc", schema::kDefaultPSODesc, "default PSODesc");
         PipelineDesc scratch;
         if (auto layout = d->find("ResourceLayout"); layout != d->end())
           resource_layout(*layout, p + "/PSODesc/ResourceLayout", scratch);
@@ -283,10 +277,7 @@ class FileReader {
 
   void resource_layout(const Json& j, const std::string& pointer, PipelineDesc& p) {
     if (!json_.expect_object(j, pointer, "'ResourceLayout'")) return;
-    json_.check_keys(j, pointer,
-                     {"DefaultVariableType", "DefaultVariableMergeStages", "Variables", "NumVariables",
-                      "ImmutableSamplers", "NumImmutableSamplers"},
-                     "ResourceLayout");
+    json_.check_keys(j, pointer, schema::kResourceLayout, "ResourceLayout");
     uint32_t unused = 0;
     json_.enum_field(j, "DefaultVariableType", pointer, kVariableTypes, "variable type", unused);
     json_.flags_field(j, "DefaultVariableMergeStages", pointer, kShaderStageFlags, "shader stage", unused);
@@ -303,7 +294,7 @@ class FileReader {
       std::string vp = pointer + "/Variables/" + std::to_string(i);
       const Json& v = (*vars)[i];
       if (!json_.expect_object(v, vp, "a variable")) continue;
-      json_.check_keys(v, vp, {"Name", "ShaderStages", "Type", "Flags"}, "variable");
+      json_.check_keys(v, vp, schema::kVariable, "variable");
       ResourceVariable var;
       var.pointer = vp;
       var.name = json_.string(v, "Name", vp).value_or("");
@@ -328,7 +319,7 @@ class FileReader {
       const std::string sp = lp + "/" + std::to_string(i);
       const Json& e = (*list)[i];
       if (!json_.expect_object(e, sp, "a specialization constant")) continue;
-      json_.check_keys(e, sp, {"Name", "ShaderStages", "Value", "Size", "pData"}, "specialization constant");
+      json_.check_keys(e, sp, schema::kSpecializationConstant, "specialization constant");
       SpecConstantDesc k;
       k.where = json_.at(sp);
       k.name = json_.string(e, "Name", sp).value_or("");
@@ -406,10 +397,7 @@ class FileReader {
     auto pso_desc = j.find("PSODesc");
     if (pso_desc == j.end()) return json_.error(pointer, "a pipeline needs 'PSODesc' with a 'Name'");
     if (!json_.expect_object(*pso_desc, pointer + "/PSODesc", "'PSODesc'")) return;
-    json_.check_keys(
-        *pso_desc, pointer + "/PSODesc",
-        {"Name", "PipelineType", "ResourceLayout", "SRBAllocationGranularity", "ImmediateContextMask"},
-        "PSODesc");
+    json_.check_keys(*pso_desc, pointer + "/PSODesc", schema::kPSODesc, "PSODesc");
     p.name = json_.string(*pso_desc, "Name", pointer + "/PSODesc").value_or("");
     if (p.name.empty()) json_.error(pointer + "/PSODesc", "a pipeline needs a name ('PSODesc.Name')");
     uint32_t unused = 0;
@@ -432,15 +420,9 @@ class FileReader {
     }
     p.kind = *type == 1 ? format::PipelineKind::compute : format::PipelineKind::graphics;
     if (p.kind == format::PipelineKind::compute)
-      json_.check_keys(j, pointer,
-                       {"PSODesc", "Flags", "ppResourceSignatures", "pCS", "pSpecializationConstants",
-                        "NumSpecializationConstants"},
-                       "compute pipeline");
+      json_.check_keys(j, pointer, schema::kComputePipelineObject, "compute pipeline");
     else
-      json_.check_keys(j, pointer,
-                       {"PSODesc", "Flags", "ppResourceSignatures", "GraphicsPipeline", "pVS", "pPS", "pDS",
-                        "pHS", "pGS", "pSpecializationConstants", "NumSpecializationConstants"},
-                       "graphics pipeline");
+      json_.check_keys(j, pointer, schema::kGraphicsPipelineObject, "graphics pipeline");
     json_.flags_field(j, "Flags", pointer, kPipelineFlags, "pipeline flag", p.flags);
     if (auto s = j.find("ppResourceSignatures"); s != j.end())
       p.signatures = signature_list(*s, pointer + "/ppResourceSignatures");

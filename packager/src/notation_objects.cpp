@@ -1,5 +1,7 @@
 #include "notation_objects.hpp"
 
+#include "notation_schema.hpp"
+
 #include <array>
 #include <bit>
 #include <cfloat>
@@ -66,7 +68,7 @@ void read_input_layout(ReadContext& ctx, const Json& j, const std::string& point
                        format::GraphicsState& g) {
   JsonReader& json = ctx.json;
   if (!json.expect_object(j, pointer, "'InputLayout'")) return;
-  json.check_keys(j, pointer, {"LayoutElements", "NumElements"}, "InputLayout");
+  json.check_keys(j, pointer, schema::kInputLayout, "InputLayout");
   auto elements = j.find("LayoutElements");
   if (elements == j.end() || !json.expect_array(*elements, pointer + "/LayoutElements", "'LayoutElements'"))
     return;
@@ -80,10 +82,7 @@ void read_input_layout(ReadContext& ctx, const Json& j, const std::string& point
     std::string ep = pointer + "/LayoutElements/" + std::to_string(i);
     const Json& e = (*elements)[i];
     if (!json.expect_object(e, ep, "a layout element")) continue;
-    json.check_keys(e, ep,
-                    {"HLSLSemantic", "InputIndex", "BufferSlot", "NumComponents", "ValueType", "IsNormalized",
-                     "RelativeOffset", "Stride", "Frequency", "InstanceDataStepRate"},
-                    "layout element");
+    json.check_keys(e, ep, schema::kLayoutElement, "layout element");
     uint32_t location = 0, slot = 0, components = 0, value_type = 8, normalized = 1, offset = kAuto,
              stride = kAuto, rate = VK_VERTEX_INPUT_RATE_VERTEX, step = 1;
     json.string(e, "HLSLSemantic", ep);
@@ -126,8 +125,7 @@ void read_input_layout(ReadContext& ctx, const Json& j, const std::string& point
 
 void read_blend(ReadContext& ctx, const Json& b, const std::string& pointer, format::GraphicsState& g) {
   JsonReader& json = ctx.json;
-  json.check_keys(b, pointer, {"AlphaToCoverageEnable", "IndependentBlendEnable", "RenderTargets"},
-                  "BlendDesc");
+  json.check_keys(b, pointer, schema::kBlendDesc, "BlendDesc");
   json.boolean(b, "AlphaToCoverageEnable", pointer, g.alpha_to_coverage);
   uint32_t independent = 0;
   json.boolean(b, "IndependentBlendEnable", pointer, independent);
@@ -138,10 +136,7 @@ void read_blend(ReadContext& ctx, const Json& b, const std::string& pointer, for
       auto index = parse_index(json, key, pointer + "/RenderTargets");
       std::string rp = pointer + "/RenderTargets/" + key;
       if (!index || !json.expect_object(rt, rp, "a render-target blend description")) continue;
-      json.check_keys(rt, rp,
-                      {"BlendEnable", "LogicOperationEnable", "SrcBlend", "DestBlend", "BlendOp",
-                       "SrcBlendAlpha", "DestBlendAlpha", "BlendOpAlpha", "LogicOp", "RenderTargetWriteMask"},
-                      "render-target blend");
+      json.check_keys(rt, rp, schema::kRenderTargetBlend, "render-target blend");
       format::BlendAttachment& a = g.blend[*index];
       json.boolean(rt, "BlendEnable", rp, a.enable);
       uint32_t logic = 0;
@@ -190,19 +185,12 @@ std::optional<ShaderDesc> read_shader(ReadContext& ctx, const Json& j, const std
   // Counted from before the key check: a misspelt key ("EntryPont") leaves a default where the user
   // meant a value, so the shader is not compiled on that guess.
   const size_t errors_before = json.error_count();
-  json.check_keys(
-      j, pointer,
-      {"Desc", "FilePath", "Source", "SourceLength", "EntryPoint", "Macros", "SourceLanguage",
-       "ShaderCompiler", "HLSLVersion", "GLSLVersion", "GLESSLVersion", "MSLVersion", "CompileFlags",
-       "LoadConstantBufferReflection", "GLSLExtensions", "WebGPUEmulatedArrayIndexSuffix", "ByteCode"},
-      "shader");
+  json.check_keys(j, pointer, schema::kShader, "shader");
   if (j.contains("ByteCode"))
     json.error(pointer + "/ByteCode", "'ByteCode' is not supported: give GLSL or HLSL source");
 
   if (auto desc = j.find("Desc"); desc != j.end() && json.expect_object(*desc, pointer + "/Desc", "'Desc'")) {
-    json.check_keys(*desc, pointer + "/Desc",
-                    {"Name", "ShaderType", "UseCombinedTextureSamplers", "CombinedSamplerSuffix"},
-                    "shader Desc");
+    json.check_keys(*desc, pointer + "/Desc", schema::kShaderDesc, "shader Desc");
     shader.name = json.string(*desc, "Name", pointer + "/Desc").value_or("");
     uint32_t ignored = 0;
     json.boolean(*desc, "UseCombinedTextureSamplers", pointer + "/Desc", ignored);
@@ -260,7 +248,7 @@ std::optional<ShaderDesc> read_shader(ReadContext& ctx, const Json& j, const std
       std::string mp = pointer + "/Macros/" + std::to_string(i);
       const Json& m = (*macros)[i];
       if (!json.expect_object(m, mp, "a macro")) continue;
-      json.check_keys(m, mp, {"Name", "Definition"}, "macro");
+      json.check_keys(m, mp, schema::kMacro, "macro");
       auto name = json.string(m, "Name", mp);
       if (!name || name->empty()) {
         json.error(mp, "a macro needs a 'Name'");
@@ -282,12 +270,7 @@ void read_graphics_state(ReadContext& ctx, const Json& j, const std::string& poi
                          format::GraphicsState& g) {
   JsonReader& json = ctx.json;
   if (!json.expect_object(j, pointer, "'GraphicsPipeline'")) return;
-  json.check_keys(
-      j, pointer,
-      {"BlendDesc", "SampleMask", "RasterizerDesc", "DepthStencilDesc", "InputLayout", "PrimitiveTopology",
-       "NumViewports", "NumRenderTargets", "SubpassIndex", "ShadingRateFlags", "RTVFormats", "DSVFormat",
-       "ReadOnlyDSV", "SmplDesc", "NodeMask", "pRenderPass", "DynamicStates"},
-      "GraphicsPipeline");
+  json.check_keys(j, pointer, schema::kGraphicsPipelineDesc, "GraphicsPipeline");
   json.enum_field(j, "PrimitiveTopology", pointer, kTopologies, "primitive topology", g.topology);
   if (g.topology > kPatchListTopology) {
     g.patch_control_points = g.topology - kPatchListTopology;
@@ -309,10 +292,7 @@ void read_graphics_state(ReadContext& ctx, const Json& j, const std::string& poi
   if (auto r = j.find("RasterizerDesc");
       r != j.end() && json.expect_object(*r, pointer + "/RasterizerDesc", "'RasterizerDesc'")) {
     std::string rp = pointer + "/RasterizerDesc";
-    json.check_keys(*r, rp,
-                    {"FillMode", "CullMode", "FrontCounterClockwise", "DepthClipEnable", "ScissorEnable",
-                     "AntialiasedLineEnable", "DepthBias", "DepthBiasClamp", "SlopeScaledDepthBias"},
-                    "RasterizerDesc");
+    json.check_keys(*r, rp, schema::kRasterizerDesc, "RasterizerDesc");
     json.enum_field(*r, "FillMode", rp, kFillModes, "fill mode", g.polygon_mode);
     json.enum_field(*r, "CullMode", rp, kCullModes, "cull mode", g.cull_mode);
     uint32_t ccw = g.front_face == VK_FRONT_FACE_COUNTER_CLOCKWISE, depth_clip = !g.depth_clamp;
@@ -336,10 +316,7 @@ void read_graphics_state(ReadContext& ctx, const Json& j, const std::string& poi
   if (auto d = j.find("DepthStencilDesc");
       d != j.end() && json.expect_object(*d, pointer + "/DepthStencilDesc", "'DepthStencilDesc'")) {
     std::string dp = pointer + "/DepthStencilDesc";
-    json.check_keys(*d, dp,
-                    {"DepthEnable", "DepthWriteEnable", "DepthFunc", "StencilEnable", "StencilReadMask",
-                     "StencilWriteMask", "FrontFace", "BackFace"},
-                    "DepthStencilDesc");
+    json.check_keys(*d, dp, schema::kDepthStencilDesc, "DepthStencilDesc");
     json.boolean(*d, "DepthEnable", dp, g.depth_test);
     json.boolean(*d, "DepthWriteEnable", dp, g.depth_write);
     json.enum_field(*d, "DepthFunc", dp, kComparisonFuncs, "comparison function", g.depth_compare);
@@ -350,8 +327,7 @@ void read_graphics_state(ReadContext& ctx, const Json& j, const std::string& poi
       auto f = d->find(key);
       std::string fp = dp + "/" + key;
       if (f == d->end() || !json.expect_object(*f, fp, key)) continue;
-      json.check_keys(*f, fp, {"StencilFailOp", "StencilDepthFailOp", "StencilPassOp", "StencilFunc"},
-                      "stencil op");
+      json.check_keys(*f, fp, schema::kStencilOpDesc, "stencil op");
       json.enum_field(*f, "StencilFailOp", fp, kStencilOps, "stencil op", op->fail_op);
       json.enum_field(*f, "StencilDepthFailOp", fp, kStencilOps, "stencil op", op->depth_fail_op);
       json.enum_field(*f, "StencilPassOp", fp, kStencilOps, "stencil op", op->pass_op);
@@ -394,7 +370,7 @@ void read_graphics_state(ReadContext& ctx, const Json& j, const std::string& poi
                                            "D24_UNORM_S8_UINT, D32_FLOAT or D32_FLOAT_S8X24_UINT");
   if (auto s = j.find("SmplDesc");
       s != j.end() && json.expect_object(*s, pointer + "/SmplDesc", "'SmplDesc'")) {
-    json.check_keys(*s, pointer + "/SmplDesc", {"Count", "Quality"}, "SmplDesc");
+    json.check_keys(*s, pointer + "/SmplDesc", schema::kSmplDesc, "SmplDesc");
     json.unsigned_number(*s, "Count", pointer + "/SmplDesc", g.samples);
     json.unsigned_number(*s, "Quality", pointer + "/SmplDesc", unused);
     if (!std::has_single_bit(g.samples) || g.samples > 64)
@@ -406,11 +382,7 @@ std::optional<format::Sampler> read_sampler(ReadContext& ctx, const Json& j, con
   JsonReader& json = ctx.json;
   if (!json.expect_object(j, pointer, "a sampler description")) return std::nullopt;
   const size_t errors_before = json.error_count();
-  json.check_keys(j, pointer,
-                  {"Name", "MinFilter", "MagFilter", "MipFilter", "AddressU", "AddressV", "AddressW", "Flags",
-                   "UnnormalizedCoords", "MipLODBias", "MaxAnisotropy", "ComparisonFunc", "BorderColor",
-                   "MinLOD", "MaxLOD"},
-                  "sampler");
+  json.check_keys(j, pointer, schema::kSamplerDesc, "sampler");
   format::Sampler s;
   uint32_t min = VK_FILTER_LINEAR, mag = VK_FILTER_LINEAR, mip = VK_FILTER_LINEAR, flags = 0, anisotropy = 0;
   json.string(j, "Name", pointer);
@@ -464,7 +436,7 @@ std::vector<ImmutableSamplerDesc> read_immutable_samplers(ReadContext& ctx, cons
     std::string sp = pointer + "/" + std::to_string(i);
     const Json& e = j[i];
     if (!json.expect_object(e, sp, "an immutable sampler")) continue;
-    json.check_keys(e, sp, {"ShaderStages", "SamplerOrTextureName", "Desc"}, "immutable sampler");
+    json.check_keys(e, sp, schema::kImmutableSampler, "immutable sampler");
     ImmutableSamplerDesc desc;
     json.stage_flags_field(e, "ShaderStages", sp, desc.stages);
     desc.name = json.string(e, "SamplerOrTextureName", sp).value_or("");
@@ -483,11 +455,7 @@ std::optional<SignatureDesc> read_signature(ReadContext& ctx, const Json& j, con
   JsonReader& json = ctx.json;
   if (!json.expect_object(j, pointer, "a resource signature")) return std::nullopt;
   const size_t errors_before = json.error_count();
-  json.check_keys(
-      j, pointer,
-      {"Name", "Resources", "NumResources", "ImmutableSamplers", "NumImmutableSamplers", "BindingIndex",
-       "UseCombinedTextureSamplers", "CombinedSamplerSuffix", "SRBAllocationGranularity"},
-      "resource signature");
+  json.check_keys(j, pointer, schema::kResourceSignature, "resource signature");
   SignatureDesc sig;
   sig.where = json.at(pointer);
   sig.name = json.string(j, "Name", pointer).value_or("");
@@ -511,9 +479,7 @@ std::optional<SignatureDesc> read_signature(ReadContext& ctx, const Json& j, con
       std::string rp = pointer + "/Resources/" + std::to_string(i);
       const Json& r = (*resources)[i];
       if (!json.expect_object(r, rp, "a resource")) continue;
-      json.check_keys(
-          r, rp, {"Name", "ShaderStages", "ArraySize", "ResourceType", "VarType", "Flags", "WebGPUAttribs"},
-          "resource");
+      json.check_keys(r, rp, schema::kResource, "resource");
       SignatureResource res;
       res.name = json.string(r, "Name", rp).value_or("");
       if (res.name.empty()) json.error(rp, "a resource needs a 'Name'");
@@ -599,10 +565,7 @@ std::optional<RenderPassDesc> read_render_pass(ReadContext& ctx, const Json& j, 
   JsonReader& json = ctx.json;
   if (!json.expect_object(j, pointer, "a render pass")) return std::nullopt;
   const size_t errors_before = json.error_count();
-  json.check_keys(j, pointer,
-                  {"Name", "pAttachments", "AttachmentCount", "pSubpasses", "SubpassCount", "pDependencies",
-                   "DependencyCount"},
-                  "render pass");
+  json.check_keys(j, pointer, schema::kRenderPass, "render pass");
   RenderPassDesc desc;
   desc.where = json.at(pointer);
   format::RenderPass& rp = desc.pass;
@@ -618,10 +581,7 @@ std::optional<RenderPassDesc> read_render_pass(ReadContext& ctx, const Json& j, 
       std::string ap = pointer + "/pAttachments/" + std::to_string(i);
       const Json& a = (*list)[i];
       if (!json.expect_object(a, ap, "an attachment")) continue;
-      json.check_keys(a, ap,
-                      {"Format", "SampleCount", "LoadOp", "StoreOp", "StencilLoadOp", "StencilStoreOp",
-                       "InitialState", "FinalState"},
-                      "attachment");
+      json.check_keys(a, ap, schema::kAttachment, "attachment");
       format::Attachment att;
       att.load_op = VK_ATTACHMENT_LOAD_OP_LOAD;
       att.store_op = VK_ATTACHMENT_STORE_OP_STORE;
@@ -664,7 +624,7 @@ std::optional<RenderPassDesc> read_render_pass(ReadContext& ctx, const Json& j, 
   }
   auto reference = [&](const Json& r, const std::string& rp_ptr, format::AttachmentRef& out) {
     if (!json.expect_object(r, rp_ptr, "an attachment reference")) return;
-    json.check_keys(r, rp_ptr, {"AttachmentIndex", "State"}, "attachment reference");
+    json.check_keys(r, rp_ptr, schema::kAttachmentReference, "attachment reference");
     json.unsigned_number(r, "AttachmentIndex", rp_ptr, out.attachment);
     json.enum_field(r, "State", rp_ptr, kResourceStates, "resource state", out.layout);
     if (out.attachment != format::kNone && out.attachment >= rp.attachments.size())
@@ -688,11 +648,7 @@ std::optional<RenderPassDesc> read_render_pass(ReadContext& ctx, const Json& j, 
       std::string sp = pointer + "/pSubpasses/" + std::to_string(i);
       const Json& s = (*list)[i];
       if (!json.expect_object(s, sp, "a subpass")) continue;
-      json.check_keys(s, sp,
-                      {"pInputAttachments", "InputAttachmentCount", "pRenderTargetAttachments",
-                       "RenderTargetAttachmentCount", "pResolveAttachments", "pDepthStencilAttachment",
-                       "pPreserveAttachments", "PreserveAttachmentCount", "pShadingRateAttachment"},
-                      "subpass");
+      json.check_keys(s, sp, schema::kSubpass, "subpass");
       for (const char* count :
            {"InputAttachmentCount", "RenderTargetAttachmentCount", "PreserveAttachmentCount"})
         json.unsigned_number(s, count, sp, unused);
@@ -731,10 +687,7 @@ std::optional<RenderPassDesc> read_render_pass(ReadContext& ctx, const Json& j, 
       std::string dp = pointer + "/pDependencies/" + std::to_string(i);
       const Json& d = (*list)[i];
       if (!json.expect_object(d, dp, "a dependency")) continue;
-      json.check_keys(
-          d, dp,
-          {"SrcSubpass", "DstSubpass", "SrcStageMask", "DstStageMask", "SrcAccessMask", "DstAccessMask"},
-          "dependency");
+      json.check_keys(d, dp, schema::kDependency, "dependency");
       format::Dependency dep;
       json.unsigned_number(d, "SrcSubpass", dp, dep.src_subpass);
       json.unsigned_number(d, "DstSubpass", dp, dep.dst_subpass);
