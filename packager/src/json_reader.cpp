@@ -49,7 +49,8 @@ std::vector<std::string> key_names(std::span<const schema::Property> properties)
 
 void JsonReader::check_keys(const Json& object, const std::string& pointer,
                             std::span<const schema::Property> allowed, const char* what) {
-  for (const auto& [key, value] : object.items()) {
+  for (const auto& item : object.items()) {
+    const std::string& key = item.key();
     if (std::any_of(allowed.begin(), allowed.end(), [&](const schema::Property& p) { return p.key == key; }))
       continue;
     if (diag_.full()) return;  // stop early: a file of a million unknown keys needs no million lines
