@@ -8,7 +8,8 @@
 #     [DEFINES NAME=VALUE...]         # -D: macros for every shader
 #     [CONTENT_VERSION <n>]           # -v: user content version in the header
 #     [VULKAN_VERSION 1.0|1.1|1.2|1.3]
-#     [PACKAGER <path or target>]     # default: the statepack target of this build, else `statepack` on PATH
+#     [PACKAGER <path or target>]     # default: the statepack target of this build, else the installed
+#                                     # statepack::statepack (find_package), else `statepack` on PATH
 #     [VERIFY]                        # also run `statepack verify` on the local Vulkan device
 #     [ARGS <extra packager args>...])
 #
@@ -37,6 +38,8 @@ function(statepack_add_archive target)
     set(packager "${ARG_PACKAGER}")
   elseif(TARGET statepack)
     set(packager statepack)
+  elseif(TARGET statepack::statepack)  # imported by find_package(statepack): the installed packager
+    set(packager statepack::statepack)
   else()
     find_program(STATEPACK_EXECUTABLE statepack REQUIRED)
     set(packager "${STATEPACK_EXECUTABLE}")

@@ -2,8 +2,9 @@
 # An external CMake project packs its archive through statepack_add_archive: it builds, a second build
 # does nothing, touching an #include'd shader or the JSON repacks, and a broken shader fails the build
 # with the shader's file and line while the previous archive survives. Unix Makefiles build it into a new
-# directory, and a misspelt keyword of the function is named. Last, the C++ a user copies from README.md
-# and docs/ compiles against the public headers without warnings (compile_doc_snippets.sh).
+# directory, Ninja Multi-Config packs it once for two configurations, and a misspelt keyword of the
+# function is named. Last, the C++ a user copies from README.md and docs/ compiles against the public
+# headers without warnings (compile_doc_snippets.sh).
 # Usage: run_consumer_test.sh <statepack executable> <StatepackAddArchive.cmake> <work dir> <source root>
 #        <C++ compiler>
 set -euo pipefail
@@ -41,6 +42,16 @@ cmake -S "$work/make-src" -B "$work/make/build" -G "Unix Makefiles" -DSTATEPACK_
   -DSTATEPACK_EXECUTABLE="$statepack" >/dev/null || fail "Unix Makefiles configure failed"
 out=$(cmake --build "$work/make/build" 2>&1) || fail "Unix Makefiles build failed: $out"
 [[ -s "$work/make/build/nested/dir/consumer.spk" ]] || fail "Unix Makefiles: no archive in a new directory: $out"
+
+# Ninja Multi-Config: one build directory for several configurations. The archive does not depend on
+# the configuration, so it is packed once, and building a second configuration leaves it alone.
+cp -r "$here" "$work/multi-src"
+cmake -S "$work/multi-src" -B "$work/multi/build" -G "Ninja Multi-Config" -DSTATEPACK_CMAKE="$module" \
+  -DSTATEPACK_EXECUTABLE="$statepack" >/dev/null || fail "Ninja Multi-Config configure failed"
+out=$(cmake --build "$work/multi/build" --config Debug 2>&1) || fail "Ninja Multi-Config build failed: $out"
+[[ -s "$work/multi/build/consumer.spk" ]] || fail "Ninja Multi-Config: no archive: $out"
+out=$(cmake --build "$work/multi/build" --config Release 2>&1) || fail "Ninja Multi-Config Release build failed: $out"
+echo "$out" | grep -q "statepack: packing" && fail "Ninja Multi-Config: a second configuration repacked: $out"
 
 # A misspelt keyword is named, not reported as a missing OUTPUT.
 mkdir -p "$work/typo"

@@ -1,0 +1,64 @@
+#!/usr/bin/env bash
+# STATEPACK_BUILD_PACKAGER=OFF, as an application that only loads archives builds statepack: a fresh
+# build of the source tree (shared dearchiver, so that ldd can look at it) in which glslang,
+# SPIRV-Tools, spirv-cross, CLI11 and nlohmann_json are never even looked for (they are installed here,
+# so the proof is that the configuration does not know them), no packager, test or sample target exists,
+# nothing links a shader compiler, and the installed package has statepack::dearchiver without
+# statepack::statepack.
+# Usage: run_dearchiver_only_test.sh <source root> <work dir>
+set -euo pipefail
+root=$1 work=$2
+fail() { echo "FAIL: $*"; exit 1; }
+rm -rf "$work" && mkdir -p "$work"
+build=$work/build
+
+# Debug: the quickest to compile; warnings are still errors.
+cmake -S "$root" -B "$build" -G Ninja -DSTATEPACK_BUILD_PACKAGER=OFF -DSTATEPACK_SHARED=ON \
+  -DSTATEPACK_WERROR=ON -DCMAKE_BUILD_TYPE=Debug >"$work/configure.log" 2>&1 ||
+  fail "configure failed: $(cat "$work/configure.log")"
+# What find_package (<name>_DIR) and pkg_check_modules (__pkg_config_checked_<prefix>) leave in the cache.
+# (FindVulkan's own glslangValidator lookup is not the packager's and is left out.)
+looked_for='^(glslang|SPIRV-Tools|SPIRV-Tools-opt|CLI11|nlohmann_json|GTest|glfw3)_DIR:|^__pkg_config_checked_(SPIRV_CROSS_C|IMGUI):'
+found=$(grep -E "$looked_for" "$build/CMakeCache.txt" | head -5 || true)
+[[ -z "$found" ]] || fail "the packager's dependencies were looked for: $found"
+# Tests, samples and benchmarks run the packager, so they are off without it.
+for dir in tests samples packager; do
+  [[ ! -d "$build/$dir" ]] || fail "$dir/ was configured without the packager"
+done
+
+targets=$(ninja -C "$build" -t targets all | cut -d: -f1)
+echo "$targets" | grep -q "libstatepack_dearchiver.so" || fail "no dearchiver target: $targets"
+bad=$(echo "$targets" | grep -E '(^|/)(statepack|statepack_packager|statepack_docs|dearchiver_tests|path_tracer|unpack_demo)$|libstatepack_packager' || true)
+[[ -z "$bad" ]] || fail "targets beyond the dearchiver: $bad"
+
+out=$(cmake --build "$build" 2>&1) || fail "build failed: $out"
+commands=$(ninja -C "$build" -t commands)
+# Library names and include directories of the toolchain (our own spirv_walk.cpp is not one of them).
+found=$(echo "$commands" | grep -iE 'glslang|SPIRV-Tools|spirv-cross|spirv_cross|libSPIRV' | head -3 || true)
+[[ -z "$found" ]] || fail "a command uses the shader toolchain: $found"
+library=$(find "$build" -name 'libstatepack_dearchiver.so.*' -type f | head -1)
+[[ -n "$library" ]] || fail "no shared dearchiver was built"
+deps=$(ldd "$library")
+echo "$deps" | grep -q libvulkan || fail "ldd shows no Vulkan loader, so the check below proves nothing: $deps"
+found=$(echo "$deps" | grep -iE 'glslang|spirv' || true)  # libSPIRV-Tools-shared, libspirv-cross-c-shared
+[[ -z "$found" ]] || fail "the dearchiver depends on the shader toolchain: $found"
+
+cmake --install "$build" --prefix "$work/prefix" >/dev/null || fail "install failed"
+[[ ! -e "$work/prefix/bin/statepack" ]] || fail "a packager was installed"
+mkdir -p "$work/user"
+cat >"$work/user/CMakeLists.txt" <<'EOF2'
+cmake_minimum_required(VERSION 3.25)
+project(user CXX)  # find_dependency(Vulkan) looks for a library: that needs a language
+find_package(statepack CONFIG REQUIRED)
+get_target_property(type statepack::dearchiver TYPE)
+if(TARGET statepack::statepack OR NOT type STREQUAL "SHARED_LIBRARY")
+  message(FATAL_ERROR "expected a shared statepack::dearchiver and no statepack::statepack (type ${type})")
+endif()
+message(STATUS "found the shared dearchiver alone")
+EOF2
+out=$(cmake -S "$work/user" -B "$work/user/build" -DCMAKE_PREFIX_PATH="$work/prefix" 2>&1) ||
+  fail "find_package of the dearchiver-only install: $out"
+echo "$out" | grep -q "found the shared dearchiver alone" || fail "$out"
+
+echo "$(basename "$library"): $(echo "$deps" | wc -l) shared libraries, none a shader compiler"
+echo "dearchiver only: all checks passed"

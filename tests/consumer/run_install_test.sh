@@ -1,0 +1,60 @@
+#!/usr/bin/env bash
+# `cmake --install` as a user runs it: install into a staging prefix, move the prefix elsewhere (every
+# installed path must be relative to it), then build the consumer project against it through
+# find_package(statepack) with Ninja and Ninja Multi-Config (a Debug build picking up the installed
+# RelWithDebInfo packager), check that its archive was packed by the installed statepack, and run the
+# application it links against statepack::dearchiver. Last, the same application built with only the
+# pkg-config file's flags.
+# Usage: run_install_test.sh <statepack build dir> <its configuration> <work dir> <C++ compiler>
+set -euo pipefail
+build_dir=$1 config=$2 work=$3 cxx=$4
+here=$(cd "$(dirname "$0")" && pwd)
+fail() { echo "FAIL: $*"; exit 1; }
+rm -rf "$work" && mkdir -p "$work"
+
+cmake --install "$build_dir" --config "$config" --prefix "$work/staged" >"$work/install.log" ||
+  fail "cmake --install failed: $(cat "$work/install.log")"
+mv "$work/staged" "$work/prefix"
+prefix=$work/prefix
+config_file=$(find "$prefix" -name statepackConfig.cmake)
+[[ -n "$config_file" ]] || fail "no statepackConfig.cmake under the prefix"
+config_dir=$(dirname "$config_file") libdir=$(dirname "$(dirname "$config_dir")")
+for f in "$prefix/bin/statepack" "$libdir/libstatepack_dearchiver.a" "$config_dir/statepackConfigVersion.cmake" \
+  "$config_dir/statepackTargets.cmake" "$config_dir/StatepackAddArchive.cmake" "$libdir/pkgconfig/statepack_dearchiver.pc" \
+  "$prefix/include/statepack/dearchiver.hpp" "$prefix/include/statepack/result.hpp"; do
+  [[ -f "$f" ]] || fail "not installed: ${f#"$prefix/"}"
+done
+# Only the public headers: the library's internal ones stay private.
+headers=$(cd "$prefix/include" && find . -type f | sort | tr '\n' ' ')
+[[ "$headers" == "./statepack/dearchiver.hpp ./statepack/result.hpp " ]] || fail "installed headers: $headers"
+grep -rq "$build_dir" "$config_dir" "$libdir/pkgconfig" && fail "an installed CMake or pkg-config file names the build tree"
+
+# The packager on PATH must not be what the build uses: the installed function runs statepack::statepack.
+export PATH=/usr/bin:/bin
+command -v statepack >/dev/null && fail "a statepack on PATH would hide what the function runs"
+consume() {  # <generator> <configuration> <where the application lands>
+  local dir="$work/$1" config=$2
+  cp -r "$here" "$dir-src"
+  cmake -S "$dir-src" -B "$dir" -G "$1" -DCMAKE_PREFIX_PATH="$prefix" >"$dir.log" 2>&1 ||
+    fail "$1: configure against the installed prefix failed: $(cat "$dir.log")"
+  out=$(cmake --build "$dir" --config "$config" 2>&1) || fail "$1: build failed: $out"
+  echo "$out" | grep -q "statepack: packing" || fail "$1: the archive was not packed: $out"
+  grep -rqF --include="*.ninja" "$prefix/bin/statepack" "$dir" || fail "$1: the pack command is not the installed statepack"
+  out=$("$dir/$3/consumer_app" "$dir/consumer.spk" 2>&1) || fail "$1: consumer_app failed: $out"
+  echo "$out" | grep -q "unpacked 'Consumer PSO'" || fail "$1: consumer_app: $out"
+  echo "$1 ($config): $out"
+}
+consume Ninja "" .
+consume "Ninja Multi-Config" Debug Debug
+
+# pkg-config alone: the flags it gives compile and link the same application.
+flags=$(PKG_CONFIG_PATH="$libdir/pkgconfig" pkg-config --cflags --libs statepack_dearchiver) ||
+  fail "pkg-config does not know statepack_dearchiver"
+includedir=$(PKG_CONFIG_PATH="$libdir/pkgconfig" pkg-config --variable=includedir statepack_dearchiver)
+[[ -f "$includedir/statepack/dearchiver.hpp" ]] || fail "pkg-config: the include directory lacks the headers: $flags"
+# shellcheck disable=SC2086 # the flags are words
+"$cxx" -std=c++20 "$here/app.cpp" -o "$work/pkg-config-app" $flags || fail "pkg-config build failed (flags: $flags)"
+out=$("$work/pkg-config-app" "$work/Ninja/consumer.spk" 2>&1) || fail "pkg-config build's application failed: $out"
+echo "pkg-config: $out"
+
+echo "installed package: all checks passed"
