@@ -3,7 +3,6 @@
 
 #include <algorithm>
 #include <array>
-#include <atomic>
 #include <cstring>
 #include <deque>
 #include <exception>
@@ -12,13 +11,13 @@
 #include <new>
 #include <optional>
 #include <set>
-#include <thread>
 #include <tuple>
 #include <unordered_map>
 
 #include "api_guard.hpp"
 #include "archive_format.hpp"
 #include "device_limits.hpp"
+#include "parallel_for.hpp"
 #include "patched_state_check.hpp"
 #include "spirv_walk.hpp"
 #include "suggest.hpp"
@@ -942,18 +941,9 @@ Result<std::vector<const UnpackedPipeline*>> Dearchiver::unpack_all_pipelines(ui
     }
   }
   std::vector<std::optional<Error>> failures(plans.size());
-  std::atomic<size_t> next{0};
-  auto worker = [&] {
-    for (size_t i = next++; i < plans.size(); i = next++)
-      if (auto created = state_->create(*plans[i]); !created) failures[i] = created.error();
-  };
-  const uint32_t n =
-      std::max<uint32_t>(1, std::min<uint32_t>(threads ? threads : std::thread::hardware_concurrency(),
-                                               static_cast<uint32_t>(plans.size())));
-  std::vector<std::thread> pool;
-  for (uint32_t i = 1; i < n; ++i) pool.emplace_back(worker);
-  worker();
-  for (auto& t : pool) t.join();
+  parallel_for(plans.size(), threads, [&](size_t i) {
+    if (auto created = state_->create(*plans[i]); !created) failures[i] = created.error();
+  });
   std::optional<Error> first_failure;
   for (size_t i = 0; i < plans.size(); ++i) {
     if (failures[i]) {

@@ -15,6 +15,7 @@
 #include "input_file.hpp"
 #include "inspect.hpp"
 #include "interface_check.hpp"
+#include "parallel_for.hpp"
 #include "pipeline_layout.hpp"
 #include "specialization.hpp"
 #include "spirv_reflect.hpp"
@@ -39,21 +40,6 @@ struct CompiledUnit {
   CompiledShader compiled;
   Reflection reflection;
 };
-
-// Runs `work(i)` for i in [0, count) on `threads` threads (0: all cores).
-template <class Work>
-void parallel_for(size_t count, uint32_t threads, Work&& work) {
-  std::atomic<size_t> next{0};
-  auto worker = [&] {
-    for (size_t i = next++; i < count; i = next++) work(i);
-  };
-  uint32_t n = threads ? threads : std::max(1u, std::thread::hardware_concurrency());
-  n = static_cast<uint32_t>(std::min<size_t>(n, std::max<size_t>(count, 1)));
-  std::vector<std::thread> pool;
-  for (uint32_t i = 1; i < n; ++i) pool.emplace_back(worker);
-  worker();
-  for (auto& t : pool) t.join();
-}
 
 // A path in Make syntax, as GCC writes depfiles (and Ninja and Make read them): spaces and '#' get a
 // backslash, backslashes before them are doubled, '$' doubles. Paths with control characters
