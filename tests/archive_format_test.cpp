@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <fstream>
 #include <map>
@@ -319,6 +320,20 @@ TEST(ArchiveFormat, PinnedFormat3FileDecodesAndReencodesByteForByte) {
   EXPECT_EQ(decoded->format_version, 3u);
   EXPECT_EQ(decoded->pipelines.size(), 7u);
   EXPECT_TRUE(encode(*decoded) == bytes) << "the writer no longer produces the pinned bytes";
+}
+
+// A depth bias reaches vkCreateGraphicsPipelines as it is: NaN and infinities are refused at load.
+TEST(ArchiveFormat, NonFiniteDepthBiasIsCorrupt) {
+  for (float bad : {std::nanf(""), INFINITY, -INFINITY}) {
+    Fixture f;
+    f.contents.pipelines[0].graphics.depth_bias_clamp = bad;
+    auto bytes = encode(f.contents);
+    Aligned aligned(bytes);
+    auto decoded = decode(aligned.span());
+    ASSERT_FALSE(decoded);
+    EXPECT_NE(decoded.error().message.find("depth bias that is not a finite number"), std::string::npos)
+        << decoded.error().message;
+  }
 }
 
 TEST(ArchiveFormat, WrongMagicMisalignmentAndTrailingBytes) {

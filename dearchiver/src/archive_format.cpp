@@ -58,6 +58,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <cmath>
 #include <cstring>
 #include <map>
 #include <optional>
@@ -512,6 +513,8 @@ Result<void> validate_graphics(const Contents& c, const Pipeline& p) {
   if (g.topology > 10 || g.polygon_mode > 2 || g.cull_mode > 3 || g.front_face > 1 || g.depth_compare > 7 ||
       !valid_samples(g.samples) || g.color_count > kMaxColorTargets || !valid_format(g.depth_stencil_format))
     return corrupt(what + " has an invalid graphics state");
+  for (float f : {g.depth_bias, g.depth_bias_clamp, g.depth_bias_slope})
+    if (!std::isfinite(f)) return corrupt(what + " has a depth bias that is not a finite number");
   // Vulkan guarantees patches of up to 32 control points (maxTessellationPatchSize); a patch list has a
   // count and nothing else does.
   if (g.patch_control_points > 32 || (g.topology == kTopologyPatchList) != (g.patch_control_points != 0))

@@ -1,6 +1,7 @@
 #include "patched_state_check.hpp"
 
 #include <bit>
+#include <cmath>
 #include <string>
 
 namespace statepack {
@@ -16,6 +17,16 @@ struct Checker {
     error = Error{ErrorCode::invalid_argument, "pipeline '" + std::string(pipeline) +
                                                    "': the modify callback set PatchableState::" + field +
                                                    " to " + std::to_string(value) + ", which is not " + what};
+  }
+  void finite(const std::string& field, float value) {
+    if (error || std::isfinite(value)) return;
+    error = Error{ErrorCode::invalid_argument, "pipeline '" + std::string(pipeline) +
+                                                   "': the modify callback set PatchableState::" + field +
+                                                   " to " +
+                                                   (std::isnan(value) ? "nan"
+                                                    : value < 0       ? "-inf"
+                                                                      : "inf") +
+                                                   ", which is not a finite number"};
   }
   void range(const std::string& field, int64_t value, int64_t last, const char* what) {
     if (value < 0 || value > last) fail(field, value, what);
@@ -60,6 +71,9 @@ std::optional<Error> check_patched_state(std::string_view pipeline, const Patcha
   c.range("rasterizer.polygon_mode", s.rasterizer.polygon_mode, VK_POLYGON_MODE_POINT, "a VkPolygonMode");
   c.range("rasterizer.cull_mode", s.rasterizer.cull_mode, VK_CULL_MODE_FRONT_AND_BACK, "a VkCullModeFlags");
   c.range("rasterizer.front_face", s.rasterizer.front_face, VK_FRONT_FACE_CLOCKWISE, "a VkFrontFace");
+  c.finite("rasterizer.depth_bias", s.rasterizer.depth_bias);
+  c.finite("rasterizer.depth_bias_clamp", s.rasterizer.depth_bias_clamp);
+  c.finite("rasterizer.depth_bias_slope", s.rasterizer.depth_bias_slope);
   c.compare("depth_stencil.depth_compare", s.depth_stencil.depth_compare);
   c.stencil("front", s.depth_stencil.front);
   c.stencil("back", s.depth_stencil.back);
