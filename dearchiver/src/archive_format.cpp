@@ -235,6 +235,34 @@ void visit(V& v, PipelineTessellation& t) {
   v.u32(t.patch_control_points);
 }
 
+// Writes a record and everything its lists hold inline, lengths first: equal records give equal bytes,
+// so the bytes are a key for deduplication (record_key).
+struct KeyWriter {
+  std::string out;
+  void u32(uint32_t& value) { out.append(reinterpret_cast<const char*>(&value), 4); }
+  void f32(float& value) {
+    uint32_t bits = std::bit_cast<uint32_t>(value);
+    u32(bits);
+  }
+  void str(std::string& s) {
+    uint32_t size = uint32_t(s.size());
+    u32(size);
+    out += s;
+  }
+  void indices(std::vector<uint32_t>& list) {
+    uint32_t size = uint32_t(list.size());
+    u32(size);
+    for (uint32_t& i : list) u32(i);
+  }
+  template <class T>
+  void list(std::vector<T>& items) {
+    uint32_t size = uint32_t(items.size());
+    u32(size);
+    for (T& item : items) visit(*this, item);
+  }
+  void graphics(Pipeline&) {}  // not used for pipelines
+};
+
 // Counts a record's encoded size.
 struct SizeCounter {
   uint32_t bytes = 0;
@@ -630,6 +658,18 @@ uint64_t archive_checksum(std::span<const uint8_t> file) {
 }
 
 }  // namespace
+
+template <class T>
+std::string record_key(const T& record) {
+  T copy = record;  // the visitors take mutable references
+  KeyWriter key;
+  visit(key, copy);
+  return std::move(key.out);
+}
+template std::string record_key(const Shader&);
+template std::string record_key(const Sampler&);
+template std::string record_key(const SetLayout&);
+template std::string record_key(const RenderPass&);
 
 uint64_t hash_bytes(std::span<const uint8_t> bytes) {
   return XXH3_64bits(bytes.data(), bytes.size());

@@ -252,4 +252,9 @@ Result<Contents> decode(std::span<const uint8_t> bytes);
 // XXH3-64 of the bytes; the hash used for blob content and the whole-archive checksum.
 uint64_t hash_bytes(std::span<const uint8_t> bytes);
 
+// Every field of a record, lists included, as bytes: equal records (operator==) have equal keys, so
+// writers can find a record already stored in constant time (T: Shader, Sampler, SetLayout, RenderPass).
+template <class T>
+std::string record_key(const T& record);
+
 }  // namespace statepack::format

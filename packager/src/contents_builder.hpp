@@ -5,6 +5,8 @@
 #include <deque>
 #include <map>
 #include <span>
+#include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "archive_format.hpp"
@@ -25,31 +27,30 @@ class ContentsBuilder {
     blob_by_hash_.emplace(hash, index);
     return index;
   }
-  uint32_t add_shader(const format::Shader& shader) {
-    return add_unique(contents.shaders, shader, [](const format::Shader& a, const format::Shader& b) {
-      return a.name == b.name && a.stage == b.stage && a.blob == b.blob && a.entry_point == b.entry_point;
-    });
-  }
+  uint32_t add_shader(const format::Shader& shader) { return add_unique(contents.shaders, shader, shaders_); }
   uint32_t add_sampler(const format::Sampler& sampler) {
-    return add_unique(contents.samplers, sampler, std::equal_to<>());
+    return add_unique(contents.samplers, sampler, samplers_);
   }
   uint32_t add_set_layout(const format::SetLayout& layout) {
-    return add_unique(contents.set_layouts, layout, std::equal_to<>());
+    return add_unique(contents.set_layouts, layout, set_layouts_);
   }
   uint32_t add_render_pass(const format::RenderPass& pass) {
-    return add_unique(contents.render_passes, pass, std::equal_to<>());
+    return add_unique(contents.render_passes, pass, render_passes_);
   }
 
   format::Contents contents;
 
  private:
-  template <class T, class Equal>
-  static uint32_t add_unique(std::vector<T>& list, const T& item, Equal&& equal) {
-    for (uint32_t i = 0; i < list.size(); ++i)
-      if (equal(list[i], item)) return i;
-    list.push_back(item);
-    return static_cast<uint32_t>(list.size() - 1);
+  // Looked up by the record's bytes, so storing n records costs O(n), not O(n^2) comparisons (a merge
+  // or a notation of thousands of signatures stays linear).
+  using Index = std::unordered_map<std::string, uint32_t>;
+  template <class T>
+  static uint32_t add_unique(std::vector<T>& list, const T& item, Index& index) {
+    auto [it, inserted] = index.try_emplace(format::record_key(item), static_cast<uint32_t>(list.size()));
+    if (inserted) list.push_back(item);
+    return it->second;
   }
+  Index shaders_, samplers_, set_layouts_, render_passes_;
 
   std::deque<std::vector<uint32_t>> blobs_;  // stable storage behind contents.spirv
   std::multimap<uint64_t, uint32_t> blob_by_hash_;

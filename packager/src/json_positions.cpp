@@ -158,17 +158,31 @@ std::vector<StructureProblem> check_json_structure(std::string_view t) {
   return problems;
 }
 
+// Code points in text_[0, offset): counted from the nearest block boundary, so that any position costs
+// at most one block's scan however long its line is (minified JSON is one line).
+size_t JsonPositions::code_points_before(size_t offset) const {
+  const size_t block = offset / kBlockSize;
+  size_t count = code_points_before_block_[block];
+  for (size_t i = block * kBlockSize; i < offset; ++i)
+    count += (static_cast<unsigned char>(text_[i]) & 0xC0) != 0x80;
+  return count;
+}
+
 TextPosition JsonPositions::position_at(size_t offset) const {
   if (line_starts_.empty()) {
     line_starts_.push_back(0);
-    for (size_t i = 0; i < text_.size(); ++i)
+    code_points_before_block_.push_back(0);
+    size_t code_points = 0;
+    for (size_t i = 0; i < text_.size(); ++i) {
       if (text_[i] == '\n') line_starts_.push_back(i + 1);
+      code_points += (static_cast<unsigned char>(text_[i]) & 0xC0) != 0x80;
+      if ((i + 1) % kBlockSize == 0) code_points_before_block_.push_back(code_points);
+    }
   }
   offset = std::min(offset, text_.size());
   auto it = std::upper_bound(line_starts_.begin(), line_starts_.end(), offset) - 1;
-  int column = 1;
-  for (size_t i = *it; i < offset; ++i) column += (static_cast<unsigned char>(text_[i]) & 0xC0) != 0x80;
-  return {int(it - line_starts_.begin()) + 1, column};
+  const size_t column = code_points_before(offset) - code_points_before(*it) + 1;
+  return {int(it - line_starts_.begin()) + 1, int(std::min<size_t>(column, INT32_MAX))};
 }
 
 TextPosition JsonPositions::find(std::string_view pointer) const {

@@ -46,8 +46,12 @@ class JsonPositions {
  private:
   size_t locate(std::string_view pointer) const;
 
+  size_t code_points_before(size_t offset) const;
+
+  static constexpr size_t kBlockSize = 4096;
   std::string_view text_;
   mutable std::vector<size_t> line_starts_;                  // built on first use
+  mutable std::vector<size_t> code_points_before_block_;     // per kBlockSize bytes, built with line_starts_
   mutable std::unordered_map<std::string, size_t> offsets_;  // pointer -> offset, resolved before
   mutable std::unordered_map<std::string, std::pair<size_t, size_t>> array_cursor_;  // index, offset
 };
