@@ -45,6 +45,12 @@ int main(int argc, char** argv) {
       ->capture_default_str()
       ->check(CLI::IsMember({"nee", "bsdf", "mis", "baseline"}));
   app.add_flag("--no-nee", no_nee, "Same as --estimator bsdf");
+  std::string sampler = "sobol";
+  app.add_option("--sampler", sampler,
+                 "sobol (Owen-scrambled Sobol points per pixel and dimension pair) or random (independent "
+                 "random numbers); the baseline estimator always uses random")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"sobol", "random"}));
   app.add_flag("--last-bounce-only", o.settings.last_bounce_only, "Show only the light of the last bounce");
   app.add_option("--out", o.out, "Output image: .png (tone-mapped sRGB), .exr or .pfm (linear radiance)")
       ->capture_default_str();
@@ -61,6 +67,7 @@ int main(int argc, char** argv) {
                          : estimator == "baseline" ? Estimator::baseline
                                                    : Estimator::nee;
   o.settings.next_event_estimation = o.settings.estimator != Estimator::bsdf;
+  o.settings.sampler = sampler == "random" ? Sampler::random : Sampler::sobol;
   if (!o.headless && !std::getenv("DISPLAY") && !std::getenv("WAYLAND_DISPLAY")) o.headless = true;
   return o.headless ? run_headless(o) : run_windowed(o);
 }

@@ -6,6 +6,7 @@
 #include <memory>
 #include <vector>
 
+#include "sampler.hpp"
 #include "scene.hpp"
 #include "statepack/dearchiver.hpp"
 #include "vulkan_context.hpp"
@@ -20,6 +21,7 @@ struct RenderSettings {
   uint32_t samples_per_frame = 8;     // 1..32
   bool next_event_estimation = true;  // with Estimator::nee: false means pure BSDF sampling
   Estimator estimator = Estimator::nee;
+  Sampler sampler = Sampler::sobol;  // ignored by the tutorial baseline, which keeps its random pair
   bool last_bounce_only = false;
   uint32_t seed = 1;
   float exposure = 1.0f;

@@ -336,6 +336,9 @@ class Window {
     ImGui::Combo("Estimator", &estimator, "Next-event estimation\0BSDF sampling\0MIS\0Tutorial baseline\0");
     s.estimator = Estimator(estimator);
     s.next_event_estimation = s.estimator != Estimator::bsdf;
+    bool sobol = s.sampler == Sampler::sobol;
+    ImGui::Checkbox("Sobol sampler (off: independent random numbers)", &sobol);
+    s.sampler = sobol ? Sampler::sobol : Sampler::random;
     ImGui::Checkbox("Show only last bounce", &s.last_bounce_only);
     ImGui::SliderFloat("Exposure", &s.exposure, 0.1f, 8.0f);
     s.bounces = uint32_t(bounces), s.samples_per_frame = uint32_t(spf);

@@ -86,6 +86,7 @@ void main() {
   int box0 = int(albedo0.a + 0.5) - 1;
   vec3 batch_sum = vec3(0.0);
   uint samples = constants.frame.y, bounces = constants.frame.z, flags = constants.frame.w;
+  bool sobol = (flags & FLAG_SOBOL) != 0u && ESTIMATOR != ESTIMATOR_BASELINE;
   if (box0 >= 0 && depth > 0.0) {
     int face0 = int(imageLoad(g_normal, pixel).w + 0.5);
     vec3 emittance0 = imageLoad(g_emittance, pixel).rgb;
@@ -101,7 +102,7 @@ void main() {
       // NEE: B light samples; without NEE: B bounces, adding emission where a bounce lands.
       for (uint j = 0u; j < bounces; ++j) {
         if (last_only) radiance = vec3(0.0);
-        vec4 u = to_unit(pcg4d(uvec4(uint(pixel.x), uint(pixel.y), sample_index, constants.image.z + j * 0x9E3779B9u)));
+        vec4 u = to_unit(sample_words(sobol, uvec2(pixel), sample_index, constants.image.z, j));
 #if ESTIMATOR == ESTIMATOR_BASELINE
         u.zw = u.xy;  // the tutorial drives the light sample and the bounce with one random pair
 #endif
