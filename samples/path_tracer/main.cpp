@@ -33,6 +33,10 @@ int main(int argc, char** argv) {
                  "Samples per pixel in one dispatch (1-32)")
       ->capture_default_str()
       ->check(CLI::Range(1u, 32u));
+  app.add_option("--roulette", o.settings.roulette_start,
+                 "Russian roulette from this bounce on (0: never); --bounces stays the maximum")
+      ->capture_default_str()
+      ->check(CLI::Range(0u, 8u));
   app.add_option("--seed", o.settings.seed, "Random seed: the same seed gives the same image, bit for bit")
       ->capture_default_str();
   app.add_option("--exposure", o.settings.exposure, "Scale applied before tone mapping (PNG and window)")

@@ -87,6 +87,7 @@ void main() {
   vec3 batch_sum = vec3(0.0);
   uint samples = constants.frame.y, bounces = constants.frame.z, flags = constants.frame.w;
   bool sobol = (flags & FLAG_SOBOL) != 0u && ESTIMATOR != ESTIMATOR_BASELINE;
+  uint roulette_start = constants.light.y;
   if (box0 >= 0 && depth > 0.0) {
     int face0 = int(imageLoad(g_normal, pixel).w + 0.5);
     vec3 emittance0 = imageLoad(g_emittance, pixel).rgb;
@@ -114,6 +115,17 @@ void main() {
         if (nee && j + 1u == bounces && (flags & FLAG_OTHER_EMITTERS) == 0u && ESTIMATOR != ESTIMATOR_MIS) break;
         vec3 dir = cosine_direction(n, u.zw);
         throughput *= rho;  // (rho / pi) * cos / (cos / pi)
+#if ESTIMATOR != ESTIMATOR_BASELINE
+        // Russian roulette from bounce `roulette_start` on: the path goes on with probability q, the
+        // largest throughput component (at most 1: albedos are), and is divided by q when it does, so
+        // the expectation is unchanged; weak paths stop early. "Last bounce only" needs every path to
+        // reach bounce B, so it plays no roulette.
+        if (roulette_start != 0u && j + 1u >= roulette_start && !last_only) {
+          float q = min(1.0, max(throughput.r, max(throughput.g, throughput.b)));
+          if (roulette_unit(uvec2(pixel), sample_index, constants.image.z, j) >= q) break;
+          throughput /= q;
+        }
+#endif
 #if ESTIMATOR == ESTIMATOR_BASELINE
         Hit hit = trace(x, dir, -1);
 #else

@@ -31,7 +31,7 @@ layout(set = 0, binding = 0, std140) uniform Constants {
   vec4 camera_forward;
   uvec4 frame;          // x: samples before this batch, y: samples in this batch, z: bounces, w: flags
   uvec4 image;          // x: width, y: height, z: seed, w: box count
-  uvec4 light;          // x: index of the light's box
+  uvec4 light;          // x: index of the light's box, y: first bounce of Russian roulette (0: none)
 } constants;
 
 layout(set = 0, binding = 1, std430) readonly buffer Scene { Box boxes[]; } scene;
