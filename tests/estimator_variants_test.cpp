@@ -15,86 +15,37 @@
 #include "app.hpp"
 #include "offline.hpp"
 #include "reference.hpp"
-#include "seed_statistics.hpp"
+#include "seed_renders.hpp"
 
 namespace {
 
 using namespace statepack;
 using namespace statepack::path_tracer;
 using statepack::testing::mean_and_variance_of_mean;
-using statepack::testing::sidak_t;
+using statepack::testing::pass_rate;
+using statepack::testing::render_seeds;
 
 struct Variant {
   std::string name;
   RenderSettings settings;
 };
 
-// `seeds` independent renders of `spp` samples each (RGBA rows, top to bottom).
-std::vector<std::vector<float>> render_seeds(const Scene& scene, RenderSettings settings, uint32_t width,
-                                             uint32_t height, uint32_t spp, uint32_t seeds) {
-  std::vector<std::vector<float>> images;
-  auto vk = samples::VulkanContext::create({});
-  EXPECT_TRUE(vk) << vk.error().message;
-  if (!vk) return images;
-  {
-    auto dearchiver = load_archive(**vk, STATEPACK_PATH_TRACER_ARCHIVE);
-    EXPECT_TRUE(dearchiver);
-    if (!dearchiver) return images;
-    settings.samples_per_frame = 32;
-    for (uint32_t s = 1; s <= seeds; ++s) {
-      settings.seed = s * 7919u;
-      auto rendered = render_offline(**vk, *dearchiver, scene, settings, width, height, spp);
-      EXPECT_TRUE(rendered) << rendered.error().message;
-      if (!rendered) return images;
-      images.push_back(std::move(rendered->rgba));
-    }
-  }
-  (*vk)->destroy_device();
-  EXPECT_EQ(report_validation(**vk), 0u) << "validation messages";
-  return images;
-}
-
-// The fraction of pixel channels whose mean over the seeds passes the t-test against the reference.
-double pass_rate(const std::string& name, const std::vector<std::vector<float>>& images,
-                 const ReferenceImage& reference) {
-  const size_t pixels = size_t(reference.width) * reference.height, tests = pixels * 3;
-  const double critical = sidak_t(0.01, tests, double(images.size()) - 1);
-  size_t failed = 0, not_finite = 0;
-  double worst = 0;
-  for (size_t p = 0; p < pixels; ++p)
-    for (int c = 0; c < 3; ++c) {
-      std::vector<double> values;
-      for (const auto& image : images) {
-        values.push_back(image[p * 4 + c]);
-        not_finite += !std::isfinite(image[p * 4 + c]);
-      }
-      auto [mean, variance] = mean_and_variance_of_mean(values);
-      const double ref = reference.mean[p * 3 + c];
-      const double sigma = std::sqrt(variance + reference.variance[p * 3 + c] / reference.samples);
-      const double t = sigma > 0 ? std::abs(mean - ref) / sigma : (std::abs(mean - ref) < 1e-4 ? 0 : 1e9);
-      worst = std::max(worst, std::min(t, 1e3));
-      failed += t > critical;
-    }
-  EXPECT_EQ(not_finite, 0u) << name;
-  const double rate = 1.0 - double(failed) / double(tests);
-  std::printf("%s: %.3f %% of %zu pixel channels pass |t| < %.2f (worst %.1f)\n", name.c_str(), 100 * rate,
-              tests, critical, worst);
-  return rate;
-}
-
-// Next-event estimation with each sampler, with and without Russian roulette (from the first bounce,
-// so that it plays at 3 bounces as well).
+// Next-event estimation with each sampler and each way of sampling the light, with and without Russian
+// roulette (from the first bounce, so that it plays at 3 bounces as well).
 std::vector<Variant> nee_variants() {
   std::vector<Variant> out;
   for (Sampler sampler : {Sampler::sobol, Sampler::random})
-    for (uint32_t roulette : {0u, 1u}) {
-      Variant v{std::string("nee ") + (sampler == Sampler::sobol ? "sobol" : "random") +
-                    (roulette ? " roulette" : ""),
-                {}};
-      v.settings.sampler = sampler;
-      v.settings.roulette_start = roulette;
-      out.push_back(v);
-    }
+    for (LightSampling light : {LightSampling::solid_angle, LightSampling::area})
+      for (uint32_t roulette : {0u, 1u}) {
+        Variant v{std::string("nee ") + (sampler == Sampler::sobol ? "sobol" : "random") +
+                      (light == LightSampling::area ? " area" : " solid-angle") +
+                      (roulette ? " roulette" : ""),
+                  {}};
+        v.settings.sampler = sampler;
+        v.settings.light_sampling = light;
+        v.settings.roulette_start = roulette;
+        out.push_back(v);
+      }
   return out;
 }
 
@@ -185,7 +136,8 @@ TEST(RussianRoulette, FurnaceMeanIsExact) {
   }
 }
 
-// Pure BSDF sampling and MIS with the Sobol sampler estimate the same integral too.
+// Pure BSDF sampling and MIS (with either light sampling) with the Sobol sampler estimate the same
+// integral too.
 TEST(EstimatorVariants, SobolBsdfAndMisMatchTheCpuReferencePerPixel) {
   auto scene = load_scene(STATEPACK_DEFAULT_SCENE);
   ASSERT_TRUE(scene);
@@ -201,7 +153,11 @@ TEST(EstimatorVariants, SobolBsdfAndMisMatchTheCpuReferencePerPixel) {
   EXPECT_GE(pass_rate("bsdf sobol", render_seeds(*scene, s, 32, 24, 128, 16), bsdf_reference), 0.9975);
   s.estimator = Estimator::mis;
   s.next_event_estimation = true;
-  EXPECT_GE(pass_rate("mis sobol", render_seeds(*scene, s, 32, 24, 64, 16), bsdf_reference), 0.9975);
+  for (LightSampling light : {LightSampling::solid_angle, LightSampling::area}) {
+    s.light_sampling = light;
+    const std::string name = light == LightSampling::area ? "mis sobol area" : "mis sobol solid-angle";
+    EXPECT_GE(pass_rate(name, render_seeds(*scene, s, 32, 24, 64, 16), bsdf_reference), 0.9975) << name;
+  }
 }
 
 }  // namespace

@@ -33,6 +33,12 @@ int main(int argc, char** argv) {
                  "Samples per pixel in one dispatch (1-32)")
       ->capture_default_str()
       ->check(CLI::Range(1u, 32u));
+  std::string light_sampling = "solid-angle";
+  app.add_option("--light-sampling", light_sampling,
+                 "How NEE and MIS sample the light: solid-angle (uniform in the solid angle the rectangle "
+                 "subtends) or area (uniform over its area)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"solid-angle", "area"}));
   app.add_option("--roulette", o.settings.roulette_start,
                  "Russian roulette from this bounce on (0: never); --bounces stays the maximum")
       ->capture_default_str()
@@ -72,6 +78,7 @@ int main(int argc, char** argv) {
                                                    : Estimator::nee;
   o.settings.next_event_estimation = o.settings.estimator != Estimator::bsdf;
   o.settings.sampler = sampler == "random" ? Sampler::random : Sampler::sobol;
+  o.settings.light_sampling = light_sampling == "area" ? LightSampling::area : LightSampling::solid_angle;
   if (!o.headless && !std::getenv("DISPLAY") && !std::getenv("WAYLAND_DISPLAY")) o.headless = true;
   return o.headless ? run_headless(o) : run_windowed(o);
 }

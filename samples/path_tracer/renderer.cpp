@@ -213,11 +213,11 @@ void Renderer::set_camera(const Camera& camera) {
 
 void Renderer::set_settings(const RenderSettings& settings) {
   // Exposure and batch size do not change what converges (the mean is weighted by batch size).
-  const bool same_estimate =
-      settings.bounces == settings_.bounces && settings.estimator == settings_.estimator &&
-      settings.next_event_estimation == settings_.next_event_estimation &&
-      settings.last_bounce_only == settings_.last_bounce_only && settings.seed == settings_.seed &&
-      settings.sampler == settings_.sampler && settings.roulette_start == settings_.roulette_start;
+  // Every other setting does.
+  RenderSettings compared = settings;
+  compared.exposure = settings_.exposure;
+  compared.samples_per_frame = settings_.samples_per_frame;
+  const bool same_estimate = compared == settings_;
   settings_ = settings;
   if (!same_estimate) samples_done_ = 0;  // the G-buffer does not depend on these
 }
@@ -239,7 +239,8 @@ void Renderer::record(VkCommandBuffer cmd, VkImage target, VkImageView target_vi
   c.frame[1] = s.samples_per_frame;
   c.frame[2] = s.bounces;
   c.frame[3] = (s.next_event_estimation ? 1u : 0u) | (s.last_bounce_only ? 2u : 0u) |
-               (other_emitters_ ? 4u : 0u) | (s.sampler == Sampler::sobol ? 8u : 0u);
+               (other_emitters_ ? 4u : 0u) | (s.sampler == Sampler::sobol ? 8u : 0u) |
+               (s.light_sampling == LightSampling::solid_angle ? 16u : 0u);
   c.image[0] = width_, c.image[1] = height_, c.image[2] = s.seed, c.image[3] = box_count_;
   c.light[0] = light_index_;
   c.light[1] = s.roulette_start;
