@@ -25,7 +25,7 @@ struct RenderSettings {
   bool next_event_estimation = true;  // with Estimator::nee: false means pure BSDF sampling
   Estimator estimator = Estimator::nee;
   Sampler sampler = Sampler::sobol;  // ignored by the tutorial baseline, which keeps its random pair
-  uint32_t roulette_start = 3;       // Russian roulette from this bounce on (0: never); not in baseline
+  uint32_t roulette_start = 5;       // Russian roulette from this bounce on (0: never); not in baseline
   LightSampling light_sampling = LightSampling::solid_angle;  // not in baseline
   bool last_bounce_only = false;
   uint32_t seed = 1;

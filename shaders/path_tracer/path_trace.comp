@@ -157,7 +157,7 @@ void main() {
         // reach bounce B, so it plays no roulette.
         if (roulette_start != 0u && j + 1u >= roulette_start && !last_only) {
           float q = min(1.0, max(throughput.r, max(throughput.g, throughput.b)));
-          if (roulette_unit(uvec2(pixel), sample_index, constants.image.z, j) >= q) break;
+          if (roulette_unit(sobol, uvec2(pixel), sample_index, constants.image.z, j) >= q) break;
           throughput /= q;
         }
 #endif

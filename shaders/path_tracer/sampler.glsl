@@ -25,8 +25,11 @@ uvec4 sample_words(bool sobol, uvec2 pixel, uint sample_index, uint seed, uint b
                sobol_pair(pixel, sample_index, seed, 2u * bounce + 1u));
 }
 
-// The Russian-roulette decision needs no stratification: one independent number per sample and bounce.
-float roulette_unit(uvec2 pixel, uint sample_index, uint seed, uint bounce) {
+// The Russian-roulette decision at a bounce. With Sobol it is one more scrambled sequence (pair 16 +
+// bounce, beyond the 2 * 8 pairs of the path), so that over any prefix of samples the fraction of
+// paths that go on is close to q instead of binomially spread around it; otherwise independent.
+float roulette_unit(bool sobol, uvec2 pixel, uint sample_index, uint seed, uint bounce) {
+  if (sobol) return to_unit(uvec4(sobol_pair(pixel, sample_index, seed, 16u + bounce), 0u, 0u)).x;
   return to_unit(pcg4d(uvec4(pixel, sample_index, ~(seed + bounce * 0x9E3779B9u)))).x;
 }
 
