@@ -65,7 +65,7 @@ bool write_plots(const Report& report, const std::string& dir) {
     const std::string b = std::to_string(bounces);
     plot << "set output 'mse_x_spp_" << b << ".png'\nset xlabel 'samples per pixel'\nset ylabel 'MSE x spp'\n"
          << "set title 'MSE x spp against spp (" << report.width << 'x' << report.height << ", " << b
-         << " bounces): flat for independent samples, falling when samples stratify'\n"
+         << " bounces; flat: independent samples)'\n"
          << "plot for [e in configs] 'points.csv' using ((strcol(2) eq e && $1 == " << b
          << ") ? $3 : 1/0):6 with linespoints title e\n"
          << "set output 'error_vs_time_" << b << ".png'\nset xlabel 'GPU time (s, lavapipe)'\n"
