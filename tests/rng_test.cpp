@@ -3,7 +3,7 @@
 #include <cmath>
 #include <cstring>
 
-#include "random.hpp"
+#include "sampler.hpp"
 #include "vulkan_test_fixture.hpp"
 
 namespace statepack::testing {
@@ -11,9 +11,11 @@ namespace {
 
 class Random : public VulkanTest {
  protected:
-  // pcg4d for every pixel of a width x height grid at one sample and dimension, computed on the GPU.
+  // pcg4d for every pixel of a width x height grid at one sample and dimension, computed on the GPU;
+  // with `sobol`, the Sobol sampler's words at `bounce` with seed `dimension`.
   std::vector<std::array<uint32_t, 4>> gpu_words(uint32_t width, uint32_t height, uint32_t sample,
-                                                 uint32_t dimension) {
+                                                 uint32_t dimension, bool sobol = false,
+                                                 uint32_t bounce = 0) {
     auto dearchiver = Dearchiver::create({vk_->physical_device, vk_->device});
     auto archive = Archive::from_file(STATEPACK_RNG_ARCHIVE);
     EXPECT_TRUE(archive) << archive.error().message;
@@ -25,7 +27,7 @@ class Random : public VulkanTest {
     auto buffer = samples::create_host_buffer(*vk_, size, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
     auto set = samples::bind_storage_buffer(*vk_, (*pso)->set_layouts.at(words->set), words->binding,
                                             (*buffer)->buffer);
-    const uint32_t params[4] = {width, height, sample, dimension};
+    const uint32_t params[6] = {width, height, sample, dimension, sobol ? 1u : 0u, bounce};
     auto done = vk_->submit_and_wait([&](VkCommandBuffer cmd) {
       vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, (*pso)->pipeline);
       vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, (*pso)->layout, words->set, 1,
@@ -48,6 +50,23 @@ TEST_F(Random, GpuAndCpuProduceTheSameBits) {
         for (uint32_t x = 0; x < 64; ++x)
           ASSERT_EQ(words[y * 64 + x], path_tracer::pcg4d({x, y, sample, dimension}))
               << "pixel " << x << "," << y << " sample " << sample;
+    }
+  }
+}
+
+// The scrambled Sobol sampler: the same bits on both sides for early, late and large sample indices,
+// first and last bounces, and two seeds.
+TEST_F(Random, SobolGpuAndCpuProduceTheSameBits) {
+  for (uint32_t sample : {0u, 1u, 977u, 65535u, 1u << 20}) {
+    for (uint32_t bounce : {0u, 7u}) {
+      for (uint32_t seed : {1u, 7919u * 3u}) {
+        auto words = gpu_words(32, 24, sample, seed, true, bounce);
+        for (uint32_t y = 0; y < 24; ++y)
+          for (uint32_t x = 0; x < 32; ++x)
+            ASSERT_EQ(words[y * 32 + x],
+                      path_tracer::sample_words(path_tracer::Sampler::sobol, x, y, sample, seed, bounce))
+                << "pixel " << x << "," << y << " sample " << sample << " bounce " << bounce;
+      }
     }
   }
 }

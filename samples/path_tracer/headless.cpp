@@ -65,9 +65,12 @@ int run_headless(const Options& o) {
       std::fprintf(stderr, "path_tracer: %s: %s\n", o.out.c_str(), error.c_str());
       status = 1;
     } else {
-      std::printf("path_tracer: %ux%u, %u spp, %u bounces, %s, seed %u: %.2f s (%.1f ms per sample) -> %s\n",
-                  o.width, o.height, o.spp, o.settings.bounces, estimator_name(o.settings.estimator),
-                  o.settings.seed, rendered->seconds, 1000.0 * rendered->seconds / o.spp, o.out.c_str());
+      std::printf(
+          "path_tracer: %ux%u, %u spp, %u bounces, %s, %s sampler, seed %u: %.2f s (%.1f ms per "
+          "sample) -> %s\n",
+          o.width, o.height, o.spp, o.settings.bounces, estimator_name(o.settings.estimator),
+          o.settings.sampler == Sampler::sobol ? "Sobol" : "random", o.settings.seed, rendered->seconds,
+          1000.0 * rendered->seconds / o.spp, o.out.c_str());
     }
   }
   (*vk)->destroy_device();

@@ -33,6 +33,16 @@ int main(int argc, char** argv) {
                  "Samples per pixel in one dispatch (1-32)")
       ->capture_default_str()
       ->check(CLI::Range(1u, 32u));
+  std::string light_sampling = "solid-angle";
+  app.add_option("--light-sampling", light_sampling,
+                 "How NEE and MIS sample the light: solid-angle (uniform in the solid angle the rectangle "
+                 "subtends) or area (uniform over its area)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"solid-angle", "area"}));
+  app.add_option("--roulette", o.settings.roulette_start,
+                 "Russian roulette from this bounce on (0: never); --bounces stays the maximum")
+      ->capture_default_str()
+      ->check(CLI::Range(0u, 8u));
   app.add_option("--seed", o.settings.seed, "Random seed: the same seed gives the same image, bit for bit")
       ->capture_default_str();
   app.add_option("--exposure", o.settings.exposure, "Scale applied before tone mapping (PNG and window)")
@@ -45,6 +55,12 @@ int main(int argc, char** argv) {
       ->capture_default_str()
       ->check(CLI::IsMember({"nee", "bsdf", "mis", "baseline"}));
   app.add_flag("--no-nee", no_nee, "Same as --estimator bsdf");
+  std::string sampler = "sobol";
+  app.add_option("--sampler", sampler,
+                 "sobol (Owen-scrambled Sobol points per pixel and dimension pair) or random (independent "
+                 "random numbers); the baseline estimator always uses random")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"sobol", "random"}));
   app.add_flag("--last-bounce-only", o.settings.last_bounce_only, "Show only the light of the last bounce");
   app.add_option("--out", o.out, "Output image: .png (tone-mapped sRGB), .exr or .pfm (linear radiance)")
       ->capture_default_str();
@@ -61,6 +77,8 @@ int main(int argc, char** argv) {
                          : estimator == "baseline" ? Estimator::baseline
                                                    : Estimator::nee;
   o.settings.next_event_estimation = o.settings.estimator != Estimator::bsdf;
+  o.settings.sampler = sampler == "random" ? Sampler::random : Sampler::sobol;
+  o.settings.light_sampling = light_sampling == "area" ? LightSampling::area : LightSampling::solid_angle;
   if (!o.headless && !std::getenv("DISPLAY") && !std::getenv("WAYLAND_DISPLAY")) o.headless = true;
   return o.headless ? run_headless(o) : run_windowed(o);
 }

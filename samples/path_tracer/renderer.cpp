@@ -14,7 +14,7 @@ struct Constants {
   float camera_position[4], camera_right[4], camera_up[4], camera_forward[4];
   uint32_t frame[4];  // samples before this batch, samples in it, bounces, flags
   uint32_t image[4];  // width, height, seed, box count
-  uint32_t light[4];  // light box index
+  uint32_t light[4];  // light box index, first bounce of Russian roulette
 };
 static_assert(sizeof(Constants) == 112);
 
@@ -213,10 +213,11 @@ void Renderer::set_camera(const Camera& camera) {
 
 void Renderer::set_settings(const RenderSettings& settings) {
   // Exposure and batch size do not change what converges (the mean is weighted by batch size).
-  const bool same_estimate =
-      settings.bounces == settings_.bounces && settings.estimator == settings_.estimator &&
-      settings.next_event_estimation == settings_.next_event_estimation &&
-      settings.last_bounce_only == settings_.last_bounce_only && settings.seed == settings_.seed;
+  // Every other setting does.
+  RenderSettings compared = settings;
+  compared.exposure = settings_.exposure;
+  compared.samples_per_frame = settings_.samples_per_frame;
+  const bool same_estimate = compared == settings_;
   settings_ = settings;
   if (!same_estimate) samples_done_ = 0;  // the G-buffer does not depend on these
 }
@@ -237,10 +238,12 @@ void Renderer::record(VkCommandBuffer cmd, VkImage target, VkImageView target_vi
   c.frame[0] = samples_done_;
   c.frame[1] = s.samples_per_frame;
   c.frame[2] = s.bounces;
-  c.frame[3] =
-      (s.next_event_estimation ? 1u : 0u) | (s.last_bounce_only ? 2u : 0u) | (other_emitters_ ? 4u : 0u);
+  c.frame[3] = (s.next_event_estimation ? 1u : 0u) | (s.last_bounce_only ? 2u : 0u) |
+               (other_emitters_ ? 4u : 0u) | (s.sampler == Sampler::sobol ? 8u : 0u) |
+               (s.light_sampling == LightSampling::solid_angle ? 16u : 0u);
   c.image[0] = width_, c.image[1] = height_, c.image[2] = s.seed, c.image[3] = box_count_;
   c.light[0] = light_index_;
+  c.light[1] = s.roulette_start;
   std::memcpy(constants_->mapped, &c, sizeof c);
 
   const VkViewport viewport{0, 0, float(width_), float(height_), 0, 1};

@@ -6,6 +6,7 @@
 #include <memory>
 #include <vector>
 
+#include "sampler.hpp"
 #include "scene.hpp"
 #include "statepack/dearchiver.hpp"
 #include "vulkan_context.hpp"
@@ -14,12 +15,18 @@ namespace statepack::path_tracer {
 
 // How light paths are estimated; each but `bsdf` is its own pipeline in the archive (Macros variants).
 enum class Estimator { nee, bsdf, mis, baseline };
+// How next-event estimation picks a point of the rectangular light: uniformly by area, or uniformly in
+// the solid angle it subtends (spherical rectangles, Urena et al. 2013).
+enum class LightSampling { area, solid_angle };
 
 struct RenderSettings {
   uint32_t bounces = 3;               // 1..8
   uint32_t samples_per_frame = 8;     // 1..32
   bool next_event_estimation = true;  // with Estimator::nee: false means pure BSDF sampling
   Estimator estimator = Estimator::nee;
+  Sampler sampler = Sampler::sobol;  // ignored by the tutorial baseline, which keeps its random pair
+  uint32_t roulette_start = 5;       // Russian roulette from this bounce on (0: never); not in baseline
+  LightSampling light_sampling = LightSampling::solid_angle;  // not in baseline
   bool last_bounce_only = false;
   uint32_t seed = 1;
   float exposure = 1.0f;

@@ -14,6 +14,7 @@
 #include <cstring>
 
 #include "app.hpp"
+#include "frame_pacing.hpp"
 #include "image_io.hpp"
 
 namespace statepack::path_tracer {
@@ -72,7 +73,7 @@ class Window {
       auto now = std::chrono::steady_clock::now();
       const float dt = std::chrono::duration<float>(now - last).count();
       last = now;
-      handle_input(dt);
+      moving_ = handle_input(dt);
       // With --frames and --screenshot, the last frame is also copied out of the swapchain.
       const bool capture = !o.screenshot.empty() && o.frames != 0 && frames + 1 == o.frames;
       if (!draw_frame(dt, capture)) return 1;
@@ -279,11 +280,12 @@ class Window {
     return bool(uploaded);
   }
 
-  // Left button: look around; WASD/QE: move (shift: faster); right button: move the light.
-  void handle_input(float dt) {
+  // Left button: look around; WASD/QE: move (shift: faster); right button: move the light. Returns
+  // whether the camera or the light moved.
+  bool handle_input(float dt) {
     if (ImGui::GetCurrentContext() && ImGui::GetIO().WantCaptureMouse) {
       glfwGetCursorPos(window_, &mouse_x_, &mouse_y_);
-      return;
+      return false;
     }
     double x = 0, y = 0;
     glfwGetCursorPos(window_, &x, &y);
@@ -314,7 +316,9 @@ class Window {
       scene.light.center[2] -= dy * 0.01f;
       clamp_light(scene.light);
       renderer_->set_scene(scene);
+      return true;
     }
+    return camera_changed;
   }
 
   // The light stays inside the room, as in the tutorial.
@@ -331,11 +335,25 @@ class Window {
     RenderSettings s = renderer_->settings();
     int bounces = int(s.bounces), spf = int(s.samples_per_frame);
     ImGui::SliderInt("Bounces", &bounces, 1, 8);
-    ImGui::SliderInt("Samples per frame", &spf, 1, 32);
+    if (!adaptive_) ImGui::SliderInt("Samples per frame", &spf, 1, 32);
     int estimator = int(s.estimator);
     ImGui::Combo("Estimator", &estimator, "Next-event estimation\0BSDF sampling\0MIS\0Tutorial baseline\0");
     s.estimator = Estimator(estimator);
     s.next_event_estimation = s.estimator != Estimator::bsdf;
+    // Collapsed by default, so the panel keeps clear of the walls (the window test looks at them).
+    if (ImGui::CollapsingHeader("Sampling and pacing")) {
+      ImGui::Checkbox("Adapt samples per frame", &adaptive_);
+      if (adaptive_) ImGui::SliderFloat("Frame target (ms)", &target_ms_, 20.0f, 1000.0f);
+      bool sobol = s.sampler == Sampler::sobol;
+      ImGui::Checkbox("Sobol sampler", &sobol);
+      s.sampler = sobol ? Sampler::sobol : Sampler::random;
+      bool solid_angle = s.light_sampling == LightSampling::solid_angle;
+      ImGui::Checkbox("Solid-angle light sampling", &solid_angle);
+      s.light_sampling = solid_angle ? LightSampling::solid_angle : LightSampling::area;
+      int roulette = int(s.roulette_start);
+      ImGui::SliderInt("Roulette from bounce", &roulette, 0, 8);
+      s.roulette_start = uint32_t(roulette);
+    }
     ImGui::Checkbox("Show only last bounce", &s.last_bounce_only);
     ImGui::SliderFloat("Exposure", &s.exposure, 0.1f, 8.0f);
     s.bounces = uint32_t(bounces), s.samples_per_frame = uint32_t(spf);
@@ -349,9 +367,24 @@ class Window {
       clamp_light(scene.light);
       renderer_->set_scene(scene);
     }
-    ImGui::Text("%u spp, %.1f ms/frame", renderer_->samples_done(), dt * 1000.0f);
+    ImGui::Text("%u spp, %.1f ms/frame, %u/frame", renderer_->samples_done(), dt * 1000.0f,
+                renderer_->settings().samples_per_frame);
     ImGui::TextUnformatted("LMB + WASDQE: camera, RMB: light");
     ImGui::End();
+  }
+
+  // Samples per frame from the last frame's GPU time (its fence has been waited for, so its timestamps
+  // are ready), toward the target; 1 while the camera or the light moves.
+  void pace() {
+    const uint64_t pixels = uint64_t(renderer_->width()) * renderer_->height();
+    if (last_batch_ > 0) pacer_.measured(renderer_->last_trace_ms(), last_batch_, pixels);
+    RenderSettings s = renderer_->settings();
+    if (adaptive_) {
+      pacer_.set_target_ms(target_ms_);
+      s.samples_per_frame = pacer_.samples_for_next_frame(moving_);
+      renderer_->set_settings(s);
+    }
+    last_batch_ = s.samples_per_frame;
   }
 
   bool draw_frame(float dt, bool capture) {
@@ -369,6 +402,7 @@ class Window {
     ImGui::NewFrame();
     panel(dt);
     ImGui::Render();
+    pace();
 
     vkResetCommandBuffer(cmd_, 0);
     VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
@@ -500,6 +534,12 @@ class Window {
   size_t validation_failures_ = 0;
   bool can_capture_ = false;
   std::vector<uint8_t> screenshot_;
+  // Frame pacing: samples per frame follow the measured cost toward a frame-time target, 1 while moving.
+  bool adaptive_ = true;
+  float target_ms_ = 100.0f;
+  FramePacer pacer_;
+  bool moving_ = false;      // the camera or the light moved this frame
+  uint32_t last_batch_ = 0;  // samples per pixel of the last recorded frame (0: none yet)
 };
 
 }  // namespace

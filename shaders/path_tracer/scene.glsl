@@ -3,7 +3,7 @@
 // is skipped instead; hit points are snapped onto the face plane; normals are exact unit axis vectors
 // (rotated back for rotated boxes) with a fixed tie order; shadow rays are bounded segments.
 
-#include "random.glsl"
+#include "sampler.glsl"
 
 // ESTIMATOR (a macro set by the notation): 0 next-event estimation (or pure BSDF sampling, a run-time
 // flag), 1 multiple importance sampling of both (power heuristic), 2 the tutorial's estimator as a
@@ -31,7 +31,7 @@ layout(set = 0, binding = 0, std140) uniform Constants {
   vec4 camera_forward;
   uvec4 frame;          // x: samples before this batch, y: samples in this batch, z: bounces, w: flags
   uvec4 image;          // x: width, y: height, z: seed, w: box count
-  uvec4 light;          // x: index of the light's box
+  uvec4 light;          // x: index of the light's box, y: first bounce of Russian roulette (0: none)
 } constants;
 
 layout(set = 0, binding = 1, std430) readonly buffer Scene { Box boxes[]; } scene;
@@ -39,6 +39,8 @@ layout(set = 0, binding = 1, std430) readonly buffer Scene { Box boxes[]; } scen
 const uint FLAG_NEE = 1u;
 const uint FLAG_LAST_BOUNCE_ONLY = 2u;
 const uint FLAG_OTHER_EMITTERS = 4u;  // boxes other than the light emit: bounces must find them
+const uint FLAG_SOBOL = 8u;           // scrambled Sobol points instead of independent random numbers
+const uint FLAG_SOLID_ANGLE = 16u;    // sample the light uniformly in solid angle instead of by area
 
 // Face index: axis * 2 + (1 if the outward normal points along -axis).
 vec3 face_normal_local(int face) {

@@ -1,0 +1,56 @@
+// The window's frame pacing (samples/path_tracer/frame_pacing.hpp): samples per frame follow the
+// measured cost toward the frame-time target, stay within 1..max, drop to 1 while the view moves, and
+// start over when the image size changes.
+#include <gtest/gtest.h>
+
+#include "frame_pacing.hpp"
+
+namespace {
+
+using statepack::path_tracer::FramePacer;
+using statepack::path_tracer::FramePacing;
+
+constexpr uint64_t kPixels = 640 * 480;
+
+TEST(FramePacing, OneSampleUntilMeasuredAndWhileMoving) {
+  FramePacer pacer({100, 32, 0.3});
+  EXPECT_EQ(pacer.samples_for_next_frame(false), 1u);
+  pacer.measured(0, 1, kPixels);  // the first frame has no timestamp yet
+  EXPECT_EQ(pacer.samples_for_next_frame(false), 1u);
+  pacer.measured(10, 1, kPixels);
+  EXPECT_EQ(pacer.samples_for_next_frame(false), 10u);
+  EXPECT_EQ(pacer.samples_for_next_frame(true), 1u);
+}
+
+TEST(FramePacing, FitsTheTargetWithinLimits) {
+  FramePacer pacer({100, 32, 0.3});
+  pacer.measured(40, 8, kPixels);  // 5 ms per sample: 20 fit in 100 ms
+  EXPECT_EQ(pacer.samples_for_next_frame(false), 20u);
+  FramePacer slow({100, 32, 0.3});
+  slow.measured(450, 1, kPixels);  // one sample already exceeds the target: still 1
+  EXPECT_EQ(slow.samples_for_next_frame(false), 1u);
+  FramePacer fast({100, 32, 0.3});
+  fast.measured(1, 4, kPixels);  // 0.25 ms per sample: 400 would fit, 32 is the most
+  EXPECT_EQ(fast.samples_for_next_frame(false), 32u);
+}
+
+TEST(FramePacing, SmoothsLoadSpikesAndFollowsLastingChanges) {
+  FramePacer pacer({100, 32, 0.3});
+  pacer.measured(50, 10, kPixels);   // 5 ms per sample
+  pacer.measured(200, 10, kPixels);  // one frame at 20 ms per sample (a spike)
+  EXPECT_NEAR(pacer.ms_per_sample(), 5 + 0.3 * 15, 1e-12);
+  EXPECT_EQ(pacer.samples_for_next_frame(false), 10u);            // 100 / 9.5, not 100 / 20
+  for (int i = 0; i < 30; ++i) pacer.measured(100, 10, kPixels);  // a lasting 10 ms per sample
+  EXPECT_NEAR(pacer.ms_per_sample(), 10, 1e-3);
+  EXPECT_EQ(pacer.samples_for_next_frame(false), 10u);
+}
+
+TEST(FramePacing, StartsOverWhenTheImageSizeChanges) {
+  FramePacer pacer({100, 32, 0.3});
+  pacer.measured(40, 8, kPixels);     // 5 ms per sample at 640x480
+  pacer.measured(20, 1, 1280 * 960);  // four times the pixels: 20 ms per sample, taken at once
+  EXPECT_DOUBLE_EQ(pacer.ms_per_sample(), 20);
+  EXPECT_EQ(pacer.samples_for_next_frame(false), 5u);
+}
+
+}  // namespace
