@@ -117,6 +117,8 @@ TEST(PathTracer, WindowUnderXvfbShowsTheRoom) {
       "' --frames 12 --width 640 --height 480 --screenshot '" + shot.string() + "'");
   ASSERT_EQ(status, 0) << output;
   EXPECT_NE(output.find("window screenshot"), std::string::npos) << output;
+  // --frames reports the frame times the pacer achieved (what docs/path_tracer.md quotes).
+  EXPECT_NE(output.find("12 frames at 640x480: frame time median "), std::string::npos) << output;
   int w = 0, h = 0, channels = 0;
   unsigned char* pixels = stbi_load(shot.c_str(), &w, &h, &channels, 3);
   ASSERT_NE(pixels, nullptr) << stbi_failure_reason();

@@ -67,12 +67,14 @@ class Window {
     if (!create_sync() || !init_imgui()) return 1;
 
     uint32_t frames = 0;
+    std::vector<float> frame_ms;  // time between frames, for the report that --frames prints
     auto last = std::chrono::steady_clock::now();
     while (!glfwWindowShouldClose(window_) && (o.frames == 0 || frames < o.frames)) {
       glfwPollEvents();
       auto now = std::chrono::steady_clock::now();
       const float dt = std::chrono::duration<float>(now - last).count();
       last = now;
+      if (frames > 0) frame_ms.push_back(dt * 1000.0f);
       moving_ = handle_input(dt);
       // With --frames and --screenshot, the last frame is also copied out of the swapchain.
       const bool capture = !o.screenshot.empty() && o.frames != 0 && frames + 1 == o.frames;
@@ -80,6 +82,17 @@ class Window {
       ++frames;
     }
     vkDeviceWaitIdle(vk_->device);
+    if (o.frames != 0 && !frame_ms.empty()) {
+      // How responsive the window was: the frame-time target is what the pacer aims at.
+      std::vector<float> sorted = frame_ms;
+      std::sort(sorted.begin(), sorted.end());
+      std::printf(
+          "path_tracer: %u frames at %ux%u: frame time median %.0f ms, 90th percentile %.0f ms, max %.0f ms "
+          "(target %.0f ms); %.2f samples per pixel per frame\n",
+          frames, swapchain_.extent.width, swapchain_.extent.height, sorted[sorted.size() / 2],
+          sorted[sorted.size() * 9 / 10], sorted.back(), adaptive_ ? target_ms_ : 0.0f,
+          double(renderer_->samples_done()) / frames);
+    }
     if (!o.screenshot.empty()) {
       if (screenshot_.empty())
         return fail("no screenshot taken (use --frames N, and a swapchain that allows copies)");
