@@ -155,6 +155,207 @@ void apply_render_pass(const format::RenderPass& rp, format::GraphicsState& g, c
   if (samples != 0) g.samples = samples;
 }
 
+// --- the four stages of a pack: compile, plan, assemble, write ------------------------------------
+
+// Every distinct shader of the notation, compiled once and reflected, and which of them each pipeline
+// and each Shaders entry uses.
+struct CompiledShaders {
+  std::vector<CompiledUnit> units;
+  std::vector<std::vector<size_t>> pipeline_units;  // per pipeline: the units of its stages
+  std::vector<size_t> standalone_units;             // per Shaders entry
+};
+
+// Compiles on all cores. Every shader whose own description is usable is compiled, even when other
+// objects have notation errors, so one run reports both (docs/cli.md).
+CompiledShaders compile_shaders(const Notation& notation, const PackOptions& options, Diagnostics& diag) {
+  CompiledShaders out;
+  std::map<std::string, size_t> unit_by_key;
+  auto unit_for = [&](const ShaderDesc& s) {
+    auto [it, inserted] = unit_by_key.try_emplace(compile_key(s), out.units.size());
+    if (inserted) out.units.push_back({s, {}, {}});
+    return it->second;
+  };
+  for (const auto& p : notation.pipelines) {
+    out.pipeline_units.emplace_back();
+    for (const auto& s : p.shaders)
+      if (!s.is_reference) out.pipeline_units.back().push_back(unit_for(s));
+  }
+  for (const auto& s : notation.shaders) out.standalone_units.push_back(unit_for(s));
+  ShaderMessages compile_errors;  // an error in a shared #include is reported once
+  parallel_for(out.units.size(), options.threads, [&](size_t i) {
+    CompiledUnit& u = out.units[i];
+    if (u.desc.broken) return;  // its notation errors are reported; compiling it would guess
+    u.compiled = compile_shader(u.desc, options.compile, compile_errors);
+    if (!u.compiled.ok) return;
+    u.reflection = reflect_spirv(u.compiled.spirv, u.desc.stage);
+    if (!u.reflection.error.empty()) {
+      u.compiled.ok = false;
+      diag.error(u.desc.where,
+                 "shader '" + u.desc.name + "': SPIR-V reflection failed: " + u.reflection.error);
+    }
+  });
+  compile_errors.report(diag);
+  return out;
+}
+
+// A pipeline laid out and checked, its patched modules queued for finalising.
+struct PendingPipeline {
+  format::Pipeline pipeline;
+  std::vector<const ShaderDesc*> stages;
+  std::vector<size_t> jobs;  // Finalizer jobs, per stage
+  const PipelineDesc* desc;
+};
+
+struct Plan {
+  std::vector<PendingPipeline> pipelines;
+  std::vector<size_t> standalone_jobs;  // per Shaders entry: its Finalizer job, or kNoJob
+};
+
+// Signatures and render passes into the archive, then each pipeline's layout, constants and checks
+// against its shaders (serial and cheap); the modules to optimise and validate go to `finalizer`. A
+// shader that failed to compile stops only the pipelines that use it, so the others are still laid out
+// and checked and their errors reported.
+Plan plan_archive(const Notation& notation, const CompiledShaders& compiled, ContentsBuilder& builder,
+                  Finalizer& finalizer, Diagnostics& diag) {
+  Plan plan;
+  // Every signature and render pass is archived by name, used or not; Ignore.Signatures are not.
+  for (const auto& sig : notation.signatures)
+    if (!notation.ignored_signatures.count(sig.name))
+      builder.add_set_layout(signature_set_layout(sig, true, builder));
+  std::map<std::string, uint32_t> pass_index;
+  for (const auto& rp : notation.render_passes) pass_index[rp.pass.name] = builder.add_render_pass(rp.pass);
+
+  const auto& units = compiled.units;
+  for (size_t u : compiled.standalone_units)
+    plan.standalone_jobs.push_back(units[u].compiled.ok ? finalizer.request(units[u].compiled.spirv)
+                                                        : kNoJob);
+  for (size_t i = 0; i < notation.pipelines.size(); ++i) {
+    const PipelineDesc& p = notation.pipelines[i];
+    const std::vector<size_t>& stage_units = compiled.pipeline_units[i];
+    if (std::any_of(stage_units.begin(), stage_units.end(), [&](size_t u) { return !units[u].compiled.ok; }))
+      continue;  // its compile errors are reported; the other pipelines go on
+    std::vector<StageInput> stages;
+    for (size_t u : stage_units)
+      stages.push_back({&units[u].desc, &units[u].compiled.spirv, &units[u].reflection});
+    PipelineLayout layout;
+    if (!build_pipeline_layout(p, stages, notation, builder, layout, diag)) continue;
+    std::vector<format::SpecConstant> constants;
+    if (!resolve_constants(p, stages, constants, diag)) continue;
+    PendingPipeline pp{{}, {}, {}, &p};
+    format::Pipeline& out_pipeline = pp.pipeline;
+    out_pipeline.name = p.name;
+    out_pipeline.kind = p.kind;
+    out_pipeline.graphics = p.graphics;
+    out_pipeline.set_layouts = layout.set_layouts;
+    out_pipeline.push_constant_size = layout.push_constant_size;
+    out_pipeline.push_constant_stages = layout.push_constant_stages;
+    out_pipeline.dynamic_states = p.kind == format::PipelineKind::graphics ? p.dynamic_states : 0;
+    out_pipeline.constants = std::move(constants);
+    if (!p.render_pass.empty()) {
+      out_pipeline.graphics.render_pass = pass_index.at(p.render_pass);
+      apply_render_pass(builder.contents.render_passes[out_pipeline.graphics.render_pass],
+                        out_pipeline.graphics, p, diag);
+    }
+    if (p.kind == format::PipelineKind::graphics &&
+        !check_graphics_interfaces(p, out_pipeline.graphics, stages, notation.sources, diag))
+      continue;
+    for (size_t s = 0; s < stages.size(); ++s) {
+      pp.stages.push_back(stages[s].desc);
+      pp.jobs.push_back(finalizer.request(std::move(layout.patched_spirv[s])));
+    }
+    plan.pipelines.push_back(std::move(pp));
+  }
+  return plan;
+}
+
+// The finalised modules into the archive in notation order, so the archive does not depend on thread
+// timing; --dump_dir files written beside.
+void assemble_archive(const Notation& notation, const CompiledShaders& compiled, Plan& plan,
+                      const Finalizer& finalizer, ContentsBuilder& builder, Dumper& dumper,
+                      std::string& io_error, Diagnostics& diag) {
+  for (size_t s = 0; s < notation.shaders.size(); ++s) {
+    const CompiledUnit& unit = compiled.units[compiled.standalone_units[s]];
+    size_t job = plan.standalone_jobs[s];
+    if (job == kNoJob) continue;  // did not compile
+    if (!finalizer.error(job).empty()) {
+      diag.error(unit.desc.where, "shader '" + unit.desc.name + "': " + finalizer.error(job));
+      continue;
+    }
+    dumper.write(fs::path("shaders") / file_name_of(unit.desc.name), finalizer.words(job), io_error);
+    uint32_t blob = builder.add_blob(finalizer.words(job));
+    builder.contents.standalone_shaders.push_back(
+        builder.add_shader({unit.desc.name, unit.desc.stage, blob, unit.desc.entry_point}));
+  }
+  for (PendingPipeline& pp : plan.pipelines) {
+    const PipelineDesc& p = *pp.desc;
+    bool ok = true;
+    for (size_t s = 0; s < pp.stages.size(); ++s) {
+      size_t job = pp.jobs[s];
+      if (!finalizer.error(job).empty()) {
+        diag.error(p.where,
+                   "pipeline '" + p.name + "', shader '" + pp.stages[s]->name + "': " + finalizer.error(job));
+        ok = false;
+        continue;
+      }
+      const std::string kind =
+          p.kind == format::PipelineKind::compute ? "compute" : "graphics";  // as Diligent
+      dumper.write(fs::path(kind) / file_name_of(p.name) / file_name_of(pp.stages[s]->name),
+                   finalizer.words(job), io_error);
+      uint32_t blob = builder.add_blob(finalizer.words(job));
+      pp.pipeline.shaders.push_back(
+          builder.add_shader({pp.stages[s]->name, pp.stages[s]->stage, blob, pp.stages[s]->entry_point}));
+    }
+    if (ok) builder.contents.pipelines.push_back(std::move(pp.pipeline));
+  }
+}
+
+// Objects no pipeline uses are still archived (unpackable by name); say so, as they may be typos.
+void note_unused_objects(const Notation& notation, Diagnostics& diag) {
+  std::set<std::string> used_passes, used_signatures;
+  for (const auto& p : notation.pipelines) {
+    used_passes.insert(p.render_pass);
+    used_signatures.insert(p.signatures.begin(), p.signatures.end());
+  }
+  for (const auto& rp : notation.render_passes)
+    if (!used_passes.count(rp.pass.name))
+      diag.note(rp.where, "render pass '" + rp.pass.name + "' is used by no pipeline (archived anyway)");
+  for (const auto& sig : notation.signatures)
+    if (!used_signatures.count(sig.name))
+      diag.note(sig.where, "resource signature '" + sig.name + "' is used by no pipeline (archived anyway)");
+}
+
+// Archive and depfile, all or nothing: both to temporaries, then both renamed. Returns the exit code.
+int write_outputs(const PackOptions& options, const std::vector<InputFile>& inputs,
+                  const std::vector<uint8_t>& bytes, std::ostream& err) {
+  OutputSet outputs(inputs);
+  std::string text;
+  if (options.depfile) {
+    // Make syntax: "<output>: <every JSON and shader file read>".
+    std::set<std::string> deps;
+    for (const auto& f : inputs) deps.insert(f.path.string());
+    text = ":";
+    for (const auto& path : deps) text += " \\\n  " + depfile_escape(path).value_or("");
+    text += "\n";
+    deps.insert(options.output.string());
+    for (const auto& path : deps)
+      if (!depfile_escape(path)) {
+        err << "statepack: error: cannot write the depfile: the path '" << printable(path)
+            << "' holds a control character, which Make syntax cannot express\n";
+        return kExitIoError;
+      }
+    text = *depfile_escape(options.output.string()) + text;
+  }
+  std::string error = outputs.stage(options.output, bytes);
+  if (error.empty() && options.depfile)
+    error = outputs.stage(*options.depfile, {reinterpret_cast<const uint8_t*>(text.data()), text.size()});
+  if (error.empty()) error = outputs.commit();
+  if (!error.empty()) {
+    err << "statepack: error: " << printable(error) << '\n';
+    return error.starts_with("refusing") ? kExitUsage : kExitIoError;
+  }
+  return kExitSuccess;
+}
+
 }  // namespace
 
 int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err) {
@@ -177,45 +378,12 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err) {
       notation.render_passes.empty() && !diag.has_errors())
     diag.note({options.inputs.empty() ? "" : options.inputs.front().string()},
               "no pipelines, shaders, signatures or render passes: the archive is empty");
-
-  // Distinct shaders, each compiled once, in parallel.
-  std::vector<CompiledUnit> units;
-  std::map<std::string, size_t> unit_by_key;
-  auto unit_for = [&](const ShaderDesc& s) {
-    auto [it, inserted] = unit_by_key.try_emplace(compile_key(s), units.size());
-    if (inserted) units.push_back({s, {}, {}});
-    return it->second;
-  };
-  std::vector<std::vector<size_t>> pipeline_units;
-  for (const auto& p : notation.pipelines) {
-    pipeline_units.emplace_back();
-    for (const auto& s : p.shaders)
-      if (!s.is_reference) pipeline_units.back().push_back(unit_for(s));
-  }
-  std::vector<size_t> standalone_units;
-  for (const auto& s : notation.shaders) standalone_units.push_back(unit_for(s));
-  // Every shader whose own description is usable is compiled, even when other objects have notation
-  // errors, so one run reports both (docs/cli.md). Layouts and pipelines are assembled only from an
-  // error-free notation; a shader that fails to compile stops only the pipelines that use it, so the
-  // others are still laid out and validated and their errors reported.
+  // Layouts and pipelines are planned only from an error-free notation; shaders compile regardless.
   const bool notation_ok = !diag.has_errors();
-  ShaderMessages compile_errors;  // an error in a shared #include is reported once
-  parallel_for(units.size(), options.threads, [&](size_t i) {
-    CompiledUnit& u = units[i];
-    if (u.desc.broken) return;  // its notation errors are reported; compiling it would guess
-    u.compiled = compile_shader(u.desc, options.compile, compile_errors);
-    if (!u.compiled.ok) return;
-    u.reflection = reflect_spirv(u.compiled.spirv, u.desc.stage);
-    if (!u.reflection.error.empty()) {
-      u.compiled.ok = false;
-      diag.error(u.desc.where,
-                 "shader '" + u.desc.name + "': SPIR-V reflection failed: " + u.reflection.error);
-    }
-  });
-  compile_errors.report(diag);
+  CompiledShaders compiled = compile_shaders(notation, options, diag);
   // Every file read so far: no output may replace one of them.
   std::vector<InputFile> inputs = notation.files_read;
-  for (const auto& u : units)
+  for (const auto& u : compiled.units)
     inputs.insert(inputs.end(), u.compiled.files_read.begin(), u.compiled.files_read.end());
 
   ContentsBuilder builder;
@@ -226,115 +394,11 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err) {
   Dumper dumper(options.dump_dir, options.compile, inputs);
   std::string io_error;
   if (notation_ok) {
-    // Every signature and render pass is archived by name, used or not; Ignore.Signatures are not.
-    for (const auto& sig : notation.signatures)
-      if (!notation.ignored_signatures.count(sig.name))
-        builder.add_set_layout(signature_set_layout(sig, true, builder));
-    std::map<std::string, uint32_t> pass_index;
-    for (const auto& rp : notation.render_passes) pass_index[rp.pass.name] = builder.add_render_pass(rp.pass);
-
-    // Layouts first (serial, cheap): each yields patched modules to finalise.
-    std::vector<size_t> standalone_jobs;
-    for (size_t u : standalone_units)
-      standalone_jobs.push_back(units[u].compiled.ok ? finalizer.request(units[u].compiled.spirv) : kNoJob);
-    struct PendingPipeline {
-      format::Pipeline pipeline;
-      std::vector<const ShaderDesc*> stages;
-      std::vector<size_t> jobs;
-      const PipelineDesc* desc;
-    };
-    std::vector<PendingPipeline> pending;
-    for (size_t i = 0; i < notation.pipelines.size(); ++i) {
-      const PipelineDesc& p = notation.pipelines[i];
-      if (std::any_of(pipeline_units[i].begin(), pipeline_units[i].end(),
-                      [&](size_t u) { return !units[u].compiled.ok; }))
-        continue;  // its compile errors are reported; the other pipelines go on
-      std::vector<StageInput> stages;
-      for (size_t u : pipeline_units[i])
-        stages.push_back({&units[u].desc, &units[u].compiled.spirv, &units[u].reflection});
-      PipelineLayout layout;
-      if (!build_pipeline_layout(p, stages, notation, builder, layout, diag)) continue;
-      std::vector<format::SpecConstant> constants;
-      if (!resolve_constants(p, stages, constants, diag)) continue;
-      PendingPipeline pp{{}, {}, {}, &p};
-      format::Pipeline& out_pipeline = pp.pipeline;
-      out_pipeline.name = p.name;
-      out_pipeline.kind = p.kind;
-      out_pipeline.graphics = p.graphics;
-      out_pipeline.set_layouts = layout.set_layouts;
-      out_pipeline.push_constant_size = layout.push_constant_size;
-      out_pipeline.push_constant_stages = layout.push_constant_stages;
-      out_pipeline.dynamic_states = p.kind == format::PipelineKind::graphics ? p.dynamic_states : 0;
-      out_pipeline.constants = std::move(constants);
-      if (!p.render_pass.empty()) {
-        out_pipeline.graphics.render_pass = pass_index.at(p.render_pass);
-        apply_render_pass(builder.contents.render_passes[out_pipeline.graphics.render_pass],
-                          out_pipeline.graphics, p, diag);
-      }
-      if (p.kind == format::PipelineKind::graphics &&
-          !check_graphics_interfaces(p, out_pipeline.graphics, stages, notation.sources, diag))
-        continue;
-      for (size_t s = 0; s < stages.size(); ++s) {
-        pp.stages.push_back(stages[s].desc);
-        pp.jobs.push_back(finalizer.request(std::move(layout.patched_spirv[s])));
-      }
-      pending.push_back(std::move(pp));
-    }
-
-    // Optimise and validate every distinct module in parallel.
-    finalizer.run(options.threads);
-
-    // Assemble in notation order, so the archive does not depend on thread timing.
-    for (size_t s = 0; s < notation.shaders.size(); ++s) {
-      const CompiledUnit& unit = units[standalone_units[s]];
-      size_t job = standalone_jobs[s];
-      if (job == kNoJob) continue;  // did not compile
-      if (!finalizer.error(job).empty()) {
-        diag.error(unit.desc.where, "shader '" + unit.desc.name + "': " + finalizer.error(job));
-        continue;
-      }
-      dumper.write(fs::path("shaders") / file_name_of(unit.desc.name), finalizer.words(job), io_error);
-      uint32_t blob = builder.add_blob(finalizer.words(job));
-      builder.contents.standalone_shaders.push_back(
-          builder.add_shader({unit.desc.name, unit.desc.stage, blob, unit.desc.entry_point}));
-    }
-    for (PendingPipeline& pp : pending) {
-      const PipelineDesc& p = *pp.desc;
-      bool ok = true;
-      for (size_t s = 0; s < pp.stages.size(); ++s) {
-        size_t job = pp.jobs[s];
-        if (!finalizer.error(job).empty()) {
-          diag.error(p.where, "pipeline '" + p.name + "', shader '" + pp.stages[s]->name +
-                                  "': " + finalizer.error(job));
-          ok = false;
-          continue;
-        }
-        const std::string kind =
-            p.kind == format::PipelineKind::compute ? "compute" : "graphics";  // as Diligent names them
-        dumper.write(fs::path(kind) / file_name_of(p.name) / file_name_of(pp.stages[s]->name),
-                     finalizer.words(job), io_error);
-        uint32_t blob = builder.add_blob(finalizer.words(job));
-        pp.pipeline.shaders.push_back(
-            builder.add_shader({pp.stages[s]->name, pp.stages[s]->stage, blob, pp.stages[s]->entry_point}));
-      }
-      if (ok) builder.contents.pipelines.push_back(std::move(pp.pipeline));
-    }
+    Plan plan = plan_archive(notation, compiled, builder, finalizer, diag);
+    finalizer.run(options.threads);  // optimise and validate every distinct module in parallel
+    assemble_archive(notation, compiled, plan, finalizer, builder, dumper, io_error, diag);
   }
-  // Objects no pipeline uses are still archived (unpackable by name); say so, as they may be typos.
-  if (!diag.has_errors()) {
-    std::set<std::string> used_passes, used_signatures;
-    for (const auto& p : notation.pipelines) {
-      used_passes.insert(p.render_pass);
-      used_signatures.insert(p.signatures.begin(), p.signatures.end());
-    }
-    for (const auto& rp : notation.render_passes)
-      if (!used_passes.count(rp.pass.name))
-        diag.note(rp.where, "render pass '" + rp.pass.name + "' is used by no pipeline (archived anyway)");
-    for (const auto& sig : notation.signatures)
-      if (!used_signatures.count(sig.name))
-        diag.note(sig.where,
-                  "resource signature '" + sig.name + "' is used by no pipeline (archived anyway)");
-  }
+  if (!diag.has_errors()) note_unused_objects(notation, diag);
   if (diag.has_errors()) {
     diag.print(err);
     err << "statepack: " << diag.error_count() << " error(s); no archive written\n";
@@ -347,35 +411,8 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err) {
   }
 
   std::vector<uint8_t> bytes = format::encode(builder.contents);
-  if (!options.check_only) {
-    // Archive and depfile are written all or nothing: both to temporaries, then both renamed.
-    OutputSet outputs(inputs);
-    std::string text;
-    if (options.depfile) {
-      // Make syntax: "<output>: <every JSON and shader file read>".
-      std::set<std::string> deps;
-      for (const auto& f : inputs) deps.insert(f.path.string());
-      text = ":";
-      for (const auto& path : deps) text += " \\\n  " + depfile_escape(path).value_or("");
-      text += "\n";
-      deps.insert(options.output.string());
-      for (const auto& path : deps)
-        if (!depfile_escape(path)) {
-          err << "statepack: error: cannot write the depfile: the path '" << printable(path)
-              << "' holds a control character, which Make syntax cannot express\n";
-          return kExitIoError;
-        }
-      text = *depfile_escape(options.output.string()) + text;
-    }
-    std::string error = outputs.stage(options.output, bytes);
-    if (error.empty() && options.depfile)
-      error = outputs.stage(*options.depfile, {reinterpret_cast<const uint8_t*>(text.data()), text.size()});
-    if (error.empty()) error = outputs.commit();
-    if (!error.empty()) {
-      err << "statepack: error: " << printable(error) << '\n';
-      return error.starts_with("refusing") ? kExitUsage : kExitIoError;
-    }
-  }
+  if (!options.check_only)
+    if (int code = write_outputs(options, inputs, bytes, err); code != kExitSuccess) return code;
   if (options.print_contents) {
     // Print what the archive holds, read back the way the dearchiver reads it.
     auto written = format::decode(bytes);
