@@ -322,6 +322,26 @@ TEST_F(PackagerCli, InspectShowsTheWholeGraphicsState) {
 
 namespace {
 
+// A render pass whose color attachment some devices cannot render to packs with a warning at the
+// attachment (lavapipe supports RGB32_FLOAT; Vulkan does not require it).
+TEST_F(PackagerCli, RenderPassColorFormatsVulkanDoesNotGuaranteeAreWarnedAbout) {
+  std::string notation = read_file(fs::path(STATEPACK_CORPUS_DIR) / "valid/render_pass.json");
+  const std::string from = R"("Format": "RGBA8_UNORM")";
+  ASSERT_NE(notation.find(from), std::string::npos);
+  notation.replace(notation.find(from), from.size(), R"("Format": "RGB32_FLOAT")");
+  fs::path json = dir_ / "render_pass.json", out = dir_ / "render_pass.spk";
+  std::ofstream(json) << notation;
+  CliRun run = statepack("pack -i '" + json.string() + "' -s '" + std::string(STATEPACK_CORPUS_DIR) +
+                         "/shaders' -o '" + out.string() + "' --vulkan");
+  EXPECT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_NE(
+      run.output.find("render_pass.json:6:9: warning: render pass 'Main Pass': attachment 0 is RGB32_FLOAT, "
+                      "used as a color attachment, which Vulkan does not require devices to support: some "
+                      "devices will refuse this render pass [/RenderPasses/0/pAttachments/0]"),
+      std::string::npos)
+      << run.output;
+}
+
 TEST_F(PackagerCli, AnUnknownEnumWithNoNearMatchListsTheValidValues) {
   fs::path json = dir_ / "topology.json";
   std::ofstream(json)

@@ -414,4 +414,21 @@ bool check_graphics_interfaces(const PipelineDesc& p, const format::GraphicsStat
   return ok;
 }
 
+void warn_render_pass_formats(const RenderPassDesc& pass, const SourceTexts& sources, Diagnostics& diag) {
+  const format::RenderPass& rp = pass.pass;
+  std::set<uint32_t> colors;
+  for (const format::Subpass& sp : rp.subpasses)
+    for (const format::AttachmentRef& r : sp.colors)
+      if (r.attachment < rp.attachments.size()) colors.insert(r.attachment);
+  for (uint32_t a : colors) {
+    const uint32_t format = rp.attachments[a].format;
+    if (format == VK_FORMAT_UNDEFINED || guaranteed_color_attachment(format)) continue;
+    diag.warning(
+        sources.at(pass.where, pass.where.pointer + "/pAttachments/" + std::to_string(a)),
+        "render pass '" + rp.name + "': attachment " + std::to_string(a) + " is " + format_name(format) +
+            ", used as a color attachment, which Vulkan does not require devices to support: some devices "
+            "will refuse this render pass");
+  }
+}
+
 }  // namespace statepack::packager

@@ -21,4 +21,8 @@ bool check_graphics_interfaces(const PipelineDesc& p, const format::GraphicsStat
                                const std::vector<StageInput>& stages, const SourceTexts& sources,
                                Diagnostics& diag);
 
+// Warns about color attachments of a render pass whose format Vulkan does not require devices to support
+// as a color attachment (once per attachment, at its pAttachments entry).
+void warn_render_pass_formats(const RenderPassDesc& pass, const SourceTexts& sources, Diagnostics& diag);
+
 }  // namespace statepack::packager

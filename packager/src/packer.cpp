@@ -223,7 +223,10 @@ Plan plan_archive(const Notation& notation, const CompiledShaders& compiled, Con
     if (!notation.ignored_signatures.count(sig.name))
       builder.add_set_layout(signature_set_layout(sig, true, builder));
   std::map<std::string, uint32_t> pass_index;
-  for (const auto& rp : notation.render_passes) pass_index[rp.pass.name] = builder.add_render_pass(rp.pass);
+  for (const auto& rp : notation.render_passes) {
+    pass_index[rp.pass.name] = builder.add_render_pass(rp.pass);
+    warn_render_pass_formats(rp, notation.sources, diag);
+  }
 
   const auto& units = compiled.units;
   for (size_t u : compiled.standalone_units)
