@@ -11,6 +11,24 @@
 #include "spirv_walk.hpp"
 
 namespace statepack {
+
+spirv::Numeric numeric_of_format(uint32_t f) {
+  using spirv::Numeric;
+  auto in_group = [&](uint32_t first, uint32_t last, uint32_t size,
+                      uint32_t uint_at) -> std::optional<Numeric> {
+    if (f < first || f > last) return std::nullopt;
+    const uint32_t at = (f - first) % size;
+    return at == uint_at ? Numeric::uint : at == uint_at + 1 ? Numeric::sint : Numeric::float_;
+  };
+  if (auto n = in_group(VK_FORMAT_R8_UNORM, VK_FORMAT_A8B8G8R8_SRGB_PACK32, 7, 4)) return *n;
+  if (auto n = in_group(VK_FORMAT_A2R10G10B10_UNORM_PACK32, VK_FORMAT_A2B10G10R10_SINT_PACK32, 6, 4))
+    return *n;
+  if (auto n = in_group(VK_FORMAT_R16_UNORM, VK_FORMAT_R16G16B16A16_SFLOAT, 7, 4)) return *n;
+  if (auto n = in_group(VK_FORMAT_R32_UINT, VK_FORMAT_R64G64B64A64_SFLOAT, 3, 0)) return *n;
+  if (f == VK_FORMAT_S8_UINT) return Numeric::uint;
+  return f == VK_FORMAT_UNDEFINED ? Numeric::other : Numeric::float_;
+}
+
 namespace {
 
 Error over_limit(const std::string& object, const std::string& what, uint64_t value, const char* limit,
@@ -171,24 +189,6 @@ bool access_fits(uint32_t access, uint32_t stages) {
   for (auto [bit, allowed] : table)
     if ((access & bit) && !(stages & allowed)) return false;
   return true;  // MEMORY_READ and MEMORY_WRITE fit every stage
-}
-
-// The numeric type a format's components are read or written as.
-spirv::Numeric numeric_of_format(uint32_t f) {
-  using spirv::Numeric;
-  auto in_group = [&](uint32_t first, uint32_t last, uint32_t size,
-                      uint32_t uint_at) -> std::optional<Numeric> {
-    if (f < first || f > last) return std::nullopt;
-    const uint32_t at = (f - first) % size;
-    return at == uint_at ? Numeric::uint : at == uint_at + 1 ? Numeric::sint : Numeric::float_;
-  };
-  if (auto n = in_group(VK_FORMAT_R8_UNORM, VK_FORMAT_A8B8G8R8_SRGB_PACK32, 7, 4)) return *n;
-  if (auto n = in_group(VK_FORMAT_A2R10G10B10_UNORM_PACK32, VK_FORMAT_A2B10G10R10_SINT_PACK32, 6, 4))
-    return *n;
-  if (auto n = in_group(VK_FORMAT_R16_UNORM, VK_FORMAT_R16G16B16A16_SFLOAT, 7, 4)) return *n;
-  if (auto n = in_group(VK_FORMAT_R32_UINT, VK_FORMAT_R64G64B64A64_SFLOAT, 3, 0)) return *n;
-  if (f == VK_FORMAT_S8_UINT) return Numeric::uint;
-  return f == VK_FORMAT_UNDEFINED ? Numeric::other : Numeric::float_;
 }
 
 // Shader interface variables and the formats they meet agree on the numeric type (else the layer

@@ -6,6 +6,7 @@
 #include <cctype>
 #include <initializer_list>
 
+#include "device_limits.hpp"
 #include "enum_tables.hpp"
 
 namespace statepack::packager {
@@ -18,12 +19,17 @@ bool listed(std::initializer_list<VkFormat> list, uint32_t format) {
 }  // namespace
 
 NumericClass numeric_class(uint32_t vk_format) {
-  if (vk_format == VK_FORMAT_UNDEFINED) return NumericClass::none;
-  // vulkan.hpp names formats "R8G8B8A8Uint", "A2B10G10R10UintPack32": the numeric type is a word of it.
-  const std::string name = vk::to_string(vk::Format(vk_format));
-  if (name.find("Uint") != std::string::npos) return NumericClass::unsigned_int;
-  if (name.find("Sint") != std::string::npos) return NumericClass::signed_int;
-  return NumericClass::floating;
+  switch (numeric_of_format(vk_format)) {  // the dearchiver's classification, so both sides agree
+    case spirv::Numeric::float_:
+      return NumericClass::floating;
+    case spirv::Numeric::sint:
+      return NumericClass::signed_int;
+    case spirv::Numeric::uint:
+      return NumericClass::unsigned_int;
+    case spirv::Numeric::other:
+      break;
+  }
+  return NumericClass::none;
 }
 
 const char* numeric_class_name(NumericClass c) {
