@@ -33,11 +33,12 @@ class Merger {
         if (b.immutable_sampler != format::kNone) b.immutable_sampler = samplers[b.immutable_sampler];
       // A signature's layout is unpackable by name, so one name must mean one layout.
       if (!l.name.empty())
-        if (std::string e = claim("resource signature", l.name, file, encode_key(l)); !e.empty()) return e;
+        if (std::string e = claim("resource signature", l.name, file, format::record_key(l)); !e.empty())
+          return e;
       layouts.push_back(builder_.add_set_layout(l));
     }
     for (const format::RenderPass& r : c.render_passes) {
-      if (std::string e = claim("render pass", r.name, file, encode_key(r)); !e.empty()) return e;
+      if (std::string e = claim("render pass", r.name, file, format::record_key(r)); !e.empty()) return e;
       passes.push_back(builder_.add_render_pass(r));
     }
     for (uint32_t s : c.standalone_shaders) {
@@ -74,14 +75,6 @@ class Merger {
     return std::string(kind) + " '" + name + "' is defined differently in '" + it->second.second + "' and '" +
            file + "'";
   }
-  // A comparable spelling of a record: its index once added (equal records share one).
-  std::string encode_key(const format::SetLayout& l) {
-    return "L" + std::to_string(builder_.add_set_layout(l));
-  }
-  std::string encode_key(const format::RenderPass& r) {
-    return "R" + std::to_string(builder_.add_render_pass(r));
-  }
-
   ContentsBuilder builder_;
   std::map<std::string, std::pair<std::string, std::string>> named_;  // kind+name -> key, file
   std::map<std::string, std::pair<size_t, std::string>> pipelines_;   // name -> index, file
