@@ -108,7 +108,7 @@ struct Slot {
 std::vector<Slot> slots_of(const InterfaceVariable& v) {
   std::vector<Slot> out;
   const uint32_t words = v.vector_size * (v.bit_width == 64 ? 2 : 1);
-  const uint32_t per_column = v.component + words > 4 ? 2 : 1;
+  const uint32_t per_column = v.locations_per_column();
   // Arrays of thousands of locations are not valid Vulkan (maxVertexOutputComponents is ~128 words),
   // so a hostile array size is cut short instead of listed.
   const uint32_t count = std::min<uint32_t>(v.array_size * v.columns, 64);

@@ -37,9 +37,11 @@ struct InterfaceVariable {
   uint32_t bit_width = 32, vector_size = 1, columns = 1;
   uint32_t array_size = 1;  // elements, each taking `locations_per_element()` locations
   bool flat = false, patch = false;
-  uint32_t locations_per_element() const {
-    return columns * ((vector_size * (bit_width == 64 ? 2 : 1) + component) > 4 ? 2 : 1);
+  // A column (a vector) takes a second location when its 32-bit words run past component 3.
+  uint32_t locations_per_column() const {
+    return vector_size * (bit_width == 64 ? 2 : 1) + component > 4 ? 2 : 1;
   }
+  uint32_t locations_per_element() const { return columns * locations_per_column(); }
 };
 
 struct Reflection {
