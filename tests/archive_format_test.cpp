@@ -79,8 +79,8 @@ struct Fixture {
     graphics.graphics.blend[1].enable = 1;
     graphics.graphics.vertex_bindings = {{0, 20, 0}, {1, 16, 1}};
     graphics.graphics.vertex_attributes = {{0, 0, 106, 0}, {1, 0, 103, 12}, {2, 1, 109, 0}};
-    graphics.graphics.render_pass = 0;
-    graphics.graphics.subpass = 0;
+    graphics.render_pass = 0;
+    graphics.subpass = 0;
     graphics.dynamic_states = kDynamicDefault | kDynamicLineWidth | (1u << kDynamicExtendedFirstBit);
     graphics.constants = {{"kTint", 0x10, 3, 4, 0x3F800000u}, {"kCount", 0x1, 0, 4, 7}};
     Pipeline compute;

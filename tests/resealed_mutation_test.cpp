@@ -181,9 +181,9 @@ std::string mutate_structure(format::Contents& c, format::Pipeline& p, Rng& rng)
       }
     }
     case 18:
-      g.render_pass = any_index(rng, c.render_passes.size());
-      g.subpass = pick(rng, 2);
-      return "render pass " + std::to_string(g.render_pass);
+      p.render_pass = any_index(rng, c.render_passes.size());
+      p.subpass = pick(rng, 2);
+      return "render pass " + std::to_string(p.render_pass);
     default: {
       if (c.samplers.empty()) return "none";
       auto& s = c.samplers[pick(rng, uint32_t(c.samplers.size()))];

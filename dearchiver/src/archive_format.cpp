@@ -44,7 +44,7 @@
 // | RPAS | render pass: str name, list<ATCH>, list<SUBP>, list<DEPS>                          |
 // | VTXB | vertex binding: binding, stride, input_rate                                       |
 // | VTXA | vertex attribute: location, binding, format, offset                               |
-// | GFXS | graphics state (see visit(GraphicsState))                                         |
+// | GFXS | graphics state (see visit(GraphicsState)), then the pipeline's render pass, subpass |
 // | PIPE | pipeline: str name, kind, list<IDXS> shaders, list<IDXS> set layouts, push size,   |
 // |      | push stages, u32 GFXS index (0xFFFFFFFF for compute); sorted by name              |
 // | PEXT | (format 2) one per PIPE record, same order: u32 dynamic states, list<SPEC>       |
@@ -90,6 +90,14 @@ constexpr bool kFuzzing = true;
 constexpr bool kFuzzing = false;
 #endif
 
+// The GFXS record: a graphics pipeline's fixed-function state, then its render pass and subpass. Those
+// two belong to the pipeline (format::Pipeline holds them); format 1 put them here, and here they stay.
+struct GraphicsRecord {
+  GraphicsState state;
+  uint32_t render_pass = kNone;
+  uint32_t subpass = 0;
+};
+
 // The section each record type lives in.
 template <class T>
 struct Tag;
@@ -105,7 +113,7 @@ template <> struct Tag<Dependency> { static constexpr uint32_t value = make_tag(
 template <> struct Tag<RenderPass> { static constexpr uint32_t value = make_tag("RPAS"); };
 template <> struct Tag<VertexBinding> { static constexpr uint32_t value = make_tag("VTXB"); };
 template <> struct Tag<VertexAttribute> { static constexpr uint32_t value = make_tag("VTXA"); };
-template <> struct Tag<GraphicsState> { static constexpr uint32_t value = make_tag("GFXS"); };
+template <> struct Tag<GraphicsRecord> { static constexpr uint32_t value = make_tag("GFXS"); };
 template <> struct Tag<Pipeline> { static constexpr uint32_t value = make_tag("PIPE"); };
 template <> struct Tag<SpecConstant> { static constexpr uint32_t value = make_tag("SPEC"); };
 // clang-format on
@@ -188,7 +196,11 @@ void visit(V& v, GraphicsState& g) {
   v.u32(g.depth_stencil_format);
   for (auto& b : g.blend) visit(v, b);
   v.list(g.vertex_bindings), v.list(g.vertex_attributes);
-  v.u32(g.render_pass), v.u32(g.subpass);
+}
+template <class V>
+void visit(V& v, GraphicsRecord& r) {
+  visit(v, r.state);
+  v.u32(r.render_pass), v.u32(r.subpass);
 }
 template <class V>
 void visit(V& v, Pipeline& p) {
@@ -289,7 +301,7 @@ template <class F>
 void for_each_record_type(F&& f) {
   f(Shader{}), f(Sampler{}), f(Binding{}), f(SetLayout{}), f(Attachment{}), f(AttachmentRef{});
   f(Subpass{}), f(Dependency{}), f(RenderPass{}), f(VertexBinding{}), f(VertexAttribute{});
-  f(GraphicsState{}), f(Pipeline{});
+  f(GraphicsRecord{}), f(Pipeline{});
 }
 
 // --- writing ---------------------------------------------------------------------------------------
@@ -361,7 +373,8 @@ struct Writer {
   }
   void graphics(Pipeline& p) {
     if (p.kind != PipelineKind::graphics) return put_u32(*out, kNone);
-    put_u32(*out, append(p.graphics));
+    GraphicsRecord record{p.graphics, p.render_pass, p.subpass};
+    put_u32(*out, append(record));
   }
 };
 
@@ -469,8 +482,12 @@ struct Reader {
     }
     if (index >= sections[kTagGraphics].count)
       return fail("pipeline '" + p.name + "' graphics state index out of range");
-    if (!charge(record_size<GraphicsState>())) return;
-    read_at(index, p.graphics);
+    if (!charge(record_size<GraphicsRecord>())) return;
+    GraphicsRecord record;
+    read_at(index, record);
+    p.graphics = std::move(record.state);
+    p.render_pass = record.render_pass;
+    p.subpass = record.subpass;
   }
   template <class T>
   std::vector<T> all(const char* kind) {
@@ -565,9 +582,9 @@ Result<void> validate_graphics(const Contents& c, const Pipeline& p) {
                      [&](const VertexBinding& b) { return b.binding == a.binding; }))
       return corrupt(what + " has a vertex attribute without its binding");
   }
-  if (g.render_pass != kNone) {
-    if (g.render_pass >= c.render_passes.size()) return corrupt(what + " refers to a missing render pass");
-    if (g.subpass >= c.render_passes[g.render_pass].subpasses.size())
+  if (p.render_pass != kNone) {
+    if (p.render_pass >= c.render_passes.size()) return corrupt(what + " refers to a missing render pass");
+    if (p.subpass >= c.render_passes[p.render_pass].subpasses.size())
       return corrupt(what + " refers to a missing subpass");
   }
   return {};

@@ -172,8 +172,6 @@ struct GraphicsState {
   std::array<BlendAttachment, kMaxColorTargets> blend{};
   std::vector<VertexBinding> vertex_bindings;
   std::vector<VertexAttribute> vertex_attributes;
-  uint32_t render_pass = kNone;  // index into Contents::render_passes; kNone: dynamic rendering
-  uint32_t subpass = 0;
   // Control points per patch, with topology PATCH_LIST only (else 0). In the TESS section, not GFXS, so
   // that GFXS records keep their format-1 size.
   uint32_t patch_control_points = 0;
@@ -218,6 +216,10 @@ struct Pipeline {
   uint32_t push_constant_size = 0;
   uint32_t push_constant_stages = 0;
   GraphicsState graphics;  // meaningful for graphics pipelines only
+  // A graphics pipeline's render pass: index into Contents::render_passes, kNone for dynamic rendering.
+  // (Stored at the end of the GFXS record, where format 1 put it.)
+  uint32_t render_pass = kNone;
+  uint32_t subpass = 0;
   // Format 2 (PEXT section, parallel to PIPE): dynamic states of a graphics pipeline, and the
   // specialization constants of every stage.
   uint32_t dynamic_states = kDynamicDefault;

@@ -556,7 +556,7 @@ struct Dearchiver::State {
   Result<std::unique_ptr<Plan>> plan_graphics(const Found& found, const ModifyCallback& modify) {
     const format::GraphicsState& g = found.pipeline->graphics;
     const std::string& name = found.pipeline->name;
-    const bool uses_render_pass = g.render_pass != format::kNone;
+    const bool uses_render_pass = found.pipeline->render_pass != format::kNone;
     if (!uses_render_pass && !context.dynamic_rendering_enabled)
       return Error{ErrorCode::unsupported,
                    "pipeline '" + name + "' uses dynamic rendering, which the device was not created with"};
@@ -617,7 +617,8 @@ struct Dearchiver::State {
                                   settled.depth_stencil_format, settled.samples, blend_enabled.data()};
     const auto& contents = archives[found.archive].contents();
     if (uses_render_pass)
-      if (auto ok = check_render_pass(contents.render_passes[g.render_pass], caps, features); !ok)
+      if (auto ok = check_render_pass(contents.render_passes[found.pipeline->render_pass], caps, features);
+          !ok)
         return ok.error();
     if (auto ok = check_graphics_state(contents, *found.pipeline, targets, caps,
                                        [&](uint32_t blob) { return walked(found.archive, blob); });
@@ -633,7 +634,7 @@ struct Dearchiver::State {
     const PatchableState& s = pl.state;
     VkRenderPass render_pass = VK_NULL_HANDLE;
     if (uses_render_pass) {
-      auto pass = this->render_pass(found.archive, g.render_pass);
+      auto pass = this->render_pass(found.archive, found.pipeline->render_pass);
       if (!pass) return pass.error();
       render_pass = *pass;
     }
@@ -708,7 +709,7 @@ struct Dearchiver::State {
     VkGraphicsPipelineCreateInfo& info = pl.graphics;
     info.pNext = uses_render_pass ? nullptr : &pl.rendering;
     info.renderPass = render_pass;
-    info.subpass = g.subpass;
+    info.subpass = found.pipeline->subpass;
     info.stageCount = static_cast<uint32_t>(pl.stages.size());
     info.pStages = pl.stages.data();
     info.pVertexInputState = &pl.vertex_input;

@@ -476,7 +476,7 @@ Result<void> check_graphics_state(const format::Contents& c, const format::Pipel
   if (t.color_count > l.maxColorAttachments)
     return over_limit(who, "the color attachment count", t.color_count, "maxColorAttachments",
                       l.maxColorAttachments);
-  const bool dynamic_rendering = g.render_pass == format::kNone;
+  const bool dynamic_rendering = p.render_pass == format::kNone;
   if (dynamic_rendering) {
     for (uint32_t i = 0; i < t.color_count; ++i) {
       if (t.color_formats[i] == VK_FORMAT_UNDEFINED) continue;
@@ -500,11 +500,11 @@ Result<void> check_graphics_state(const format::Contents& c, const format::Pipel
                                                " samples, which the device does not support"};
   } else {
     // The render pass fixes the attachments: the pipeline must agree with its subpass.
-    const format::RenderPass& pass = c.render_passes[g.render_pass];
-    const format::Subpass& sp = pass.subpasses[g.subpass];
+    const format::RenderPass& pass = c.render_passes[p.render_pass];
+    const format::Subpass& sp = pass.subpasses[p.subpass];
     if (t.color_count != sp.colors.size())
       return Error{ErrorCode::corrupt, who + " blends " + std::to_string(t.color_count) +
-                                           " render target(s), but its subpass " + std::to_string(g.subpass) +
+                                           " render target(s), but its subpass " + std::to_string(p.subpass) +
                                            " of render pass '" + pass.name + "' has " +
                                            std::to_string(sp.colors.size())};
     std::vector<format::AttachmentRef> used(sp.colors.begin(), sp.colors.end());
@@ -557,8 +557,8 @@ Result<void> check_graphics_state(const format::Contents& c, const format::Pipel
             !ok)
           return ok;
     } else {
-      const format::RenderPass& pass = c.render_passes[g.render_pass];
-      const format::Subpass& sp = pass.subpasses[g.subpass];
+      const format::RenderPass& pass = c.render_passes[p.render_pass];
+      const format::Subpass& sp = pass.subpasses[p.subpass];
       for (uint32_t i = 0; i < sp.colors.size(); ++i)
         if (sp.colors[i].attachment != format::kNone)
           if (auto ok = check_numeric(module->outputs, i, pass.attachments[sp.colors[i].attachment].format,

@@ -93,7 +93,8 @@ Json binding_json(const format::Binding& b) {
   return j;
 }
 
-Json graphics_json(const format::Contents& c, const format::GraphicsState& g) {
+Json graphics_json(const format::Contents& c, const format::Pipeline& p) {
+  const format::GraphicsState& g = p.graphics;
   Json j;
   j["topology"] = vk::to_string(vk::PrimitiveTopology(g.topology));
   if (g.patch_control_points != 0) j["patch_control_points"] = g.patch_control_points;
@@ -150,8 +151,8 @@ Json graphics_json(const format::Contents& c, const format::GraphicsState& g) {
                           {"offset", a.offset}});
   if (!bindings.empty()) j["vertex_bindings"] = bindings;
   if (!attributes.empty()) j["vertex_attributes"] = attributes;
-  j["render_pass"] = g.render_pass == format::kNone ? "none" : c.render_passes[g.render_pass].name;
-  if (g.render_pass != format::kNone) j["subpass"] = g.subpass;
+  j["render_pass"] = p.render_pass == format::kNone ? "none" : c.render_passes[p.render_pass].name;
+  if (p.render_pass != format::kNone) j["subpass"] = p.subpass;
   return j;
 }
 
@@ -266,7 +267,7 @@ Json contents_json(const format::Contents& c, size_t size) {
       pj["push_constants"] = {{"size", p.push_constant_size},
                               {"stages", stages_json(p.push_constant_stages)}};
     if (p.kind == format::PipelineKind::graphics) {
-      pj["graphics"] = graphics_json(c, p.graphics);
+      pj["graphics"] = graphics_json(c, p);
       Json dynamic = Json::array();
       for (const auto& [name, bit] : kDynamicStates)
         if (bit != kUnsupportedValue && (p.dynamic_states & bit)) dynamic.push_back(name);

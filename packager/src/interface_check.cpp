@@ -316,7 +316,7 @@ bool check_render_targets(const PipelineDesc& p, const format::GraphicsState& g,
         const uint32_t location = v.location + e;
         if (location >= g.color_count) {
           const std::string targets = from_render_pass
-                                          ? "subpass " + std::to_string(g.subpass) + " of render pass '" +
+                                          ? "subpass " + std::to_string(p.subpass) + " of render pass '" +
                                                 p.render_pass + "' has " + std::to_string(g.color_count) +
                                                 " color attachment(s)"
                                           : "the pipeline has " + std::to_string(g.color_count) +

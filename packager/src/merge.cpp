@@ -51,8 +51,8 @@ class Merger {
       for (uint32_t& s : p.shaders) s = shaders[s];
       for (uint32_t& l : p.set_layouts)
         if (l != format::kNone) l = layouts[l];
-      if (p.kind == format::PipelineKind::graphics && p.graphics.render_pass != format::kNone)
-        p.graphics.render_pass = passes[p.graphics.render_pass];
+      if (p.kind == format::PipelineKind::graphics && p.render_pass != format::kNone)
+        p.render_pass = passes[p.render_pass];
       auto [it, inserted] = pipelines_.try_emplace(p.name, builder_.contents.pipelines.size(), file);
       if (inserted) {
         builder_.contents.pipelines.push_back(std::move(p));

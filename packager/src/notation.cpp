@@ -185,7 +185,8 @@ class FileReader {
       json_.flags_field(j, "Flags", p, kPipelineFlags, "pipeline flag", flags);
       if (auto g = j.find("GraphicsPipeline"); g != j.end()) {
         format::GraphicsState scratch;
-        read_graphics_state(lenient, *g, p + "/GraphicsPipeline", scratch);
+        uint32_t subpass = 0;
+        read_graphics_state(lenient, *g, p + "/GraphicsPipeline", scratch, subpass);
         if (g->contains("pRenderPass"))
           json_.error(p + "/GraphicsPipeline/pRenderPass", "a render pass cannot be a default");
       }
@@ -457,7 +458,7 @@ class FileReader {
       resource_layout(*layout, pointer + "/PSODesc/ResourceLayout", p);
     specialization_constants(j, pointer, p);
     if (auto g = j.find("GraphicsPipeline"); g != j.end()) {
-      read_graphics_state(ctx_, *g, pointer + "/GraphicsPipeline", p.graphics);
+      read_graphics_state(ctx_, *g, pointer + "/GraphicsPipeline", p.graphics, p.subpass);
       uint32_t extra = 0;
       json_.flags_field(*g, "DynamicStates", pointer + "/GraphicsPipeline", kDynamicStates, "dynamic state",
                         extra);
@@ -465,10 +466,10 @@ class FileReader {
       if (auto rp = g->find("pRenderPass"); rp != g->end())
         if (auto name = render_pass_object(*rp, pointer + "/GraphicsPipeline/pRenderPass"))
           p.render_pass = *name;
-      if (p.graphics.subpass != 0 && !g->contains("pRenderPass"))
+      if (p.subpass != 0 && !g->contains("pRenderPass"))
         json_.error(
             pointer + "/GraphicsPipeline/SubpassIndex",
-            "pipeline '" + p.name + "': 'SubpassIndex' " + std::to_string(p.graphics.subpass) +
+            "pipeline '" + p.name + "': 'SubpassIndex' " + std::to_string(p.subpass) +
                 " needs a render pass ('pRenderPass'); without one the pipeline uses dynamic rendering");
     }
 

@@ -107,6 +107,7 @@ struct PipelineDesc {
   std::vector<ShaderDesc> shaders;  // one per stage
   format::GraphicsState graphics;
   std::string render_pass;              // name; empty: dynamic rendering
+  uint32_t subpass = 0;                 // SubpassIndex, with a render pass only
   std::vector<std::string> signatures;  // names; empty: implicit layout
   std::vector<ResourceVariable> variables;
   std::vector<ImmutableSamplerDesc> immutable_samplers;

@@ -267,7 +267,7 @@ std::optional<ShaderDesc> read_shader(ReadContext& ctx, const Json& j, const std
 }
 
 void read_graphics_state(ReadContext& ctx, const Json& j, const std::string& pointer,
-                         format::GraphicsState& g) {
+                         format::GraphicsState& g, uint32_t& subpass) {
   JsonReader& json = ctx.json;
   if (!json.expect_object(j, pointer, "'GraphicsPipeline'")) return;
   json.check_keys(j, pointer, schema::kGraphicsPipelineDesc, "GraphicsPipeline");
@@ -277,7 +277,7 @@ void read_graphics_state(ReadContext& ctx, const Json& j, const std::string& poi
     g.topology = VK_PRIMITIVE_TOPOLOGY_PATCH_LIST;
   }
   json.unsigned_number(j, "SampleMask", pointer, g.sample_mask);
-  json.unsigned_number(j, "SubpassIndex", pointer, g.subpass);
+  json.unsigned_number(j, "SubpassIndex", pointer, subpass);
   if (auto it = j.find("InputLayout"); it != j.end())
     read_input_layout(ctx, *it, pointer + "/InputLayout", g);
   uint32_t viewports = 1, unused = 0;

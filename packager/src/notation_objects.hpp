@@ -24,7 +24,7 @@ std::optional<ShaderDesc> read_shader(ReadContext& ctx, const Json& j, const std
 
 // The GraphicsPipeline object, except pRenderPass, which the pipeline reader resolves.
 void read_graphics_state(ReadContext& ctx, const Json& j, const std::string& pointer,
-                         format::GraphicsState& g);
+                         format::GraphicsState& g, uint32_t& subpass);
 
 std::optional<format::Sampler> read_sampler(ReadContext& ctx, const Json& j, const std::string& pointer);
 std::vector<ImmutableSamplerDesc> read_immutable_samplers(ReadContext& ctx, const Json& j,

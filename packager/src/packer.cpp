@@ -128,12 +128,12 @@ class Dumper {
 // Formats and sample count of a pipeline's subpass, which the render pass decides.
 void apply_render_pass(const format::RenderPass& rp, format::GraphicsState& g, const PipelineDesc& p,
                        Diagnostics& diag) {
-  if (g.subpass >= rp.subpasses.size()) {
+  if (p.subpass >= rp.subpasses.size()) {
     diag.error(p.where, "pipeline '" + p.name + "': render pass '" + rp.name + "' has no subpass " +
-                            std::to_string(g.subpass));
+                            std::to_string(p.subpass));
     return;
   }
-  const format::Subpass& sp = rp.subpasses[g.subpass];
+  const format::Subpass& sp = rp.subpasses[p.subpass];
   std::array<uint32_t, format::kMaxColorTargets> formats{};
   uint32_t samples = 0;
   for (size_t i = 0; i < sp.colors.size(); ++i) {
@@ -148,7 +148,7 @@ void apply_render_pass(const format::RenderPass& rp, format::GraphicsState& g, c
   }
   if (g.color_count != 0 && (g.color_count != sp.colors.size() || g.color_formats != formats))
     diag.error(p.where, "pipeline '" + p.name + "': RTVFormats/NumRenderTargets disagree with subpass " +
-                            std::to_string(g.subpass) + " of render pass '" + rp.name + "'");
+                            std::to_string(p.subpass) + " of render pass '" + rp.name + "'");
   g.color_count = static_cast<uint32_t>(sp.colors.size());
   g.color_formats = formats;
   g.depth_stencil_format = depth;
@@ -255,9 +255,10 @@ Plan plan_archive(const Notation& notation, const CompiledShaders& compiled, Con
     out_pipeline.dynamic_states = p.kind == format::PipelineKind::graphics ? p.dynamic_states : 0;
     out_pipeline.constants = std::move(constants);
     if (!p.render_pass.empty()) {
-      out_pipeline.graphics.render_pass = pass_index.at(p.render_pass);
-      apply_render_pass(builder.contents.render_passes[out_pipeline.graphics.render_pass],
-                        out_pipeline.graphics, p, diag);
+      out_pipeline.render_pass = pass_index.at(p.render_pass);
+      out_pipeline.subpass = p.subpass;
+      apply_render_pass(builder.contents.render_passes[out_pipeline.render_pass], out_pipeline.graphics, p,
+                        diag);
     }
     if (p.kind == format::PipelineKind::graphics &&
         !check_graphics_interfaces(p, out_pipeline.graphics, stages, notation.sources, diag))
