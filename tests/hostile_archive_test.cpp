@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "archive_access.hpp"
 #include "forged_archive.hpp"
 #include "vulkan_test_fixture.hpp"
 
@@ -28,7 +29,7 @@ fs::path scratch_dir() {
 // The slice archive (kept alive: decoded SPIR-V spans point into it) and a copy of its contents.
 struct Slice {
   Archive archive = Archive::from_file(STATEPACK_TEST_ARCHIVE).value();
-  format::Contents contents = archive.contents();
+  format::Contents contents = detail::ArchiveAccess::contents(archive);
   format::Pipeline& pipeline(std::string_view name) {
     return *std::find_if(contents.pipelines.begin(), contents.pipelines.end(),
                          [&](const format::Pipeline& p) { return p.name == name; });
@@ -42,7 +43,7 @@ struct Corpus {
   explicit Corpus(std::string_view fragment) {
     for (const auto& path : corpus_archives())
       if (path.find(fragment) != std::string::npos) archive.emplace(Archive::from_file(path).value());
-    if (archive) contents = archive->contents();
+    if (archive) contents = detail::ArchiveAccess::contents(*archive);
   }
 };
 
@@ -216,8 +217,8 @@ TEST(HostileArchive, IncompatibleDescriptorType) {
   EXPECT_EQ(
       load_error(slice.contents),
       "archive in memory: corrupt archive: pipeline 'Fill Buffer PSO': binding 'Values' (set 0, binding 0) "
-      "is a UNIFORM_BUFFER descriptor, but shader 'Fill Buffer CS' declares a STORAGE_BUFFER or "
-      "STORAGE_BUFFER_DYNAMIC");
+      "is a uniform buffer descriptor, but shader 'Fill Buffer CS' declares a storage buffer or "
+      "dynamic storage buffer");
 }
 
 TEST(HostileArchive, BindingInvisibleToTheShadersStage) {

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "archive_access.hpp"
 #include "forged_archive.hpp"
 #include "run_command.hpp"
 #include "statepack/dearchiver.hpp"
@@ -16,7 +17,7 @@ namespace {
 std::string hostile_names_archive() {
   auto slice = Archive::from_file(STATEPACK_TEST_ARCHIVE);
   EXPECT_TRUE(slice) << slice.error().message;
-  format::Contents c = slice->contents();
+  format::Contents c = detail::ArchiveAccess::contents(*slice);
   for (auto& p : c.pipelines)
     if (p.name == "Gradient PSO") p.name = "bad\xFFname\x1B[31m";
   for (auto& s : c.shaders)

@@ -5,6 +5,7 @@
 #include <fstream>
 #include <vector>
 
+#include "archive_access.hpp"
 #include "archive_format.hpp"
 #include "vulkan_test_fixture.hpp"
 
@@ -109,7 +110,7 @@ TEST_F(SliceTest, RunTimeFormatsLeftUnknownAreErrors) {
   // The slice archive with its gradient target made UNKNOWN ("patched at run time").
   auto original = Archive::from_file(STATEPACK_TEST_ARCHIVE);
   ASSERT_TRUE(original);
-  format::Contents contents = original->contents();
+  format::Contents contents = detail::ArchiveAccess::contents(*original);
   for (auto& p : contents.pipelines)
     if (p.name == "Gradient PSO") p.graphics.color_formats[0] = VK_FORMAT_UNDEFINED;
   std::vector<uint8_t> bytes = format::encode(contents);
@@ -155,7 +156,7 @@ TEST_F(SliceTest, ArchiveFromCallerMemoryUnpacks) {
   auto archive = Archive::from_memory({reinterpret_cast<const uint8_t*>(words.data()), chars.size()});
   ASSERT_TRUE(archive) << archive.error().message;
   // Zero copy: the SPIR-V the dearchiver hands Vulkan lies inside the caller's buffer.
-  auto blob = archive->contents().spirv.at(0);
+  auto blob = detail::ArchiveAccess::contents(*archive).spirv.at(0);
   EXPECT_GE(reinterpret_cast<const uint8_t*>(blob.data()), reinterpret_cast<const uint8_t*>(words.data()));
   EXPECT_LT(reinterpret_cast<const uint8_t*>(blob.data()),
             reinterpret_cast<const uint8_t*>(words.data()) + chars.size());

@@ -2,6 +2,7 @@
 // two results on lavapipe, and the modify callback overrides a constant by name (sizes checked).
 #include <cstring>
 
+#include "archive_access.hpp"
 #include "archive_format.hpp"
 #include "vulkan_test_fixture.hpp"
 
@@ -46,7 +47,7 @@ TEST_F(SpecializationTest, PipelinesDifferingOnlyInConstantsShareOneBlobAndGiveT
   Dearchiver dearchiver = load();
   auto archive = Archive::from_file(STATEPACK_SPECIALIZATION_ARCHIVE);
   ASSERT_TRUE(archive);
-  const format::Contents& c = archive->contents();
+  const format::Contents& c = detail::ArchiveAccess::contents(*archive);
   ASSERT_EQ(c.pipelines.size(), 2u);
   EXPECT_EQ(c.spirv.size(), 1u);  // one module for both pipelines (and the standalone shader)
   EXPECT_EQ(c.shaders[c.pipelines[0].shaders[0]].blob, c.shaders[c.pipelines[1].shaders[0]].blob);

@@ -6,6 +6,7 @@
 #include <set>
 #include <thread>
 
+#include "archive_access.hpp"
 #include "archive_format.hpp"
 #include "vulkan_test_fixture.hpp"
 
@@ -23,9 +24,9 @@ TEST_F(TsanUnpack, ConcurrentUnpackAllAndSingleUnpacksAgree) {
   for (const auto& path : corpus_archives()) {
     auto archive = Archive::from_file(path);
     ASSERT_TRUE(archive) << archive.error().message;
-    for (const auto& p : archive->contents().pipelines)
+    for (const auto& p : detail::ArchiveAccess::contents(*archive).pipelines)
       if (names.insert(p.name).second) pipelines.emplace_back(p.name, p.kind);
-    for (const auto& l : archive->contents().set_layouts)
+    for (const auto& l : detail::ArchiveAccess::contents(*archive).set_layouts)
       if (!l.name.empty()) signatures.push_back(l.name);
     ASSERT_TRUE(dearchiver->add_archive(std::move(*archive)));
   }

@@ -4,6 +4,7 @@
 #include <set>
 #include <sstream>
 
+#include "archive_access.hpp"
 #include "archive_format.hpp"
 #include "vulkan_test_fixture.hpp"
 
@@ -58,7 +59,7 @@ TEST_F(Unpack, EverythingOnSeveralThreadsMatchesOneByOne) {
 TEST_F(Unpack, NamesResolveAcrossArchivesAndTheFirstWins) {
   auto first = Archive::from_file(STATEPACK_TEST_ARCHIVE);
   ASSERT_TRUE(first);
-  format::Contents renamed = first->contents();
+  format::Contents renamed = detail::ArchiveAccess::contents(*first);
   for (auto& p : renamed.pipelines)
     if (p.name == "Fill Buffer PSO") p.name = "Only In Second";
   ForgedArchive second_bytes(renamed);
@@ -80,7 +81,7 @@ TEST_F(Unpack, NamesResolveAcrossArchivesAndTheFirstWins) {
 TEST_F(Unpack, PipelineNeedingADisabledFeatureIsAnError) {
   auto archive = Archive::from_file(STATEPACK_TEST_ARCHIVE);
   ASSERT_TRUE(archive);
-  format::Contents wireframe = archive->contents();
+  format::Contents wireframe = detail::ArchiveAccess::contents(*archive);
   for (auto& p : wireframe.pipelines) p.graphics.polygon_mode = VK_POLYGON_MODE_LINE;
   ForgedArchive bytes(wireframe);
   auto forged = Archive::from_memory(bytes.span());
@@ -99,7 +100,7 @@ TEST_F(Unpack, PipelineNeedingADisabledFeatureIsAnError) {
 TEST_F(Unpack, ArchiveWithoutVulkanDataIsAnError) {
   auto archive = Archive::from_file(STATEPACK_TEST_ARCHIVE);
   ASSERT_TRUE(archive);
-  format::Contents other = archive->contents();
+  format::Contents other = detail::ArchiveAccess::contents(*archive);
   other.backends = format::kBackendOpenGL;
   ForgedArchive bytes(other);
   auto forged = Archive::from_memory(bytes.span());
@@ -115,6 +116,35 @@ TEST_F(Unpack, InvalidCreateArgumentsAreErrors) {
   auto missing = Dearchiver::create({});
   ASSERT_FALSE(missing);
   EXPECT_EQ(missing.error().code, ErrorCode::invalid_argument);
+}
+
+// The driver's own failure reaches the caller as a value, not only as text: an allocator that refuses
+// every allocation makes lavapipe's create calls return VK_ERROR_OUT_OF_HOST_MEMORY.
+TEST_F(Unpack, AFailedVulkanCallCarriesItsVkResult) {
+  VkAllocationCallbacks refusing{};
+  refusing.pfnAllocation = [](void*, size_t, size_t, VkSystemAllocationScope) -> void* { return nullptr; };
+  refusing.pfnReallocation = [](void*, void*, size_t, size_t, VkSystemAllocationScope) -> void* {
+    return nullptr;
+  };
+  refusing.pfnFree = [](void*, void*) {};
+  DeviceContext context{vk_->physical_device, vk_->device};
+  context.allocator = &refusing;
+  auto dearchiver = Dearchiver::create(context);
+  ASSERT_TRUE(dearchiver);
+  ASSERT_TRUE(dearchiver->add_archive(Archive::from_file(STATEPACK_TEST_ARCHIVE).value()));
+  for (const char* name : {"Fill Buffer PSO", "Gradient PSO"}) {
+    auto pso = std::string(name) == "Gradient PSO" ? dearchiver->unpack_graphics(name)
+                                                   : dearchiver->unpack_compute(name);
+    ASSERT_FALSE(pso) << name;
+    EXPECT_EQ(pso.error().code, ErrorCode::vulkan_error) << pso.error().message;
+    EXPECT_EQ(pso.error().vk_result, VK_ERROR_OUT_OF_HOST_MEMORY) << pso.error().message;
+    EXPECT_NE(pso.error().message.find("ErrorOutOfHostMemory"), std::string::npos) << pso.error().message;
+  }
+  // Every other error carries VK_SUCCESS.
+  auto unknown = dearchiver->unpack_compute("No Such PSO");
+  ASSERT_FALSE(unknown);
+  EXPECT_EQ(unknown.error().code, ErrorCode::not_found);
+  EXPECT_EQ(unknown.error().vk_result, VK_SUCCESS);
 }
 
 }  // namespace

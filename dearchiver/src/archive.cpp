@@ -1,15 +1,14 @@
-// Archive: loads bytes (owned or borrowed) and keeps their validated, decoded contents.
+// Archive: owns (from_file) or borrows (from_memory) an archive's bytes and keeps their validated,
+// decoded contents; the loading itself is the format library's.
 #include "api_guard.hpp"
-#include "archive_format.hpp"
-#include "file_io.hpp"
-#include "semantic_check.hpp"
+#include "archive_access.hpp"
+#include "archive_file.hpp"
 #include "statepack/dearchiver.hpp"
 
 namespace statepack {
 
 struct Archive::State {
-  std::vector<uint32_t> owned;  // uint32_t storage keeps file bytes 4-byte aligned for SPIR-V
-  format::Contents contents;
+  format::LoadedArchive loaded;  // `owned` stays empty for borrowed bytes
 };
 
 Archive::Archive(std::unique_ptr<State> state) : state_(std::move(state)) {}
@@ -17,59 +16,33 @@ Archive::Archive(Archive&&) noexcept = default;
 Archive& Archive::operator=(Archive&&) noexcept = default;
 Archive::~Archive() = default;
 
-namespace {
-Result<format::Contents> decode_checked(std::span<const uint8_t> bytes, std::optional<uint32_t> required,
-                                        const std::string& origin) {
-  auto decoded = format::decode(bytes);
-  if (!decoded) return Error{decoded.error().code, origin + ": " + decoded.error().message};
-  // What the SPIR-V declares must agree with the stored layouts before anything reaches Vulkan.
-  if (auto consistent = format::check_shader_interfaces(*decoded); !consistent)
-    return Error{consistent.error().code, origin + ": " + consistent.error().message};
-  if (required && decoded->content_version != *required)
-    return Error{ErrorCode::content_version_mismatch, origin + ": content version " +
-                                                          std::to_string(decoded->content_version) +
-                                                          ", required " + std::to_string(*required)};
-  return decoded;
-}
-}  // namespace
-
 Result<Archive> Archive::from_file(const std::filesystem::path& path, std::optional<uint32_t> required) {
   return api_guard("Archive::from_file", [&]() -> Result<Archive> {
-    // Record offsets are 32-bit, so no valid archive is larger than 4 GiB.
-    auto file = read_regular_file(path, uint64_t{0xFFFFFFFFu});
-    if (!file) return file.error();
-    auto state = std::make_unique<State>();
-    state->owned = std::move(file->words);
-    std::span<const uint8_t> bytes(reinterpret_cast<const uint8_t*>(state->owned.data()), file->size);
-    auto decoded = decode_checked(bytes, required, path.string());
-    if (!decoded) return decoded.error();
-    state->contents = std::move(decoded.value());
-    return Archive(std::move(state));
+    auto loaded = format::load_archive_file(path, required);
+    if (!loaded) return loaded.error();
+    return Archive(std::make_unique<State>(State{std::move(loaded.value())}));
   });
 }
 
 Result<Archive> Archive::from_memory(std::span<const uint8_t> bytes, std::optional<uint32_t> required) {
   return api_guard("Archive::from_memory", [&]() -> Result<Archive> {
-    auto decoded = decode_checked(bytes, required, "archive in memory");
-    if (!decoded) return decoded.error();
+    auto contents = format::load_archive(bytes, required, "archive in memory");
+    if (!contents) return contents.error();
     auto state = std::make_unique<State>();
-    state->contents = std::move(decoded.value());
+    state->loaded.contents = std::move(contents.value());
     return Archive(std::move(state));
   });
 }
 
 uint32_t Archive::content_version() const {
-  return state_->contents.content_version;
+  return state_->loaded.contents.content_version;
 }
 uint32_t Archive::format_version() const {
-  return state_->contents.format_version;
-}
-const format::Contents& Archive::contents() const {
-  return state_->contents;
+  return state_->loaded.contents.format_version;
 }
 
 std::vector<ObjectInfo> Archive::objects() const {
-  const format::Contents& c = state_->contents;
+  const format::Contents& c = state_->loaded.contents;
   std::vector<ObjectInfo> out;
   for (const auto& p : c.pipelines)
     out.push_back({p.name, p.kind == format::PipelineKind::compute ? ObjectKind::compute_pipeline
@@ -80,5 +53,11 @@ std::vector<ObjectInfo> Archive::objects() const {
   for (uint32_t s : c.standalone_shaders) out.push_back({c.shaders[s].name, ObjectKind::shader});
   return out;
 }
+
+namespace detail {
+const format::Contents& ArchiveAccess::contents(const Archive& archive) {
+  return archive.state_->loaded.contents;
+}
+}  // namespace detail
 
 }  // namespace statepack

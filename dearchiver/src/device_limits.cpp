@@ -12,23 +12,6 @@
 
 namespace statepack {
 
-spirv::Numeric numeric_of_format(uint32_t f) {
-  using spirv::Numeric;
-  auto in_group = [&](uint32_t first, uint32_t last, uint32_t size,
-                      uint32_t uint_at) -> std::optional<Numeric> {
-    if (f < first || f > last) return std::nullopt;
-    const uint32_t at = (f - first) % size;
-    return at == uint_at ? Numeric::uint : at == uint_at + 1 ? Numeric::sint : Numeric::float_;
-  };
-  if (auto n = in_group(VK_FORMAT_R8_UNORM, VK_FORMAT_A8B8G8R8_SRGB_PACK32, 7, 4)) return *n;
-  if (auto n = in_group(VK_FORMAT_A2R10G10B10_UNORM_PACK32, VK_FORMAT_A2B10G10R10_SINT_PACK32, 6, 4))
-    return *n;
-  if (auto n = in_group(VK_FORMAT_R16_UNORM, VK_FORMAT_R16G16B16A16_SFLOAT, 7, 4)) return *n;
-  if (auto n = in_group(VK_FORMAT_R32_UINT, VK_FORMAT_R64G64B64A64_SFLOAT, 3, 0)) return *n;
-  if (f == VK_FORMAT_S8_UINT) return Numeric::uint;
-  return f == VK_FORMAT_UNDEFINED ? Numeric::other : Numeric::float_;
-}
-
 namespace {
 
 Error over_limit(const std::string& object, const std::string& what, uint64_t value, const char* limit,
@@ -200,7 +183,7 @@ Result<void> check_numeric(const std::vector<spirv::Input>& variables, uint32_t 
     if (format == VK_FORMAT_UNDEFINED)
       return Error{ErrorCode::corrupt, what + " has no format, but the shader's variable at location " +
                                            std::to_string(location) + " is there"};
-    const spirv::Numeric wanted = numeric_of_format(format);
+    const spirv::Numeric wanted = spirv::numeric_of_format(format);
     if (v.numeric != spirv::Numeric::other && wanted != spirv::Numeric::other && v.numeric != wanted)
       return Error{ErrorCode::corrupt, what + " has format " + std::to_string(format) +
                                            ", whose numeric type differs from the shader's variable"};

@@ -14,11 +14,6 @@
 
 namespace statepack {
 
-// The numeric type a format's components are read or written as (float for UNORM, SNORM, SCALED, SRGB
-// and FLOAT formats; other for UNDEFINED). The packager's pack-time checks use it too, so pack and unpack
-// classify formats alike.
-spirv::Numeric numeric_of_format(uint32_t vk_format);
-
 struct DeviceCaps {
   VkPhysicalDevice physical_device = VK_NULL_HANDLE;
   VkPhysicalDeviceProperties properties{};

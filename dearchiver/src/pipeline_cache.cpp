@@ -130,7 +130,7 @@ Result<PipelineCacheLoad> load_pipeline_cache(const DeviceContext& context,
     }
     if (VkResult r = vkCreatePipelineCache(context.device, &info, context.allocator, &out.cache);
         r != VK_SUCCESS)
-      return Error{ErrorCode::vulkan_error, "vkCreatePipelineCache failed: " + vk_result_string(r)};
+      return Error{ErrorCode::vulkan_error, "vkCreatePipelineCache failed: " + vk_result_string(r), r};
     return out;
   });
 }
@@ -140,11 +140,11 @@ Result<void> save_pipeline_cache(const DeviceContext& context, VkPipelineCache c
   return api_guard("save_pipeline_cache", [&]() -> Result<void> {
     size_t size = 0;
     if (VkResult r = vkGetPipelineCacheData(context.device, cache, &size, nullptr); r != VK_SUCCESS)
-      return Error{ErrorCode::vulkan_error, "vkGetPipelineCacheData failed: " + vk_result_string(r)};
+      return Error{ErrorCode::vulkan_error, "vkGetPipelineCacheData failed: " + vk_result_string(r), r};
     std::vector<uint8_t> file(kHeaderSize + size);
     if (VkResult r = vkGetPipelineCacheData(context.device, cache, &size, file.data() + kHeaderSize);
         r != VK_SUCCESS)
-      return Error{ErrorCode::vulkan_error, "vkGetPipelineCacheData failed: " + vk_result_string(r)};
+      return Error{ErrorCode::vulkan_error, "vkGetPipelineCacheData failed: " + vk_result_string(r), r};
     file.resize(kHeaderSize + size);
     const Identity id = identity_of(context.physical_device);
     std::memcpy(file.data(), kMagic, 8);

@@ -10,4 +10,10 @@ std::string vk_result_string(VkResult result) {
          std::to_string(static_cast<int>(result)) + ")";
 }
 
+Error vulkan_failure(const char* call, VkResult result, std::string_view object) {
+  return Error{ErrorCode::vulkan_error,
+               std::string(call) + " failed for '" + std::string(object) + "': " + vk_result_string(result),
+               result};
+}
+
 }  // namespace statepack

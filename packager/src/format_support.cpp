@@ -6,8 +6,8 @@
 #include <cctype>
 #include <initializer_list>
 
-#include "device_limits.hpp"
 #include "enum_tables.hpp"
+#include "spirv_walk.hpp"
 
 namespace statepack::packager {
 namespace {
@@ -19,7 +19,7 @@ bool listed(std::initializer_list<VkFormat> list, uint32_t format) {
 }  // namespace
 
 NumericClass numeric_class(uint32_t vk_format) {
-  switch (numeric_of_format(vk_format)) {  // the dearchiver's classification, so both sides agree
+  switch (spirv::numeric_of_format(vk_format)) {  // the dearchiver's classification, so both sides agree
     case spirv::Numeric::float_:
       return NumericClass::floating;
     case spirv::Numeric::sint:

@@ -9,9 +9,9 @@
 #include <ostream>
 #include <vulkan/vulkan.hpp>  // vk::to_string: Vulkan's own enum names, kept up to date by the SDK
 
+#include "archive_file.hpp"
 #include "archive_format.hpp"
 #include "packer.hpp"
-#include "statepack/dearchiver.hpp"
 
 namespace statepack::packager {
 namespace {
@@ -397,13 +397,13 @@ void print_text(const Json& j, std::ostream& out) {
 }  // namespace
 
 int run_inspect(const std::string& path, bool as_json, std::ostream& out, std::ostream& err) {
-  auto archive = Archive::from_file(path);
+  auto archive = format::load_archive_file(path);
   if (!archive) {
     err << "statepack: error: " << archive.error().message << '\n';
     return archive.error().code == ErrorCode::io_error ? kExitIoError : kExitInputError;
   }
   std::error_code ec;
-  print_archive(archive->contents(), static_cast<size_t>(std::filesystem::file_size(path, ec)), as_json, out);
+  print_archive(archive->contents, static_cast<size_t>(std::filesystem::file_size(path, ec)), as_json, out);
   return kExitSuccess;
 }
 

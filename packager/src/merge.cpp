@@ -4,12 +4,12 @@
 #include <ostream>
 #include <string>
 
+#include "archive_file.hpp"
 #include "contents_builder.hpp"
 #include "diagnostics.hpp"
 #include "file_io.hpp"
 #include "output_files.hpp"
 #include "packer.hpp"
-#include "statepack/dearchiver.hpp"
 #include "version.hpp"
 
 namespace statepack::packager {
@@ -93,17 +93,17 @@ int run_merge(const MergeOptions& options, std::ostream& out, std::ostream& err)
     err << "statepack: error: " << printable(reason) << '\n';
     return kExitUsage;
   }
-  std::vector<Archive> archives;  // kept alive: the merged contents point into their SPIR-V until written
+  std::vector<format::LoadedArchive> archives;  // kept: the merged contents point into their SPIR-V
   std::optional<uint32_t> content_version = options.content_version;
   Merger merger;
   for (const fs::path& path : options.inputs) {
     const std::string file = printable(path.string());
-    auto archive = Archive::from_file(path);
+    auto archive = format::load_archive_file(path);
     if (!archive) {
       err << "statepack: error: " << printable(archive.error().message) << '\n';
       return kExitInputError;
     }
-    const format::Contents& c = archive->contents();
+    const format::Contents& c = archive->contents;
     if (!options.content_version) {
       if (content_version && *content_version != c.content_version) {
         err << "statepack: error: '" << file << "' has content version " << c.content_version

@@ -11,28 +11,20 @@
 namespace statepack::packager {
 namespace {
 
-const char* descriptor_name(uint32_t type) {
+// Vulkan's name of the descriptor type, with the notation's resource type where one maps to it.
+std::string descriptor_name(uint32_t type) {
+  std::string name = format::descriptor_type_name(type);
   switch (type) {
-    case VK_DESCRIPTOR_TYPE_SAMPLER:
-      return "sampler";
-    case VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER:
-      return "combined image sampler";
     case VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE:
-      return "sampled image (TEXTURE_SRV)";
+      return name + " (TEXTURE_SRV)";
     case VK_DESCRIPTOR_TYPE_STORAGE_IMAGE:
-      return "storage image (TEXTURE_UAV)";
-    case VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER:
-      return "uniform texel buffer";
-    case VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER:
-      return "storage texel buffer";
+      return name + " (TEXTURE_UAV)";
     case VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER:
-      return "uniform buffer (CONSTANT_BUFFER)";
+      return name + " (CONSTANT_BUFFER)";
     case VK_DESCRIPTOR_TYPE_STORAGE_BUFFER:
-      return "storage buffer (BUFFER_SRV/BUFFER_UAV)";
-    case VK_DESCRIPTOR_TYPE_INPUT_ATTACHMENT:
-      return "input attachment";
+      return name + " (BUFFER_SRV/BUFFER_UAV)";
   }
-  return "unknown descriptor";
+  return name;
 }
 
 std::string where_text(const PipelineDesc& p, const StageInput& stage) {

@@ -6,7 +6,7 @@ namespace statepack::samples {
 namespace {
 
 Error vk_error(const char* call, VkResult r) {
-  return Error{ErrorCode::vulkan_error, std::string(call) + " failed with VkResult " + std::to_string(r)};
+  return Error{ErrorCode::vulkan_error, std::string(call) + " failed with VkResult " + std::to_string(r), r};
 }
 
 bool has_layer(const char* name) {

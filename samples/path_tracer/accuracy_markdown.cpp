@@ -36,9 +36,8 @@ double efficiency_ratio(const Report& report, const BounceResults& r, const std:
 }
 
 std::string describe(const RenderSettings& s) {
-  std::string out = s.estimator == Estimator::mis ? "MIS" : s.estimator == Estimator::bsdf ? "BSDF" : "NEE";
-  out += s.sampler == Sampler::sobol ? ", Sobol" : ", random";
-  out += s.light_sampling == LightSampling::solid_angle ? ", solid-angle" : ", area";
+  std::string out = names_of(s.estimator).title;
+  out = out + ", " + names_of(s.sampler).title + ", " + names_of(s.light_sampling).title;
   out += s.roulette_start ? ", roulette from bounce " + std::to_string(s.roulette_start) : ", no roulette";
   return out;
 }

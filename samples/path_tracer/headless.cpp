@@ -13,20 +13,6 @@ namespace statepack::path_tracer {
 
 namespace {
 
-const char* estimator_name(Estimator e) {
-  switch (e) {
-    case Estimator::nee:
-      return "NEE";
-    case Estimator::bsdf:
-      return "BSDF sampling";
-    case Estimator::mis:
-      return "MIS";
-    case Estimator::baseline:
-      return "tutorial baseline";
-  }
-  return "?";
-}
-
 void progress(uint32_t done, uint32_t total, double seconds) {
   if (!isatty(fileno(stderr))) return;
   constexpr int kWidth = 30;
@@ -68,8 +54,8 @@ int run_headless(const Options& o) {
       std::printf(
           "path_tracer: %ux%u, %u spp, %u bounces, %s, %s sampler, seed %u: %.2f s (%.1f ms per "
           "sample) -> %s\n",
-          o.width, o.height, o.spp, o.settings.bounces, estimator_name(o.settings.estimator),
-          o.settings.sampler == Sampler::sobol ? "Sobol" : "random", o.settings.seed, rendered->seconds,
+          o.width, o.height, o.spp, o.settings.bounces, names_of(o.settings.estimator).title,
+          names_of(o.settings.sampler).title, o.settings.seed, rendered->seconds,
           1000.0 * rendered->seconds / o.spp, o.out.c_str());
     }
   }

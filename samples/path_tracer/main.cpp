@@ -6,8 +6,31 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <string>
+#include <vector>
 
 #include "app.hpp"
+
+namespace {
+
+using statepack::path_tracer::ChoiceNames;
+
+template <size_t N>
+std::vector<std::string> options_of(const ChoiceNames (&names)[N]) {
+  std::vector<std::string> out;
+  for (const ChoiceNames& n : names) out.push_back(n.option);
+  return out;
+}
+
+// The enum value whose option is `value` (CLI11 checked it is one of them).
+template <class Enum, size_t N>
+Enum parse_choice(const std::string& value, const ChoiceNames (&names)[N]) {
+  for (size_t i = 0; i < N; ++i)
+    if (value == names[i].option) return Enum(i);
+  return Enum(0);
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   using namespace statepack::path_tracer;
@@ -38,7 +61,7 @@ int main(int argc, char** argv) {
                  "How NEE and MIS sample the light: solid-angle (uniform in the solid angle the rectangle "
                  "subtends) or area (uniform over its area)")
       ->capture_default_str()
-      ->check(CLI::IsMember({"solid-angle", "area"}));
+      ->check(CLI::IsMember(options_of(kLightSamplingNames)));
   app.add_option("--roulette", o.settings.roulette_start,
                  "Russian roulette from this bounce on (0: never); --bounces stays the maximum")
       ->capture_default_str()
@@ -53,14 +76,14 @@ int main(int argc, char** argv) {
                  "nee (next-event estimation), bsdf (pure BSDF sampling), mis (both, power heuristic) or "
                  "baseline (the tutorial's estimator)")
       ->capture_default_str()
-      ->check(CLI::IsMember({"nee", "bsdf", "mis", "baseline"}));
+      ->check(CLI::IsMember(options_of(kEstimatorNames)));
   app.add_flag("--no-nee", no_nee, "Same as --estimator bsdf");
   std::string sampler = "sobol";
   app.add_option("--sampler", sampler,
                  "sobol (Owen-scrambled Sobol points per pixel and dimension pair) or random (independent "
                  "random numbers); the baseline estimator always uses random")
       ->capture_default_str()
-      ->check(CLI::IsMember({"sobol", "random"}));
+      ->check(CLI::IsMember(options_of(kSamplerNames)));
   app.add_flag("--last-bounce-only", o.settings.last_bounce_only, "Show only the light of the last bounce");
   app.add_option("--out", o.out, "Output image: .png (tone-mapped sRGB), .exr or .pfm (linear radiance)")
       ->capture_default_str();
@@ -72,13 +95,10 @@ int main(int argc, char** argv) {
       "Run without the Vulkan validation layer (by default it is on, and any message fails the run)");
   CLI11_PARSE(app, argc, argv);
   if (no_nee) estimator = "bsdf";
-  o.settings.estimator = estimator == "bsdf"       ? Estimator::bsdf
-                         : estimator == "mis"      ? Estimator::mis
-                         : estimator == "baseline" ? Estimator::baseline
-                                                   : Estimator::nee;
+  o.settings.estimator = parse_choice<Estimator>(estimator, kEstimatorNames);
   o.settings.next_event_estimation = o.settings.estimator != Estimator::bsdf;
-  o.settings.sampler = sampler == "random" ? Sampler::random : Sampler::sobol;
-  o.settings.light_sampling = light_sampling == "area" ? LightSampling::area : LightSampling::solid_angle;
+  o.settings.sampler = parse_choice<Sampler>(sampler, kSamplerNames);
+  o.settings.light_sampling = parse_choice<LightSampling>(light_sampling, kLightSamplingNames);
   if (!o.headless && !std::getenv("DISPLAY") && !std::getenv("WAYLAND_DISPLAY")) o.headless = true;
   return o.headless ? run_headless(o) : run_windowed(o);
 }

@@ -2,10 +2,9 @@
 #include "reference.hpp"
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
-#include <thread>
 
+#include "parallel_for.hpp"
 #include "random.hpp"
 
 namespace statepack::path_tracer {
@@ -215,28 +214,22 @@ ReferenceImage render_reference(const Scene& scene, const RenderSettings& settin
   out.mean.assign(size_t(width) * height * 3, 0.0);
   out.variance.assign(size_t(width) * height * 3, 0.0);
   const Tracer tracer(scene, settings, width, height);
-  std::atomic<uint32_t> next_row{0};
-  auto worker = [&] {
-    for (uint32_t y = next_row++; y < height; y = next_row++) {
-      for (uint32_t x = 0; x < width; ++x) {
-        double sum[3] = {}, sum2[3] = {};
-        for (uint32_t s = 0; s < spp; ++s) {
-          V3 v = tracer.sample(x, y, s);
-          for (int c = 0; c < 3; ++c) sum[c] += v[c], sum2[c] += v[c] * v[c];
-        }
-        for (int c = 0; c < 3; ++c) {
-          const size_t i = (size_t(y) * width + x) * 3 + c;
-          out.mean[i] = sum[c] / spp;
-          out.variance[i] = spp > 1 ? std::max(0.0, (sum2[c] - sum[c] * sum[c] / spp) / (spp - 1)) : 0.0;
-        }
+  // Rows on statepack's one thread pool (statepack_support), each row's pixels in order.
+  statepack::parallel_for(height, threads, [&](size_t row) {
+    const uint32_t y = uint32_t(row);
+    for (uint32_t x = 0; x < width; ++x) {
+      double sum[3] = {}, sum2[3] = {};
+      for (uint32_t s = 0; s < spp; ++s) {
+        V3 v = tracer.sample(x, y, s);
+        for (int c = 0; c < 3; ++c) sum[c] += v[c], sum2[c] += v[c] * v[c];
+      }
+      for (int c = 0; c < 3; ++c) {
+        const size_t i = (size_t(y) * width + x) * 3 + c;
+        out.mean[i] = sum[c] / spp;
+        out.variance[i] = spp > 1 ? std::max(0.0, (sum2[c] - sum[c] * sum[c] / spp) / (spp - 1)) : 0.0;
       }
     }
-  };
-  const uint32_t n = threads ? threads : std::max(1u, std::thread::hardware_concurrency());
-  std::vector<std::thread> pool;
-  for (uint32_t i = 1; i < n; ++i) pool.emplace_back(worker);
-  worker();
-  for (auto& t : pool) t.join();
+  });
   return out;
 }
 

@@ -19,7 +19,7 @@ struct Constants {
 static_assert(sizeof(Constants) == 112);
 
 Error vk_error(const char* call, VkResult r) {
-  return Error{ErrorCode::vulkan_error, std::string(call) + " failed with VkResult " + std::to_string(r)};
+  return Error{ErrorCode::vulkan_error, std::string(call) + " failed with VkResult " + std::to_string(r), r};
 }
 
 }  // namespace

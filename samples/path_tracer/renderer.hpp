@@ -19,6 +19,26 @@ enum class Estimator { nee, bsdf, mis, baseline };
 // the solid angle it subtends (spherical rectangles, Urena et al. 2013).
 enum class LightSampling { area, solid_angle };
 
+// The one spelling of each choice: its command-line value and its name in messages, reports and the
+// window. Indexed by the enum's value.
+struct ChoiceNames {
+  const char* option;
+  const char* title;
+};
+inline constexpr ChoiceNames kEstimatorNames[] = {
+    {"nee", "NEE"}, {"bsdf", "BSDF sampling"}, {"mis", "MIS"}, {"baseline", "tutorial baseline"}};
+inline constexpr ChoiceNames kSamplerNames[] = {{"sobol", "Sobol"}, {"random", "random"}};
+inline constexpr ChoiceNames kLightSamplingNames[] = {{"area", "area"}, {"solid-angle", "solid-angle"}};
+inline const ChoiceNames& names_of(Estimator e) {
+  return kEstimatorNames[size_t(e)];
+}
+inline const ChoiceNames& names_of(Sampler s) {
+  return kSamplerNames[size_t(s)];
+}
+inline const ChoiceNames& names_of(LightSampling l) {
+  return kLightSamplingNames[size_t(l)];
+}
+
 struct RenderSettings {
   uint32_t bounces = 3;               // 1..8
   uint32_t samples_per_frame = 8;     // 1..32

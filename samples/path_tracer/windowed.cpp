@@ -350,7 +350,9 @@ class Window {
     ImGui::SliderInt("Bounces", &bounces, 1, 8);
     if (!adaptive_) ImGui::SliderInt("Samples per frame", &spf, 1, 32);
     int estimator = int(s.estimator);
-    ImGui::Combo("Estimator", &estimator, "Next-event estimation\0BSDF sampling\0MIS\0Tutorial baseline\0");
+    const char* titles[std::size(kEstimatorNames)];
+    for (size_t i = 0; i < std::size(titles); ++i) titles[i] = kEstimatorNames[i].title;
+    ImGui::Combo("Estimator", &estimator, titles, int(std::size(titles)));
     s.estimator = Estimator(estimator);
     s.next_event_estimation = s.estimator != Estimator::bsdf;
     // Collapsed by default, so the panel keeps clear of the walls (the window test looks at them).

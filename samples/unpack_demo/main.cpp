@@ -5,29 +5,12 @@
 #include <cstdio>
 #include <string>
 
+#include <vulkan/vulkan.hpp>  // vk::to_string: Vulkan-Hpp names every enum
+
 #include "statepack/dearchiver.hpp"
 #include "vulkan_context.hpp"
 
 namespace {
-
-const char* descriptor_type_name(VkDescriptorType type) {
-  switch (type) {
-    case VK_DESCRIPTOR_TYPE_SAMPLER:
-      return "sampler";
-    case VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER:
-      return "combined image sampler";
-    case VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE:
-      return "sampled image";
-    case VK_DESCRIPTOR_TYPE_STORAGE_IMAGE:
-      return "storage image";
-    case VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER:
-      return "uniform buffer";
-    case VK_DESCRIPTOR_TYPE_STORAGE_BUFFER:
-      return "storage buffer";
-    default:
-      return "other";
-  }
-}
 
 int fail(const std::string& what, const statepack::Error& e) {
   std::fprintf(stderr, "unpack_demo: %s: %s (%s)\n", what.c_str(), e.message.c_str(),
@@ -104,7 +87,7 @@ int main(int argc, char** argv) {
     std::printf("\n");
     for (const auto& b : p.bindings)
       std::printf("  set %u binding %u: '%s' (%s x%u)\n", b.set, b.binding, b.name.c_str(),
-                  descriptor_type_name(b.type), b.count);
+                  vk::to_string(vk::DescriptorType(b.type)).c_str(), b.count);
     if (compute && name == "Fill Buffer PSO") status |= run_fill_buffer(**vk, p);
   }
   auto messages = (*vk)->validation_messages();

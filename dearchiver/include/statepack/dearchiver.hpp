@@ -37,8 +37,8 @@
 
 namespace statepack {
 
-namespace format {
-struct Contents;
+namespace detail {
+struct ArchiveAccess;  // the dearchiver's own view of the decoded archive
 }
 
 enum class ObjectKind { graphics_pipeline, compute_pipeline, resource_signature, render_pass, shader };
@@ -69,11 +69,8 @@ class Archive {
   // Every named object: pipelines, resource signatures, render passes, standalone shaders.
   std::vector<ObjectInfo> objects() const;
 
-  // The decoded tables (declared in the library's internal archive_format.hpp; for statepack's own
-  // tools and tests).
-  const format::Contents& contents() const;
-
  private:
+  friend struct detail::ArchiveAccess;
   struct State;
   explicit Archive(std::unique_ptr<State> state);
   std::unique_ptr<State> state_;

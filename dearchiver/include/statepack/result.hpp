@@ -3,6 +3,8 @@
 // the object involved and the reason.
 #pragma once
 
+#include <vulkan/vulkan_core.h>
+
 #include <string>
 #include <utility>
 #include <variant>
@@ -32,6 +34,9 @@ const char* to_string(ErrorCode code);
 struct Error {
   ErrorCode code;
   std::string message;
+  // For vulkan_error, what the failing call returned (VK_ERROR_OUT_OF_DEVICE_MEMORY, ...), so a caller can
+  // react to it without parsing the message; VK_SUCCESS for every other code.
+  VkResult vk_result = VK_SUCCESS;
 };
 
 // A value or an Error. Check with `if (result)` before `value()`.

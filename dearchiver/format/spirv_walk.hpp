@@ -27,6 +27,11 @@ struct Resource {
 // The numeric type of a shader interface variable's components, to match attachment and vertex formats.
 enum class Numeric : uint8_t { other, float_, sint, uint };
 
+// The numeric type a VkFormat's components are read or written as (float for UNORM, SNORM, SCALED, SRGB
+// and FLOAT formats; other for UNDEFINED). The packager's pack-time checks use it too, so pack and unpack
+// classify formats alike.
+Numeric numeric_of_format(uint32_t vk_format);
+
 // A shader input or output with a location (built-ins have none).
 struct Input {
   uint32_t variable = 0;

@@ -66,6 +66,10 @@ struct Binding {
   bool operator==(const Binding&) const = default;
 };
 
+// A VkDescriptorType (core types 0-10) in words, for messages: "storage buffer", "combined image sampler".
+// The one table of them: the codec's checks and the packager's messages both use it.
+const char* descriptor_type_name(uint32_t descriptor_type);
+
 // A descriptor set layout. A named one is a resource signature (unpackable by name); an unnamed
 // one is a pipeline's implicit layout.
 struct SetLayout {

@@ -688,6 +688,21 @@ template std::string record_key(const Sampler&);
 template std::string record_key(const SetLayout&);
 template std::string record_key(const RenderPass&);
 
+const char* descriptor_type_name(uint32_t type) {
+  static constexpr const char* kNames[] = {"sampler",
+                                           "combined image sampler",
+                                           "sampled image",
+                                           "storage image",
+                                           "uniform texel buffer",
+                                           "storage texel buffer",
+                                           "uniform buffer",
+                                           "storage buffer",
+                                           "dynamic uniform buffer",
+                                           "dynamic storage buffer",
+                                           "input attachment"};
+  return type < std::size(kNames) ? kNames[type] : "unknown descriptor";
+}
+
 uint64_t hash_bytes(std::span<const uint8_t> bytes) {
   return XXH3_64bits(bytes.data(), bytes.size());
 }

@@ -8,21 +8,6 @@
 namespace statepack::format {
 namespace {
 
-const char* descriptor_type_name(uint32_t type) {
-  static constexpr const char* kNames[] = {"SAMPLER",
-                                           "COMBINED_IMAGE_SAMPLER",
-                                           "SAMPLED_IMAGE",
-                                           "STORAGE_IMAGE",
-                                           "UNIFORM_TEXEL_BUFFER",
-                                           "STORAGE_TEXEL_BUFFER",
-                                           "UNIFORM_BUFFER",
-                                           "STORAGE_BUFFER",
-                                           "UNIFORM_BUFFER_DYNAMIC",
-                                           "STORAGE_BUFFER_DYNAMIC",
-                                           "INPUT_ATTACHMENT"};
-  return type < std::size(kNames) ? kNames[type] : "unknown";
-}
-
 std::string type_names(spirv::DescriptorTypeMask mask) {
   std::string out;
   for (uint32_t t = 0; t < 11; ++t)

@@ -3,6 +3,8 @@
 // header's bound, and type recursion by a depth limit, so hostile words yield errors, not crashes.
 #include "spirv_walk.hpp"
 
+#include <vulkan/vulkan_core.h>
+
 #include <algorithm>
 #include <map>
 #include <unordered_map>
@@ -507,6 +509,22 @@ const char* stage_name(uint32_t stage) {
     default:
       return "unknown";
   }
+}
+
+Numeric numeric_of_format(uint32_t f) {
+  auto in_group = [&](uint32_t first, uint32_t last, uint32_t size,
+                      uint32_t uint_at) -> std::optional<Numeric> {
+    if (f < first || f > last) return std::nullopt;
+    const uint32_t at = (f - first) % size;
+    return at == uint_at ? Numeric::uint : at == uint_at + 1 ? Numeric::sint : Numeric::float_;
+  };
+  if (auto n = in_group(VK_FORMAT_R8_UNORM, VK_FORMAT_A8B8G8R8_SRGB_PACK32, 7, 4)) return *n;
+  if (auto n = in_group(VK_FORMAT_A2R10G10B10_UNORM_PACK32, VK_FORMAT_A2B10G10R10_SINT_PACK32, 6, 4))
+    return *n;
+  if (auto n = in_group(VK_FORMAT_R16_UNORM, VK_FORMAT_R16G16B16A16_SFLOAT, 7, 4)) return *n;
+  if (auto n = in_group(VK_FORMAT_R32_UINT, VK_FORMAT_R64G64B64A64_SFLOAT, 3, 0)) return *n;
+  if (f == VK_FORMAT_S8_UINT) return Numeric::uint;
+  return f == VK_FORMAT_UNDEFINED ? Numeric::other : Numeric::float_;
 }
 
 }  // namespace statepack::spirv

@@ -1,0 +1,34 @@
+#include "archive_file.hpp"
+
+#include "file_io.hpp"
+#include "semantic_check.hpp"
+
+namespace statepack::format {
+
+Result<Contents> load_archive(std::span<const uint8_t> bytes, std::optional<uint32_t> required,
+                              const std::string& origin) {
+  auto decoded = decode(bytes);
+  if (!decoded) return Error{decoded.error().code, origin + ": " + decoded.error().message};
+  // What the SPIR-V declares must agree with the stored layouts before anything reaches Vulkan.
+  if (auto consistent = check_shader_interfaces(*decoded); !consistent)
+    return Error{consistent.error().code, origin + ": " + consistent.error().message};
+  if (required && decoded->content_version != *required)
+    return Error{ErrorCode::content_version_mismatch, origin + ": content version " +
+                                                          std::to_string(decoded->content_version) +
+                                                          ", required " + std::to_string(*required)};
+  return decoded;
+}
+
+Result<LoadedArchive> load_archive_file(const std::filesystem::path& path, std::optional<uint32_t> required) {
+  auto file = read_regular_file(path, uint64_t{0xFFFFFFFFu});
+  if (!file) return file.error();
+  LoadedArchive loaded;
+  loaded.owned = std::move(file->words);
+  std::span<const uint8_t> bytes(reinterpret_cast<const uint8_t*>(loaded.owned.data()), file->size);
+  auto contents = load_archive(bytes, required, path.string());
+  if (!contents) return contents.error();
+  loaded.contents = std::move(contents.value());
+  return loaded;
+}
+
+}  // namespace statepack::format

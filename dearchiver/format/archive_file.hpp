@@ -1,0 +1,33 @@
+// Loading an archive whole: decoded, its shaders checked against its layouts, its content version
+// compared. The dearchiver's Archive is a thin owner of this; statepack's own tools (inspect, merge) and
+// tests load archives with it directly, so none of them needs the Vulkan runtime for it.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "archive_format.hpp"
+
+namespace statepack::format {
+
+// A decoded archive and, when it was read from a file, the bytes its `contents.spirv` spans point into.
+// Moving it keeps the spans valid (a vector's buffer moves with it).
+struct LoadedArchive {
+  std::vector<uint32_t> owned;  // uint32_t storage keeps file bytes 4-byte aligned for SPIR-V
+  Contents contents;
+};
+
+// Decodes and checks caller-owned bytes (4-byte aligned; they must outlive the result's spans).
+// `origin` starts every error message (a file name, or "archive in memory").
+Result<Contents> load_archive(std::span<const uint8_t> bytes,
+                              std::optional<uint32_t> required_content_version, const std::string& origin);
+
+// Reads a regular file (at most 4 GiB: record offsets are 32-bit) and loads it; errors name the file.
+Result<LoadedArchive> load_archive_file(const std::filesystem::path& path,
+                                        std::optional<uint32_t> required_content_version = std::nullopt);
+
+}  // namespace statepack::format
