@@ -3,6 +3,7 @@
 // allowed, and pipelines whose inline shaders, signatures and render passes are registered by name.
 #include "notation.hpp"
 
+#include <array>
 #include <optional>
 #include <unordered_map>
 
@@ -571,6 +572,47 @@ void read_notation(const fs::path& input, const NotationOptions& options, Notati
   FileReader::read_file(path, display_path(path), notation, options, diag, {input.string()});
 }
 
+namespace {
+
+// Formats and sample count of a pipeline's subpass, which the render pass decides.
+// Errors at the pipeline's SubpassIndex or RTVFormats, where the user wrote them.
+void apply_render_pass(const format::RenderPass& rp, PipelineDesc& p, const SourceTexts& sources,
+                       Diagnostics& diag) {
+  format::GraphicsState& g = p.graphics;
+  const std::string gp = p.where.pointer + "/GraphicsPipeline";
+  if (p.subpass >= rp.subpasses.size()) {
+    diag.error(sources.at(p.where, gp + "/SubpassIndex"), "pipeline '" + p.name + "': render pass '" +
+                                                              rp.name + "' has no subpass " +
+                                                              std::to_string(p.subpass));
+    return;
+  }
+  const format::Subpass& sp = rp.subpasses[p.subpass];
+  std::array<uint32_t, format::kMaxColorTargets> formats{};
+  uint32_t samples = 0;
+  for (size_t i = 0; i < sp.colors.size(); ++i) {
+    if (sp.colors[i].attachment == format::kNone) continue;
+    formats[i] = rp.attachments[sp.colors[i].attachment].format;
+    samples = rp.attachments[sp.colors[i].attachment].samples;
+  }
+  uint32_t depth = 0;
+  if (sp.depth_stencil.attachment != format::kNone) {
+    depth = rp.attachments[sp.depth_stencil.attachment].format;
+    samples = rp.attachments[sp.depth_stencil.attachment].samples;
+  }
+  if (g.color_count != 0 && (g.color_count != sp.colors.size() || g.color_formats != formats))
+    diag.error(sources.at(p.where, gp + "/RTVFormats"),
+               "pipeline '" + p.name + "': RTVFormats/NumRenderTargets disagree with subpass " +
+                   std::to_string(p.subpass) + " of render pass '" + rp.name + "' (" +
+                   std::to_string(sp.colors.size()) +
+                   " color attachment(s)); leave them out to take the subpass's");
+  g.color_count = static_cast<uint32_t>(sp.colors.size());
+  g.color_formats = formats;
+  g.depth_stencil_format = depth;
+  if (samples != 0) g.samples = samples;
+}
+
+}  // namespace
+
 void resolve_references(Notation& notation, Diagnostics& diag) {
   std::vector<std::string> shader_names, signature_names, pass_names;
   for (const auto& s : notation.shaders) shader_names.push_back(s.name);
@@ -608,10 +650,15 @@ void resolve_references(Notation& notation, Diagnostics& diag) {
       if (!notation.signature_index.count(name))
         diag.error(pipeline.where, "pipeline '" + pipeline.name + "' refers to unknown resource signature '" +
                                        name + "'" + did_you_mean(name, signature_names));
-    if (!pipeline.render_pass.empty() && !notation.render_pass_index.count(pipeline.render_pass))
-      diag.error(pipeline.where, "pipeline '" + pipeline.name + "' refers to unknown render pass '" +
-                                     pipeline.render_pass + "'" +
-                                     did_you_mean(pipeline.render_pass, pass_names));
+    if (!pipeline.render_pass.empty()) {
+      auto pass = notation.render_pass_index.find(pipeline.render_pass);
+      if (pass == notation.render_pass_index.end())
+        diag.error(pipeline.where, "pipeline '" + pipeline.name + "' refers to unknown render pass '" +
+                                       pipeline.render_pass + "'" +
+                                       did_you_mean(pipeline.render_pass, pass_names));
+      else if (!notation.render_passes[pass->second].broken)
+        apply_render_pass(notation.render_passes[pass->second].pass, pipeline, notation.sources, diag);
+    }
   }
   for (const auto& name : notation.ignored_signatures)
     if (!notation.signature_index.count(name))

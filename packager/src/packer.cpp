@@ -125,36 +125,6 @@ class Dumper {
   const std::vector<InputFile>& inputs_;
 };
 
-// Formats and sample count of a pipeline's subpass, which the render pass decides.
-void apply_render_pass(const format::RenderPass& rp, format::GraphicsState& g, const PipelineDesc& p,
-                       Diagnostics& diag) {
-  if (p.subpass >= rp.subpasses.size()) {
-    diag.error(p.where, "pipeline '" + p.name + "': render pass '" + rp.name + "' has no subpass " +
-                            std::to_string(p.subpass));
-    return;
-  }
-  const format::Subpass& sp = rp.subpasses[p.subpass];
-  std::array<uint32_t, format::kMaxColorTargets> formats{};
-  uint32_t samples = 0;
-  for (size_t i = 0; i < sp.colors.size(); ++i) {
-    if (sp.colors[i].attachment == format::kNone) continue;
-    formats[i] = rp.attachments[sp.colors[i].attachment].format;
-    samples = rp.attachments[sp.colors[i].attachment].samples;
-  }
-  uint32_t depth = 0;
-  if (sp.depth_stencil.attachment != format::kNone) {
-    depth = rp.attachments[sp.depth_stencil.attachment].format;
-    samples = rp.attachments[sp.depth_stencil.attachment].samples;
-  }
-  if (g.color_count != 0 && (g.color_count != sp.colors.size() || g.color_formats != formats))
-    diag.error(p.where, "pipeline '" + p.name + "': RTVFormats/NumRenderTargets disagree with subpass " +
-                            std::to_string(p.subpass) + " of render pass '" + rp.name + "'");
-  g.color_count = static_cast<uint32_t>(sp.colors.size());
-  g.color_formats = formats;
-  g.depth_stencil_format = depth;
-  if (samples != 0) g.samples = samples;
-}
-
 // --- the four stages of a pack: compile, plan, assemble, write ------------------------------------
 
 // Every distinct shader of the notation, compiled once and reflected, and which of them each pipeline
@@ -256,9 +226,7 @@ Plan plan_archive(const Notation& notation, const CompiledShaders& compiled, Con
     out_pipeline.constants = std::move(constants);
     if (!p.render_pass.empty()) {
       out_pipeline.render_pass = pass_index.at(p.render_pass);
-      out_pipeline.subpass = p.subpass;
-      apply_render_pass(builder.contents.render_passes[out_pipeline.render_pass], out_pipeline.graphics, p,
-                        diag);
+      out_pipeline.subpass = p.subpass;  // its formats are in p.graphics (resolve_references applied them)
     }
     if (p.kind == format::PipelineKind::graphics &&
         !check_graphics_interfaces(p, out_pipeline.graphics, stages, notation.sources, diag))
