@@ -89,8 +89,75 @@ struct Fixture {
     compute.shaders = {2};
     compute.constants = {{"kScale", 0x20, 1, 8, 0x4000000000000000ull}};
     contents.pipelines = {graphics, compute};
+    // The OpenGL block: every truncation and byte flip below reaches it too.
+    contents.backends = kBackendVulkan | kBackendOpenGL;
+    GlPipeline gl_graphics;
+    gl_graphics.name = "Zeta graphics";
+    gl_graphics.shaders = {{"VS", 0x1, 0, "main"}, {"PS", 0x10, 1, "main"}};
+    gl_graphics.bindings = {{"cbConstants", 0, 0, 1, 0x11}, {"g_Texture", 2, 3, 4, 0x10}};
+    gl_graphics.graphics = graphics.graphics;
+    gl_graphics.constants = {{"kTint", 0x10, 3, 4, 0x3F800000u}};
+    GlPipeline gl_compute;
+    gl_compute.name = "Alpha compute";
+    gl_compute.kind = PipelineKind::compute;
+    gl_compute.shaders = {{"CS", 0x20, 1, "main"}};
+    gl_compute.bindings = {{"Values", 1, 0, 1, 0x20}};
+    contents.gl_pipelines = {gl_compute, gl_graphics};
   }
 };
+
+TEST(ArchiveFormat, OpenGlBlockRoundTripsAndIsAbsentWithoutGlPipelines) {
+  Fixture f;
+  auto bytes = encode(f.contents);
+  Aligned aligned(bytes);
+  auto decoded = decode(aligned.span());
+  ASSERT_TRUE(decoded) << decoded.error().message;
+  EXPECT_EQ(decoded->backends, kBackendVulkan | kBackendOpenGL);
+  EXPECT_EQ(decoded->gl_pipelines, f.contents.gl_pipelines);
+  EXPECT_EQ(decoded->pipelines.size(), 2u);  // the Vulkan part is unchanged beside it
+  // Without GL pipelines no GLPI/GLSH/GLBD section is written, so Vulkan-only archives keep their bytes.
+  auto has_tag = [](const std::vector<uint8_t>& b, const char* tag) {
+    const uint32_t count =
+        uint32_t(b[48]) | uint32_t(b[49]) << 8 | uint32_t(b[50]) << 16 | uint32_t(b[51]) << 24;
+    for (uint32_t i = 0; i < count; ++i)
+      if (std::memcmp(b.data() + 64 + 16 * i, tag, 4) == 0) return true;
+    return false;
+  };
+  EXPECT_TRUE(has_tag(bytes, "GLPI") && has_tag(bytes, "GLSH") && has_tag(bytes, "GLBD"));
+  f.contents.gl_pipelines.clear();
+  f.contents.backends = kBackendVulkan;
+  auto vulkan_only = encode(f.contents);
+  EXPECT_FALSE(has_tag(vulkan_only, "GLPI") || has_tag(vulkan_only, "GLSH") || has_tag(vulkan_only, "GLBD"));
+}
+
+TEST(ArchiveFormat, OpenGlPipelinesAreValidated) {
+  auto refused = [](auto edit) {
+    Fixture f;
+    edit(f.contents);
+    auto bytes = encode(f.contents);
+    Aligned aligned(bytes);
+    auto decoded = decode(aligned.span());
+    return decoded ? std::string("accepted") : decoded.error().message;
+  };
+  EXPECT_NE(refused([](Contents& c) { c.backends = kBackendVulkan; }).find("names no OpenGL backend"),
+            std::string::npos);
+  EXPECT_NE(refused([](Contents& c) { c.gl_pipelines[1].shaders[0].blob = 9; }).find("missing SPIR-V blob"),
+            std::string::npos);
+  EXPECT_NE(refused([](Contents& c) { c.gl_pipelines[1].bindings[1].kind = 7; }).find("invalid kind"),
+            std::string::npos);
+  EXPECT_NE(refused([](Contents& c) {
+              c.gl_pipelines[1].bindings[1] = {"g_Texture", 0, 0, 1, 0x10};  // binding 0 of UBOs, twice
+            }).find("overlaps"),
+            std::string::npos);
+  EXPECT_NE(refused([](Contents& c) {
+              c.gl_pipelines[1].shaders.pop_back();
+              c.gl_pipelines[1].shaders[0].stage = 0x20;
+            }).find("needs a vertex shader"),
+            std::string::npos);
+  EXPECT_NE(
+      refused([](Contents& c) { c.gl_pipelines[1].graphics.topology = 99; }).find("invalid graphics state"),
+      std::string::npos);
+}
 
 TEST(ArchiveFormat, RoundTripKeepsEveryField) {
   Fixture f;
@@ -134,6 +201,8 @@ TEST(ArchiveFormat, RoundTripKeepsEveryField) {
 // An archive of format 1 (no PEXT/SPEC sections) still reads: viewport and scissor dynamic, no constants.
 TEST(ArchiveFormat, FormatOneArchivesStillRead) {
   Fixture f;
+  f.contents.gl_pipelines.clear();  // format 1 had no OpenGL block (it would refer to the SPEC pool)
+  f.contents.backends = kBackendVulkan;
   auto bytes = encode(f.contents);
   auto u32 = [&](size_t at) {
     return uint32_t(bytes[at]) | uint32_t(bytes[at + 1]) << 8 | uint32_t(bytes[at + 2]) << 16 |

@@ -51,6 +51,13 @@
 // | SPEC | (format 2) specialization constant: str name, stage, constant id, size, u64 value |
 // | TESS | (format 3) one per PIPE record, same order, present only when a pipeline          |
 // |      | tessellates: u32 patch control points (0 unless the topology is PATCH_LIST)       |
+// | GLPI | (OpenGL block) GL pipeline: str name, kind, list<GLSH>, list<GLBD>, u32 GFXS index |
+// |      | (0xFFFFFFFF for compute; its render pass must be none), list<SPEC>; sorted by name |
+// | GLSH | GL shader: str name, u32 stage, u32 blob, str entry_point                        |
+// | GLBD | GL binding: str name, u32 namespace (0 UBO, 1 SSBO, 2 texture, 3 image), binding, |
+// |      | count, stages                                                                    |
+// The OpenGL block's three sections are written only when the archive holds GL pipelines; readers that
+// do not know them ignore them (so they change no version number).
 #include "archive_format.hpp"
 
 #define XXH_STATIC_LINKING_ONLY  // XXH3_state_t on the stack
@@ -116,6 +123,9 @@ template <> struct Tag<VertexAttribute> { static constexpr uint32_t value = make
 template <> struct Tag<GraphicsRecord> { static constexpr uint32_t value = make_tag("GFXS"); };
 template <> struct Tag<Pipeline> { static constexpr uint32_t value = make_tag("PIPE"); };
 template <> struct Tag<SpecConstant> { static constexpr uint32_t value = make_tag("SPEC"); };
+template <> struct Tag<GlPipeline> { static constexpr uint32_t value = make_tag("GLPI"); };
+template <> struct Tag<GlShader> { static constexpr uint32_t value = make_tag("GLSH"); };
+template <> struct Tag<GlBinding> { static constexpr uint32_t value = make_tag("GLBD"); };
 // clang-format on
 
 // --- field order of every record, shared by the size counter, the writer and the reader ----------
@@ -229,6 +239,26 @@ void visit(V& v, SpecConstant& s) {
   v.str(s.name), v.u32(s.stage), v.u32(s.constant_id), v.u32(s.size), v.u32(low), v.u32(high);
   s.value = uint64_t(low) | uint64_t(high) << 32;
 }
+
+// The OpenGL block's records.
+template <class V>
+void visit(V& v, GlShader& s) {
+  v.str(s.name), v.u32(s.stage), v.u32(s.blob), v.str(s.entry_point);
+}
+template <class V>
+void visit(V& v, GlBinding& b) {
+  v.str(b.name), v.u32(b.kind), v.u32(b.binding), v.u32(b.count), v.u32(b.stages);
+}
+template <class V>
+void visit(V& v, GlPipeline& p) {
+  v.str(p.name);
+  auto kind = static_cast<uint32_t>(p.kind);
+  v.u32(kind);
+  p.kind = static_cast<PipelineKind>(kind);
+  v.list(p.shaders), v.list(p.bindings);
+  v.graphics(p);
+  v.list(p.constants);
+}
 template <class V>
 void visit(V& v, PipelineExtras& e) {
   v.u32(e.dynamic_states), v.list(e.constants);
@@ -272,7 +302,8 @@ struct KeyWriter {
     u32(size);
     for (T& item : items) visit(*this, item);
   }
-  void graphics(Pipeline&) {}  // not used for pipelines
+  template <class P>
+  void graphics(P&) {}  // not used for pipelines
 };
 
 // Counts a record's encoded size.
@@ -286,7 +317,10 @@ struct SizeCounter {
   void list(std::vector<T>&) {
     bytes += 8;
   }
-  void graphics(Pipeline&) { bytes += 4; }
+  template <class P>
+  void graphics(P&) {
+    bytes += 4;
+  }
 };
 template <class T>
 uint32_t record_size() {
@@ -302,6 +336,11 @@ void for_each_record_type(F&& f) {
   f(Shader{}), f(Sampler{}), f(Binding{}), f(SetLayout{}), f(Attachment{}), f(AttachmentRef{});
   f(Subpass{}), f(Dependency{}), f(RenderPass{}), f(VertexBinding{}), f(VertexAttribute{});
   f(GraphicsRecord{}), f(Pipeline{});
+}
+// The OpenGL block's sections, written only when there are GL pipelines.
+template <class F>
+void for_each_gl_record_type(F&& f) {
+  f(GlShader{}), f(GlBinding{}), f(GlPipeline{});
 }
 
 // --- writing ---------------------------------------------------------------------------------------
@@ -374,6 +413,11 @@ struct Writer {
   void graphics(Pipeline& p) {
     if (p.kind != PipelineKind::graphics) return put_u32(*out, kNone);
     GraphicsRecord record{p.graphics, p.render_pass, p.subpass};
+    put_u32(*out, append(record));
+  }
+  void graphics(GlPipeline& p) {
+    if (p.kind != PipelineKind::graphics) return put_u32(*out, kNone);
+    GraphicsRecord record{p.graphics, kNone, 0};
     put_u32(*out, append(record));
   }
 };
@@ -489,6 +533,20 @@ struct Reader {
     p.render_pass = record.render_pass;
     p.subpass = record.subpass;
   }
+  void graphics(GlPipeline& p) {
+    uint32_t index = next();
+    if (p.kind != PipelineKind::graphics) {
+      if (index != kNone) fail("OpenGL compute pipeline '" + p.name + "' has a graphics state");
+      return;
+    }
+    if (index >= sections[kTagGraphics].count)
+      return fail("OpenGL pipeline '" + p.name + "' graphics state index out of range");
+    if (!charge(record_size<GraphicsRecord>())) return;
+    GraphicsRecord record;
+    read_at(index, record);
+    if (record.render_pass != kNone) return fail("OpenGL pipeline '" + p.name + "' has a render pass");
+    p.graphics = std::move(record.state);
+  }
   template <class T>
   std::vector<T> all(const char* kind) {
     // Top-level records are charged too: they are in the file, so they cost at most its size.
@@ -590,6 +648,69 @@ Result<void> validate_graphics(const Contents& c, const Pipeline& p) {
   return {};
 }
 
+// Specialization constants of one pipeline: named, for a stage it has, 4 or 8 bytes, each once per stage.
+Result<void> validate_constants(const std::string& pipeline, const std::vector<SpecConstant>& constants,
+                                uint32_t stages) {
+  std::set<std::pair<uint32_t, uint32_t>> ids;            // (stage, constant id)
+  std::set<std::pair<uint32_t, std::string_view>> names;  // (stage, name): linear-log, not quadratic
+  for (const SpecConstant& s : constants) {
+    const std::string what = "pipeline '" + pipeline + "': specialization constant '" + s.name + "'";
+    if (s.name.empty() || !std::has_single_bit(s.stage) || (s.stage & stages) == 0)
+      return corrupt(what + " has no name or names a stage the pipeline lacks");
+    if ((s.size != 4 && s.size != 8) || (s.size == 4 && (s.value >> 32) != 0))
+      return corrupt(what + " has an invalid size");
+    if (!ids.emplace(s.stage, s.constant_id).second || !names.emplace(s.stage, s.name).second)
+      return corrupt(what + " is given twice for one stage");
+  }
+  return {};
+}
+
+// An OpenGL pipeline: sorted unique name, its stages, its bindings (each namespace's numbers used once),
+// its graphics state as a Vulkan pipeline's (the same enumerations reach glEnable & co.).
+Result<void> validate_gl_pipeline(const Contents& c, size_t i) {
+  const GlPipeline& p = c.gl_pipelines[i];
+  const std::string what = "OpenGL pipeline '" + p.name + "'";
+  if (i > 0 && c.gl_pipelines[i - 1].name >= p.name)
+    return corrupt(what + " breaks the sorted, unique name index");
+  if (p.kind != PipelineKind::graphics && p.kind != PipelineKind::compute)
+    return corrupt(what + " has an unknown kind");
+  uint32_t stages = 0;
+  for (const GlShader& s : p.shaders) {
+    if (!std::has_single_bit(s.stage) || (s.stage & kAllStages) == 0 || (stages & s.stage))
+      return corrupt(what + " has a shader with an invalid or repeated stage");
+    if (s.blob >= c.spirv.size()) return corrupt(what + " refers to a missing SPIR-V blob");
+    stages |= s.stage;
+  }
+  constexpr uint32_t kComputeStage = 0x20, kVertexStage = 0x1;
+  if (p.kind == PipelineKind::compute && stages != kComputeStage)
+    return corrupt(what + " is a compute pipeline without exactly one compute shader");
+  if (p.kind == PipelineKind::graphics && (!(stages & kVertexStage) || (stages & kComputeStage)))
+    return corrupt(what + " needs a vertex shader and no compute shader");
+  std::set<std::string_view> names;
+  for (size_t k = 0; k < p.bindings.size(); ++k) {
+    const GlBinding& b = p.bindings[k];
+    if (b.kind >= kGlNamespaceCount || b.count == 0 || b.count > 1024 || (b.stages & ~kAllStages) != 0 ||
+        (b.stages & stages) == 0)
+      return corrupt(what + ": binding '" + b.name + "' has an invalid kind, count or stages");
+    if (!names.insert(b.name).second) return corrupt(what + ": binding '" + b.name + "' is listed twice");
+    // Sorted by (kind, binding), each range after the one before: lookups can search, nothing overlaps.
+    const GlBinding* before = k > 0 ? &p.bindings[k - 1] : nullptr;
+    if (before && (before->kind > b.kind ||
+                   (before->kind == b.kind && uint64_t(before->binding) + before->count > b.binding)))
+      return corrupt(what + ": binding '" + b.name + "' is out of order or overlaps another of its kind");
+  }
+  if (auto valid = validate_constants(p.name, p.constants, stages); !valid) return valid;
+  if (p.kind == PipelineKind::graphics) {
+    if (p.graphics.topology == 10 || p.graphics.patch_control_points != 0)
+      return corrupt(what + " draws patches, which the OpenGL backend does not store");
+    Pipeline as_vulkan;  // the same rules as a Vulkan pipeline's state without a render pass
+    as_vulkan.name = p.name;
+    as_vulkan.graphics = p.graphics;
+    if (auto valid = validate_graphics(c, as_vulkan); !valid) return valid;
+  }
+  return {};
+}
+
 Result<void> validate(const Contents& c) {
   for (const Shader& s : c.shaders) {
     if (!std::has_single_bit(s.stage) || (s.stage & kAllStages) == 0)
@@ -647,20 +768,14 @@ Result<void> validate(const Contents& c) {
                                         : (p.dynamic_states & ~kDynamicAllowed) != 0 ||
                                               (p.dynamic_states & kDynamicLegacy) != kDynamicLegacy)
       return corrupt("pipeline '" + p.name + "' has invalid dynamic states");
-    std::set<std::pair<uint32_t, uint32_t>> ids;            // (stage, constant id)
-    std::set<std::pair<uint32_t, std::string_view>> names;  // (stage, name): linear-log, not quadratic
-    for (const SpecConstant& s : p.constants) {
-      const std::string what = "pipeline '" + p.name + "': specialization constant '" + s.name + "'";
-      if (s.name.empty() || !std::has_single_bit(s.stage) || (s.stage & stages) == 0)
-        return corrupt(what + " has no name or names a stage the pipeline lacks");
-      if ((s.size != 4 && s.size != 8) || (s.size == 4 && (s.value >> 32) != 0))
-        return corrupt(what + " has an invalid size");
-      if (!ids.emplace(s.stage, s.constant_id).second || !names.emplace(s.stage, s.name).second)
-        return corrupt(what + " is given twice for one stage");
-    }
+    if (auto valid = validate_constants(p.name, p.constants, stages); !valid) return valid;
     if (p.kind == PipelineKind::graphics)
       if (auto valid = validate_graphics(c, p); !valid) return valid;
   }
+  if (!c.gl_pipelines.empty() && !(c.backends & kBackendOpenGL))
+    return corrupt("OpenGL pipelines in an archive whose header names no OpenGL backend");
+  for (size_t i = 0; i < c.gl_pipelines.size(); ++i)
+    if (auto valid = validate_gl_pipeline(c, i); !valid) return valid;
   return {};
 }
 
@@ -733,6 +848,7 @@ std::vector<uint8_t> encode(const Contents& input) {
       PipelineTessellation t{p.kind == PipelineKind::graphics ? p.graphics.patch_control_points : 0};
       w.append(t);
     }
+  for (auto& p : c.gl_pipelines) w.append(p);  // before the pools are laid out: it adds GFXS and SPEC
 
   struct SectionOut {
     uint32_t tag;
@@ -758,6 +874,11 @@ std::vector<uint8_t> encode(const Contents& input) {
     PoolOut& pool = w.pools[Tag<PipelineTessellation>::value];
     sections.push_back({Tag<PipelineTessellation>::value, std::move(pool.bytes), pool.count});
   }
+  if (!c.gl_pipelines.empty())
+    for_each_gl_record_type([&](auto record) {
+      PoolOut& pool = w.pools[Tag<decltype(record)>::value];
+      sections.push_back({Tag<decltype(record)>::value, std::move(pool.bytes), pool.count});
+    });
   sections.push_back({kTagData, {}, 0});
 
   // Lay out: header, section table, sections, then DATA with 16-byte aligned blobs.
@@ -930,6 +1051,15 @@ Result<Contents> decode(std::span<const uint8_t> file) {
         return corrupt("compute pipeline '" + c.pipelines[i].name + "' has patch control points");
       c.pipelines[i].graphics.patch_control_points = tessellation[i].patch_control_points;
     }
+  }
+  // The OpenGL block: all three sections or none.
+  if (r.sections.count(Tag<GlPipeline>::value)) {
+    Result<void> present;
+    for_each_gl_record_type([&](auto record) {
+      if (present) present = check(Tag<decltype(record)>::value, record_size<decltype(record)>());
+    });
+    if (!present) return present.error();
+    c.gl_pipelines = r.all<GlPipeline>("OpenGL pipeline");
   }
   if (r.problem) return corrupt(*r.problem);
   if (auto valid = validate(c); !valid) return valid.error();

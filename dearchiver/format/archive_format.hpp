@@ -36,7 +36,7 @@ inline constexpr uint32_t kMaxColorTargets = 8;
 
 enum Backend : uint32_t {
   kBackendVulkan = 1u << 0,
-  kBackendOpenGL = 1u << 1,  // reserved: SPIR-V for OpenGL 4.6 (not produced yet)
+  kBackendOpenGL = 1u << 1,  // SPIR-V for OpenGL 4.5 + ARB_gl_spirv (Contents::gl_pipelines)
 };
 
 enum class PipelineKind : uint32_t { graphics = 0, compute = 1 };
@@ -231,6 +231,48 @@ struct Pipeline {
   bool operator==(const Pipeline&) const = default;
 };
 
+// --- the OpenGL backend block (sections GLPI, GLSH, GLBD) -------------------------------------------
+// Readers that do not know these sections ignore them and read the Vulkan part, so the block changes
+// neither the format version nor the oldest readable one. SPIR-V blobs, graphics states (GFXS) and
+// specialization constants (SPEC) share the Vulkan part's pools.
+
+// OpenGL has no descriptor sets: each kind of resource has its own binding numbers.
+enum class GlNamespace : uint32_t {
+  uniform_buffer = 0,  // glBindBufferBase(GL_UNIFORM_BUFFER, binding, ...)
+  storage_buffer = 1,  // glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding, ...)
+  texture = 2,         // texture unit: glBindTextureUnit(binding, ...) (combined samplers, texel buffers)
+  image = 3,           // image unit: glBindImageTexture(binding, ...) (storage images and texel buffers)
+};
+inline constexpr uint32_t kGlNamespaceCount = 4;
+
+struct GlShader {
+  std::string name;
+  uint32_t stage = 0;  // VkShaderStageFlagBits, as Shader::stage
+  uint32_t blob = 0;   // index into Contents::spirv: SPIR-V compiled for OpenGL
+  std::string entry_point;
+  bool operator==(const GlShader&) const = default;
+};
+
+// A resource of a GL pipeline by the name its shaders give it, and where the application binds it.
+struct GlBinding {
+  std::string name;
+  uint32_t kind = 0;  // GlNamespace
+  uint32_t binding = 0;
+  uint32_t count = 1;   // array elements (consecutive bindings from `binding`)
+  uint32_t stages = 0;  // VkShaderStageFlags of the stages that use it
+  bool operator==(const GlBinding&) const = default;
+};
+
+struct GlPipeline {
+  std::string name;
+  PipelineKind kind = PipelineKind::graphics;
+  std::vector<GlShader> shaders;    // one per stage
+  std::vector<GlBinding> bindings;  // sorted by (kind, binding)
+  GraphicsState graphics;           // graphics pipelines only; no render pass in OpenGL
+  std::vector<SpecConstant> constants;
+  bool operator==(const GlPipeline&) const = default;
+};
+
 // Everything an archive holds. When decoding, `spirv` points into the archive bytes (zero copy);
 // when encoding, the caller keeps the blobs alive and unique (the packager deduplicates them).
 struct Contents {
@@ -245,6 +287,7 @@ struct Contents {
   std::vector<SetLayout> set_layouts;
   std::vector<RenderPass> render_passes;
   std::vector<Pipeline> pipelines;
+  std::vector<GlPipeline> gl_pipelines;  // the OpenGL backend; sorted by name, written only when present
 };
 
 // Serialises `contents`, byte for byte deterministic. Pipelines must have unique names, and so must

@@ -100,6 +100,59 @@ Result<void> check_pipeline(const Contents& c, const Pipeline& p, const std::vec
   return {};
 }
 
+// The OpenGL namespace a resource binds in, from the descriptor types it fits; nullopt for what OpenGL
+// has no binding for (separate samplers and images).
+std::optional<GlNamespace> gl_namespace_of(spirv::DescriptorTypeMask compatible) {
+  auto fits = [&](uint32_t type) { return (compatible >> type) & 1u; };
+  if (fits(6) || fits(8)) return GlNamespace::uniform_buffer;
+  if (fits(7) || fits(9)) return GlNamespace::storage_buffer;
+  if (fits(1) || fits(4)) return GlNamespace::texture;
+  if (fits(3) || fits(5)) return GlNamespace::image;
+  return std::nullopt;
+}
+
+// A GL pipeline's shaders against its binding table: each stage's entry point exists, every resource it
+// uses has a binding of its kind at its number, and there are no push constants (OpenGL has none).
+Result<void> check_gl_pipeline(const Contents& c, const GlPipeline& p,
+                               std::vector<std::optional<spirv::Module>>& modules) {
+  for (const GlShader& shader : p.shaders) {
+    const std::string who = "OpenGL pipeline '" + p.name + "', shader '" + shader.name + "'";
+    if (!modules[shader.blob]) {
+      auto module = spirv::walk(c.spirv[shader.blob]);
+      if (!module) return corrupt(who + ": " + module.error().message);
+      modules[shader.blob] = std::move(module.value());
+    }
+    const spirv::Module& module = *modules[shader.blob];
+    const auto model = spirv::execution_model_of_stage(shader.stage);
+    const spirv::EntryPoint* entry = model ? module.find(*model, shader.entry_point) : nullptr;
+    if (!entry)
+      return corrupt(who + " has no " + spirv::stage_name(shader.stage) + " entry point named '" +
+                     shader.entry_point + "' in its SPIR-V");
+    if (module.push_constants && module.uses(*entry, module.push_constants->variable))
+      return corrupt(who + " uses push constants, which OpenGL does not have");
+    for (const spirv::Resource& r : module.resources) {
+      if (!module.uses(*entry, r.variable)) continue;
+      const auto kind = gl_namespace_of(r.compatible);
+      const std::string resource = who + ": the resource at binding " + std::to_string(r.binding);
+      if (!kind) return corrupt(resource + " is of a kind OpenGL cannot bind (a separate sampler or image)");
+      // The bindings are sorted by (kind, first binding) without overlaps (validate): the last range
+      // starting at or before r.binding is the only one that can hold it.
+      auto after =
+          std::upper_bound(p.bindings.begin(), p.bindings.end(), std::pair{uint32_t(*kind), r.binding},
+                           [](const std::pair<uint32_t, uint32_t>& key, const GlBinding& b) {
+                             return key < std::pair{b.kind, b.binding};
+                           });
+      const GlBinding* bound = after == p.bindings.begin() ? nullptr : &*(after - 1);
+      if (!bound || bound->kind != uint32_t(*kind) || r.binding - bound->binding >= bound->count ||
+          (bound->stages & shader.stage) == 0)
+        return corrupt(resource + " has no binding of its kind in the pipeline's table");
+      if (r.array_size > bound->count - (r.binding - bound->binding))
+        return corrupt(resource + " is an array larger than its binding '" + bound->name + "'");
+    }
+  }
+  return {};
+}
+
 }  // namespace
 
 Result<void> check_shader_interfaces(const Contents& c) {
@@ -134,6 +187,13 @@ Result<void> check_shader_interfaces(const Contents& c) {
   }
   for (const Pipeline& p : c.pipelines)
     if (auto ok = check_pipeline(c, p, modules); !ok) return ok;
+  // OpenGL pipelines: walked separately (their blobs are the GL compilations), bounded the same way.
+  std::vector<std::optional<spirv::Module>> gl_modules(c.spirv.size());
+  for (const GlPipeline& p : c.gl_pipelines) {
+    work += 1 + p.shaders.size() + p.bindings.size();
+    if (work > budget) return corrupt("checking OpenGL pipeline '" + p.name + "' expands beyond the budget");
+    if (auto ok = check_gl_pipeline(c, p, gl_modules); !ok) return ok;
+  }
   return {};
 }
 
