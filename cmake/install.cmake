@@ -13,7 +13,9 @@ install(TARGETS ${statepack_installed_targets} EXPORT statepackTargets
   RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR}
   LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
   ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR})
-install(DIRECTORY dearchiver/include/statepack DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+# statepack::gl (gl_dearchiver.hpp) is not installed yet: its export needs epoxy found by the config.
+install(DIRECTORY dearchiver/include/statepack DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
+        PATTERN gl_dearchiver.hpp EXCLUDE)
 install(EXPORT statepackTargets NAMESPACE statepack:: DESTINATION ${statepack_config_dir})
 
 # The config finds what the exported dearchiver links: Vulkan always, and for a static library also its
