@@ -336,6 +336,16 @@ TEST_F(GlTest, VulkanOnlyArchiveIsMissingBackend) {
   EXPECT_NE(added.error().message.find("--opengl"), std::string::npos) << added.error().message;
 }
 
+TEST_F(GlTest, CreateWithoutCurrentContextIsUnsupported) {
+  ASSERT_TRUE(gl_->release_current());
+  auto dearchiver = gl::Dearchiver::create();
+  ASSERT_TRUE(gl_->make_current());
+  ASSERT_FALSE(dearchiver);
+  EXPECT_EQ(dearchiver.error().code, ErrorCode::unsupported);
+  EXPECT_EQ(dearchiver.error().message,
+            "gl::Dearchiver::create: no OpenGL context is current on the calling thread");
+}
+
 // The loader refuses unknown enum values, so the translation's own checks are tested directly.
 TEST(GlStateTranslation, UnmappableValuesAreErrorsNamingThePipeline) {
   format::GraphicsState state;

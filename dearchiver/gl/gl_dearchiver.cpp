@@ -257,10 +257,13 @@ Dearchiver::~Dearchiver() = default;
 
 Result<Dearchiver> Dearchiver::create() {
   return api_guard("gl::Dearchiver::create", [&]() -> Result<Dearchiver> {
+    const int version = epoxy_gl_version();  // 45 for 4.5; 0 without a current context
+    if (version == 0)
+      return Error{ErrorCode::unsupported,
+                   "gl::Dearchiver::create: no OpenGL context is current on the calling thread"};
     if (!epoxy_is_desktop_gl())
       return Error{ErrorCode::unsupported,
                    "gl::Dearchiver::create: the current context is OpenGL ES, not OpenGL"};
-    const int version = epoxy_gl_version();  // 45 for 4.5
     if (version < 45)
       return Error{ErrorCode::unsupported,
                    "gl::Dearchiver::create: needs a current OpenGL 4.5 context; this one is " +

@@ -88,6 +88,10 @@ bool GlContext::make_current() const {
   return eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, context_) == EGL_TRUE;
 }
 
+bool GlContext::release_current() const {
+  return eglMakeCurrent(display_, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT) == EGL_TRUE;
+}
+
 std::vector<std::string> GlContext::error_messages() const {
   std::lock_guard lock(mutex_);
   return messages_;

@@ -30,6 +30,8 @@ class GlContext {
 
   // Makes the context current on the calling thread (create() already did, for the creating thread).
   bool make_current() const;
+  // Leaves the calling thread without a current context.
+  bool release_current() const;
 
   std::string renderer;  // GL_RENDERER, e.g. "llvmpipe (LLVM 15.0.6, 256 bits)"
   std::string version;   // GL_VERSION
