@@ -422,6 +422,80 @@ TEST(GlStateTranslation, VulkanValuesBecomeGlEnums) {
   EXPECT_FALSE(t->blend[0].enable);
 }
 
+TEST(GlStateTranslation, VertexInputBecomesVertexArrayFormat) {
+  format::GraphicsState g;
+  g.vertex_bindings = {{0, 28, VK_VERTEX_INPUT_RATE_VERTEX}, {1, 16, VK_VERTEX_INPUT_RATE_INSTANCE}};
+  g.vertex_attributes = {
+      {0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0}, {1, 0, VK_FORMAT_R8G8B8A8_UNORM, 12},
+      {2, 0, VK_FORMAT_R16G16_SFLOAT, 16},   {3, 0, VK_FORMAT_R32_UINT, 20},
+      {4, 0, VK_FORMAT_B8G8R8A8_UNORM, 24},  {5, 1, VK_FORMAT_R16G16B16A16_SNORM, 0},
+      {6, 1, VK_FORMAT_R8G8_SINT, 8},        {7, 1, VK_FORMAT_A2B10G10R10_UNORM_PACK32, 12}};
+  auto input = gl::detail::translate_vertex_input(g, "Mesh PSO");
+  ASSERT_TRUE(input) << input.error().message;
+  ASSERT_EQ(input->bindings.size(), 2u);
+  EXPECT_EQ(input->bindings[0].stride, 28);
+  EXPECT_EQ(input->bindings[0].divisor, 0u);
+  EXPECT_EQ(input->bindings[1].divisor, 1u);
+  ASSERT_EQ(input->attributes.size(), 8u);
+  using Path = gl::VertexInput::Path;
+  struct Want {
+    GLint size;
+    GLenum type;
+    bool normalized;
+    Path path;
+  };
+  const Want want[] = {{3, GL_FLOAT, false, Path::float_},
+                       {4, GL_UNSIGNED_BYTE, true, Path::float_},
+                       {2, GL_HALF_FLOAT, false, Path::float_},
+                       {1, GL_UNSIGNED_INT, false, Path::integer},
+                       {GL_BGRA, GL_UNSIGNED_BYTE, true, Path::float_},
+                       {4, GL_SHORT, true, Path::float_},
+                       {2, GL_BYTE, false, Path::integer},
+                       {4, GL_UNSIGNED_INT_2_10_10_10_REV, true, Path::float_}};
+  for (size_t i = 0; i < 8; ++i) {
+    const auto& a = input->attributes[i];
+    EXPECT_EQ(a.location, g.vertex_attributes[i].location);
+    EXPECT_EQ(a.binding, g.vertex_attributes[i].binding);
+    EXPECT_EQ(a.offset, g.vertex_attributes[i].offset);
+    EXPECT_EQ(a.size, want[i].size) << "attribute " << i;
+    EXPECT_EQ(a.type, want[i].type) << "attribute " << i;
+    EXPECT_EQ(a.normalized, want[i].normalized) << "attribute " << i;
+    EXPECT_EQ(a.path, want[i].path) << "attribute " << i;
+  }
+
+  g.vertex_attributes = {{3, 0, VK_FORMAT_R8G8B8A8_SRGB, 0}};
+  auto srgb = gl::detail::translate_vertex_input(g, "Mesh PSO");
+  ASSERT_FALSE(srgb);
+  EXPECT_EQ(srgb.error().code, ErrorCode::unsupported);
+  EXPECT_EQ(
+      srgb.error().message,
+      "pipeline 'Mesh PSO': vertex attribute at location 3 has VkFormat 43, which OpenGL cannot read from a "
+      "vertex buffer");
+}
+
+// A VAO configured from a translated vertex input raises no GL error.
+TEST_F(GlTest, VertexInputConfiguresAVertexArray) {
+  format::GraphicsState g;
+  g.vertex_bindings = {{0, 32, VK_VERTEX_INPUT_RATE_VERTEX}, {1, 8, VK_VERTEX_INPUT_RATE_INSTANCE}};
+  g.vertex_attributes = {{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0},
+                         {1, 0, VK_FORMAT_R32G32_UINT, 12},
+                         {2, 0, VK_FORMAT_R64_SFLOAT, 20},
+                         {3, 1, VK_FORMAT_B8G8R8A8_UNORM, 0}};
+  auto input = gl::detail::translate_vertex_input(g, "Mesh PSO");
+  ASSERT_TRUE(input) << input.error().message;
+  GLuint vertex_array = 0;
+  glCreateVertexArrays(1, &vertex_array);
+  input->configure(vertex_array);
+  GLint divisor = -1, type = 0, integer = -1;
+  glGetVertexArrayIndexediv(vertex_array, 3, GL_VERTEX_ATTRIB_ARRAY_DIVISOR, &divisor);
+  glGetVertexArrayIndexediv(vertex_array, 1, GL_VERTEX_ATTRIB_ARRAY_TYPE, &type);
+  glGetVertexArrayIndexediv(vertex_array, 1, GL_VERTEX_ATTRIB_ARRAY_INTEGER, &integer);
+  glDeleteVertexArrays(1, &vertex_array);
+  EXPECT_EQ(divisor, 1);
+  EXPECT_EQ(GLenum(type), GLenum(GL_UNSIGNED_INT));
+  EXPECT_EQ(integer, GL_TRUE);
+}
+
 // The fixture's debug callback really records errors (so the other tests' silence means something).
 TEST_F(GlTest, DebugCallbackRecordsErrors) {
   glEnable(0xFFFF);  // GL_INVALID_ENUM

@@ -214,6 +214,9 @@ struct Dearchiver::State {
       auto state = detail::translate_state(pipeline.graphics, pipeline.name, extensions);
       if (!state) return state.error();
       out.state = std::move(*state);
+      auto vertex_input = detail::translate_vertex_input(pipeline.graphics, pipeline.name);
+      if (!vertex_input) return vertex_input.error();
+      out.vertex_input = std::move(*vertex_input);
     }
     for (const auto& b : pipeline.bindings) {
       if (b.kind >= format::kGlNamespaceCount)

@@ -2,6 +2,7 @@
 #include "gl_state.hpp"
 
 #include <cmath>
+#include <optional>
 #include <span>
 #include <string>
 #include <tuple>
@@ -62,7 +63,100 @@ Result<GLenum> lookup(std::span<const GLenum> table, uint32_t value, std::string
                                            std::to_string(value) + " has no OpenGL equivalent"};
 }
 
+// A VkFormat as a vertex attribute format, or nullopt for one GL cannot read from a buffer.
+std::optional<VertexInput::Attribute> vertex_format(uint32_t format) {
+  using Path = VertexInput::Path;
+  VertexInput::Attribute a;
+  // Families of consecutive VkFormat values: 8-bit (UNORM, SNORM, USCALED, SSCALED, UINT, SINT, SRGB),
+  // 16-bit (the same, SFLOAT for SRGB), 32-bit (UINT, SINT, SFLOAT), 64-bit (UINT, SINT, SFLOAT); one
+  // family per component count.
+  auto normalized_family = [&](uint32_t first, GLint size, GLenum unsigned_type, GLenum signed_type,
+                               bool has_float) -> bool {
+    if (format < first || format >= first + 7) return false;
+    const uint32_t variant = format - first;
+    a.size = size;
+    switch (variant) {
+      case 0:  // UNORM
+      case 1:  // SNORM
+        a.type = variant == 0 ? unsigned_type : signed_type, a.normalized = true;
+        return true;
+      case 2:  // USCALED
+      case 3:  // SSCALED
+        a.type = variant == 2 ? unsigned_type : signed_type;
+        return true;
+      case 4:  // UINT
+      case 5:  // SINT
+        a.type = variant == 4 ? unsigned_type : signed_type, a.path = Path::integer;
+        return true;
+      default:  // 8-bit SRGB (no vertex form) or 16-bit SFLOAT
+        if (!has_float) return false;
+        a.type = GL_HALF_FLOAT;
+        return true;
+    }
+  };
+  for (GLint n = 1; n <= 4; ++n) {
+    const uint32_t eight[] = {9, 16, 23, 37};  // R8, R8G8, R8G8B8, R8G8B8A8
+    const uint32_t sixteen[] = {70, 77, 84, 91};
+    if (normalized_family(eight[n - 1], n, GL_UNSIGNED_BYTE, GL_BYTE, false)) return a;
+    if (normalized_family(sixteen[n - 1], n, GL_UNSIGNED_SHORT, GL_SHORT, true)) return a;
+    const uint32_t thirty_two = 98 + 3 * uint32_t(n - 1), sixty_four = 110 + 3 * uint32_t(n - 1);
+    if (format >= thirty_two && format < thirty_two + 3) {
+      a.size = n;
+      a.type = format == thirty_two ? GL_UNSIGNED_INT : format == thirty_two + 1 ? GL_INT : GL_FLOAT;
+      a.path = format == thirty_two + 2 ? Path::float_ : Path::integer;
+      return a;
+    }
+    if (format == sixty_four + 2) {  // R64..._SFLOAT (64-bit integers have no GL vertex form)
+      a.size = n, a.type = GL_DOUBLE, a.path = Path::double_;
+      return a;
+    }
+  }
+  switch (format) {
+    case 44:  // B8G8R8A8_UNORM
+      a.size = GL_BGRA, a.type = GL_UNSIGNED_BYTE, a.normalized = true;
+      return a;
+    case 58:  // A2R10G10B10_UNORM_PACK32
+      a.size = GL_BGRA, a.type = GL_UNSIGNED_INT_2_10_10_10_REV, a.normalized = true;
+      return a;
+    case 64:  // A2B10G10R10_UNORM_PACK32 .. SSCALED
+    case 65:
+    case 66:
+    case 67:
+      a.size = 4;
+      a.type = format == 64 || format == 66 ? GL_UNSIGNED_INT_2_10_10_10_REV : GL_INT_2_10_10_10_REV;
+      a.normalized = format <= 65;
+      return a;
+    case 122:  // B10G11R11_UFLOAT_PACK32
+      a.size = 3, a.type = GL_UNSIGNED_INT_10F_11F_11F_REV;
+      return a;
+    default:
+      return std::nullopt;
+  }
+}
+
 }  // namespace
+
+Result<VertexInput> translate_vertex_input(const format::GraphicsState& g, std::string_view pipeline) {
+  VertexInput input;
+  for (const auto& b : g.vertex_bindings) {
+    if (b.input_rate > 1)
+      return Error{ErrorCode::unsupported, "pipeline '" + std::string(pipeline) + "': vertex binding " +
+                                               std::to_string(b.binding) + " has unknown input rate " +
+                                               std::to_string(b.input_rate)};
+    input.bindings.push_back({b.binding, GLsizei(b.stride), b.input_rate == 1 ? 1u : 0u});
+  }
+  for (const auto& v : g.vertex_attributes) {
+    auto a = vertex_format(v.format);
+    if (!a)
+      return Error{ErrorCode::unsupported,
+                   "pipeline '" + std::string(pipeline) + "': vertex attribute at location " +
+                       std::to_string(v.location) + " has VkFormat " + std::to_string(v.format) +
+                       ", which OpenGL cannot read from a vertex buffer"};
+    a->location = v.location, a->binding = v.binding, a->offset = v.offset;
+    input.attributes.push_back(*a);
+  }
+  return input;
+}
 
 GLenum shader_type(uint32_t vk_stage) {
   switch (vk_stage) {
@@ -217,6 +311,26 @@ void enable(GLenum cap, bool on) {
     glDisable(cap);
 }
 }  // namespace
+
+void VertexInput::configure(GLuint vertex_array) const {
+  for (const Attribute& a : attributes) {
+    glEnableVertexArrayAttrib(vertex_array, a.location);
+    switch (a.path) {
+      case Path::float_:
+        glVertexArrayAttribFormat(vertex_array, a.location, a.size, a.type, a.normalized ? GL_TRUE : GL_FALSE,
+                                  a.offset);
+        break;
+      case Path::integer:
+        glVertexArrayAttribIFormat(vertex_array, a.location, a.size, a.type, a.offset);
+        break;
+      case Path::double_:
+        glVertexArrayAttribLFormat(vertex_array, a.location, a.size, a.type, a.offset);
+        break;
+    }
+    glVertexArrayAttribBinding(vertex_array, a.location, a.binding);
+  }
+  for (const BufferBinding& b : bindings) glVertexArrayBindingDivisor(vertex_array, b.binding, b.divisor);
+}
 
 void FixedFunctionState::apply() const {
   // Vulkan's depth range and a lower-left origin (the rows land as on Vulkan: see gl_dearchiver.hpp).

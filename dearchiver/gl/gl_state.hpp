@@ -16,6 +16,8 @@ struct Extensions {
 Result<FixedFunctionState> translate_state(const format::GraphicsState& state, std::string_view pipeline,
                                            const Extensions& extensions);
 
+Result<VertexInput> translate_vertex_input(const format::GraphicsState& state, std::string_view pipeline);
+
 // VkShaderStageFlagBits to the glCreateShader type, or 0.
 GLenum shader_type(uint32_t vk_stage);
 const char* stage_name(uint32_t vk_stage);

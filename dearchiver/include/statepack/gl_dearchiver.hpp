@@ -98,6 +98,31 @@ struct FixedFunctionState {
   void apply() const;
 };
 
+// A graphics pipeline's vertex input as a vertex array object's format (GL 4.3 vertex attribute
+// binding): configure() sets it on a VAO; the application binds its buffers with
+// glVertexArrayVertexBuffer(vao, binding, buffer, offset, stride) using the strides listed here.
+struct VertexInput {
+  enum class Path { float_, integer, double_ };  // glVertexArrayAttribFormat / IFormat / LFormat
+  struct Attribute {
+    GLuint location = 0, binding = 0;
+    GLint size = 4;  // components, or GL_BGRA for B8G8R8A8 and A2R10G10B10 formats
+    GLenum type = GL_FLOAT;
+    bool normalized = false;
+    Path path = Path::float_;
+    GLuint offset = 0;  // relative offset within the binding's element
+  };
+  struct BufferBinding {
+    GLuint binding = 0;
+    GLsizei stride = 0;
+    GLuint divisor = 0;  // 1 for per-instance data (VK_VERTEX_INPUT_RATE_INSTANCE)
+  };
+  std::vector<Attribute> attributes;
+  std::vector<BufferBinding> bindings;
+
+  // Enables and formats every attribute of `vertex_array` and sets the bindings' divisors.
+  void configure(GLuint vertex_array) const;
+};
+
 struct Binding {
   // The GL binding namespace: glBindBufferBase(GL_UNIFORM_BUFFER / GL_SHADER_STORAGE_BUFFER, binding, ...),
   // glBindTextureUnit(binding, ...), glBindImageTexture(binding, ...).
@@ -116,6 +141,7 @@ struct Program {
   GLuint program = 0;
   bool compute = false;
   FixedFunctionState state;  // graphics programs only
+  VertexInput vertex_input;  // graphics programs only; empty when the shaders read no vertex buffers
   std::vector<Binding> bindings;
   const Binding* find_binding(std::string_view resource_name) const;  // nullptr when absent
 };
