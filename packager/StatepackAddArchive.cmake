@@ -8,6 +8,7 @@
 #     [DEFINES NAME=VALUE...]         # -D: macros for every shader
 #     [CONTENT_VERSION <n>]           # -v: user content version in the header
 #     [VULKAN_VERSION 1.0|1.1|1.2|1.3]
+#     [OPENGL]                        # also the OpenGL backend (--opengl) beside Vulkan
 #     [PACKAGER <path or target>]     # default: the statepack target of this build, else the installed
 #                                     # statepack::statepack (find_package), else `statepack` on PATH
 #     [VERIFY]                        # also run `statepack verify` on the local Vulkan device
@@ -20,14 +21,14 @@
 # installed), and the build fails on any error or validation message; a stamp file beside the archive
 # records a passed verification, so it runs again only when the archive changes.
 function(statepack_add_archive target)
-  cmake_parse_arguments(PARSE_ARGV 1 ARG "VERIFY" "OUTPUT;CONTENT_VERSION;VULKAN_VERSION;PACKAGER"
+  cmake_parse_arguments(PARSE_ARGV 1 ARG "VERIFY;OPENGL" "OUTPUT;CONTENT_VERSION;VULKAN_VERSION;PACKAGER"
                         "INPUTS;SHADER_DIRS;RENDER_STATE_DIRS;DEFINES;ARGS")
   # An unknown keyword first: it is usually a misspelt OUTPUT or INPUTS, which would otherwise be reported
   # as missing.
   if(ARG_UNPARSED_ARGUMENTS)
     message(FATAL_ERROR "statepack_add_archive(${target}): unknown arguments ${ARG_UNPARSED_ARGUMENTS} "
                         "(keywords: OUTPUT INPUTS SHADER_DIRS RENDER_STATE_DIRS DEFINES CONTENT_VERSION "
-                        "VULKAN_VERSION PACKAGER VERIFY ARGS)")
+                        "VULKAN_VERSION OPENGL PACKAGER VERIFY ARGS)")
   endif()
   if(NOT ARG_OUTPUT OR NOT ARG_INPUTS)
     message(FATAL_ERROR "statepack_add_archive(${target}): OUTPUT and INPUTS are required")
@@ -75,6 +76,9 @@ function(statepack_add_archive target)
   endif()
   if(ARG_VULKAN_VERSION)
     list(APPEND args --vulkan_version "${ARG_VULKAN_VERSION}")
+  endif()
+  if(ARG_OPENGL)
+    list(APPEND args --opengl)
   endif()
   list(APPEND args ${ARG_ARGS})
 

@@ -514,3 +514,78 @@ TEST_F(Merge, ANameDefinedDifferentlyIsAnErrorNamingBothFiles) {
 }
 
 }  // namespace
+
+namespace {
+
+// --opengl: the slice's shaders compiled again for OpenGL (one source, #ifdef VULKAN), each pipeline with
+// a per-kind binding table; alone or beside Vulkan.
+TEST_F(PackagerCli, OpenGlBackendHasItsOwnModulesAndBindingTable) {
+  const std::string input = std::string(STATEPACK_STATES_DIR) + "/slice.json";
+  const fs::path both = dir_ / "both.spk", gl_only = dir_ / "gl.spk";
+  CliRun pack = statepack("pack -i '" + input + "' -s '" + STATEPACK_SHADER_DIR + "' -o '" + both.string() +
+                          "' --vulkan --opengl");
+  ASSERT_EQ(pack.exit_code, 0) << pack.output;
+  CliRun json = statepack("inspect --json '" + both.string() + "'");
+  ASSERT_EQ(json.exit_code, 0) << json.output;
+  for (const char* field : {"\"backends\": [\n    \"vulkan\",\n    \"opengl\"\n  ]", "\"opengl_pipelines\"",
+                            "\"kind\": \"uniform buffer\"", "\"name\": \"Params\"",
+                            "\"kind\": \"storage buffer\"", "\"name\": \"Values\""})
+    EXPECT_NE(json.output.find(field), std::string::npos) << field << "\n" << json.output;
+  CliRun text = statepack("inspect '" + both.string() + "'");
+  for (const char* line :
+       {"OpenGL pipeline 'Fill Buffer PSO' (compute)\n", "  uniform buffer 0: 'Params' x1 [\"Compute\"]\n",
+        "  storage buffer 0: 'Values' x1 [\"Compute\"]\n", "OpenGL pipeline 'Gradient PSO' (graphics)\n"})
+    EXPECT_NE(text.output.find(line), std::string::npos) << line << "\nin:\n" << text.output;
+  // The Vulkan part is what --vulkan alone writes: the same pipelines, push constants and all.
+  EXPECT_NE(text.output.find("  push constants: 12 bytes\n"), std::string::npos) << text.output;
+
+  CliRun alone = statepack("pack -i '" + input + "' -s '" + STATEPACK_SHADER_DIR + "' -o '" +
+                           gl_only.string() + "' --opengl");
+  ASSERT_EQ(alone.exit_code, 0) << alone.output;
+  CliRun gl_text = statepack("inspect '" + gl_only.string() + "'");
+  EXPECT_NE(gl_text.output.find("backends: [\"opengl\"]"), std::string::npos) << gl_text.output;
+  EXPECT_EQ(gl_text.output.find("\npipeline '"), std::string::npos) << "no Vulkan pipelines:\n"
+                                                                    << gl_text.output;
+  EXPECT_NE(gl_text.output.find("OpenGL pipeline 'Gradient PSO'"), std::string::npos) << gl_text.output;
+}
+
+// What OpenGL cannot express is an error naming the shader or resource, once per problem: Vulkan-only
+// GLSL (push constants, gl_VertexIndex), separate samplers and images, HLSL.
+TEST_F(PackagerCli, OpenGlRefusesWhatItCannotExpress) {
+  CliRun tracer =
+      statepack("pack -i '" + std::string(STATEPACK_STATES_DIR) + "/path_tracer.json' -s '" +
+                STATEPACK_SHADER_DIR + "' -o '" + (dir_ / "pt.spk").string() + "' --vulkan --opengl");
+  EXPECT_EQ(tracer.exit_code, 1) << tracer.output;
+  EXPECT_NE(
+      tracer.output.find("shader 'Screen Triangle VS (OpenGL)': 'gl_VertexIndex' : undeclared identifier"),
+      std::string::npos)
+      << tracer.output;
+  EXPECT_NE(tracer.output.find("'push_constant' : only allowed when using GLSL for Vulkan"),
+            std::string::npos)
+      << tracer.output;
+  EXPECT_FALSE(fs::exists(dir_ / "pt.spk"));
+
+  const fs::path shader = dir_ / "separate.frag", json = dir_ / "separate.json";
+  std::ofstream(shader) << "#version 450\n"
+                           "layout(binding = 0) uniform texture2D tex;\n"
+                           "layout(binding = 1) uniform sampler smp;\n"
+                           "layout(location = 0) out vec4 color;\n"
+                           "void main() { color = texture(sampler2D(tex, smp), vec2(0.5)); }\n";
+  std::ofstream(json) << R"({"Pipelines": [{"PSODesc": {"Name": "Separate PSO"},
+    "GraphicsPipeline": {"RTVFormats": {"0": "RGBA8_UNORM"}},
+    "pVS": {"Desc": {"Name": "VS"}, "FilePath": ")"
+                      << STATEPACK_SHADER_DIR << R"(/fullscreen_triangle.vert"},
+    "pPS": {"Desc": {"Name": "Separate PS"}, "FilePath": "separate.frag"}}]})";
+  CliRun separate = statepack("pack -i '" + json.string() + "' -o '" + (dir_ / "separate.spk").string() +
+                              "' --vulkan --opengl");
+  EXPECT_EQ(separate.exit_code, 1) << separate.output;
+  for (const char* message :
+       {"separate.json:4:12: error: shader 'Separate PS' (OpenGL): declares 'tex' (sampled image), 'smp' "
+        "(sampler), which OpenGL does not have"})
+    EXPECT_NE(separate.output.find(message), std::string::npos) << message << "\n" << separate.output;
+  CliRun vulkan_only =
+      statepack("pack -i '" + json.string() + "' -o '" + (dir_ / "separate.spk").string() + "' --vulkan");
+  EXPECT_EQ(vulkan_only.exit_code, 0) << vulkan_only.output;  // Vulkan has separate samplers
+}
+
+}  // namespace

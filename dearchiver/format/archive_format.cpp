@@ -828,6 +828,8 @@ std::vector<uint8_t> encode(const Contents& input) {
             [](const Pipeline& a, const Pipeline& b) { return a.name < b.name; });
   std::sort(c.standalone_shaders.begin(), c.standalone_shaders.end(),
             [&](uint32_t a, uint32_t b) { return c.shaders[a].name < c.shaders[b].name; });
+  std::sort(c.gl_pipelines.begin(), c.gl_pipelines.end(),
+            [](const GlPipeline& a, const GlPipeline& b) { return a.name < b.name; });
 
   // Top-level records first, in index order, so their indices are what other records refer to.
   Writer w;

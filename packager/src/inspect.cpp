@@ -161,7 +161,9 @@ Json contents_json(const format::Contents& c, size_t size) {
   j["format_version"] = c.format_version;
   j["producer_version"] = version_text(c.producer_version);
   j["content_version"] = c.content_version;
-  j["backends"] = (c.backends & format::kBackendVulkan) ? Json::array({"vulkan"}) : Json::array();
+  j["backends"] = Json::array();
+  if (c.backends & format::kBackendVulkan) j["backends"].push_back("vulkan");
+  if (c.backends & format::kBackendOpenGL) j["backends"].push_back("opengl");
   j["size"] = size;
   Json blobs = Json::array();
   for (auto blob : c.spirv)
@@ -290,6 +292,45 @@ Json contents_json(const format::Contents& c, size_t size) {
     pipelines.push_back(pj);
   }
   j["pipelines"] = pipelines;
+  // The OpenGL block, only when present (Vulkan-only archives print as before).
+  if (!c.gl_pipelines.empty()) {
+    static constexpr const char* kNamespaces[] = {"uniform buffer", "storage buffer", "texture", "image"};
+    Json gl = Json::array();
+    for (const auto& p : c.gl_pipelines) {
+      Json pj{{"name", p.name}, {"kind", p.kind == format::PipelineKind::compute ? "compute" : "graphics"}};
+      Json gl_shaders = Json::array();
+      for (const auto& s : p.shaders)
+        gl_shaders.push_back({{"stage", vk::to_string(vk::ShaderStageFlagBits(s.stage))},
+                              {"shader", s.name},
+                              {"entry_point", s.entry_point},
+                              {"blob", s.blob},
+                              {"size", c.spirv[s.blob].size_bytes()}});
+      pj["shaders"] = gl_shaders;
+      Json bindings = Json::array();
+      for (const auto& b : p.bindings)
+        bindings.push_back({{"name", b.name},
+                            {"kind", kNamespaces[b.kind < 4 ? b.kind : 0]},
+                            {"binding", b.binding},
+                            {"count", b.count},
+                            {"stages", stages_json(b.stages)}});
+      pj["bindings"] = bindings;
+      if (p.kind == format::PipelineKind::graphics) {
+        format::Pipeline as_vulkan;  // the same state, printed the same way (no render pass in OpenGL)
+        as_vulkan.graphics = p.graphics;
+        pj["graphics"] = graphics_json(c, as_vulkan);
+        pj["graphics"].erase("render_pass");
+      }
+      Json constants = Json::array();
+      for (const auto& k : p.constants)
+        constants.push_back({{"name", k.name},
+                             {"stage", vk::to_string(vk::ShaderStageFlagBits(k.stage))},
+                             {"constant_id", k.constant_id},
+                             {"size", k.size}});
+      if (!constants.empty()) pj["specialization_constants"] = constants;
+      gl.push_back(pj);
+    }
+    j["opengl_pipelines"] = gl;
+  }
   return j;
 }
 
@@ -392,6 +433,23 @@ void print_text(const Json& j, std::ostream& out) {
           << "\n";
   }
   for (const auto& s : j["standalone_shaders"]) out << "standalone shader '" << text(s) << "'\n";
+  if (j.contains("opengl_pipelines"))
+    for (const auto& p : j["opengl_pipelines"]) {
+      out << "OpenGL pipeline '" << text(p["name"]) << "' (" << p["kind"].get<std::string>() << ")\n";
+      for (const auto& s : p["shaders"])
+        out << "  " << s["stage"].get<std::string>() << ": '" << text(s["shader"]) << "', "
+            << s["size"].get<size_t>() << " bytes (blob " << s["blob"].get<uint32_t>() << ")\n";
+      for (const auto& b : p["bindings"])
+        out << "  " << b["kind"].get<std::string>() << " " << b["binding"].get<uint32_t>() << ": '"
+            << text(b["name"]) << "' x" << b["count"].get<uint32_t>() << " " << b["stages"].dump() << "\n";
+      if (p.contains("graphics")) {
+        const auto& g = p["graphics"];
+        out << "  " << g["topology"].get<std::string>() << ", cull " << g["cull_mode"].get<std::string>()
+            << ", front face " << g["front_face"].get<std::string>() << ", depth test "
+            << (g["depth_test"].get<bool>() ? "on" : "off") << ", " << g["render_targets"].size()
+            << " target(s)\n";
+      }
+    }
 }
 
 }  // namespace

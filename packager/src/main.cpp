@@ -107,7 +107,10 @@ int run(int argc, char** argv) {
                  "Strip debug information (names, lines) from the SPIR-V; binding names stay in the archive");
   pack->add_flag("--print_contents", options.print_contents, "Print the archive's contents");
   pack->add_flag("--vulkan", vulkan, "Produce the Vulkan backend (SPIR-V)");
-  pack->add_flag("--opengl", opengl, "OpenGL backend (not produced yet: warning)");
+  pack->add_flag(
+      "--opengl", opengl,
+      "Produce the OpenGL backend: GLSL compiled again for OpenGL 4.5 with GL_ARB_gl_spirv (GL_SPIRV "
+      "defined, VULKAN not), bindings numbered per kind");
   pack->add_flag("--opengles", opengles, "OpenGL ES backend (not produced: warning)");
   pack->add_flag("--dx11", dx11, "Direct3D 11 backend (not produced on this platform: warning)");
   pack->add_flag("--dx12", dx12, "Direct3D 12 backend (not produced on this platform: warning)");
@@ -202,8 +205,7 @@ int run(int argc, char** argv) {
     return kExitUsage;
   }
 
-  for (auto [on, flag] : {std::pair{opengl, "--opengl"},
-                          {opengles, "--opengles"},
+  for (auto [on, flag] : {std::pair{opengles, "--opengles"},
                           {dx11, "--dx11"},
                           {dx12, "--dx12"},
                           {metal_macos, "--metal_macos"},
@@ -212,10 +214,12 @@ int run(int argc, char** argv) {
     if (on)
       std::cerr << "statepack: warning: " << flag
                 << ": this backend cannot be produced by statepack; ignored\n";
-  if (!vulkan) {
-    std::cerr << "statepack: error: no backend to produce; pass --vulkan\n";
+  if (!vulkan && !opengl) {
+    std::cerr << "statepack: error: no backend to produce; pass --vulkan, --opengl or both\n";
     return kExitUsage;
   }
+  options.vulkan = vulkan;
+  options.opengl = opengl;
   auto version = parse_vulkan_version(vulkan_version);
   if (!version) {
     std::cerr << "statepack: error: --vulkan_version must be 1.0, 1.1, 1.2 or 1.3, not '" << vulkan_version

@@ -12,6 +12,7 @@
 
 #include "archive_format.hpp"
 #include "contents_builder.hpp"
+#include "gl_layout.hpp"
 #include "input_file.hpp"
 #include "inspect.hpp"
 #include "interface_check.hpp"
@@ -137,7 +138,9 @@ struct CompiledShaders {
 
 // Compiles on all cores. Every shader whose own description is usable is compiled, even when other
 // objects have notation errors, so one run reports both (docs/cli.md).
-CompiledShaders compile_shaders(const Notation& notation, const PackOptions& options, Diagnostics& diag) {
+// `refused`: shaders not to compile (by compile_key), each with the error to report instead.
+CompiledShaders compile_shaders(const Notation& notation, const PackOptions& options, Diagnostics& diag,
+                                const std::map<std::string, std::string>& refused = {}) {
   CompiledShaders out;
   std::map<std::string, size_t> unit_by_key;
   auto unit_for = [&](const ShaderDesc& s) {
@@ -155,6 +158,10 @@ CompiledShaders compile_shaders(const Notation& notation, const PackOptions& opt
   parallel_for(out.units.size(), options.threads, [&](size_t i) {
     CompiledUnit& u = out.units[i];
     if (u.desc.broken) return;  // its notation errors are reported; compiling it would guess
+    if (auto it = refused.find(compile_key(u.desc)); it != refused.end()) {
+      diag.error(u.desc.where, it->second);
+      return;
+    }
     u.compiled = compile_shader(u.desc, options.compile, compile_errors);
     if (!u.compiled.ok) return;
     u.reflection = reflect_spirv(u.compiled.spirv, u.desc.stage);
@@ -238,6 +245,71 @@ Plan plan_archive(const Notation& notation, const CompiledShaders& compiled, Con
     plan.pipelines.push_back(std::move(pp));
   }
   return plan;
+}
+
+// Shaders whose Vulkan compilation declares what OpenGL has no binding for: separate samplers and sampled
+// images, input attachments. glslang's OpenGL front end would only report a syntax error at the
+// declaration ("unexpected IDENTIFIER"), so they are refused by name instead of compiled.
+std::map<std::string, std::string> refused_for_opengl(const CompiledShaders& vulkan) {
+  std::map<std::string, std::string> refused;
+  for (const CompiledUnit& u : vulkan.units) {
+    if (!u.compiled.ok) continue;
+    std::string names;
+    for (const ReflectedBinding& b : u.reflection.bindings)
+      if (b.descriptor_type == VK_DESCRIPTOR_TYPE_SAMPLER ||
+          b.descriptor_type == VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE ||
+          b.descriptor_type == VK_DESCRIPTOR_TYPE_INPUT_ATTACHMENT)
+        names += std::string(names.empty() ? "" : ", ") + "'" + b.name + "' (" +
+                 format::descriptor_type_name(b.descriptor_type) + ")";
+    if (!names.empty())
+      refused.emplace(compile_key(u.desc), "shader '" + u.desc.name + "' (OpenGL): declares " + names +
+                                               ", which OpenGL does not have; use combined samplers "
+                                               "(sampler2D and the like) when GL_SPIRV is defined");
+  }
+  return refused;
+}
+
+// The OpenGL backend: each pipeline from its shaders compiled for OpenGL, with its own binding table
+// (gl_layout.hpp). Specialization constants are resolved as for Vulkan; when Vulkan is packed too its
+// stage has reported any error in them already.
+void add_opengl(const Notation& notation, const CompiledShaders& compiled, const PackOptions& options,
+                ContentsBuilder& builder, Diagnostics& diag) {
+  CompileOptions gl_options = options.compile;
+  gl_options.opengl = true;
+  Diagnostics reported_by_vulkan(0);
+  for (size_t i = 0; i < notation.pipelines.size(); ++i) {
+    const PipelineDesc& p = notation.pipelines[i];
+    const std::vector<size_t>& stage_units = compiled.pipeline_units[i];
+    const auto& units = compiled.units;
+    if (std::any_of(stage_units.begin(), stage_units.end(), [&](size_t u) { return !units[u].compiled.ok; }))
+      continue;  // its compile errors are reported
+    if (p.kind == format::PipelineKind::graphics && p.graphics.topology == VK_PRIMITIVE_TOPOLOGY_PATCH_LIST) {
+      diag.error(p.where, "pipeline '" + p.name + "' (OpenGL): tessellation is not packed for OpenGL yet");
+      continue;
+    }
+    std::vector<StageInput> stages;
+    for (size_t u : stage_units)
+      stages.push_back({&units[u].desc, &units[u].compiled.spirv, &units[u].reflection});
+    GlLayout layout;
+    if (!build_gl_layout(p, stages, layout, diag)) continue;
+    std::vector<format::SpecConstant> constants;
+    if (!resolve_constants(p, stages, constants, options.vulkan ? reported_by_vulkan : diag)) continue;
+    format::GlPipeline out{p.name, p.kind, {}, std::move(layout.bindings), {}, std::move(constants)};
+    if (p.kind == format::PipelineKind::graphics) out.graphics = p.graphics;  // with its subpass's formats
+    bool ok = true;
+    for (size_t s = 0; s < stages.size(); ++s) {
+      std::vector<uint32_t>& spirv = layout.patched_spirv[s];
+      if (std::string error = finalize_spirv(spirv, gl_options); !error.empty()) {
+        diag.error(stages[s].desc->where,
+                   "shader '" + stages[s].desc->name + "' (OpenGL): SPIR-V validation failed: " + error);
+        ok = false;
+        continue;
+      }
+      out.shaders.push_back({stages[s].desc->name, stages[s].desc->stage, builder.add_blob(spirv),
+                             stages[s].desc->entry_point});
+    }
+    if (ok) builder.contents.gl_pipelines.push_back(std::move(out));
+  }
 }
 
 // The finalised modules into the archive in notation order, so the archive does not depend on thread
@@ -352,24 +424,33 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err) {
               "no pipelines, shaders, signatures or render passes: the archive is empty");
   // Layouts and pipelines are planned only from an error-free notation; shaders compile regardless.
   const bool notation_ok = !diag.has_errors();
-  CompiledShaders compiled = compile_shaders(notation, options, diag);
+  CompiledShaders compiled, gl_compiled;
+  if (options.vulkan) compiled = compile_shaders(notation, options, diag);
+  if (options.opengl) {
+    PackOptions gl = options;
+    gl.compile.opengl = true;
+    gl_compiled = compile_shaders(notation, gl, diag, refused_for_opengl(compiled));
+  }
   // Every file read so far: no output may replace one of them.
   std::vector<InputFile> inputs = notation.files_read;
-  for (const auto& u : compiled.units)
-    inputs.insert(inputs.end(), u.compiled.files_read.begin(), u.compiled.files_read.end());
+  for (const auto* c : {&compiled, &gl_compiled})
+    for (const auto& u : c->units)
+      inputs.insert(inputs.end(), u.compiled.files_read.begin(), u.compiled.files_read.end());
 
   ContentsBuilder builder;
   builder.contents.producer_version = kProducerVersion;
   builder.contents.content_version = options.content_version;
-  builder.contents.backends = format::kBackendVulkan;
+  builder.contents.backends =
+      (options.vulkan ? format::kBackendVulkan : 0u) | (options.opengl ? format::kBackendOpenGL : 0u);
   Finalizer finalizer(options.compile);
   Dumper dumper(options.dump_dir, options.compile, inputs);
   std::string io_error;
-  if (notation_ok) {
+  if (notation_ok && options.vulkan) {
     Plan plan = plan_archive(notation, compiled, builder, finalizer, diag);
     finalizer.run(options.threads);  // optimise and validate every distinct module in parallel
     assemble_archive(notation, compiled, plan, finalizer, builder, dumper, io_error, diag);
   }
+  if (notation_ok && options.opengl) add_opengl(notation, gl_compiled, options, builder, diag);
   if (!diag.has_errors()) note_unused_objects(notation, diag);
   if (diag.has_errors()) {
     diag.print(err);

@@ -159,8 +159,9 @@ void report_log(const std::string& log, const ShaderDesc& shader, ShaderMessages
   }
 }
 
-spv_target_env target_env(uint32_t vulkan_version) {
-  switch (vulkan_version >> 12 & 0x3FF) {  // minor of VK_MAKE_API_VERSION
+spv_target_env target_env(const CompileOptions& options) {
+  if (options.opengl) return SPV_ENV_OPENGL_4_5;
+  switch (options.vulkan_version >> 12 & 0x3FF) {  // minor of VK_MAKE_API_VERSION
     case 0:
       return SPV_ENV_VULKAN_1_0;
     case 1:
@@ -172,9 +173,10 @@ spv_target_env target_env(uint32_t vulkan_version) {
   }
 }
 
-std::string remove_unused_globals(std::vector<uint32_t>& spirv, uint32_t vulkan_version) {
+std::string remove_unused_globals(std::vector<uint32_t>& spirv, const CompileOptions& options) {
+  const uint32_t vulkan_version = options.opengl ? 0x00400000u : options.vulkan_version;  // GL: SPIR-V 1.0
   std::string messages;
-  spvtools::Optimizer optimizer(target_env(vulkan_version));
+  spvtools::Optimizer optimizer(target_env(options));
   optimizer.SetMessageConsumer([&](spv_message_level_t, const char*, const spv_position_t&, const char* m) {
     messages += m;
     messages += '\n';
@@ -196,12 +198,25 @@ std::string remove_unused_globals(std::vector<uint32_t>& spirv, uint32_t vulkan_
 
 }  // namespace
 
-CompiledShader compile_shader(const ShaderDesc& shader, const CompileOptions& options,
+CompiledShader compile_shader(const ShaderDesc& original, const CompileOptions& options,
                               ShaderMessages& errors) {
   static std::once_flag initialized;
   std::call_once(initialized, [] { glslang::InitializeProcess(); });
 
   CompiledShader result;
+  // The OpenGL compile's messages say so: the same source may compile for Vulkan and fail for OpenGL.
+  ShaderDesc renamed;
+  if (options.opengl) {
+    renamed = original;
+    renamed.name += " (OpenGL)";
+  }
+  const ShaderDesc& shader = options.opengl ? renamed : original;
+  if (options.opengl && shader.language == SourceLanguage::hlsl) {
+    errors.error(shader.where, shader.name,
+                 "the OpenGL backend compiles GLSL only; give this pipeline a GLSL shader or pack it "
+                 "for Vulkan alone");
+    return result;
+  }
   std::string source = shader.source;
   std::string file_name = "<inline source of '" + shader.name + "'>";
   if (!shader.file.empty()) {
@@ -242,10 +257,16 @@ CompiledShader compile_shader(const ShaderDesc& shader, const CompileOptions& op
                              : minor == 2 ? glslang::EShTargetSpv_1_5
                              : minor == 1 ? glslang::EShTargetSpv_1_3
                                           : glslang::EShTargetSpv_1_0;
-  ts.setEnvInput(hlsl ? glslang::EShSourceHlsl : glslang::EShSourceGlsl, stage, glslang::EShClientVulkan,
-                 100);
-  ts.setEnvClient(glslang::EShClientVulkan, client);
-  ts.setEnvTarget(glslang::EShTargetSpv, spirv_version);
+  if (options.opengl) {
+    ts.setEnvInput(glslang::EShSourceGlsl, stage, glslang::EShClientOpenGL, 450);
+    ts.setEnvClient(glslang::EShClientOpenGL, glslang::EShTargetOpenGL_450);
+    ts.setEnvTarget(glslang::EShTargetSpv, glslang::EShTargetSpv_1_0);
+  } else {
+    ts.setEnvInput(hlsl ? glslang::EShSourceHlsl : glslang::EShSourceGlsl, stage, glslang::EShClientVulkan,
+                   100);
+    ts.setEnvClient(glslang::EShClientVulkan, client);
+    ts.setEnvTarget(glslang::EShTargetSpv, spirv_version);
+  }
   // No setEnvTargetHlslFunctionality1: its SPV_GOOGLE_hlsl_functionality1 decorations need a device
   // extension that many drivers (lavapipe included) lack, and Vulkan does not use them.
   if (hlsl) ts.setHlslIoMapping(true);
@@ -254,8 +275,8 @@ CompiledShader compile_shader(const ShaderDesc& shader, const CompileOptions& op
   // #include: after an error in the included file it went on to report a confused second one at the
   // includer's line after the #include; HLSL also adds follow-on errors ("Could not perform requested
   // binary operation") to the one that matters.
-  auto messages = static_cast<EShMessages>(EShMsgSpvRules | EShMsgVulkanRules | EShMsgEnhanced |
-                                           (hlsl ? int(EShMsgReadHlsl) : 0));
+  auto messages = static_cast<EShMessages>(EShMsgSpvRules | (options.opengl ? 0 : int(EShMsgVulkanRules)) |
+                                           EShMsgEnhanced | (hlsl ? int(EShMsgReadHlsl) : 0));
   std::error_code ec;
   Includer includer(options.include_dirs, result.files_read,
                     shader.file.empty() ? fs::path() : fs::weakly_canonical(shader.file, ec));
@@ -296,7 +317,7 @@ CompiledShader compile_shader(const ShaderDesc& shader, const CompileOptions& op
   // A resource counts as used by what the entry point statically uses: glslang keeps every global of
   // the source (one HLSL file often holds VSMain and PSMain with disjoint resources), so module-scope
   // variables nothing references are removed before reflection decides the layout.
-  if (std::string error = remove_unused_globals(result.spirv, options.vulkan_version); !error.empty()) {
+  if (std::string error = remove_unused_globals(result.spirv, options); !error.empty()) {
     errors.error(shader.where, shader.name, error);
     return result;
   }
@@ -313,7 +334,7 @@ CompiledShader compile_shader(const ShaderDesc& shader, const CompileOptions& op
 }
 
 std::string finalize_spirv(std::vector<uint32_t>& spirv, const CompileOptions& options) {
-  const spv_target_env env = target_env(options.vulkan_version);
+  const spv_target_env env = target_env(options);
   std::string messages;
   // SPIRV-Tools messages span lines (the message, then the instruction); one diagnostic line each.
   auto consumer = [&](spv_message_level_t, const char*, const spv_position_t& pos, const char* message) {
@@ -341,7 +362,7 @@ std::string finalize_spirv(std::vector<uint32_t>& spirv, const CompileOptions& o
 }
 
 std::string disassemble_spirv(const std::vector<uint32_t>& spirv, const CompileOptions& options) {
-  spvtools::SpirvTools tools(target_env(options.vulkan_version));
+  spvtools::SpirvTools tools(target_env(options));
   std::string text;
   tools.Disassemble(spirv, &text,
                     SPV_BINARY_TO_TEXT_OPTION_FRIENDLY_NAMES | SPV_BINARY_TO_TEXT_OPTION_INDENT);

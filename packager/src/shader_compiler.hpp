@@ -21,6 +21,9 @@ struct CompileOptions {
   uint32_t vulkan_version = 0x00400000;                            // VK_API_VERSION_1_0: SPIR-V 1.0
   Optimization optimization = Optimization::none;
   bool strip_debug_info = false;  // OpName, OpLine, ...: names the archive keeps in its binding table
+  // Compile for OpenGL 4.5 with GL_ARB_gl_spirv instead (glslang's OpenGL client, SPIR-V 1.0, validated
+  // for OpenGL 4.5): GL_SPIRV is defined and VULKAN is not, so one source can serve both. GLSL only.
+  bool opengl = false;
 };
 
 struct CompiledShader {

@@ -1,0 +1,114 @@
+#include "gl_layout.hpp"
+
+#include <vulkan/vulkan_core.h>
+
+#include <algorithm>
+#include <array>
+#include <map>
+#include <optional>
+#include <string>
+#include <tuple>
+
+namespace statepack::packager {
+namespace {
+
+std::optional<format::GlNamespace> namespace_of(uint32_t descriptor_type) {
+  switch (descriptor_type) {
+    case VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER:
+    case VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC:
+      return format::GlNamespace::uniform_buffer;
+    case VK_DESCRIPTOR_TYPE_STORAGE_BUFFER:
+    case VK_DESCRIPTOR_TYPE_STORAGE_BUFFER_DYNAMIC:
+      return format::GlNamespace::storage_buffer;
+    case VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER:
+    case VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER:
+      return format::GlNamespace::texture;
+    case VK_DESCRIPTOR_TYPE_STORAGE_IMAGE:
+    case VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER:
+      return format::GlNamespace::image;
+  }
+  return std::nullopt;  // separate samplers and sampled images, input attachments
+}
+
+struct Merged {
+  format::GlNamespace kind;
+  uint32_t count = 1;
+  uint32_t stages = 0;
+  std::tuple<uint32_t, uint32_t> declared;  // (set, binding) where first seen: the numbering order
+};
+
+}  // namespace
+
+bool build_gl_layout(const PipelineDesc& p, const std::vector<StageInput>& stages, GlLayout& out,
+                     Diagnostics& diag) {
+  const std::string who = "pipeline '" + p.name + "' (OpenGL)";
+  bool ok = true;
+  std::map<std::string, Merged> by_name;
+  for (const StageInput& stage : stages) {
+    const std::string shader = "shader '" + stage.desc->name + "'";
+    if (stage.reflection->push_constant_size > 0) {
+      diag.error(stage.desc->where, who + ": " + shader +
+                                        " has push constants, which OpenGL does not have; declare them as a "
+                                        "uniform block when GL_SPIRV is defined (#ifdef VULKAN for the push "
+                                        "constants)");
+      ok = false;
+    }
+    for (const ReflectedBinding& b : stage.reflection->bindings) {
+      const auto kind = namespace_of(b.descriptor_type);
+      if (!kind) {
+        diag.error(stage.desc->where,
+                   who + ": " + shader + " declares '" + b.name + "' as a " +
+                       format::descriptor_type_name(b.descriptor_type) +
+                       ", which OpenGL does not have; use a combined sampler (sampler2D and the like) or a "
+                       "storage image for OpenGL");
+        ok = false;
+        continue;
+      }
+      const uint32_t count = std::max(b.count, 1u);  // a runtime array takes one binding
+      auto [it, inserted] = by_name.try_emplace(b.name, Merged{*kind, count, b.stage, {b.set, b.binding}});
+      if (!inserted && (it->second.kind != *kind || it->second.count != count)) {
+        diag.error(stage.desc->where, who + ": " + shader + " declares '" + b.name +
+                                          "' differently from another stage (kind or array size)");
+        ok = false;
+      }
+      it->second.stages |= b.stage;
+    }
+  }
+  if (!ok) return false;
+
+  // Numbers per kind, in declaration order.
+  std::vector<std::pair<const std::string*, const Merged*>> ordered;
+  for (const auto& [name, m] : by_name) ordered.emplace_back(&name, &m);
+  std::sort(ordered.begin(), ordered.end(), [](const auto& a, const auto& b) {
+    return std::tie(a.second->declared, *a.first) < std::tie(b.second->declared, *b.first);
+  });
+  std::array<uint32_t, format::kGlNamespaceCount> next{};
+  std::map<std::string, uint32_t> number;
+  for (const auto& [name, m] : ordered) {
+    uint32_t& n = next[size_t(m->kind)];
+    number[*name] = n;
+    out.bindings.push_back({*name, uint32_t(m->kind), n, m->count, m->stages});
+    n += m->count;
+  }
+  std::sort(out.bindings.begin(), out.bindings.end(),
+            [](const format::GlBinding& a, const format::GlBinding& b) {
+              return std::tie(a.kind, a.binding) < std::tie(b.kind, b.binding);
+            });
+
+  for (const StageInput& stage : stages) {
+    std::vector<uint32_t> spirv = *stage.spirv;
+    for (const ReflectedBinding& b : stage.reflection->bindings) {
+      if (b.binding_word == 0 || b.binding_word >= spirv.size()) {
+        diag.error(stage.desc->where, who + ": shader '" + stage.desc->name + "': '" + b.name +
+                                          "' has no Binding decoration to patch");
+        return false;
+      }
+      spirv[b.binding_word] = number.at(b.name);
+      if (b.set_word != 0 && b.set_word < spirv.size()) spirv[b.set_word] = 0;
+    }
+    out.patched_spirv.push_back(std::move(spirv));
+  }
+  return true;
+}
+
+}  // namespace statepack::packager
