@@ -1,7 +1,7 @@
 // The OpenGL backend on Mesa's llvmpipe (EGL surfaceless, OpenGL 4.5 + GL_ARB_gl_spirv): programs from
-// the archive's GL block dispatch and draw, and their results are compared with the same pipelines run
-// on Vulkan (lavapipe) in the same test. Any GL debug error message fails the test that caused it, as
-// any validation message does on the Vulkan side.
+// the archive's GL block dispatch and draw, and their results are compared with the same pipelines of
+// the same archive (packed with --vulkan --opengl) run on Vulkan (lavapipe) in the same test. Any GL debug
+// error message fails the test that caused it, as any validation message does on the Vulkan side.
 #include <epoxy/gl.h>
 
 #include <algorithm>
@@ -66,6 +66,15 @@ class GlTest : public VulkanTest {
     return std::move(dearchiver.value());
   }
   gl::Dearchiver make_gl_dearchiver() { return make_gl_dearchiver(load(STATEPACK_GL_ARCHIVE)); }
+
+  // A Vulkan dearchiver with the same archive (packed for both backends).
+  Dearchiver make_vulkan_dearchiver() {
+    auto dearchiver = Dearchiver::create({vk_->physical_device, vk_->device});
+    EXPECT_TRUE(dearchiver) << dearchiver.error().message;
+    auto added = dearchiver->add_archive(load(STATEPACK_GL_ARCHIVE));
+    EXPECT_TRUE(added) << added.error().message;
+    return std::move(dearchiver.value());
+  }
 
   // Draws a graphics program (a full-screen triangle, 3 vertices) into a width x height RGBA8 texture
   // and returns its rows as glReadPixels gives them: window row 0 (the bottom one) first.
@@ -136,7 +145,7 @@ class GlTest : public VulkanTest {
 
   // The same on Vulkan (as tests/slice_test.cpp dispatches it, with push constants).
   std::vector<uint32_t> fill_buffer_vulkan(uint32_t count, uint32_t multiplier, uint32_t offset) {
-    Dearchiver dearchiver = make_dearchiver();
+    Dearchiver dearchiver = make_vulkan_dearchiver();
     auto pso = dearchiver.unpack_compute("Fill Buffer PSO");
     EXPECT_TRUE(pso) << pso.error().message;
     if (!pso) return {};
@@ -217,7 +226,7 @@ TEST_F(GlTest, GradientDrawsAsOnVulkan) {
   constexpr uint32_t kSize = 64;
   std::vector<uint8_t> on_gl = render_gl(**program, state, kSize, kSize);
 
-  Dearchiver vulkan = make_dearchiver();
+  Dearchiver vulkan = make_vulkan_dearchiver();
   auto pso = vulkan.unpack_graphics("Gradient PSO");
   ASSERT_TRUE(pso) << pso.error().message;
   std::vector<uint8_t> on_vulkan = render_fullscreen(**pso, VK_FORMAT_R8G8B8A8_UNORM, kSize, kSize);
@@ -259,7 +268,7 @@ TEST_F(GlTest, CullingMatchesVulkan) {
     EXPECT_TRUE((*program)->state.cull_enable);
     std::vector<uint8_t> on_gl = render_gl(**program, (*program)->state, 16, 16);
 
-    Dearchiver vulkan = make_dearchiver();
+    Dearchiver vulkan = make_vulkan_dearchiver();
     auto pso =
         vulkan.unpack_graphics("Gradient PSO", [&](PatchableState& s) { s.rasterizer.cull_mode = cull; });
     ASSERT_TRUE(pso) << pso.error().message;

@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 #include <optional>
+#include <regex>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -39,8 +40,9 @@ GLenum stage_of(const std::filesystem::path& path) {
   return 0;
 }
 
-// The file's text with `#include "x"` lines replaced by x's text (and the include extension dropped:
-// the driver's GLSL compiler does not know it).
+// The file's text with `#include "x"` lines replaced by x's text, the include extension dropped (the
+// driver's GLSL compiler does not know it) and `set = N` removed from layout qualifiers (Vulkan GLSL's;
+// glslang ignores it for OpenGL, the driver refuses it). VULKAN stays undefined, as with --opengl.
 bool read_source(const std::filesystem::path& path, std::string& out) {
   std::ifstream file(path);
   if (!file) return std::fprintf(stderr, "gl_load_benchmark: cannot read %s\n", path.c_str()), false;
@@ -51,6 +53,8 @@ bool read_source(const std::filesystem::path& path, std::string& out) {
       if (!read_source(path.parent_path() / line.substr(10, end - 10), out)) return false;
       continue;
     }
+    static const std::regex set_qualifier(R"(\bset\s*=\s*\d+\s*,\s*)");
+    if (line.rfind("layout", 0) == 0) line = std::regex_replace(line, set_qualifier, "");
     out += line;
     out += '\n';
   }
