@@ -12,6 +12,7 @@
 #include <fstream>
 
 #include "archive_access.hpp"
+#include "archive_file.hpp"
 #include "forged_archive.hpp"
 #include "vulkan_test_fixture.hpp"
 
@@ -475,6 +476,61 @@ TEST_F(HostileUnpack, ModifyCallbackExceptionsBecomeErrors) {
   ASSERT_FALSE(pso);
   EXPECT_EQ(pso.error().code, ErrorCode::invalid_argument);
   EXPECT_EQ(pso.error().message, "pipeline 'Gradient PSO': the modify callback threw: boom");
+}
+
+}  // namespace
+}  // namespace statepack::testing
+
+namespace statepack::testing {
+namespace {
+
+// The OpenGL block is checked against its own SPIR-V at load, as the Vulkan part is: what reaches a GL
+// driver has its entry point, no push constants, and every resource bound in its namespace.
+TEST(HostileArchive, OpenGlBlockIsCheckedAgainstItsSpirv) {
+  auto loaded = format::load_archive_file(STATEPACK_GL_SLICE_ARCHIVE);
+  ASSERT_TRUE(loaded) << loaded.error().message;
+  const format::Contents& c = loaded->contents;
+  ASSERT_EQ(c.gl_pipelines.size(), 2u);
+  ASSERT_EQ(c.gl_pipelines[0].name, "Fill Buffer PSO");
+  auto refused = [&](auto edit) -> std::string {
+    format::Contents m = c;
+    edit(m);
+    ForgedBytes bytes(format::encode(m));
+    auto archive = Archive::from_memory(bytes.span());
+    return archive ? "accepted" : archive.error().message;
+  };
+  EXPECT_EQ(refused([](format::Contents&) {}), "accepted");
+  auto expect = [](const std::string& message, const char* part) {
+    EXPECT_NE(message.find(part), std::string::npos) << "expected '" << part << "' in: " << message;
+  };
+  // Values (the storage buffer) left out of the table.
+  expect(refused([](format::Contents& m) {
+           auto& b = m.gl_pipelines[0].bindings;
+           b.erase(std::remove_if(b.begin(), b.end(),
+                                  [](const format::GlBinding& x) { return x.name == "Values"; }),
+                   b.end());
+         }),
+         "OpenGL pipeline 'Fill Buffer PSO', shader 'Fill Buffer CS': the resource at binding 0 has no "
+         "binding of "
+         "its kind");
+  // Bound for another stage only.
+  expect(refused([](format::Contents& m) {
+           for (auto& b : m.gl_pipelines[0].bindings) b.stages = 0x1;
+         }),
+         "has an invalid kind, count or stages");
+  // An entry point the module lacks.
+  expect(refused([](format::Contents& m) { m.gl_pipelines[0].shaders[0].entry_point = "other"; }),
+         "has no compute entry point named 'other'");
+  // The Vulkan compilation (push constants) handed to OpenGL.
+  expect(refused([](format::Contents& m) {
+           m.gl_pipelines[0].shaders[0].blob = m.shaders[0].blob;
+           for (const auto& s : m.shaders)
+             if (s.stage == 0x20) m.gl_pipelines[0].shaders[0].blob = s.blob;
+         }),
+         "uses push constants, which OpenGL does not have");
+  // A header that names no OpenGL backend.
+  expect(refused([](format::Contents& m) { m.backends = format::kBackendVulkan; }),
+         "names no OpenGL backend");
 }
 
 }  // namespace

@@ -589,3 +589,36 @@ TEST_F(PackagerCli, OpenGlRefusesWhatItCannotExpress) {
 }
 
 }  // namespace
+
+namespace {
+
+// merge keeps the OpenGL block: a Vulkan-only and an OpenGL-only archive of the slice merge into one with
+// both backends, each pipeline once per backend.
+TEST_F(PackagerCli, MergeKeepsTheOpenGlBlock) {
+  const std::string input = std::string(STATEPACK_STATES_DIR) + "/slice.json";
+  const fs::path vk = dir_ / "vk.spk", gl = dir_ / "gl.spk", both = dir_ / "both.spk",
+                 merged = dir_ / "merged.spk";
+  for (const auto& [out, flags] :
+       {std::pair{vk, "--vulkan"}, {gl, "--opengl"}, {both, "--vulkan --opengl"}}) {
+    CliRun pack = statepack("pack -i '" + input + "' -s '" + STATEPACK_SHADER_DIR + "' -o '" + out.string() +
+                            "' " + flags);
+    ASSERT_EQ(pack.exit_code, 0) << pack.output;
+  }
+  CliRun run = statepack("merge -o '" + merged.string() + "' '" + vk.string() + "' '" + gl.string() + "'");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  CliRun text = statepack("inspect '" + merged.string() + "'");
+  EXPECT_NE(text.output.find("backends: [\"vulkan\",\"opengl\"]"), std::string::npos) << text.output;
+  EXPECT_NE(text.output.find("OpenGL pipeline 'Fill Buffer PSO' (compute)"), std::string::npos)
+      << text.output;
+  EXPECT_NE(text.output.find("\npipeline 'Fill Buffer PSO' (compute)"), std::string::npos) << text.output;
+  // The same objects as packing both at once (the order of blobs may differ; the listing of pipelines not).
+  CliRun direct = statepack("inspect '" + both.string() + "'");
+  auto pipelines_part = [](const std::string& s) { return s.substr(s.find("\npipeline '")); };
+  EXPECT_EQ(pipelines_part(text.output).size(), pipelines_part(direct.output).size());
+  // The same OpenGL pipelines in several inputs merge into one of each.
+  CliRun repeated = statepack("merge -o '" + (dir_ / "x.spk").string() + "' '" + gl.string() + "' '" +
+                              both.string() + "' '" + gl.string() + "'");
+  EXPECT_EQ(repeated.exit_code, 0) << repeated.output;
+}
+
+}  // namespace

@@ -61,6 +61,17 @@ class Merger {
                file + "'";
       }
     }
+    // The OpenGL block: its shaders point at blobs, like the Vulkan part's; one name, one definition.
+    for (format::GlPipeline p : c.gl_pipelines) {
+      for (format::GlShader& s : p.shaders) s.blob = blobs[s.blob];
+      auto [it, inserted] = gl_pipelines_.try_emplace(p.name, builder_.contents.gl_pipelines.size(), file);
+      if (inserted) {
+        builder_.contents.gl_pipelines.push_back(std::move(p));
+      } else if (!(builder_.contents.gl_pipelines[it->second.first] == p)) {
+        return "OpenGL pipeline '" + p.name + "' is defined differently in '" + it->second.second +
+               "' and '" + file + "'";
+      }
+    }
     builder_.contents.backends |= c.backends;
     return {};
   }
@@ -78,6 +89,7 @@ class Merger {
   ContentsBuilder builder_;
   std::map<std::string, std::pair<std::string, std::string>> named_;  // kind+name -> key, file
   std::map<std::string, std::pair<size_t, std::string>> pipelines_;   // name -> index, file
+  std::map<std::string, std::pair<size_t, std::string>> gl_pipelines_;
   std::set<uint32_t> standalone_;
 };
 
