@@ -1,11 +1,11 @@
-# `cmake --install`: the packager, the dearchiver with its public headers, a CMake package
-# (find_package(statepack CONFIG): statepack::dearchiver, statepack::statepack and
-# statepack_add_archive) and a pkg-config file for the library. Every path is relative to the prefix,
+# `cmake --install`: the packager, the dearchiver and the OpenGL runtime with their public headers, a
+# CMake package (find_package(statepack CONFIG): statepack::dearchiver, statepack::gl,
+# statepack::statepack and statepack_add_archive) and a pkg-config file for the library. Every path is relative to the prefix,
 # so `cmake --install build --prefix DIR` works for any DIR.
 include(CMakePackageConfigHelpers)
 set(statepack_config_dir ${CMAKE_INSTALL_LIBDIR}/cmake/statepack)
 
-set(statepack_installed_targets statepack_dearchiver)
+set(statepack_installed_targets statepack_dearchiver statepack_gl)
 if(STATEPACK_BUILD_PACKAGER)
   list(APPEND statepack_installed_targets statepack)
 endif()

@@ -15,4 +15,6 @@ set(CPACK_DEBIAN_PACKAGE_SECTION devel)
 # compiling and linking against the dearchiver also needs the Vulkan headers and libxxhash.
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
 set(CPACK_DEBIAN_PACKAGE_DEPENDS "libvulkan-dev, libxxhash-dev")
+# The OpenGL runtime (statepack::gl) also needs libepoxy's headers; the Vulkan dearchiver does not.
+set(CPACK_DEBIAN_PACKAGE_RECOMMENDS "libepoxy-dev")
 include(CPack)

@@ -35,6 +35,8 @@ const char* to_string(ErrorCode code) {
       return "invalid_argument";
     case ErrorCode::out_of_memory:
       return "out_of_memory";
+    case ErrorCode::gl_error:
+      return "gl_error";
   }
   return "unknown";
 }

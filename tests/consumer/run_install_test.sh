@@ -19,14 +19,15 @@ prefix=$work/prefix
 config_file=$(find "$prefix" -name statepackConfig.cmake)
 [[ -n "$config_file" ]] || fail "no statepackConfig.cmake under the prefix"
 config_dir=$(dirname "$config_file") libdir=$(dirname "$(dirname "$config_dir")")
-for f in "$prefix/bin/statepack" "$libdir/libstatepack_dearchiver.a" "$config_dir/statepackConfigVersion.cmake" \
+for f in "$prefix/bin/statepack" "$libdir/libstatepack_dearchiver.a" "$libdir/libstatepack_gl.a" "$config_dir/statepackConfigVersion.cmake" \
   "$config_dir/statepackTargets.cmake" "$config_dir/StatepackAddArchive.cmake" "$libdir/pkgconfig/statepack_dearchiver.pc" \
   "$prefix/include/statepack/dearchiver.hpp" "$prefix/include/statepack/result.hpp"; do
   [[ -f "$f" ]] || fail "not installed: ${f#"$prefix/"}"
 done
 # Only the public headers: the library's internal ones stay private.
 headers=$(cd "$prefix/include" && find . -type f | sort | tr '\n' ' ')
-[[ "$headers" == "./statepack/dearchiver.hpp ./statepack/result.hpp " ]] || fail "installed headers: $headers"
+[[ "$headers" == "./statepack/dearchiver.hpp ./statepack/gl_dearchiver.hpp ./statepack/result.hpp " ]] ||
+  fail "installed headers: $headers"
 grep -rq "$build_dir" "$config_dir" "$libdir/pkgconfig" && fail "an installed CMake or pkg-config file names the build tree"
 
 # The packager on PATH must not be what the build uses: the installed function runs statepack::statepack.
@@ -42,6 +43,9 @@ consume() {  # <generator> <configuration> <where the application lands>
   grep -rqF --include="*.ninja" "$prefix/bin/statepack" "$dir" || fail "$1: the pack command is not the installed statepack"
   out=$("$dir/$3/consumer_app" "$dir/consumer.spk" 2>&1) || fail "$1: consumer_app failed: $out"
   echo "$out" | grep -q "unpacked 'Consumer PSO'" || fail "$1: consumer_app: $out"
+  echo "$1 ($config): $out"
+  out=$("$dir/$3/consumer_gl_app" "$dir/consumer_gl.spk" 2>&1) || fail "$1: consumer_gl_app failed: $out"
+  echo "$out" | grep -q "unpacked 'Consumer PSO' on OpenGL" || fail "$1: consumer_gl_app: $out"
   echo "$1 ($config): $out"
 }
 consume Ninja "" .

@@ -27,6 +27,7 @@ enum class ErrorCode {
   vulkan_error,              // a Vulkan call failed; the message names the call and VkResult
   invalid_argument,          // the caller passed something unusable
   out_of_memory,             // an allocation failed
+  gl_error,                  // an OpenGL shader did not specialize or a program did not link (driver's log)
 };
 
 const char* to_string(ErrorCode code);

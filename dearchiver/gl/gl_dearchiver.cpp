@@ -1,0 +1,312 @@
+// gl::Dearchiver: finds archived GL pipelines by name and links each into a program once, from the
+// archive's SPIR-V (glShaderBinary + glSpecializeShaderARB); no GLSL reaches the driver.
+#include "statepack/gl_dearchiver.hpp"
+
+#include <algorithm>
+#include <deque>
+#include <map>
+#include <utility>
+
+#include "api_guard.hpp"
+#include "archive_access.hpp"
+#include "archive_format.hpp"
+#include "gl_state.hpp"
+#include "suggest.hpp"
+
+namespace statepack::gl {
+
+const char* to_string(Binding::Kind kind) {
+  switch (kind) {
+    case Binding::Kind::uniform_buffer:
+      return "uniform buffer";
+    case Binding::Kind::storage_buffer:
+      return "storage buffer";
+    case Binding::Kind::texture:
+      return "texture";
+    case Binding::Kind::image:
+      return "image";
+  }
+  return "unknown";
+}
+
+const Binding* Program::find_binding(std::string_view resource_name) const {
+  for (const auto& b : bindings)
+    if (b.name == resource_name) return &b;
+  return nullptr;
+}
+
+namespace {
+
+// A GL object deleted on scope exit unless released (error paths leave nothing behind).
+template <void (*Delete)(GLuint)>
+class GlName {
+ public:
+  explicit GlName(GLuint name) : name_(name) {}
+  GlName(GlName&& other) noexcept : name_(other.release()) {}
+  GlName& operator=(GlName&&) = delete;
+  ~GlName() {
+    if (name_) Delete(name_);
+  }
+  GLuint get() const { return name_; }
+  GLuint release() { return std::exchange(name_, 0); }
+
+ private:
+  GLuint name_;
+};
+void delete_shader(GLuint name) {
+  glDeleteShader(name);
+}
+void delete_program(GLuint name) {
+  glDeleteProgram(name);
+}
+
+const char* error_name(GLenum error) {
+  switch (error) {
+    case GL_INVALID_ENUM:
+      return "GL_INVALID_ENUM";
+    case GL_INVALID_VALUE:
+      return "GL_INVALID_VALUE";
+    case GL_INVALID_OPERATION:
+      return "GL_INVALID_OPERATION";
+    case GL_OUT_OF_MEMORY:
+      return "GL_OUT_OF_MEMORY";
+    default:
+      return "an OpenGL error";
+  }
+}
+
+// The shader's info log; when the driver wrote none, the error the failing call raised (e.g.
+// GL_INVALID_VALUE for a specialization constant id the module does not have).
+std::string shader_log(GLuint shader) {
+  GLint length = 0;
+  glGetShaderiv(shader, GL_INFO_LOG_LENGTH, &length);
+  std::string log(size_t(std::max(length, 0)), '\0');
+  if (length > 0) glGetShaderInfoLog(shader, length, nullptr, log.data());
+  while (!log.empty() && (log.back() == '\0' || log.back() == '\n')) log.pop_back();
+  if (!log.empty()) return log;
+  const GLenum error = glGetError();
+  if (error != GL_NO_ERROR) return std::string("no info log; the call raised ") + error_name(error);
+  return "the driver gave no info log";
+}
+
+std::string program_log(GLuint program) {
+  GLint length = 0;
+  glGetProgramiv(program, GL_INFO_LOG_LENGTH, &length);
+  std::string log(size_t(std::max(length, 0)), '\0');
+  if (length > 0) glGetProgramInfoLog(program, length, nullptr, log.data());
+  while (!log.empty() && (log.back() == '\0' || log.back() == '\n')) log.pop_back();
+  return log.empty() ? "the driver gave no info log" : log;
+}
+
+const char* kind_name(format::PipelineKind kind) {
+  return kind == format::PipelineKind::compute ? "compute" : "graphics";
+}
+
+}  // namespace
+
+struct Dearchiver::State {
+  detail::Extensions extensions;
+  std::vector<Archive> archives;
+  std::deque<Program> programs;  // stable addresses
+  std::map<std::string, const Program*, std::less<>> by_name;
+
+  ~State() {
+    for (const auto& p : programs) glDeleteProgram(p.program);
+  }
+
+  const format::Contents& contents(size_t archive) const {
+    return statepack::detail::ArchiveAccess::contents(archives[archive]);
+  }
+
+  // Every GL pipeline name once (a name in several archives resolves to the earliest).
+  std::vector<std::string> gl_names() const {
+    std::vector<std::string> names;
+    for (size_t i = 0; i < archives.size(); ++i)
+      for (const auto& p : contents(i).gl_pipelines)
+        if (std::find(names.begin(), names.end(), p.name) == names.end()) names.push_back(p.name);
+    return names;
+  }
+
+  struct Found {
+    const format::Contents* contents;
+    const format::GlPipeline* pipeline;
+  };
+
+  Result<Found> find(std::string_view name, format::PipelineKind kind) const {
+    for (size_t i = 0; i < archives.size(); ++i) {
+      const auto& list = contents(i).gl_pipelines;  // sorted by name (checked on load)
+      auto it = std::lower_bound(list.begin(), list.end(), name,
+                                 [](const format::GlPipeline& p, std::string_view n) { return p.name < n; });
+      if (it == list.end() || it->name != name) continue;
+      if (it->kind != kind)
+        return Error{ErrorCode::wrong_type, "pipeline '" + std::string(name) + "' is a " +
+                                                kind_name(it->kind) + " pipeline, not a " + kind_name(kind) +
+                                                " pipeline"};
+      return Found{&contents(i), &*it};
+    }
+    // Packed, but for Vulkan only?
+    for (size_t i = 0; i < archives.size(); ++i)
+      for (const auto& p : contents(i).pipelines)
+        if (p.name == name)
+          return Error{
+              ErrorCode::missing_backend,
+              "pipeline '" + std::string(name) + "' has no OpenGL version in its archive (only Vulkan)"};
+    return Error{ErrorCode::not_found, "no OpenGL pipeline named '" + std::string(name) + "' in " +
+                                           std::to_string(archives.size()) + " loaded archive(s)" +
+                                           did_you_mean(name, gl_names())};
+  }
+
+  // glCreateShader + glShaderBinary(SPIR-V) + glSpecializeShaderARB, checked.
+  Result<GLuint> create_shader(const format::GlPipeline& pipeline, const format::GlShader& shader,
+                               const format::Contents& contents) const {
+    const std::string what = "pipeline '" + pipeline.name + "': " + detail::stage_name(shader.stage) +
+                             " shader '" + shader.name + "'";
+    const GLenum type = detail::shader_type(shader.stage);
+    if (type == 0)
+      return Error{ErrorCode::unsupported,
+                   what + ": stage " + std::to_string(shader.stage) + " is not an OpenGL stage"};
+    if (shader.blob >= contents.spirv.size())  // the decoder checks this; a cheap second look
+      return Error{ErrorCode::corrupt,
+                   what + ": SPIR-V blob " + std::to_string(shader.blob) + " does not exist"};
+    std::vector<GLuint> ids, values;
+    for (const auto& c : pipeline.constants) {
+      if (c.stage != shader.stage) continue;
+      if (c.size != 4)
+        return Error{ErrorCode::unsupported, what + ": specialization constant '" + c.name + "' (id " +
+                                                 std::to_string(c.constant_id) + ") has " +
+                                                 std::to_string(c.size) +
+                                                 " bytes; glSpecializeShader takes 32-bit values only"};
+      ids.push_back(c.constant_id);
+      values.push_back(GLuint(c.value & 0xFFFFFFFFu));
+    }
+    const auto& spirv = contents.spirv[shader.blob];
+    GlName<delete_shader> name(glCreateShader(type));
+    if (name.get() == 0) return Error{ErrorCode::gl_error, what + ": glCreateShader failed"};
+    const GLuint handle = name.get();
+    // A binary the driver refuses leaves the shader unspecializable: the compile status below reports it.
+    glShaderBinary(1, &handle, GL_SHADER_BINARY_FORMAT_SPIR_V_ARB, spirv.data(), GLsizei(spirv.size_bytes()));
+    glSpecializeShaderARB(handle, shader.entry_point.c_str(), GLuint(ids.size()), ids.data(), values.data());
+    GLint compiled = GL_FALSE;
+    glGetShaderiv(handle, GL_COMPILE_STATUS, &compiled);
+    if (compiled != GL_TRUE)
+      return Error{ErrorCode::gl_error, what + ": glSpecializeShader (entry point '" + shader.entry_point +
+                                            "') failed: " + shader_log(handle)};
+    return name.release();
+  }
+
+  Result<const Program*> unpack(std::string_view name, format::PipelineKind kind) {
+    if (auto it = by_name.find(name); it != by_name.end()) {
+      const bool compute = kind == format::PipelineKind::compute;
+      if (it->second->compute != compute)
+        return Error{ErrorCode::wrong_type, "pipeline '" + std::string(name) + "' is a " +
+                                                (it->second->compute ? "compute" : "graphics") +
+                                                " pipeline, not a " + kind_name(kind) + " pipeline"};
+      return it->second;
+    }
+    auto found = find(name, kind);
+    if (!found) return found.error();
+    const format::GlPipeline& pipeline = *found->pipeline;
+
+    Program out;
+    out.name = pipeline.name;
+    out.compute = kind == format::PipelineKind::compute;
+    if (!out.compute) {
+      auto state = detail::translate_state(pipeline.graphics, pipeline.name, extensions);
+      if (!state) return state.error();
+      out.state = std::move(*state);
+      auto vertex_input = detail::translate_vertex_input(pipeline.graphics, pipeline.name);
+      if (!vertex_input) return vertex_input.error();
+      out.vertex_input = std::move(*vertex_input);
+    }
+    for (const auto& b : pipeline.bindings) {
+      if (b.kind >= format::kGlNamespaceCount)
+        return Error{ErrorCode::corrupt, "pipeline '" + pipeline.name + "': binding '" + b.name +
+                                             "' has unknown namespace " + std::to_string(b.kind)};
+      out.bindings.push_back({b.name, Binding::Kind(b.kind), b.binding, b.count, b.stages});
+    }
+    if (pipeline.shaders.empty())
+      return Error{ErrorCode::corrupt, "pipeline '" + pipeline.name + "' has no shaders"};
+
+    std::vector<GlName<delete_shader>> shaders;
+    shaders.reserve(pipeline.shaders.size());
+    for (const auto& s : pipeline.shaders) {
+      auto shader = create_shader(pipeline, s, *found->contents);
+      if (!shader) return shader.error();
+      shaders.emplace_back(*shader);
+    }
+    GlName<delete_program> program(glCreateProgram());
+    if (program.get() == 0)
+      return Error{ErrorCode::gl_error, "pipeline '" + pipeline.name + "': glCreateProgram failed"};
+    for (const auto& s : shaders) glAttachShader(program.get(), s.get());
+    glLinkProgram(program.get());
+    GLint linked = GL_FALSE;
+    glGetProgramiv(program.get(), GL_LINK_STATUS, &linked);
+    for (const auto& s : shaders) glDetachShader(program.get(), s.get());  // the program keeps its code
+    if (linked != GL_TRUE)
+      return Error{ErrorCode::gl_error,
+                   "pipeline '" + pipeline.name + "': glLinkProgram failed: " + program_log(program.get())};
+    out.program = program.release();
+    programs.push_back(std::move(out));
+    const Program* kept = &programs.back();
+    by_name.emplace(kept->name, kept);
+    return kept;
+  }
+};
+
+Dearchiver::Dearchiver(std::unique_ptr<State> state) : state_(std::move(state)) {}
+Dearchiver::Dearchiver(Dearchiver&&) noexcept = default;
+Dearchiver& Dearchiver::operator=(Dearchiver&&) noexcept = default;
+Dearchiver::~Dearchiver() = default;
+
+Result<Dearchiver> Dearchiver::create() {
+  return api_guard("gl::Dearchiver::create", [&]() -> Result<Dearchiver> {
+    const int version = epoxy_gl_version();  // 45 for 4.5; 0 without a current context
+    if (version == 0)
+      return Error{ErrorCode::unsupported,
+                   "gl::Dearchiver::create: no OpenGL context is current on the calling thread"};
+    if (!epoxy_is_desktop_gl())
+      return Error{ErrorCode::unsupported,
+                   "gl::Dearchiver::create: the current context is OpenGL ES, not OpenGL"};
+    if (version < 45)
+      return Error{ErrorCode::unsupported,
+                   "gl::Dearchiver::create: needs a current OpenGL 4.5 context; this one is " +
+                       std::to_string(version / 10) + "." + std::to_string(version % 10)};
+    if (!epoxy_has_gl_extension("GL_ARB_gl_spirv"))
+      return Error{ErrorCode::unsupported,
+                   "gl::Dearchiver::create: the current context lacks GL_ARB_gl_spirv (SPIR-V shaders)"};
+    auto state = std::make_unique<State>();
+    state->extensions.polygon_offset_clamp =
+        version >= 46 || epoxy_has_gl_extension("GL_ARB_polygon_offset_clamp");
+    return Dearchiver(std::move(state));
+  });
+}
+
+Result<void> Dearchiver::add_archive(Archive archive) {
+  return api_guard("gl::Dearchiver::add_archive", [&]() -> Result<void> {
+    const auto& contents = statepack::detail::ArchiveAccess::contents(archive);
+    if (contents.gl_pipelines.empty())
+      return Error{ErrorCode::missing_backend,
+                   "gl::Dearchiver::add_archive: the archive holds no OpenGL pipelines (pack it with "
+                   "`statepack --opengl`)"};
+    state_->archives.push_back(std::move(archive));
+    return {};
+  });
+}
+
+std::vector<std::string> Dearchiver::program_names() const {
+  return state_->gl_names();
+}
+
+Result<const Program*> Dearchiver::unpack_graphics(std::string_view name) {
+  return api_guard("gl::Dearchiver::unpack_graphics", [&]() -> Result<const Program*> {
+    return state_->unpack(name, format::PipelineKind::graphics);
+  });
+}
+
+Result<const Program*> Dearchiver::unpack_compute(std::string_view name) {
+  return api_guard("gl::Dearchiver::unpack_compute", [&]() -> Result<const Program*> {
+    return state_->unpack(name, format::PipelineKind::compute);
+  });
+}
+
+}  // namespace statepack::gl

@@ -1,0 +1,179 @@
+// libstatepack_gl — unpacks the OpenGL backend of statepack archives into linked GL programs.
+//
+//   // An OpenGL 4.5 core context with GL_ARB_gl_spirv is current on this thread.
+//   auto archive = statepack::Archive::from_file("scene.spk");      // packed with `statepack --opengl`
+//   auto gl = statepack::gl::Dearchiver::create();
+//   if (!gl || !gl->add_archive(std::move(*archive))) return ...;
+//   auto program = gl->unpack_graphics("Gradient PSO");
+//   if (!program) return fail(program.error());                     // names the pipeline and why
+//   glUseProgram((*program)->program);
+//   (*program)->state.apply();                                      // blend, raster, depth-stencil
+//   glDrawArrays((*program)->state.primitive_mode, 0, 3);
+//
+// Each archived GL pipeline becomes one linked program, made from the archive's SPIR-V with
+// glShaderBinary(GL_SHADER_BINARY_FORMAT_SPIR_V_ARB) and glSpecializeShaderARB (its entry points and
+// specialization constants): no shader compiler is linked, and the driver compiles no GLSL.
+//
+// Threading: OpenGL calls go to the context current on the calling thread. Every member function, the
+// destructor included, must be called with the same context (or one sharing its objects) current, from
+// one thread at a time. The Dearchiver owns the programs it created and deletes them with itself.
+//
+// Conventions: the SPIR-V is the Vulkan-style shader compiled for OpenGL, so clip-space z runs 0..1 and
+// the same vertex positions land on the same framebuffer rows as on Vulkan. FixedFunctionState::apply()
+// sets glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE) (depth as on Vulkan); with GL's lower-left window
+// origin, the row that Vulkan stores first (framebuffer y = 0, clip y = -1) is also the first row
+// glReadPixels returns, so the two images' bytes match without flipping. Displayed on screen, GL's
+// image is upside down relative to Vulkan's; present by blitting with flipped y if that matters.
+// Winding follows from that: GL computes a polygon's area with y up, Vulkan with y down, so the same
+// vertices wind the other way. The archive's VkFrontFace is therefore inverted for glFrontFace
+// (VK_FRONT_FACE_CLOCKWISE becomes GL_CCW), which culls exactly the triangles Vulkan culls.
+#pragma once
+
+#include <epoxy/gl.h>
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "statepack/dearchiver.hpp"  // Archive
+#include "statepack/result.hpp"
+
+namespace statepack::gl {
+
+inline constexpr uint32_t kMaxColorTargets = 8;
+
+struct BlendTarget {
+  bool enable = false;
+  GLenum src_color = GL_ONE, dst_color = GL_ZERO, color_op = GL_FUNC_ADD;
+  GLenum src_alpha = GL_ONE, dst_alpha = GL_ZERO, alpha_op = GL_FUNC_ADD;
+  std::array<bool, 4> write_mask{true, true, true, true};  // glColorMaski: r, g, b, a
+};
+
+struct StencilFace {
+  GLenum fail_op = GL_KEEP, depth_fail_op = GL_KEEP, pass_op = GL_KEEP;
+  GLenum func = GL_ALWAYS;
+};
+
+// A graphics pipeline's fixed-function state in GL terms, translated from the archive. Viewport and
+// scissor are the application's (dynamic on Vulkan too); so are the two values Vulkan also leaves
+// dynamic, `stencil_reference` and `blend_color`, which apply() sets from these fields.
+struct FixedFunctionState {
+  GLenum primitive_mode = GL_TRIANGLES;  // for glDraw*
+  GLint patch_vertices = 0;              // GL_PATCHES only: glPatchParameteri(GL_PATCH_VERTICES, ...)
+
+  // Rasterizer
+  bool cull_enable = false;
+  GLenum cull_face = GL_BACK;     // glCullFace
+  GLenum front_face = GL_CCW;     // glFrontFace: the archive's VkFrontFace, inverted (see above)
+  GLenum polygon_mode = GL_FILL;  // glPolygonMode(GL_FRONT_AND_BACK, ...)
+  bool depth_clamp = false;       // GL_DEPTH_CLAMP (the notation's DepthClipEnable = false)
+  bool depth_bias_enable = false;
+  float depth_bias_constant = 0, depth_bias_slope = 0, depth_bias_clamp = 0;  // glPolygonOffset(Clamp)
+
+  // Depth-stencil
+  bool depth_test = false;
+  bool depth_write = false;
+  GLenum depth_func = GL_LESS;
+  bool stencil_test = false;
+  GLuint stencil_read_mask = 0xFF, stencil_write_mask = 0xFF;
+  StencilFace stencil_front, stencil_back;
+  GLint stencil_reference = 0;  // dynamic on Vulkan: set it before apply()
+
+  // Multisample
+  GLuint sample_mask = 0xFFFFFFFFu;  // glSampleMaski(0, ...); GL_SAMPLE_MASK enabled when not all ones
+  bool alpha_to_coverage = false;
+  GLuint samples = 1;  // what the archive's targets have (the framebuffer decides in GL)
+
+  // Blend, per render target
+  uint32_t color_count = 0;
+  std::array<BlendTarget, kMaxColorTargets> blend{};
+  std::array<float, 4> blend_color{0, 0, 0, 0};  // dynamic on Vulkan: set it before apply()
+
+  // Sets all of the above in the current context (glEnable/glDisable, glBlendFuncSeparatei, ...), plus
+  // glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE) and GL_FRAMEBUFFER_SRGB (sRGB targets encode, as on
+  // Vulkan). Leaves viewport, scissor, bound objects and targets >= color_count alone.
+  void apply() const;
+};
+
+// A graphics pipeline's vertex input as a vertex array object's format (GL 4.3 vertex attribute
+// binding): configure() sets it on a VAO; the application binds its buffers with
+// glVertexArrayVertexBuffer(vao, binding, buffer, offset, stride) using the strides listed here.
+struct VertexInput {
+  enum class Path { float_, integer, double_ };  // glVertexArrayAttribFormat / IFormat / LFormat
+  struct Attribute {
+    GLuint location = 0, binding = 0;
+    GLint size = 4;  // components, or GL_BGRA for B8G8R8A8 and A2R10G10B10 formats
+    GLenum type = GL_FLOAT;
+    bool normalized = false;
+    Path path = Path::float_;
+    GLuint offset = 0;  // relative offset within the binding's element
+  };
+  struct BufferBinding {
+    GLuint binding = 0;
+    GLsizei stride = 0;
+    GLuint divisor = 0;  // 1 for per-instance data (VK_VERTEX_INPUT_RATE_INSTANCE)
+  };
+  std::vector<Attribute> attributes;
+  std::vector<BufferBinding> bindings;
+
+  // Enables and formats every attribute of `vertex_array` and sets the bindings' divisors.
+  void configure(GLuint vertex_array) const;
+};
+
+struct Binding {
+  // The GL binding namespace: glBindBufferBase(GL_UNIFORM_BUFFER / GL_SHADER_STORAGE_BUFFER, binding, ...),
+  // glBindTextureUnit(binding, ...), glBindImageTexture(binding, ...).
+  enum class Kind : uint32_t { uniform_buffer = 0, storage_buffer = 1, texture = 2, image = 3 };
+  std::string name;  // the shader's resource name (block or variable)
+  Kind kind = Kind::uniform_buffer;
+  uint32_t binding = 0;
+  uint32_t count = 1;   // array elements, on consecutive bindings from `binding`
+  uint32_t stages = 0;  // VkShaderStageFlags of the stages that use it
+};
+
+const char* to_string(Binding::Kind kind);
+
+struct Program {
+  std::string name;  // the pipeline's
+  GLuint program = 0;
+  bool compute = false;
+  FixedFunctionState state;  // graphics programs only
+  VertexInput vertex_input;  // graphics programs only; empty when the shaders read no vertex buffers
+  std::vector<Binding> bindings;
+  const Binding* find_binding(std::string_view resource_name) const;  // nullptr when absent
+};
+
+class Dearchiver {
+ public:
+  // Needs a current OpenGL 4.5 (or later) core or compatibility context with GL_ARB_gl_spirv; errors
+  // with `unsupported` otherwise.
+  static Result<Dearchiver> create();
+
+  Dearchiver(Dearchiver&&) noexcept;
+  Dearchiver& operator=(Dearchiver&&) noexcept;
+  ~Dearchiver();  // deletes every program it created (the context must be current)
+
+  // Adds an archive; names resolve across all added archives, the earliest added winning. An archive
+  // without OpenGL pipelines (packed without --opengl) is refused with `missing_backend`.
+  Result<void> add_archive(Archive archive);
+
+  // Creates (once) and returns the linked program of a pipeline; unpacking the same name again returns
+  // the same Program. The pointer stays valid for the Dearchiver's lifetime. Errors: not_found (with
+  // suggestions), wrong_type, missing_backend (the pipeline was packed for Vulkan only), unsupported,
+  // gl_error (a shader did not specialize or the program did not link: the driver's info log).
+  Result<const Program*> unpack_graphics(std::string_view name);
+  Result<const Program*> unpack_compute(std::string_view name);
+
+  // The names of every GL pipeline of every added archive.
+  std::vector<std::string> program_names() const;
+
+ private:
+  struct State;
+  explicit Dearchiver(std::unique_ptr<State> state);
+  std::unique_ptr<State> state_;
+};
+
+}  // namespace statepack::gl
