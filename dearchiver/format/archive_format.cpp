@@ -518,34 +518,35 @@ struct Reader {
     out.resize(count);
     for (uint32_t i = 0; i < count && !problem; ++i) read_at(*first + i, out[i]);
   }
-  void graphics(Pipeline& p) {
+  // The GFXS record a pipeline refers to, or nullopt (a compute pipeline's kNone, or a problem noted).
+  template <class P>
+  std::optional<GraphicsRecord> graphics_record(const P& p, const std::string& what) {
     uint32_t index = next();
     if (p.kind != PipelineKind::graphics) {
-      if (index != kNone) fail("compute pipeline '" + p.name + "' has a graphics state");
-      return;
+      if (index != kNone) fail(what + " is a compute pipeline with a graphics state");
+      return std::nullopt;
     }
-    if (index >= sections[kTagGraphics].count)
-      return fail("pipeline '" + p.name + "' graphics state index out of range");
-    if (!charge(record_size<GraphicsRecord>())) return;
+    if (index >= sections[kTagGraphics].count) {
+      fail(what + ": graphics state index out of range");
+      return std::nullopt;
+    }
+    if (!charge(record_size<GraphicsRecord>())) return std::nullopt;
     GraphicsRecord record;
     read_at(index, record);
-    p.graphics = std::move(record.state);
-    p.render_pass = record.render_pass;
-    p.subpass = record.subpass;
+    return record;
+  }
+  void graphics(Pipeline& p) {
+    if (auto record = graphics_record(p, "pipeline '" + p.name + "'")) {
+      p.graphics = std::move(record->state);
+      p.render_pass = record->render_pass;
+      p.subpass = record->subpass;
+    }
   }
   void graphics(GlPipeline& p) {
-    uint32_t index = next();
-    if (p.kind != PipelineKind::graphics) {
-      if (index != kNone) fail("OpenGL compute pipeline '" + p.name + "' has a graphics state");
-      return;
+    if (auto record = graphics_record(p, "OpenGL pipeline '" + p.name + "'")) {
+      if (record->render_pass != kNone) return fail("OpenGL pipeline '" + p.name + "' has a render pass");
+      p.graphics = std::move(record->state);
     }
-    if (index >= sections[kTagGraphics].count)
-      return fail("OpenGL pipeline '" + p.name + "' graphics state index out of range");
-    if (!charge(record_size<GraphicsRecord>())) return;
-    GraphicsRecord record;
-    read_at(index, record);
-    if (record.render_pass != kNone) return fail("OpenGL pipeline '" + p.name + "' has a render pass");
-    p.graphics = std::move(record.state);
   }
   template <class T>
   std::vector<T> all(const char* kind) {

@@ -11,6 +11,7 @@
 #include "archive_access.hpp"
 #include "archive_format.hpp"
 #include "gl_state.hpp"
+#include "spirv_walk.hpp"
 #include "suggest.hpp"
 
 namespace statepack::gl {
@@ -159,7 +160,7 @@ struct Dearchiver::State {
   // glCreateShader + glShaderBinary(SPIR-V) + glSpecializeShaderARB, checked.
   Result<GLuint> create_shader(const format::GlPipeline& pipeline, const format::GlShader& shader,
                                const format::Contents& contents) const {
-    const std::string what = "pipeline '" + pipeline.name + "': " + detail::stage_name(shader.stage) +
+    const std::string what = "pipeline '" + pipeline.name + "': " + spirv::stage_name(shader.stage) +
                              " shader '" + shader.name + "'";
     const GLenum type = detail::shader_type(shader.stage);
     if (type == 0)

@@ -177,25 +177,6 @@ GLenum shader_type(uint32_t vk_stage) {
   }
 }
 
-const char* stage_name(uint32_t vk_stage) {
-  switch (vk_stage) {
-    case 0x01:
-      return "vertex";
-    case 0x02:
-      return "tessellation control";
-    case 0x04:
-      return "tessellation evaluation";
-    case 0x08:
-      return "geometry";
-    case 0x10:
-      return "fragment";
-    case 0x20:
-      return "compute";
-    default:
-      return "unknown";
-  }
-}
-
 Result<FixedFunctionState> translate_state(const format::GraphicsState& g, std::string_view pipeline,
                                            const Extensions& extensions) {
   FixedFunctionState s;

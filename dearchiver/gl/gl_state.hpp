@@ -20,6 +20,5 @@ Result<VertexInput> translate_vertex_input(const format::GraphicsState& state, s
 
 // VkShaderStageFlagBits to the glCreateShader type, or 0.
 GLenum shader_type(uint32_t vk_stage);
-const char* stage_name(uint32_t vk_stage);
 
 }  // namespace statepack::gl::detail
