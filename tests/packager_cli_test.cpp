@@ -552,18 +552,42 @@ TEST_F(PackagerCli, OpenGlBackendHasItsOwnModulesAndBindingTable) {
 // What OpenGL cannot express is an error naming the shader or resource, once per problem: Vulkan-only
 // GLSL (push constants, gl_VertexIndex), separate samplers and images, HLSL.
 TEST_F(PackagerCli, OpenGlRefusesWhatItCannotExpress) {
-  CliRun tracer =
-      statepack("pack -i '" + std::string(STATEPACK_STATES_DIR) + "/path_tracer.json' -s '" +
-                STATEPACK_SHADER_DIR + "' -o '" + (dir_ / "pt.spk").string() + "' --vulkan --opengl");
-  EXPECT_EQ(tracer.exit_code, 1) << tracer.output;
-  EXPECT_NE(
-      tracer.output.find("shader 'Screen Triangle VS (OpenGL)': 'gl_VertexIndex' : undeclared identifier"),
-      std::string::npos)
-      << tracer.output;
-  EXPECT_NE(tracer.output.find("'push_constant' : only allowed when using GLSL for Vulkan"),
-            std::string::npos)
-      << tracer.output;
-  EXPECT_FALSE(fs::exists(dir_ / "pt.spk"));
+  std::ofstream(dir_ / "vk_only.vert") << "#version 450\n"
+                                          "void main() { gl_Position = vec4(gl_VertexIndex, 0, 0, 1); }\n";
+  std::ofstream(dir_ / "vk_only.frag") << "#version 450\n"
+                                          "layout(push_constant) uniform P { vec4 tint; } p;\n"
+                                          "layout(location = 0) out vec4 color;\n"
+                                          "void main() { color = p.tint; }\n";
+  std::ofstream(dir_ / "ps.hlsl") << "float4 main(float4 pos : SV_Position) : SV_Target { return pos; }\n";
+  const fs::path vk_json = dir_ / "vk_only.json";
+  std::ofstream(vk_json) << R"({"Pipelines": [
+    {"PSODesc": {"Name": "Vulkan GLSL PSO"}, "GraphicsPipeline": {"RTVFormats": {"0": "RGBA8_UNORM"}},
+     "pVS": {"Desc": {"Name": "Vulkan VS"}, "FilePath": "vk_only.vert"},
+     "pPS": {"Desc": {"Name": "Push PS"}, "FilePath": "vk_only.frag"}},
+    {"PSODesc": {"Name": "HLSL PSO"}, "GraphicsPipeline": {"RTVFormats": {"0": "RGBA8_UNORM"}},
+     "pVS": {"Desc": {"Name": "Vulkan VS"}, "FilePath": "vk_only.vert"},
+     "pPS": {"Desc": {"Name": "HLSL PS"}, "FilePath": "ps.hlsl", "EntryPoint": "main"}}]})";
+  CliRun vk_only = statepack("pack -i '" + vk_json.string() + "' -o '" + (dir_ / "vk_only.spk").string() +
+                             "' --vulkan --opengl");
+  EXPECT_EQ(vk_only.exit_code, 1) << vk_only.output;
+  for (const char* message :
+       {"vk_only.vert:2: error: shader 'Vulkan VS (OpenGL)': 'gl_VertexIndex' : undeclared identifier",
+        "vk_only.frag:2: error: shader 'Push PS (OpenGL)': 'push_constant' : only allowed when "
+        "using GLSL for Vulkan",
+        "error: shader 'HLSL PS (OpenGL)': the OpenGL backend compiles GLSL only"}) {
+    const std::string line = message;
+    size_t count = 0;
+    for (size_t at = vk_only.output.find(line); at != std::string::npos;
+         at = vk_only.output.find(line, at + 1))
+      ++count;
+    EXPECT_EQ(count, 1u) << "once: " << message << "\n" << vk_only.output;
+  }
+  EXPECT_FALSE(fs::exists(dir_ / "vk_only.spk"));
+  // The same notation packs for Vulkan alone.
+  EXPECT_EQ(
+      statepack("pack -i '" + vk_json.string() + "' -o '" + (dir_ / "vk_only.spk").string() + "' --vulkan")
+          .exit_code,
+      0);
 
   const fs::path shader = dir_ / "separate.frag", json = dir_ / "separate.json";
   std::ofstream(shader) << "#version 450\n"
@@ -591,6 +615,20 @@ TEST_F(PackagerCli, OpenGlRefusesWhatItCannotExpress) {
 }  // namespace
 
 namespace {
+
+// The path tracer's states pack for both backends (its shaders say `#ifdef VULKAN` where they differ).
+TEST_F(PackagerCli, PathTracerStatesPackForOpenGlToo) {
+  const fs::path out = dir_ / "path_tracer.spk";
+  CliRun pack = statepack("pack -i '" + std::string(STATEPACK_STATES_DIR) + "/path_tracer.json' -s '" +
+                          STATEPACK_SHADER_DIR + "' -o '" + out.string() + "' --vulkan --opengl");
+  ASSERT_EQ(pack.exit_code, 0) << pack.output;
+  CliRun text = statepack("inspect '" + out.string() + "'");
+  for (const char* line :
+       {"OpenGL pipeline 'Path Trace PSO' (compute)\n", "  image 4: 'accumulation' x1 [\"Compute\"]\n",
+        "OpenGL pipeline 'Resolve PSO' (graphics)\n", "  uniform buffer 0: 'Params' x1 [\"Fragment\"]\n",
+        "  push constants: 4 bytes\n"})
+    EXPECT_NE(text.output.find(line), std::string::npos) << line << "\nin:\n" << text.output;
+}
 
 // merge keeps the OpenGL block: a Vulkan-only and an OpenGL-only archive of the slice merge into one with
 // both backends, each pipeline once per backend.
