@@ -45,3 +45,6 @@ else()
 endif()
 configure_file(cmake/statepack_dearchiver.pc.in ${PROJECT_BINARY_DIR}/statepack_dearchiver.pc @ONLY)
 install(FILES ${PROJECT_BINARY_DIR}/statepack_dearchiver.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)
+# The OpenGL runtime: on top of the dearchiver's (Archive) and libepoxy's.
+configure_file(cmake/statepack_gl.pc.in ${PROJECT_BINARY_DIR}/statepack_gl.pc @ONLY)
+install(FILES ${PROJECT_BINARY_DIR}/statepack_gl.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)

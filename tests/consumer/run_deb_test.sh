@@ -17,7 +17,8 @@ deb=$(find "$work" -maxdepth 1 -name 'statepack_*.deb')
 contents=$(dpkg-deb -c "$deb" | awk '{print $NF}')
 for f in ./usr/bin/statepack ./usr/include/statepack/dearchiver.hpp ./usr/include/statepack/result.hpp \
   ./usr/lib/libstatepack_dearchiver.a ./usr/lib/cmake/statepack/statepackConfig.cmake \
-  ./usr/lib/cmake/statepack/StatepackAddArchive.cmake ./usr/lib/pkgconfig/statepack_dearchiver.pc; do
+  ./usr/lib/cmake/statepack/StatepackAddArchive.cmake ./usr/lib/pkgconfig/statepack_dearchiver.pc \
+  ./usr/lib/pkgconfig/statepack_gl.pc; do
   echo "$contents" | grep -qx "$f" || fail "the package lacks $f: $contents"
 done
 depends=$(dpkg-deb -f "$deb" Depends)

@@ -60,5 +60,14 @@ includedir=$(PKG_CONFIG_PATH="$libdir/pkgconfig" pkg-config --variable=includedi
 "$cxx" -std=c++20 "$here/app.cpp" -o "$work/pkg-config-app" $flags || fail "pkg-config build failed (flags: $flags)"
 out=$("$work/pkg-config-app" "$work/Ninja/consumer.spk" 2>&1) || fail "pkg-config build's application failed: $out"
 echo "pkg-config: $out"
+# The same for the OpenGL runtime: statepack_gl's flags (which bring the dearchiver's and libepoxy's).
+gl_flags=$(PKG_CONFIG_PATH="$libdir/pkgconfig" pkg-config --cflags --libs statepack_gl) ||
+  fail "pkg-config does not know statepack_gl"
+# shellcheck disable=SC2086 # the flags are words
+"$cxx" -std=c++20 "$here/gl_app.cpp" -o "$work/pkg-config-gl-app" $gl_flags ||
+  fail "pkg-config build of the GL application failed (flags: $gl_flags)"
+out=$("$work/pkg-config-gl-app" "$work/Ninja/consumer_gl.spk" 2>&1) || fail "pkg-config GL application failed: $out"
+echo "$out" | grep -q "unpacked 'Consumer PSO' on OpenGL" || fail "pkg-config GL application: $out"
+echo "pkg-config (OpenGL): $out"
 
 echo "installed package: all checks passed"
