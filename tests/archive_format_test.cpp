@@ -130,6 +130,30 @@ TEST(ArchiveFormat, OpenGlBlockRoundTripsAndIsAbsentWithoutGlPipelines) {
   EXPECT_FALSE(has_tag(vulkan_only, "GLPI") || has_tag(vulkan_only, "GLSH") || has_tag(vulkan_only, "GLBD"));
 }
 
+// GL constants live in the SPEC pool: its size is checked even when PEXT (which checks it otherwise) is
+// gone. Before, a SPEC entry claiming 30000 records past the end made decoding read outside the file.
+TEST(ArchiveFormat, OpenGlConstantsPoolIsCheckedWithoutPext) {
+  Fixture f;
+  auto bytes = encode(f.contents);
+  const uint32_t count = uint32_t(bytes[48]) | uint32_t(bytes[49]) << 8;
+  for (uint32_t i = 0; i < count; ++i) {
+    uint8_t* e = bytes.data() + 64 + 16 * i;
+    if (std::memcmp(e, "PEXT", 4) == 0) std::memcpy(e, "XEXT", 4);  // a tag nobody knows: ignored
+    if (std::memcmp(e, "SPEC", 4) == 0) {
+      put_u32(bytes, 64 + 16 * i + 4, uint32_t(bytes.size()));  // offset: the end of the file
+      put_u32(bytes, 64 + 16 * i + 8, 0);                       // size 0
+      put_u32(bytes, 64 + 16 * i + 12, 30000);                  // but 30000 records
+    }
+  }
+  reseal(bytes);
+  Aligned aligned(bytes);
+  auto decoded = decode(aligned.span());  // ASan fails this test on any read outside the file
+  ASSERT_FALSE(decoded);
+  EXPECT_NE(decoded.error().message.find("section SPEC size does not match its record count"),
+            std::string::npos)
+      << decoded.error().message;
+}
+
 TEST(ArchiveFormat, OpenGlPipelinesAreValidated) {
   auto refused = [](auto edit) {
     Fixture f;
@@ -157,6 +181,14 @@ TEST(ArchiveFormat, OpenGlPipelinesAreValidated) {
   EXPECT_NE(
       refused([](Contents& c) { c.gl_pipelines[1].graphics.topology = 99; }).find("invalid graphics state"),
       std::string::npos);
+  EXPECT_NE(refused([](Contents& c) {
+              c.gl_pipelines[1].constants[0] = {"kTint", 0x10, 3, 8, 1};
+            }).find("not 32-bit"),
+            std::string::npos);
+  EXPECT_NE(refused([](Contents& c) {
+              c.gl_pipelines[1].shaders.push_back({"TCS", 0x2, 0, "main"});
+            }).find("tessellation"),
+            std::string::npos);
 }
 
 TEST(ArchiveFormat, RoundTripKeepsEveryField) {

@@ -660,3 +660,80 @@ TEST_F(PackagerCli, MergeKeepsTheOpenGlBlock) {
 }
 
 }  // namespace
+
+namespace {
+
+// Found by review: what --opengl accepted must load, and what it leaves out must not stop it.
+TEST_F(PackagerCli, OpenGlPackingEdgeCases) {
+  const std::string vs = std::string(STATEPACK_SHADER_DIR) + "/fullscreen_triangle.vert";
+  // A loose uniform (no block) under #ifndef VULKAN: OpenGL could bind it only by location, which the
+  // runtime does not do, so pack refuses it instead of writing an archive that would not load.
+  std::ofstream(dir_ / "loose.comp")
+      << "#version 450\nlayout(local_size_x = 1) in;\n"
+         "layout(binding = 0) buffer Out { float v[]; };\n"
+         "#ifdef VULKAN\nlayout(push_constant) uniform P { float k; } p;\n#define K p.k\n"
+         "#else\nlayout(location = 0) uniform float k;\n#define K k\n#endif\n"
+         "void main() { v[0] = K; }\n";
+  std::ofstream(dir_ / "loose.json")
+      << R"({"Pipelines": [{"PSODesc": {"Name": "Loose PSO"}, "pCS": {"Desc": {"Name": "Loose CS"}, "FilePath": "loose.comp"}}]})";
+  CliRun loose = statepack("pack -i '" + (dir_ / "loose.json").string() + "' -o '" +
+                           (dir_ / "loose.spk").string() + "' --vulkan --opengl");
+  EXPECT_EQ(loose.exit_code, 1) << loose.output;
+  EXPECT_NE(loose.output.find("a uniform outside a block"), std::string::npos) << loose.output;
+  EXPECT_FALSE(fs::exists(dir_ / "loose.spk"));
+
+  // A standalone HLSL shader (a Vulkan object only) does not stop the OpenGL block.
+  std::ofstream(dir_ / "vs.hlsl")
+      << "float4 main(uint id : SV_VertexID) : SV_Position { return float4(id, 0, 0, 1); }\n";
+  std::ofstream(dir_ / "standalone.json")
+      << R"({"Shaders": [{"Desc": {"Name": "HLSL VS", "ShaderType": "VERTEX"},
+      "FilePath": "vs.hlsl", "EntryPoint": "main"}],
+    "Pipelines": [{"PSODesc": {"Name": "Fill Buffer PSO"},
+      "pCS": {"Desc": {"Name": "Fill Buffer CS"}, "FilePath": ")"
+      << STATEPACK_SHADER_DIR << R"(/fill_buffer.comp"}}]})";
+  CliRun both = statepack("pack -i '" + (dir_ / "standalone.json").string() + "' -o '" +
+                          (dir_ / "standalone.spk").string() + "' --vulkan --opengl");
+  EXPECT_EQ(both.exit_code, 0) << both.output;
+  // OpenGL alone says what it leaves out.
+  CliRun alone = statepack("pack -i '" + (dir_ / "standalone.json").string() + "' -o '" +
+                           (dir_ / "alone.spk").string() + "' --opengl");
+  EXPECT_EQ(alone.exit_code, 0) << alone.output;
+  EXPECT_NE(alone.output.find("warning: --opengl alone stores pipelines only"), std::string::npos)
+      << alone.output;
+
+  // OpenGL alone still names separate samplers (glslang alone would say "unexpected IDENTIFIER").
+  std::ofstream(dir_ / "separate.frag")
+      << "#version 450\nlayout(binding = 0) uniform texture2D tex;\n"
+         "layout(binding = 1) uniform sampler smp;\nlayout(location = 0) out vec4 c;\n"
+         "void main() { c = texture(sampler2D(tex, smp), vec2(0.5)); }\n";
+  std::ofstream(dir_ / "separate.json")
+      << R"({"Pipelines": [{"PSODesc": {"Name": "Separate PSO"},
+    "GraphicsPipeline": {"RTVFormats": {"0": "RGBA8_UNORM"}},
+    "pVS": {"Desc": {"Name": "VS"}, "FilePath": ")"
+      << vs << R"("}, "pPS": {"Desc": {"Name": "Separate PS"}, "FilePath": "separate.frag"}}]})";
+  CliRun separate = statepack("pack -i '" + (dir_ / "separate.json").string() + "' -o '" +
+                              (dir_ / "separate.spk").string() + "' --opengl");
+  EXPECT_EQ(separate.exit_code, 1) << separate.output;
+  EXPECT_NE(
+      separate.output.find("shader 'Separate PS' (OpenGL): declares 'tex' (sampled image), 'smp' (sampler)"),
+      std::string::npos)
+      << separate.output;
+  EXPECT_EQ(separate.output.find("unexpected IDENTIFIER"), std::string::npos) << separate.output;
+
+  // 64-bit specialization constants: Vulkan takes them, glSpecializeShader does not.
+  std::ofstream(dir_ / "wide.comp")
+      << "#version 450\nlayout(local_size_x = 1) in;\n"
+         "layout(constant_id = 0) const double kWide = 1.0;\n"
+         "layout(binding = 0) buffer Out { double v[]; };\nvoid main() { v[0] = kWide; }\n";
+  std::ofstream(dir_ / "wide.json") << R"({"Pipelines": [{"PSODesc": {"Name": "Wide PSO"},
+    "pCS": {"Desc": {"Name": "Wide CS"}, "FilePath": "wide.comp"},
+    "pSpecializationConstants": [{"Name": "kWide", "Value": 2.5}]}]})";
+  CliRun wide = statepack("pack -i '" + (dir_ / "wide.json").string() + "' -o '" +
+                          (dir_ / "wide.spk").string() + "' --vulkan --opengl");
+  EXPECT_EQ(wide.exit_code, 1) << wide.output;
+  EXPECT_NE(wide.output.find("pipeline 'Wide PSO' (OpenGL): specialization constant 'kWide' is 64-bit"),
+            std::string::npos)
+      << wide.output;
+}
+
+}  // namespace

@@ -676,9 +676,11 @@ Result<void> validate_gl_pipeline(const Contents& c, size_t i) {
   if (p.kind != PipelineKind::graphics && p.kind != PipelineKind::compute)
     return corrupt(what + " has an unknown kind");
   uint32_t stages = 0;
+  constexpr uint32_t kTessellationStages = 0x2 | 0x4;  // not stored for OpenGL (no patch list there)
   for (const GlShader& s : p.shaders) {
-    if (!std::has_single_bit(s.stage) || (s.stage & kAllStages) == 0 || (stages & s.stage))
-      return corrupt(what + " has a shader with an invalid or repeated stage");
+    if (!std::has_single_bit(s.stage) || (s.stage & kAllStages) == 0 || (s.stage & kTessellationStages) ||
+        (stages & s.stage))
+      return corrupt(what + " has a shader with an invalid, tessellation or repeated stage");
     if (s.blob >= c.spirv.size()) return corrupt(what + " refers to a missing SPIR-V blob");
     stages |= s.stage;
   }
@@ -701,6 +703,8 @@ Result<void> validate_gl_pipeline(const Contents& c, size_t i) {
       return corrupt(what + ": binding '" + b.name + "' is out of order or overlaps another of its kind");
   }
   if (auto valid = validate_constants(p.name, p.constants, stages); !valid) return valid;
+  for (const SpecConstant& s : p.constants)  // glSpecializeShader takes 32-bit values
+    if (s.size != 4) return corrupt(what + ": specialization constant '" + s.name + "' is not 32-bit");
   if (p.kind == PipelineKind::graphics) {
     if (p.graphics.topology == 10 || p.graphics.patch_control_points != 0)
       return corrupt(what + " draws patches, which the OpenGL backend does not store");
@@ -1055,8 +1059,11 @@ Result<Contents> decode(std::span<const uint8_t> file) {
       c.pipelines[i].graphics.patch_control_points = tessellation[i].patch_control_points;
     }
   }
-  // The OpenGL block: all three sections or none.
+  // The OpenGL block: all three sections or none. Its constants are in the SPEC pool, whose size is
+  // checked here too (an archive without PEXT has not checked it).
   if (r.sections.count(Tag<GlPipeline>::value)) {
+    if (auto valid = check(Tag<SpecConstant>::value, record_size<SpecConstant>()); !valid)
+      return valid.error();
     Result<void> present;
     for_each_gl_record_type([&](auto record) {
       if (present) present = check(Tag<decltype(record)>::value, record_size<decltype(record)>());

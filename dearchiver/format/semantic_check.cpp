@@ -113,8 +113,11 @@ std::optional<GlNamespace> gl_namespace_of(spirv::DescriptorTypeMask compatible)
 
 // A GL pipeline's shaders against its binding table: each stage's entry point exists, every resource it
 // uses has a binding of its kind at its number, and there are no push constants (OpenGL has none).
+// `work` counts resources checked against `budget` (the pipelines x resources bound, as for Vulkan).
 Result<void> check_gl_pipeline(const Contents& c, const GlPipeline& p,
-                               std::vector<std::optional<spirv::Module>>& modules) {
+                               std::vector<std::optional<spirv::Module>>& modules, uint64_t& work,
+                               uint64_t budget) {
+  work += 1 + p.bindings.size();
   for (const GlShader& shader : p.shaders) {
     const std::string who = "OpenGL pipeline '" + p.name + "', shader '" + shader.name + "'";
     if (!modules[shader.blob]) {
@@ -123,6 +126,10 @@ Result<void> check_gl_pipeline(const Contents& c, const GlPipeline& p,
       modules[shader.blob] = std::move(module.value());
     }
     const spirv::Module& module = *modules[shader.blob];
+    work += 1 + module.resources.size() + p.constants.size();
+    if (work > budget)
+      return corrupt("checking OpenGL pipeline '" + p.name + "' against its shaders expands beyond " +
+                     std::to_string(budget) + " steps (16 x the SPIR-V size): pipelines share huge shaders");
     const auto model = spirv::execution_model_of_stage(shader.stage);
     const spirv::EntryPoint* entry = model ? module.find(*model, shader.entry_point) : nullptr;
     if (!entry)
@@ -130,11 +137,22 @@ Result<void> check_gl_pipeline(const Contents& c, const GlPipeline& p,
                      shader.entry_point + "' in its SPIR-V");
     if (module.push_constants && module.uses(*entry, module.push_constants->variable))
       return corrupt(who + " uses push constants, which OpenGL does not have");
+    // As for Vulkan: each constant is declared by its stage's module with the same size.
+    for (const SpecConstant& s : p.constants) {
+      if (s.stage != shader.stage) continue;
+      const spirv::SpecConstant* declared = module.find_spec_constant(s.constant_id);
+      if (!declared || declared->size != s.size)
+        return corrupt(who + ": specialization constant '" + s.name + "' (id " +
+                       std::to_string(s.constant_id) + ") is not declared by the module with that size");
+    }
     for (const spirv::Resource& r : module.resources) {
       if (!module.uses(*entry, r.variable)) continue;
       const auto kind = gl_namespace_of(r.compatible);
-      const std::string resource = who + ": the resource at binding " + std::to_string(r.binding);
-      if (!kind) return corrupt(resource + " is of a kind OpenGL cannot bind (a separate sampler or image)");
+      auto resource = [&] { return who + ": the resource at binding " + std::to_string(r.binding); };
+      if (!kind)
+        return corrupt(
+            resource() +
+            " is of a kind OpenGL cannot bind (a separate sampler or image, or a uniform outside a block)");
       // The bindings are sorted by (kind, first binding) without overlaps (validate): the last range
       // starting at or before r.binding is the only one that can hold it.
       auto after =
@@ -145,9 +163,9 @@ Result<void> check_gl_pipeline(const Contents& c, const GlPipeline& p,
       const GlBinding* bound = after == p.bindings.begin() ? nullptr : &*(after - 1);
       if (!bound || bound->kind != uint32_t(*kind) || r.binding - bound->binding >= bound->count ||
           (bound->stages & shader.stage) == 0)
-        return corrupt(resource + " has no binding of its kind in the pipeline's table");
+        return corrupt(resource() + " has no binding of its kind in the pipeline's table");
       if (r.array_size > bound->count - (r.binding - bound->binding))
-        return corrupt(resource + " is an array larger than its binding '" + bound->name + "'");
+        return corrupt(resource() + " is an array larger than its binding '" + bound->name + "'");
     }
   }
   return {};
@@ -190,9 +208,7 @@ Result<void> check_shader_interfaces(const Contents& c) {
   // OpenGL pipelines: walked separately (their blobs are the GL compilations), bounded the same way.
   std::vector<std::optional<spirv::Module>> gl_modules(c.spirv.size());
   for (const GlPipeline& p : c.gl_pipelines) {
-    work += 1 + p.shaders.size() + p.bindings.size();
-    if (work > budget) return corrupt("checking OpenGL pipeline '" + p.name + "' expands beyond the budget");
-    if (auto ok = check_gl_pipeline(c, p, gl_modules); !ok) return ok;
+    if (auto ok = check_gl_pipeline(c, p, gl_modules, work, budget); !ok) return ok;
   }
   return {};
 }

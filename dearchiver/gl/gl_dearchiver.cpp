@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <deque>
 #include <map>
+#include <set>
 #include <utility>
 
 #include "api_guard.hpp"
@@ -122,9 +123,10 @@ struct Dearchiver::State {
   // Every GL pipeline name once (a name in several archives resolves to the earliest).
   std::vector<std::string> gl_names() const {
     std::vector<std::string> names;
+    std::set<std::string_view> seen;  // linear-log: archives may hold many pipelines
     for (size_t i = 0; i < archives.size(); ++i)
       for (const auto& p : contents(i).gl_pipelines)
-        if (std::find(names.begin(), names.end(), p.name) == names.end()) names.push_back(p.name);
+        if (seen.insert(p.name).second) names.push_back(p.name);
     return names;
   }
 
@@ -184,6 +186,10 @@ struct Dearchiver::State {
     GlName<delete_shader> name(glCreateShader(type));
     if (name.get() == 0) return Error{ErrorCode::gl_error, what + ": glCreateShader failed"};
     const GLuint handle = name.get();
+    // Flags left by earlier calls would be read as this shader's by shader_log: cleared first (GL errors
+    // are sticky until read; documented in gl_dearchiver.hpp).
+    while (glGetError() != GL_NO_ERROR) {
+    }
     // A binary the driver refuses leaves the shader unspecializable: the compile status below reports it.
     glShaderBinary(1, &handle, GL_SHADER_BINARY_FORMAT_SPIR_V_ARB, spirv.data(), GLsizei(spirv.size_bytes()));
     glSpecializeShaderARB(handle, shader.entry_point.c_str(), GLuint(ids.size()), ids.data(), values.data());
@@ -196,6 +202,9 @@ struct Dearchiver::State {
   }
 
   Result<const Program*> unpack(std::string_view name, format::PipelineKind kind) {
+    if (epoxy_gl_version() == 0)  // no context current on this thread (create() checked one was)
+      return Error{ErrorCode::unsupported,
+                   "unpacking '" + std::string(name) + "' needs an OpenGL context current on this thread"};
     if (auto it = by_name.find(name); it != by_name.end()) {
       const bool compute = kind == format::PipelineKind::compute;
       if (it->second->compute != compute)

@@ -65,6 +65,12 @@ bool build_gl_layout(const PipelineDesc& p, const std::vector<StageInput>& stage
         continue;
       }
       const uint32_t count = std::max(b.count, 1u);  // a runtime array takes one binding
+      if (count > 1024) {  // the archive's limit (validate_gl_pipeline); devices allow far fewer units
+        diag.error(stage.desc->where, who + ": " + shader + " declares '" + b.name + "' as an array of " +
+                                          std::to_string(count) + "; OpenGL bindings hold at most 1024");
+        ok = false;
+        continue;
+      }
       auto [it, inserted] = by_name.try_emplace(b.name, Merged{*kind, count, b.stage, {b.set, b.binding}});
       if (!inserted && (it->second.kind != *kind || it->second.count != count)) {
         diag.error(stage.desc->where, who + ": " + shader + " declares '" + b.name +

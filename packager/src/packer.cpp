@@ -10,6 +10,7 @@
 #include <set>
 #include <thread>
 
+#include "archive_file.hpp"
 #include "archive_format.hpp"
 #include "contents_builder.hpp"
 #include "gl_layout.hpp"
@@ -139,8 +140,10 @@ struct CompiledShaders {
 // Compiles on all cores. Every shader whose own description is usable is compiled, even when other
 // objects have notation errors, so one run reports both (docs/cli.md).
 // `refused`: shaders not to compile (by compile_key), each with the error to report instead.
+// `pipelines_only`: the standalone Shaders are left out (the OpenGL block stores pipelines only).
 CompiledShaders compile_shaders(const Notation& notation, const PackOptions& options, Diagnostics& diag,
-                                const std::map<std::string, std::string>& refused = {}) {
+                                const std::map<std::string, std::string>& refused = {},
+                                bool pipelines_only = false) {
   CompiledShaders out;
   std::map<std::string, size_t> unit_by_key;
   auto unit_for = [&](const ShaderDesc& s) {
@@ -153,7 +156,8 @@ CompiledShaders compile_shaders(const Notation& notation, const PackOptions& opt
     for (const auto& s : p.shaders)
       if (!s.is_reference) out.pipeline_units.back().push_back(unit_for(s));
   }
-  for (const auto& s : notation.shaders) out.standalone_units.push_back(unit_for(s));
+  if (!pipelines_only)
+    for (const auto& s : notation.shaders) out.standalone_units.push_back(unit_for(s));
   ShaderMessages compile_errors;  // an error in a shared #include is reported once
   parallel_for(out.units.size(), options.threads, [&](size_t i) {
     CompiledUnit& u = out.units[i];
@@ -294,6 +298,17 @@ void add_opengl(const Notation& notation, const CompiledShaders& compiled, const
     if (!build_gl_layout(p, stages, layout, diag)) continue;
     std::vector<format::SpecConstant> constants;
     if (!resolve_constants(p, stages, constants, options.vulkan ? reported_by_vulkan : diag)) continue;
+    if (auto wide =
+            std::find_if(constants.begin(), constants.end(), [](const auto& k) { return k.size != 4; });
+        wide != constants.end()) {
+      diag.error(p.where, "pipeline '" + p.name + "' (OpenGL): specialization constant '" + wide->name +
+                              "' is 64-bit; glSpecializeShader takes 32-bit values only");
+      continue;
+    }
+    // With Vulkan packed too, its stage has checked the notation against the shaders already.
+    if (!options.vulkan && p.kind == format::PipelineKind::graphics &&
+        !check_graphics_interfaces(p, p.graphics, stages, notation.sources, diag))
+      continue;
     format::GlPipeline out{p.name, p.kind, {}, std::move(layout.bindings), {}, std::move(constants)};
     if (p.kind == format::PipelineKind::graphics) out.graphics = p.graphics;  // with its subpass's formats
     bool ok = true;
@@ -427,9 +442,21 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err) {
   CompiledShaders compiled, gl_compiled;
   if (options.vulkan) compiled = compile_shaders(notation, options, diag);
   if (options.opengl) {
+    // OpenGL alone still compiles the pipelines for Vulkan, unreported, to name what OpenGL cannot bind
+    // (glslang's OpenGL front end only reports a syntax error there).
+    Diagnostics unreported(0);
+    const CompiledShaders vulkan_view =
+        options.vulkan ? CompiledShaders{} : compile_shaders(notation, options, unreported, {}, true);
     PackOptions gl = options;
     gl.compile.opengl = true;
-    gl_compiled = compile_shaders(notation, gl, diag, refused_for_opengl(compiled));
+    gl_compiled = compile_shaders(notation, gl, diag,
+                                  refused_for_opengl(options.vulkan ? compiled : vulkan_view), true);
+    if (!options.vulkan &&
+        (!notation.shaders.empty() || !notation.signatures.empty() || !notation.render_passes.empty()))
+      diag.warning(
+          {options.inputs.empty() ? "" : options.inputs.front().string()},
+          "--opengl alone stores pipelines only: the notation's standalone Shaders, resource "
+          "signatures and render passes are Vulkan objects and are left out (add --vulkan to keep them)");
   }
   // Every file read so far: no output may replace one of them.
   std::vector<InputFile> inputs = notation.files_read;
@@ -464,6 +491,14 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err) {
   }
 
   std::vector<uint8_t> bytes = format::encode(builder.contents);
+  // What pack writes must load: decoded and checked against its SPIR-V as the runtime will, so a build
+  // step that says OK means it (a check the pack stages missed surfaces here, not in the application).
+  if (auto loads = format::load_archive(bytes, std::nullopt, "the packed archive would not load"); !loads) {
+    std::string message = loads.error().message;
+    if (auto at = message.find("corrupt archive: "); at != std::string::npos) message.erase(at, 17);
+    err << "statepack: error: " << printable(message) << "; no archive written\n";
+    return kExitInputError;
+  }
   if (!options.check_only)
     if (int code = write_outputs(options, inputs, bytes, err); code != kExitSuccess) return code;
   if (options.print_contents) {

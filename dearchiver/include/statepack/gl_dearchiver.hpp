@@ -16,7 +16,9 @@
 //
 // Threading: OpenGL calls go to the context current on the calling thread. Every member function, the
 // destructor included, must be called with the same context (or one sharing its objects) current, from
-// one thread at a time. The Dearchiver owns the programs it created and deletes them with itself.
+// one thread at a time (unpacking without a current context is an `unsupported` error). The Dearchiver
+// owns the programs it created and deletes them with itself. Unpacking clears OpenGL's error flags
+// (glGetError) before creating each shader, so that the driver's errors are reported as its own.
 //
 // Conventions: the SPIR-V is the Vulkan-style shader compiled for OpenGL, so clip-space z runs 0..1 and
 // the same vertex positions land on the same framebuffer rows as on Vulkan. FixedFunctionState::apply()
