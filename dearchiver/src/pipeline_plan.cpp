@@ -342,11 +342,9 @@ std::optional<Error> Planner::check_features(const std::string& name, const Patc
         std::memcmp(&s.blend[i], &s.blend[0], sizeof(BlendAttachmentState)) != 0)
       return missing_feature(name, "independentBlend");
   }
-  VkPhysicalDeviceProperties properties;
-  vkGetPhysicalDeviceProperties(context_.physical_device, &properties);
-  const VkSampleCountFlags counts = s.color_count > 0
-                                        ? properties.limits.framebufferColorSampleCounts
-                                        : properties.limits.framebufferNoAttachmentsSampleCounts;
+  const VkPhysicalDeviceLimits& limits = caps_.properties.limits;  // queried once, at Dearchiver::create
+  const VkSampleCountFlags counts =
+      s.color_count > 0 ? limits.framebufferColorSampleCounts : limits.framebufferNoAttachmentsSampleCounts;
   if (!(counts & s.samples))
     return Error{ErrorCode::unsupported, "pipeline '" + name + "' renders with " + std::to_string(s.samples) +
                                              " samples, which the device does not support"};
