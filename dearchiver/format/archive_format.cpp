@@ -823,6 +823,30 @@ const char* descriptor_type_name(uint32_t type) {
   return type < std::size(kNames) ? kNames[type] : "unknown descriptor";
 }
 
+std::optional<GlNamespace> gl_namespace_of(uint32_t descriptor_type) {
+  switch (descriptor_type) {
+    case 6:  // VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER
+    case 8:  // VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC
+      return GlNamespace::uniform_buffer;
+    case 7:  // VK_DESCRIPTOR_TYPE_STORAGE_BUFFER
+    case 9:  // VK_DESCRIPTOR_TYPE_STORAGE_BUFFER_DYNAMIC
+      return GlNamespace::storage_buffer;
+    case 1:  // VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER
+    case 4:  // VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER
+      return GlNamespace::texture;
+    case 3:  // VK_DESCRIPTOR_TYPE_STORAGE_IMAGE
+    case 5:  // VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER
+      return GlNamespace::image;
+  }
+  return std::nullopt;
+}
+
+const char* gl_namespace_name(uint32_t kind) {
+  static constexpr const char* kNames[kGlNamespaceCount] = {"uniform buffer", "storage buffer", "texture",
+                                                            "image"};
+  return kind < kGlNamespaceCount ? kNames[kind] : "unknown";
+}
+
 uint64_t hash_bytes(std::span<const uint8_t> bytes) {
   return XXH3_64bits(bytes.data(), bytes.size());
 }

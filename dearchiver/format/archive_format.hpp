@@ -10,6 +10,7 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -244,6 +245,14 @@ enum class GlNamespace : uint32_t {
   image = 3,           // image unit: glBindImageTexture(binding, ...) (storage images and texel buffers)
 };
 inline constexpr uint32_t kGlNamespaceCount = 4;
+
+// Where OpenGL binds a resource of a VkDescriptorType: uniform/storage buffers (dynamic ones too),
+// textures (combined samplers, uniform texel buffers), images (storage images and texel buffers); nothing
+// for separate samplers and sampled images or input attachments, which OpenGL does not have. The one
+// classification: the packer's layout and refusals and the reader's check use it.
+std::optional<GlNamespace> gl_namespace_of(uint32_t descriptor_type);
+// "uniform buffer", "storage buffer", "texture", "image" (kGlNamespaceCount names), else "unknown".
+const char* gl_namespace_name(uint32_t kind);
 
 struct GlShader {
   std::string name;

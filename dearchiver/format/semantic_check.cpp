@@ -102,12 +102,11 @@ Result<void> check_pipeline(const Contents& c, const Pipeline& p, const std::vec
 
 // The OpenGL namespace a resource binds in, from the descriptor types it fits; nullopt for what OpenGL
 // has no binding for (separate samplers and images).
-std::optional<GlNamespace> gl_namespace_of(spirv::DescriptorTypeMask compatible) {
-  auto fits = [&](uint32_t type) { return (compatible >> type) & 1u; };
-  if (fits(6) || fits(8)) return GlNamespace::uniform_buffer;
-  if (fits(7) || fits(9)) return GlNamespace::storage_buffer;
-  if (fits(1) || fits(4)) return GlNamespace::texture;
-  if (fits(3) || fits(5)) return GlNamespace::image;
+// The namespace of the first descriptor type a resource fits (a resource fits types of one namespace).
+std::optional<GlNamespace> gl_namespace_of_mask(spirv::DescriptorTypeMask compatible) {
+  for (uint32_t type = 0; type < 11; ++type)
+    if ((compatible >> type) & 1u)
+      if (auto kind = gl_namespace_of(type)) return kind;
   return std::nullopt;
 }
 
@@ -147,7 +146,7 @@ Result<void> check_gl_pipeline(const Contents& c, const GlPipeline& p,
     }
     for (const spirv::Resource& r : module.resources) {
       if (!module.uses(*entry, r.variable)) continue;
-      const auto kind = gl_namespace_of(r.compatible);
+      const auto kind = gl_namespace_of_mask(r.compatible);
       auto resource = [&] { return who + ": the resource at binding " + std::to_string(r.binding); };
       if (!kind)
         return corrupt(

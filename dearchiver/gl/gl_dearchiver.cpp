@@ -18,17 +18,7 @@
 namespace statepack::gl {
 
 const char* to_string(Binding::Kind kind) {
-  switch (kind) {
-    case Binding::Kind::uniform_buffer:
-      return "uniform buffer";
-    case Binding::Kind::storage_buffer:
-      return "storage buffer";
-    case Binding::Kind::texture:
-      return "texture";
-    case Binding::Kind::image:
-      return "image";
-  }
-  return "unknown";
+  return format::gl_namespace_name(uint32_t(kind));  // Binding::Kind has the archive's numbering
 }
 
 const Binding* Program::find_binding(std::string_view resource_name) const {

@@ -1,7 +1,5 @@
 #include "gl_layout.hpp"
 
-#include <vulkan/vulkan_core.h>
-
 #include <algorithm>
 #include <array>
 #include <map>
@@ -11,24 +9,6 @@
 
 namespace statepack::packager {
 namespace {
-
-std::optional<format::GlNamespace> namespace_of(uint32_t descriptor_type) {
-  switch (descriptor_type) {
-    case VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER:
-    case VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER_DYNAMIC:
-      return format::GlNamespace::uniform_buffer;
-    case VK_DESCRIPTOR_TYPE_STORAGE_BUFFER:
-    case VK_DESCRIPTOR_TYPE_STORAGE_BUFFER_DYNAMIC:
-      return format::GlNamespace::storage_buffer;
-    case VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER:
-    case VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER:
-      return format::GlNamespace::texture;
-    case VK_DESCRIPTOR_TYPE_STORAGE_IMAGE:
-    case VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER:
-      return format::GlNamespace::image;
-  }
-  return std::nullopt;  // separate samplers and sampled images, input attachments
-}
 
 struct Merged {
   format::GlNamespace kind;
@@ -54,7 +34,7 @@ bool build_gl_layout(const PipelineDesc& p, const std::vector<StageInput>& stage
       ok = false;
     }
     for (const ReflectedBinding& b : stage.reflection->bindings) {
-      const auto kind = namespace_of(b.descriptor_type);
+      const auto kind = format::gl_namespace_of(b.descriptor_type);
       if (!kind) {
         diag.error(stage.desc->where,
                    who + ": " + shader + " declares '" + b.name + "' as a " +

@@ -294,7 +294,6 @@ Json contents_json(const format::Contents& c, size_t size) {
   j["pipelines"] = pipelines;
   // The OpenGL block, only when present (Vulkan-only archives print as before).
   if (!c.gl_pipelines.empty()) {
-    static constexpr const char* kNamespaces[] = {"uniform buffer", "storage buffer", "texture", "image"};
     Json gl = Json::array();
     for (const auto& p : c.gl_pipelines) {
       Json pj{{"name", p.name}, {"kind", p.kind == format::PipelineKind::compute ? "compute" : "graphics"}};
@@ -309,7 +308,7 @@ Json contents_json(const format::Contents& c, size_t size) {
       Json bindings = Json::array();
       for (const auto& b : p.bindings)
         bindings.push_back({{"name", b.name},
-                            {"kind", kNamespaces[b.kind < 4 ? b.kind : 0]},
+                            {"kind", format::gl_namespace_name(b.kind)},
                             {"binding", b.binding},
                             {"count", b.count},
                             {"stages", stages_json(b.stages)}});

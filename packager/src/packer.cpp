@@ -260,9 +260,7 @@ std::map<std::string, std::string> refused_for_opengl(const CompiledShaders& vul
     if (!u.compiled.ok) continue;
     std::string names;
     for (const ReflectedBinding& b : u.reflection.bindings)
-      if (b.descriptor_type == VK_DESCRIPTOR_TYPE_SAMPLER ||
-          b.descriptor_type == VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE ||
-          b.descriptor_type == VK_DESCRIPTOR_TYPE_INPUT_ATTACHMENT)
+      if (!format::gl_namespace_of(b.descriptor_type))
         names += std::string(names.empty() ? "" : ", ") + "'" + b.name + "' (" +
                  format::descriptor_type_name(b.descriptor_type) + ")";
     if (!names.empty())
