@@ -531,6 +531,26 @@ TEST(HostileArchive, OpenGlBlockIsCheckedAgainstItsSpirv) {
   // A header that names no OpenGL backend.
   expect(refused([](format::Contents& m) { m.backends = format::kBackendVulkan; }),
          "names no OpenGL backend");
+  // A module with a separate texture and sampler (HLSL's Texture2D + SamplerState, compiled for Vulkan)
+  // in an OpenGL slot, even with texture bindings for both names: OpenGL has no separate samplers.
+  Corpus hlsl("hlsl_entry_points");
+  ASSERT_TRUE(hlsl.archive);
+  const format::Shader* quad = nullptr;
+  for (const auto& shader : hlsl.contents.shaders)
+    if (shader.name == "Quad PS") quad = &shader;
+  ASSERT_NE(quad, nullptr);
+  expect(refused([&](format::Contents& m) {
+           m.spirv.push_back(hlsl.contents.spirv[quad->blob]);
+           for (auto& p : m.gl_pipelines)
+             if (p.name == "Gradient PSO") {
+               for (auto& shader : p.shaders)
+                 if (shader.stage == 0x10)
+                   shader = {"Quad PS", 0x10, uint32_t(m.spirv.size() - 1), quad->entry_point};
+               p.bindings = {{"g_Texture", 2, 0, 1, 0x10}, {"g_Texture_sampler", 2, 1, 1, 0x10}};
+             }
+         }),
+         "OpenGL pipeline 'Gradient PSO', shader 'Quad PS': the resource at binding 0 is of a kind OpenGL "
+         "cannot bind");
 }
 
 }  // namespace

@@ -100,10 +100,13 @@ Result<void> check_pipeline(const Contents& c, const Pipeline& p, const std::vec
   return {};
 }
 
-// The OpenGL namespace a resource binds in, from the descriptor types it fits; nullopt for what OpenGL
-// has no binding for (separate samplers and images).
-// The namespace of the first descriptor type a resource fits (a resource fits types of one namespace).
+// The namespace a resource binds in from the descriptor types it fits, or nullopt for what OpenGL has no
+// binding for. A variable that fits a separate sampler, a separate sampled image or an input attachment
+// is one (the walker also lets such variables fit a combined descriptor, as Vulkan allows): refused,
+// even though it fits a texture too. Otherwise all the types it fits are of one namespace.
 std::optional<GlNamespace> gl_namespace_of_mask(spirv::DescriptorTypeMask compatible) {
+  constexpr spirv::DescriptorTypeMask kNotInOpenGl = (1u << 0) | (1u << 2) | (1u << 10);
+  if (compatible & kNotInOpenGl) return std::nullopt;
   for (uint32_t type = 0; type < 11; ++type)
     if ((compatible >> type) & 1u)
       if (auto kind = gl_namespace_of(type)) return kind;
