@@ -526,9 +526,10 @@ TEST_F(GlTest, UndeclaredSpecializationConstantIsRefusedAtLoad) {
   auto archive = Archive::from_memory(bytes.bytes());
   ASSERT_FALSE(archive);
   EXPECT_EQ(archive.error().code, ErrorCode::corrupt);
-  EXPECT_NE(
-      archive.error().message.find("specialization constant 'missing' (id 77) is not declared by the module"),
-      std::string::npos)
+  EXPECT_NE(archive.error().message.find("OpenGL pipeline 'Fill Buffer PSO': specialization constant "
+                                         "'missing' (id 77) is not declared by shader "
+                                         "'Fill Buffer CS'"),
+            std::string::npos)
       << archive.error().message;
   EXPECT_TRUE(gl_->error_messages().empty());
 }

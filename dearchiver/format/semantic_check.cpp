@@ -22,6 +22,25 @@ Error corrupt(std::string message) {
   return Error{ErrorCode::corrupt, "corrupt archive: " + std::move(message)};
 }
 
+// The constants of one stage against its module: each declared, with the same size. A Vulkan map entry
+// must match the size of the constant the shader declares (VUID-VkSpecializationMapEntry-constantID-00776);
+// one the shader does not declare is harmless to Vulkan but a mistake of the archive, and an error for
+// glSpecializeShader. `pipeline` and `who` name the pipeline and the shader in messages.
+Result<void> check_constants(const spirv::Module& module, const std::vector<SpecConstant>& constants,
+                             uint32_t stage, const std::string& pipeline, const std::string& who) {
+  for (const SpecConstant& s : constants) {
+    if (s.stage != stage) continue;
+    const spirv::SpecConstant* declared = module.find_spec_constant(s.constant_id);
+    const std::string what =
+        pipeline + ": specialization constant '" + s.name + "' (id " + std::to_string(s.constant_id) + ")";
+    if (!declared) return corrupt(what + " is not declared by " + who);
+    if (declared->size != s.size)
+      return corrupt(what + " is " + std::to_string(s.size) + " bytes, but " + who + " declares " +
+                     (declared->size ? std::to_string(declared->size) + " bytes" : "a type it cannot size"));
+  }
+  return {};
+}
+
 Result<void> check_pipeline(const Contents& c, const Pipeline& p, const std::vector<spirv::Module>& modules) {
   const std::string pipeline = "pipeline '" + p.name + "'";
   for (uint32_t index : p.shaders) {
@@ -66,20 +85,7 @@ Result<void> check_pipeline(const Contents& c, const Pipeline& p, const std::vec
         return corrupt(pipeline + ": push constants are " + std::to_string(p.push_constant_size) +
                        " bytes, but " + who + " uses " + std::to_string(module.push_constants->size));
     }
-    // Specialization constants: a map entry must match the size of the constant the shader declares
-    // (VUID-VkSpecializationMapEntry-constantID-00776); one the shader does not declare is harmless
-    // to Vulkan but a mistake of the archive.
-    for (const SpecConstant& s : p.constants) {
-      if (s.stage != shader.stage) continue;
-      const spirv::SpecConstant* declared = module.find_spec_constant(s.constant_id);
-      const std::string what =
-          pipeline + ": specialization constant '" + s.name + "' (id " + std::to_string(s.constant_id) + ")";
-      if (!declared) return corrupt(what + " is not declared by " + who);
-      if (declared->size != s.size)
-        return corrupt(
-            what + " is " + std::to_string(s.size) + " bytes, but " + who + " declares " +
-            (declared->size ? std::to_string(declared->size) + " bytes" : "a type it cannot size"));
-    }
+    if (auto ok = check_constants(module, p.constants, shader.stage, pipeline, who); !ok) return ok;
     if (shader.stage == 0x1 && p.kind == PipelineKind::graphics) {
       std::vector<uint32_t> provided;  // attribute locations, sorted for lookups
       for (const auto& a : p.graphics.vertex_attributes) provided.push_back(a.location);
@@ -139,14 +145,10 @@ Result<void> check_gl_pipeline(const Contents& c, const GlPipeline& p,
                      shader.entry_point + "' in its SPIR-V");
     if (module.push_constants && module.uses(*entry, module.push_constants->variable))
       return corrupt(who + " uses push constants, which OpenGL does not have");
-    // As for Vulkan: each constant is declared by its stage's module with the same size.
-    for (const SpecConstant& s : p.constants) {
-      if (s.stage != shader.stage) continue;
-      const spirv::SpecConstant* declared = module.find_spec_constant(s.constant_id);
-      if (!declared || declared->size != s.size)
-        return corrupt(who + ": specialization constant '" + s.name + "' (id " +
-                       std::to_string(s.constant_id) + ") is not declared by the module with that size");
-    }
+    if (auto ok = check_constants(module, p.constants, shader.stage, "OpenGL pipeline '" + p.name + "'",
+                                  "shader '" + shader.name + "'");
+        !ok)
+      return ok;
     for (const spirv::Resource& r : module.resources) {
       if (!module.uses(*entry, r.variable)) continue;
       const auto kind = gl_namespace_of_mask(r.compatible);
