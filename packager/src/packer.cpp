@@ -135,6 +135,16 @@ struct CompiledShaders {
   std::vector<CompiledUnit> units;
   std::vector<std::vector<size_t>> pipeline_units;  // per pipeline: the units of its stages
   std::vector<size_t> standalone_units;             // per Shaders entry
+
+  // The stages of pipeline `i` for layout and checks; nullopt when one did not compile.
+  std::optional<std::vector<StageInput>> stages_of(size_t i) const {
+    std::vector<StageInput> stages;
+    for (size_t u : pipeline_units[i]) {
+      if (!units[u].compiled.ok) return std::nullopt;
+      stages.push_back({&units[u].desc, &units[u].compiled.spirv, &units[u].reflection});
+    }
+    return stages;
+  }
 };
 
 // Compiles on all cores. Every shader whose own description is usable is compiled, even when other
@@ -215,12 +225,9 @@ Plan plan_archive(const Notation& notation, const CompiledShaders& compiled, Con
                                                         : kNoJob);
   for (size_t i = 0; i < notation.pipelines.size(); ++i) {
     const PipelineDesc& p = notation.pipelines[i];
-    const std::vector<size_t>& stage_units = compiled.pipeline_units[i];
-    if (std::any_of(stage_units.begin(), stage_units.end(), [&](size_t u) { return !units[u].compiled.ok; }))
-      continue;  // its compile errors are reported; the other pipelines go on
-    std::vector<StageInput> stages;
-    for (size_t u : stage_units)
-      stages.push_back({&units[u].desc, &units[u].compiled.spirv, &units[u].reflection});
+    const auto compiled_stages = compiled.stages_of(i);
+    if (!compiled_stages) continue;  // its compile errors are reported; the other pipelines go on
+    const std::vector<StageInput>& stages = *compiled_stages;
     PipelineLayout layout;
     if (!build_pipeline_layout(p, stages, notation, builder, layout, diag)) continue;
     std::vector<format::SpecConstant> constants;
@@ -281,17 +288,13 @@ void add_opengl(const Notation& notation, const CompiledShaders& compiled, const
   Diagnostics reported_by_vulkan(0);
   for (size_t i = 0; i < notation.pipelines.size(); ++i) {
     const PipelineDesc& p = notation.pipelines[i];
-    const std::vector<size_t>& stage_units = compiled.pipeline_units[i];
-    const auto& units = compiled.units;
-    if (std::any_of(stage_units.begin(), stage_units.end(), [&](size_t u) { return !units[u].compiled.ok; }))
-      continue;  // its compile errors are reported
+    const auto compiled_stages = compiled.stages_of(i);
+    if (!compiled_stages) continue;  // its compile errors are reported
+    const std::vector<StageInput>& stages = *compiled_stages;
     if (p.kind == format::PipelineKind::graphics && p.graphics.topology == VK_PRIMITIVE_TOPOLOGY_PATCH_LIST) {
       diag.error(p.where, "pipeline '" + p.name + "' (OpenGL): tessellation is not packed for OpenGL yet");
       continue;
     }
-    std::vector<StageInput> stages;
-    for (size_t u : stage_units)
-      stages.push_back({&units[u].desc, &units[u].compiled.spirv, &units[u].reflection});
     GlLayout layout;
     if (!build_gl_layout(p, stages, layout, diag)) continue;
     std::vector<format::SpecConstant> constants;
