@@ -259,17 +259,16 @@ TEST_F(Verify, RunTimeFormatsAreVerifiedWithTheFormatGiven) {
   CliRun bgra = statepack("verify --format BGRA8_UNORM_SRGB '" + out.string() + "'");
   EXPECT_EQ(bgra.exit_code, 0) << bgra.output;
   // The slots the application must set are shown, with the format they were verified with.
-  EXPECT_NE(bgra.output.find("ok     graphics pipeline 'Swapchain PSO' (UNKNOWN render target 0, set at run "
+  EXPECT_NE(bgra.output.find("ok     graphics pipeline 'Swapchain PSO' (render target 0, set at run "
                              "time: verified as BGRA8_UNORM_SRGB)\n"),
             std::string::npos)
       << bgra.output;
   // A depth format as a color target cannot be created: the object fails, and so does the run.
   CliRun depth = statepack("verify --format D32_FLOAT '" + out.string() + "'");
   EXPECT_EQ(depth.exit_code, 1) << depth.output;
-  EXPECT_NE(
-      depth.output.find("FAILED graphics pipeline 'Swapchain PSO' (UNKNOWN render target 0, set at run time: "
-                        "verified as D32_FLOAT): "),
-      std::string::npos)
+  EXPECT_NE(depth.output.find("FAILED graphics pipeline 'Swapchain PSO' (render target 0, set at run time: "
+                              "verified as D32_FLOAT): "),
+            std::string::npos)
       << depth.output;
   EXPECT_EQ(statepack("verify --format NOT_A_FORMAT '" + out.string() + "'").exit_code, 2);
 }

@@ -228,5 +228,53 @@ TEST_F(UnpackAllPatch, CallbackExceptionsBecomeErrorsNamingThePipeline) {
   EXPECT_EQ(after->size(), 4u);
 }
 
+// Diligent's workflow: the notation gives no render targets (Tutorial25's gives none), the callback sets
+// count and format. Forgetting the patch is caught at unpack with the fix in the message, never a
+// pipeline that silently draws nothing; and the callback is told which targets the pixel shader writes.
+TEST_F(UnpackAllPatch, RenderTargetsLeftToRunTimeMustBeSetByTheCallback) {
+  auto archive = Archive::from_file(STATEPACK_RUN_TIME_TARGETS_ARCHIVE);
+  ASSERT_TRUE(archive) << archive.error().message;
+  auto dearchiver = Dearchiver::create({vk_->physical_device, vk_->device});
+  ASSERT_TRUE(dearchiver) << dearchiver.error().message;
+  ASSERT_TRUE(dearchiver->add_archive(std::move(*archive)));
+  constexpr const char* kName = "Targets Set At Run Time PSO";
+
+  const std::string expected =
+      "pipeline 'Targets Set At Run Time PSO': its pixel shader 'Gradient PS' writes render target 0, but "
+      "the pipeline has 0 render target(s): the notation leaves them to run time, so set "
+      "PatchableState::color_count (to at least 1) and color_formats in the modify callback";
+  auto unpatched = dearchiver->unpack_graphics(kName);
+  ASSERT_FALSE(unpatched);
+  EXPECT_EQ(unpatched.error().code, ErrorCode::invalid_argument);
+  EXPECT_EQ(unpatched.error().message, expected);
+  // A callback that runs but forgets the count fails the same way; so does unpack_all.
+  uint32_t written = 0;
+  auto forgot = dearchiver->unpack_graphics(kName, [&](PatchableState& s) {
+    written = s.written_color_targets;
+    s.written_color_targets = 0;  // read only: changing it must not hide the mistake
+  });
+  ASSERT_FALSE(forgot);
+  EXPECT_EQ(forgot.error().message, expected);
+  EXPECT_EQ(written, 1u);
+  auto all = dearchiver->unpack_all();
+  ASSERT_FALSE(all);
+  EXPECT_EQ(all.error().message, expected);
+  // A count without a format is the UNKNOWN error, naming the slot.
+  auto no_format = dearchiver->unpack_graphics(kName, [](PatchableState& s) { s.color_count = 1; });
+  ASSERT_FALSE(no_format);
+  EXPECT_NE(no_format.error().message.find("render target 0 is UNKNOWN"), std::string::npos)
+      << no_format.error().message;
+
+  // Patched as Tutorial25's callback does, it draws the gradient into the target it was given.
+  auto patched = dearchiver->unpack_graphics(kName, [](PatchableState& s) {
+    s.color_count = 1;
+    s.color_formats[0] = VK_FORMAT_B8G8R8A8_UNORM;
+  });
+  ASSERT_TRUE(patched) << patched.error().message;
+  constexpr uint32_t kWidth = 16, kHeight = 12;
+  expect_gradient(render_fullscreen(**patched, VK_FORMAT_B8G8R8A8_UNORM, kWidth, kHeight), kWidth, kHeight,
+                  /*bgra*/ true, kName);
+}
+
 }  // namespace
 }  // namespace statepack::testing

@@ -411,6 +411,13 @@ const SpecConstant* Module::find_spec_constant(uint32_t constant_id) const {
   return it != spec_constants.end() && it->constant_id == constant_id ? &*it : nullptr;
 }
 
+uint32_t Module::output_location_mask() const {
+  uint32_t mask = 0;
+  for (const Input& o : outputs)
+    for (uint64_t l = o.location; l < uint64_t(o.location) + o.locations && l < 32; ++l) mask |= 1u << l;
+  return mask;
+}
+
 bool Module::uses(const EntryPoint& entry, uint32_t variable) const {
   if (version < 0x00010400u) return true;
   return std::binary_search(entry.interface.begin(), entry.interface.end(), variable);  // sorted by walk()

@@ -71,6 +71,9 @@ struct Module {
   std::vector<SpecConstant> spec_constants;  // sorted by constant_id
 
   const SpecConstant* find_spec_constant(uint32_t constant_id) const;
+  // Bit i set: an output occupies location i (0-31). For a fragment shader, the render targets it
+  // writes, which a pipeline must give a target each (pack says so, unpack insists once patched).
+  uint32_t output_location_mask() const;
 
   const EntryPoint* find(uint32_t execution_model, std::string_view name) const;
   // Whether the entry point may use the variable: from SPIR-V 1.4 on, its interface lists every global

@@ -1,6 +1,7 @@
 #include "pipeline_plan.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cstring>
 #include <exception>
 #include <new>
@@ -133,6 +134,14 @@ Result<std::unique_ptr<Plan>> Planner::plan_graphics(const ArchivedPipeline& fou
                  "pipeline '" + name + "' uses dynamic rendering, which the device was not created with"};
   // The state is settled and checked first, so that nothing is created for a pipeline that fails.
   PatchableState settled = to_patchable(*found.pipeline);
+  const format::Shader* pixel_shader = nullptr;
+  for (uint32_t index : found.pipeline->shaders)
+    if (cache_.contents(found.archive).shaders[index].stage == VK_SHADER_STAGE_FRAGMENT_BIT)
+      pixel_shader = &cache_.contents(found.archive).shaders[index];
+  if (pixel_shader)
+    if (const spirv::Module* module = cache_.walked(found.archive, pixel_shader->blob))
+      settled.written_color_targets = module->output_location_mask();
+  const uint32_t written = settled.written_color_targets;  // what the callback does to it is ignored
   if (modify) {
     const PatchableState before = settled;
     if (auto thrown = run_modify(name, modify, settled)) return *thrown;
@@ -147,6 +156,17 @@ Result<std::unique_ptr<Plan>> Planner::plan_graphics(const ArchivedPipeline& fou
   // Every value the callback left is checked as the archive's were at load, before any reaches Vulkan.
   if (modify)
     if (auto bad = check_patched_state(name, settled)) return *bad;
+  // The notation may leave render targets to run time (pack notes it); what the pixel shader writes
+  // must have a target once the callback has run, or the picture would silently stay blank.
+  if (const uint32_t beyond = written & ~uint32_t((1ull << std::min(settled.color_count, 32u)) - 1))
+    return Error{ErrorCode::invalid_argument,
+                 "pipeline '" + name + "': its pixel shader '" + pixel_shader->name +
+                     "' writes render target " + std::to_string(std::countr_zero(beyond)) +
+                     ", but the pipeline has " + std::to_string(settled.color_count) +
+                     " render target(s): the notation leaves them to run time, so set "
+                     "PatchableState::color_count (to at least " +
+                     std::to_string(32 - std::countl_zero(written)) +
+                     ") and color_formats in the modify callback"};
   // UNKNOWN in RTVFormats means "set at run time" (a swapchain's format): left unset, it is an error
   // rather than a pipeline silently created for VK_FORMAT_UNDEFINED.
   if (!uses_render_pass)

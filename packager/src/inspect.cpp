@@ -12,6 +12,7 @@
 #include "archive_file.hpp"
 #include "archive_format.hpp"
 #include "packer.hpp"
+#include "spirv_walk.hpp"
 
 namespace statepack::packager {
 namespace {
@@ -138,6 +139,16 @@ Json graphics_json(const format::Contents& c, const format::Pipeline& p) {
     formats.push_back(target);
   }
   j["render_targets"] = formats;
+  // Targets the pixel shader writes beyond the archive's count: the notation left them to run time.
+  Json run_time = Json::array();
+  for (uint32_t index : p.shaders) {
+    if (index >= c.shaders.size() || c.shaders[index].stage != VK_SHADER_STAGE_FRAGMENT_BIT) continue;
+    auto module = spirv::walk(c.spirv.at(c.shaders[index].blob));
+    const uint32_t written = module ? module->output_location_mask() : 0;
+    for (uint32_t l = g.color_count; l < 32; ++l)
+      if (written & (1u << l)) run_time.push_back(l);
+  }
+  if (!run_time.empty()) j["run_time_render_targets"] = run_time;
   j["depth_stencil_format"] = vk::to_string(vk::Format(g.depth_stencil_format));
   Json bindings = Json::array(), attributes = Json::array();
   for (const auto& b : g.vertex_bindings)
@@ -381,6 +392,10 @@ void print_text(const Json& j, std::ostream& out) {
         out << " "
             << (t["format"] == "Undefined" ? std::string("UNKNOWN (set at unpack)")
                                            : t["format"].get<std::string>());
+      if (g.contains("run_time_render_targets")) {
+        out << " + set at run time:";
+        for (const auto& l : g["run_time_render_targets"]) out << " " << l.get<uint32_t>();
+      }
       if (g["render_pass"] != "none") out << ", render pass '" << text(g["render_pass"]) << "'";
       out << "\n";
       out << "    raster: " << g["polygon_mode"].get<std::string>() << ", front face "

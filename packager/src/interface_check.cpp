@@ -309,22 +309,32 @@ bool check_render_targets(const PipelineDesc& p, const format::GraphicsState& g,
                       from_render_pass ? gp + "/pRenderPass" : gp + "/RTVFormats/" + std::to_string(i));
   };
   bool ok = true;
+  std::set<uint32_t> run_time_targets;  // written, with no target in the notation: the callback's to set
   if (ps) {
     for (const InterfaceVariable& v : ps->reflection->outputs) {
       if (v.base == Base::other) continue;
       for (uint32_t e = 0; e < std::min<uint32_t>(v.array_size, 64); ++e) {
         const uint32_t location = v.location + e;
-        if (location >= g.color_count) {
-          const std::string targets = from_render_pass
-                                          ? "subpass " + std::to_string(p.subpass) + " of render pass '" +
-                                                p.render_pass + "' has " + std::to_string(g.color_count) +
-                                                " color attachment(s)"
-                                          : "the pipeline has " + std::to_string(g.color_count) +
-                                                " render target(s) (NumRenderTargets and RTVFormats)";
-          diag.error(sources.at(p.where, from_render_pass ? gp + "/pRenderPass" : gp),
+        if (location >= format::kMaxColorTargets) {  // no patch can give a pipeline a ninth target
+          diag.error(sources.at(p.where, gp),
                      "pipeline '" + p.name + "': " + shader_text(*ps) + " writes " + describe(v, *ps) +
-                         " to location " + std::to_string(location) + ", but " + targets +
-                         ": nothing would be drawn");
+                         " to location " + std::to_string(location) + ", but a pipeline has at most " +
+                         std::to_string(format::kMaxColorTargets) + " render targets");
+          ok = false;
+          break;
+        }
+        if (location >= g.color_count && !from_render_pass) {
+          // Diligent's workflow: the application sets the count and formats in its modify callback
+          // (Tutorial25's notation gives none), so the truth is known at unpack, which checks it.
+          run_time_targets.insert(location);
+          continue;
+        }
+        if (location >= g.color_count) {  // a render pass fixes its attachments: no patch can add one
+          diag.error(sources.at(p.where, gp + "/pRenderPass"),
+                     "pipeline '" + p.name + "': " + shader_text(*ps) + " writes " + describe(v, *ps) +
+                         " to location " + std::to_string(location) + ", but subpass " +
+                         std::to_string(p.subpass) + " of render pass '" + p.render_pass + "' has " +
+                         std::to_string(g.color_count) + " color attachment(s): nothing would be drawn");
           ok = false;
           break;
         }
@@ -341,6 +351,15 @@ bool check_render_targets(const PipelineDesc& p, const format::GraphicsState& g,
         }
       }
     }
+  }
+  if (!run_time_targets.empty()) {
+    std::string list;
+    for (uint32_t l : run_time_targets) list += (list.empty() ? "" : ", ") + std::to_string(l);
+    diag.note(sources.at(p.where, gp),
+              "pipeline '" + p.name + "': " + shader_text(*ps) + " writes render target(s) " + list +
+                  ", which the notation leaves to run time (" + std::to_string(g.color_count) +
+                  " in NumRenderTargets/RTVFormats): the modify callback must set them "
+                  "(PatchableState::color_count and color_formats), or unpacking fails");
   }
   for (uint32_t i = 0; i < g.color_count && i < format::kMaxColorTargets; ++i) {
     const uint32_t format = g.color_formats[i];

@@ -1,5 +1,6 @@
 #include "verify.hpp"
 
+#include <bit>
 #include <ostream>
 
 #include "diagnostics.hpp"
@@ -28,14 +29,18 @@ const char* kind_name(ObjectKind kind) {
   return "object";
 }
 
-// `patched_slots` receives the render targets the archive leaves UNKNOWN, which the application must
-// set at run time: verify shows them.
+// `patched_slots` receives the render targets the archive leaves to run time (UNKNOWN, or absent while
+// the pixel shader writes them), which the application must set: verify shows them.
 Result<void> unpack_one(Dearchiver& dearchiver, const ObjectInfo& object, VkFormat color_format,
                         std::vector<uint32_t>& patched_slots) {
   switch (object.kind) {
     case ObjectKind::graphics_pipeline: {
       // A render target left UNKNOWN is patched at run time (a swapchain format): verify it with one.
       auto patched = dearchiver.unpack_graphics(object.name, [&](PatchableState& s) {
+        // Targets the notation leaves to run time (the pixel shader writes more than it gives) are
+        // added as the application's callback would add them.
+        const uint32_t written = uint32_t(32 - std::countl_zero(s.written_color_targets));
+        if (written > s.color_count && written <= s.color_formats.size()) s.color_count = written;
         for (uint32_t i = 0; i < s.color_count && i < s.color_formats.size(); ++i)
           if (s.color_formats[i] == VK_FORMAT_UNDEFINED) {
             s.color_formats[i] = color_format;
@@ -134,7 +139,7 @@ int run_verify(const VerifyOptions& options, std::ostream& out, std::ostream& er
         auto messages = new_messages();
         std::string what = std::string(kind_name(object.kind)) + " '" + printable(object.name) + "'";
         if (!patched_slots.empty()) {
-          what += " (UNKNOWN render target";
+          what += " (render target";
           for (size_t i = 0; i < patched_slots.size(); ++i)
             what += (i ? ", " : patched_slots.size() > 1 ? "s " : " ") + std::to_string(patched_slots[i]);
           what += ", set at run time: verified as " + format_name(options.color_format) + ")";

@@ -123,8 +123,14 @@ struct SpecializationConstant {
 // uses an explicit render pass the attachment formats and sample count come from the render pass and
 // must stay as they are.
 struct PatchableState {
+  // Render targets. A notation may leave them to run time (Diligent's Tutorial25 gives none: its
+  // callback sets the count and the formats); after the callback, every location the pixel shader
+  // writes needs a target, and a format that is not UNKNOWN, or the unpack fails naming the location.
   uint32_t color_count = 0;
   std::array<VkFormat, 8> color_formats{};
+  // Read only, for the callback: bit i is set when the pixel shader writes render target i. A generic
+  // callback can size color_count from it; changing it changes nothing.
+  uint32_t written_color_targets = 0;
   VkFormat depth_stencil_format = VK_FORMAT_UNDEFINED;
   VkSampleCountFlagBits samples = VK_SAMPLE_COUNT_1_BIT;
   std::array<BlendAttachmentState, 8> blend{};
