@@ -28,9 +28,9 @@ bool build_gl_layout(const PipelineDesc& p, const std::vector<StageInput>& stage
     const std::string shader = "shader '" + stage.desc->name + "'";
     if (stage.reflection->push_constant_size > 0) {
       diag.error(stage.desc->where, who + ": " + shader +
-                                        " has push constants, which OpenGL does not have; declare them as a "
-                                        "uniform block when GL_SPIRV is defined (#ifdef VULKAN for the push "
-                                        "constants)");
+                                        " has push constants when VULKAN is not defined, which OpenGL does "
+                                        "not have; declare a uniform block there, or drop the #ifdef VULKAN "
+                                        "branches to let statepack translate the Vulkan code");
       ok = false;
     }
     for (const ReflectedBinding& b : stage.reflection->bindings) {

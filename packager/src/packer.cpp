@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <bit>
 #include <map>
 #include <mutex>
 #include <ostream>
@@ -14,6 +15,7 @@
 #include "archive_format.hpp"
 #include "contents_builder.hpp"
 #include "gl_layout.hpp"
+#include "gl_translate.hpp"
 #include "input_file.hpp"
 #include "inspect.hpp"
 #include "interface_check.hpp"
@@ -21,6 +23,7 @@
 #include "pipeline_layout.hpp"
 #include "specialization.hpp"
 #include "spirv_reflect.hpp"
+#include "spirv_walk.hpp"
 #include "version.hpp"
 
 namespace statepack::packager {
@@ -149,11 +152,9 @@ struct CompiledShaders {
 
 // Compiles on all cores. Every shader whose own description is usable is compiled, even when other
 // objects have notation errors, so one run reports both (docs/cli.md).
-// `refused`: shaders not to compile (by compile_key), each with the error to report instead.
-// `pipelines_only`: the standalone Shaders are left out (the OpenGL block stores pipelines only).
+// `pipelines_only`: the standalone Shaders are left out (--opengl alone: its block stores pipelines only).
 CompiledShaders compile_shaders(const Notation& notation, const PackOptions& options, Diagnostics& diag,
-                                const std::map<std::string, std::string>& refused = {},
-                                bool pipelines_only = false) {
+                                bool pipelines_only) {
   CompiledShaders out;
   std::map<std::string, size_t> unit_by_key;
   auto unit_for = [&](const ShaderDesc& s) {
@@ -172,10 +173,6 @@ CompiledShaders compile_shaders(const Notation& notation, const PackOptions& opt
   parallel_for(out.units.size(), options.threads, [&](size_t i) {
     CompiledUnit& u = out.units[i];
     if (u.desc.broken) return;  // its notation errors are reported; compiling it would guess
-    if (auto it = refused.find(compile_key(u.desc)); it != refused.end()) {
-      diag.error(u.desc.where, it->second);
-      return;
-    }
     u.compiled = compile_shader(u.desc, options.compile, compile_errors);
     if (!u.compiled.ok) return;
     u.reflection = reflect_spirv(u.compiled.spirv, u.desc.stage);
@@ -258,24 +255,93 @@ Plan plan_archive(const Notation& notation, const CompiledShaders& compiled, Con
   return plan;
 }
 
-// Shaders whose Vulkan compilation declares what OpenGL has no binding for: separate samplers and sampled
-// images, input attachments. glslang's OpenGL front end would only report a syntax error at the
-// declaration ("unexpected IDENTIFIER"), so they are refused by name instead of compiled.
-std::map<std::string, std::string> refused_for_opengl(const CompiledShaders& vulkan) {
-  std::map<std::string, std::string> refused;
-  for (const CompiledUnit& u : vulkan.units) {
-    if (!u.compiled.ok) continue;
-    std::string names;
-    for (const ReflectedBinding& b : u.reflection.bindings)
-      if (!format::gl_namespace_of(b.descriptor_type))
-        names += std::string(names.empty() ? "" : ", ") + "'" + b.name + "' (" +
-                 format::descriptor_type_name(b.descriptor_type) + ")";
-    if (!names.empty())
-      refused.emplace(compile_key(u.desc), "shader '" + u.desc.name + "' (OpenGL): declares " + names +
-                                               ", which OpenGL does not have; use combined samplers "
-                                               "(sampler2D and the like) when GL_SPIRV is defined");
+// What a backend-specific GLSL source (one that tests VULKAN or GL_SPIRV, compiled for OpenGL from its
+// own text) declares that OpenGL has no binding for: separate samplers and sampled images, input
+// attachments. glslang's OpenGL front end would only report a syntax error at the declaration
+// ("unexpected IDENTIFIER"), so they are refused by name instead. `""` when there are none.
+std::string refused_for_opengl(const CompiledUnit& vulkan) {
+  std::string names;
+  for (const ReflectedBinding& b : vulkan.reflection.bindings)
+    if (!format::gl_namespace_of(b.descriptor_type))
+      names += std::string(names.empty() ? "" : ", ") + "'" + b.name + "' (" +
+               format::descriptor_type_name(b.descriptor_type) + ")";
+  if (names.empty()) return "";
+  return "shader '" + vulkan.desc.name + "' (OpenGL): declares " + names +
+         " when VULKAN is not defined, which OpenGL does not have; use combined samplers (sampler2D and "
+         "the like) there, or drop the #ifdef VULKAN branches to let statepack translate the Vulkan code";
+}
+
+// One shader for OpenGL from its Vulkan unit: SPIR-V translated (gl_translate.hpp), or, for GLSL that
+// tests VULKAN or GL_SPIRV, its own text compiled again with glslang's OpenGL client.
+void make_opengl_unit(const CompiledUnit& vulkan, const PackOptions& options, CompiledUnit& out,
+                      ShaderMessages& direct_errors, Diagnostics& diag) {
+  const std::string who = "shader '" + vulkan.desc.name + "' (OpenGL)";
+  out.desc = vulkan.desc;
+  if (vulkan.compiled.backend_specific) {
+    if (std::string refused = refused_for_opengl(vulkan); !refused.empty()) {
+      diag.error(vulkan.desc.where, refused);
+      return;
+    }
+    CompileOptions gl = options.compile;
+    gl.opengl = true;
+    out.compiled = compile_shader(vulkan.desc, gl, direct_errors);
+  } else {
+    GlTranslation t = translate_for_opengl(vulkan.compiled.spirv, "_sampler");
+    if (!t.unsupported.empty()) {
+      diag.error(vulkan.desc.where, who + ": uses " + t.unsupported + ", which OpenGL 4.5 does not have");
+      return;
+    }
+    if (!t.error.empty()) {
+      diag.error(vulkan.desc.where,
+                 who + ": SPIRV-Cross cannot translate its Vulkan SPIR-V to GLSL: " + t.error);
+      return;
+    }
+    std::string log;
+    out.compiled.spirv = compile_generated_glsl(t.glsl, vulkan.desc.stage, log);
+    if (out.compiled.spirv.empty()) {
+      while (!log.empty() && (log.back() == '\n' || log.back() == ' ')) log.pop_back();
+      for (char& c : log)
+        if (c == '\n') c = ' ';
+      diag.error(vulkan.desc.where, who +
+                                        ": the GLSL translated from its Vulkan SPIR-V does not compile for "
+                                        "OpenGL 4.5 (a statepack limitation worth reporting): " +
+                                        log);
+      return;
+    }
+    out.desc.entry_point = "main";  // SPIRV-Cross names the entry point main
+    out.compiled.ok = true;
+    out.reflection = reflect_spirv(out.compiled.spirv, out.desc.stage);
+    for (ReflectedBinding& b : out.reflection.bindings)  // the Vulkan names, whatever GLSL allowed
+      if (auto it = t.name_of_binding.find(b.binding); it != t.name_of_binding.end()) b.name = it->second;
+    if (!out.reflection.error.empty()) out.compiled.ok = false;
+    if (!out.reflection.error.empty())
+      diag.error(vulkan.desc.where, who + ": SPIR-V reflection failed: " + out.reflection.error);
+    return;
   }
-  return refused;
+  if (!out.compiled.ok) return;
+  out.reflection = reflect_spirv(out.compiled.spirv, out.desc.stage);
+  if (!out.reflection.error.empty()) {
+    out.compiled.ok = false;
+    diag.error(vulkan.desc.where, who + ": SPIR-V reflection failed: " + out.reflection.error);
+  }
+}
+
+// Every pipeline's shaders for OpenGL, unit for unit beside the Vulkan ones (the same pipeline_units),
+// on all cores. Standalone Shaders are left out: the OpenGL block stores pipelines only.
+CompiledShaders opengl_units(const CompiledShaders& vulkan, const PackOptions& options, Diagnostics& diag) {
+  CompiledShaders out;
+  out.pipeline_units = vulkan.pipeline_units;
+  out.units.resize(vulkan.units.size());
+  std::vector<char> used(vulkan.units.size(), 0);
+  for (const auto& units : vulkan.pipeline_units)
+    for (size_t u : units) used[u] = 1;
+  ShaderMessages direct_errors;
+  parallel_for(vulkan.units.size(), options.threads, [&](size_t u) {
+    if (used[u] && vulkan.units[u].compiled.ok)
+      make_opengl_unit(vulkan.units[u], options, out.units[u], direct_errors, diag);
+  });
+  direct_errors.report(diag);
+  return out;
 }
 
 // The OpenGL backend: each pipeline from its shaders compiled for OpenGL, with its own binding table
@@ -311,7 +377,18 @@ void add_opengl(const Notation& notation, const CompiledShaders& compiled, const
         !check_graphics_interfaces(p, p.graphics, stages, notation.sources, diag))
       continue;
     format::GlPipeline out{p.name, p.kind, {}, std::move(layout.bindings), {}, std::move(constants)};
-    if (p.kind == format::PipelineKind::graphics) out.graphics = p.graphics;  // with its subpass's formats
+    if (p.kind == format::PipelineKind::graphics) {
+      out.graphics = p.graphics;  // with its subpass's formats
+      // OpenGL takes formats from the framebuffer; what it needs is a blend state for every target the
+      // pixel shader writes, also those the notation leaves to run time (their blend state is stored).
+      for (const StageInput& stage : stages)
+        if (stage.desc->stage == VK_SHADER_STAGE_FRAGMENT_BIT)
+          if (auto module = spirv::walk(*stage.spirv))
+            out.graphics.color_count =
+                std::max<uint32_t>(out.graphics.color_count,
+                                   std::min<uint32_t>(format::kMaxColorTargets,
+                                                      32 - std::countl_zero(module->output_location_mask())));
+    }
     bool ok = true;
     for (size_t s = 0; s < stages.size(); ++s) {
       std::vector<uint32_t>& spirv = layout.patched_spirv[s];
@@ -440,18 +517,12 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err) {
               "no pipelines, shaders, signatures or render passes: the archive is empty");
   // Layouts and pipelines are planned only from an error-free notation; shaders compile regardless.
   const bool notation_ok = !diag.has_errors();
+  // OpenGL is made from the Vulkan compile (translated, or checked against it), so --opengl alone
+  // compiles the pipelines' shaders for Vulkan too.
   CompiledShaders compiled, gl_compiled;
-  if (options.vulkan) compiled = compile_shaders(notation, options, diag);
+  if (options.vulkan || options.opengl) compiled = compile_shaders(notation, options, diag, !options.vulkan);
   if (options.opengl) {
-    // OpenGL alone still compiles the pipelines for Vulkan, unreported, to name what OpenGL cannot bind
-    // (glslang's OpenGL front end only reports a syntax error there).
-    Diagnostics unreported(0);
-    const CompiledShaders vulkan_view =
-        options.vulkan ? CompiledShaders{} : compile_shaders(notation, options, unreported, {}, true);
-    PackOptions gl = options;
-    gl.compile.opengl = true;
-    gl_compiled = compile_shaders(notation, gl, diag,
-                                  refused_for_opengl(options.vulkan ? compiled : vulkan_view), true);
+    gl_compiled = opengl_units(compiled, options, diag);
     if (!options.vulkan &&
         (!notation.shaders.empty() || !notation.signatures.empty() || !notation.render_passes.empty()))
       diag.warning(

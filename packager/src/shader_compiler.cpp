@@ -68,6 +68,8 @@ class Includer final : public glslang::TShader::Includer {
 
   // The first problem that stopped an include, if any; it explains glslang's error better.
   const std::string& problem() const { return problem_; }
+  // Whether an included file tests VULKAN or GL_SPIRV.
+  bool backend_specific() const { return backend_specific_; }
 
  private:
   IncludeResult* open(const std::string& header, const fs::path& path, size_t depth) {
@@ -100,6 +102,7 @@ class Includer final : public glslang::TShader::Includer {
       return nullptr;
     }
     files_read_.push_back({fs::absolute(path, ec).lexically_normal(), input.identity});
+    backend_specific_ = backend_specific_ || tests_backend_macros(input.text);
     chain_.push_back(canonical);
     auto* owned = new std::string(std::move(input.text));
     // The name glslang puts in its messages (and resolves nested includes against): relative to the
@@ -112,6 +115,7 @@ class Includer final : public glslang::TShader::Includer {
   std::vector<fs::path> chain_;  // canonical paths: the shader, then each open #include
   uint64_t included_bytes_ = 0;
   std::string problem_;
+  bool backend_specific_ = false;
 };
 
 // glslang logs "ERROR: file:line: message"; turn each into a diagnostic at that file and line. Parsed
@@ -159,6 +163,11 @@ void report_log(const std::string& log, const ShaderDesc& shader, ShaderMessages
   }
 }
 
+void initialize_glslang() {
+  static std::once_flag initialized;
+  std::call_once(initialized, [] { glslang::InitializeProcess(); });
+}
+
 spv_target_env target_env(const CompileOptions& options) {
   if (options.opengl) return SPV_ENV_OPENGL_4_5;
   switch (options.vulkan_version >> 12 & 0x3FF) {  // minor of VK_MAKE_API_VERSION
@@ -200,8 +209,7 @@ std::string remove_unused_globals(std::vector<uint32_t>& spirv, const CompileOpt
 
 CompiledShader compile_shader(const ShaderDesc& original, const CompileOptions& options,
                               ShaderMessages& errors) {
-  static std::once_flag initialized;
-  std::call_once(initialized, [] { glslang::InitializeProcess(); });
+  initialize_glslang();
 
   CompiledShader result;
   // The OpenGL compile's messages say so: the same source may compile for Vulkan and fail for OpenGL.
@@ -211,12 +219,6 @@ CompiledShader compile_shader(const ShaderDesc& original, const CompileOptions& 
     renamed.name += " (OpenGL)";
   }
   const ShaderDesc& shader = options.opengl ? renamed : original;
-  if (options.opengl && shader.language == SourceLanguage::hlsl) {
-    errors.error(shader.where, shader.name,
-                 "the OpenGL backend compiles GLSL only; give this pipeline a GLSL shader or pack it "
-                 "for Vulkan alone");
-    return result;
-  }
   std::string source = shader.source;
   std::string file_name = "<inline source of '" + shader.name + "'>";
   if (!shader.file.empty()) {
@@ -306,6 +308,7 @@ CompiledShader compile_shader(const ShaderDesc& original, const CompileOptions& 
     report_log(program.getInfoLog(), shader, errors, file_name);
     return result;
   }
+  result.backend_specific = !hlsl && (tests_backend_macros(source) || includer.backend_specific());
   glslang::SpvOptions spv_options;
   spv_options.disableOptimizer = true;
   spv::SpvBuildLogger logger;
@@ -331,6 +334,61 @@ CompiledShader compile_shader(const ShaderDesc& shader, const CompileOptions& op
   CompiledShader result = compile_shader(shader, options, errors);
   errors.report(diag);
   return result;
+}
+
+bool tests_backend_macros(std::string_view text) {
+  size_t start = 0;
+  while (start < text.size()) {
+    size_t end = text.find('\n', start);
+    if (end == std::string_view::npos) end = text.size();
+    std::string_view line = text.substr(start, end - start);
+    start = end + 1;
+    const size_t hash = line.find_first_not_of(" \t");
+    if (hash == std::string_view::npos || line[hash] != '#') continue;
+    std::string_view directive = line.substr(hash + 1);
+    directive.remove_prefix(std::min(directive.size(), directive.find_first_not_of(" \t")));
+    if (!directive.starts_with("if") && !directive.starts_with("elif")) continue;  // #if, #ifdef, #ifndef
+    for (std::string_view name : {std::string_view("VULKAN"), std::string_view("GL_SPIRV")})
+      for (size_t at = directive.find(name); at != std::string_view::npos;
+           at = directive.find(name, at + 1)) {
+        auto word = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; };
+        const bool starts = at == 0 || !word(directive[at - 1]);
+        const bool ends = at + name.size() == directive.size() || !word(directive[at + name.size()]);
+        if (starts && ends) return true;
+      }
+  }
+  return false;
+}
+
+std::vector<uint32_t> compile_generated_glsl(const std::string& glsl, uint32_t vk_stage, std::string& log) {
+  initialize_glslang();
+  const EShLanguage stage = to_glslang_stage(vk_stage);
+  glslang::TShader ts(stage);
+  const char* strings[] = {glsl.c_str()};
+  ts.setStrings(strings, 1);
+  ts.setEntryPoint("main");
+  ts.setEnvInput(glslang::EShSourceGlsl, stage, glslang::EShClientOpenGL, 450);
+  ts.setEnvClient(glslang::EShClientOpenGL, glslang::EShTargetOpenGL_450);
+  ts.setEnvTarget(glslang::EShTargetSpv, glslang::EShTargetSpv_1_0);
+  const auto messages = static_cast<EShMessages>(EShMsgSpvRules | EShMsgEnhanced);
+  glslang::TShader::ForbidIncluder no_includes;
+  glslang::TProgram program;
+  std::vector<uint32_t> spirv;
+  if (!ts.parse(GetDefaultResources(), 450, false, messages, no_includes)) {
+    log = ts.getInfoLog();
+    return spirv;
+  }
+  program.addShader(&ts);
+  if (!program.link(messages) || !program.mapIO()) {
+    log = program.getInfoLog();
+    return spirv;
+  }
+  glslang::SpvOptions spv_options;
+  spv_options.disableOptimizer = true;
+  spv::SpvBuildLogger logger;
+  glslang::GlslangToSpv(*program.getIntermediate(stage), spirv, &logger, &spv_options);
+  if (spirv.empty()) log = "SPIR-V generation failed: " + logger.getAllMessages();
+  return spirv;
 }
 
 std::string finalize_spirv(std::vector<uint32_t>& spirv, const CompileOptions& options) {

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "diagnostics.hpp"
@@ -29,6 +30,7 @@ struct CompileOptions {
 struct CompiledShader {
   std::vector<uint32_t> spirv;
   std::vector<InputFile> files_read;  // the source and every #include, for the depfile and output checks
+  bool backend_specific = false;      // GLSL whose text (or an #include's) tests_backend_macros
   bool ok = false;
 };
 
@@ -39,6 +41,15 @@ CompiledShader compile_shader(const ShaderDesc& shader, const CompileOptions& op
 // The same for a single shader, its errors added to `diagnostics` at once.
 CompiledShader compile_shader(const ShaderDesc& shader, const CompileOptions& options,
                               Diagnostics& diagnostics);
+
+// Compiles GLSL that statepack itself generated (the OpenGL translation, gl_translate.hpp) with glslang's
+// OpenGL client: no includes, no macros. Empty SPIR-V, with glslang's log in `log`, when it fails.
+std::vector<uint32_t> compile_generated_glsl(const std::string& glsl, uint32_t stage, std::string& log);
+
+// Whether a GLSL source or one of its #includes tests VULKAN or GL_SPIRV in a preprocessor directive
+// (#if, #ifdef, #ifndef, #elif): its author wrote code per backend, so the OpenGL backend compiles its
+// own text rather than translating its Vulkan SPIR-V.
+bool tests_backend_macros(std::string_view source);
 
 // Optimises and strips `spirv` as the options say, then validates it with SPIRV-Tools.
 // Returns an empty string on success, else the reason.

@@ -1,0 +1,211 @@
+#include "gl_translate.hpp"
+
+#include <spirv_cross/spirv_cross_c.h>
+
+#include <algorithm>
+#include <set>
+#include <string_view>
+#include <tuple>
+
+namespace statepack::packager {
+namespace {
+
+// Owns a SPIRV-Cross context (and so every object made from it).
+struct Context {
+  spvc_context handle = nullptr;
+  ~Context() {
+    if (handle) spvc_context_destroy(handle);
+  }
+};
+
+// Vulkan features OpenGL 4.5 (with GL_ARB_gl_spirv) has no form for, by the capability that declares
+// them; said by name instead of a glslang error about generated text.
+struct Refused {
+  SpvCapability capability;
+  const char* feature;
+};
+constexpr Refused kRefusedCapabilities[] = {
+    {SpvCapabilityInputAttachment, "input attachments (subpassInput; OpenGL has no subpasses)"},
+    {SpvCapabilityPhysicalStorageBufferAddresses, "buffer device addresses (buffer_reference)"},
+    {SpvCapabilityRayQueryKHR, "ray queries (GL_EXT_ray_query)"},
+    {SpvCapabilityMultiView, "multiview (gl_ViewIndex)"},
+    {SpvCapabilityDrawParameters, "draw parameters (gl_BaseVertex, gl_BaseInstance, gl_DrawID)"},
+    {SpvCapabilityRuntimeDescriptorArray, "runtime-sized descriptor arrays (descriptor indexing)"},
+    {SpvCapabilityShaderNonUniform, "nonuniformEXT descriptor indexing"},
+    {SpvCapabilityFragmentShadingRateKHR, "fragment shading rates"},
+    {SpvCapabilityStorageBuffer8BitAccess, "8-bit storage buffer access"},
+    {SpvCapabilityUniformAndStorageBuffer8BitAccess, "8-bit uniform buffer access"},
+    {SpvCapabilityStoragePushConstant8, "8-bit push constants"},
+    {SpvCapabilityStorageBuffer16BitAccess, "16-bit storage buffer access"},
+    {SpvCapabilityUniformAndStorageBuffer16BitAccess, "16-bit uniform buffer access"},
+    {SpvCapabilityStoragePushConstant16, "16-bit push constants"},
+    {SpvCapabilityStorageInputOutput16, "16-bit stage inputs and outputs"},
+    {SpvCapabilityDeviceGroup, "device groups (gl_DeviceIndex)"},
+    {SpvCapabilityFragmentDensityEXT, "fragment density maps"},
+    {SpvCapabilityVulkanMemoryModel, "the Vulkan memory model"},
+    {SpvCapabilityFragmentShaderPixelInterlockEXT, "fragment shader interlock"},
+};
+
+// What stops the translation before it starts, by name; empty when nothing does.
+std::string refused_features(spvc_compiler compiler, spvc_resources resources) {
+  std::string out;
+  auto add = [&](const std::string& what) { out += (out.empty() ? "" : ", ") + what; };
+  const SpvCapability* capabilities = nullptr;
+  size_t count = 0;
+  spvc_compiler_get_declared_capabilities(compiler, &capabilities, &count);
+  for (const Refused& r : kRefusedCapabilities)
+    if (std::find(capabilities, capabilities + count, r.capability) != capabilities + count) add(r.feature);
+  const spvc_reflected_resource* list = nullptr;
+  spvc_resources_get_resource_list_for_type(resources, SPVC_RESOURCE_TYPE_ACCELERATION_STRUCTURE, &list,
+                                            &count);
+  if (count > 0) add("acceleration structures (ray tracing)");
+  spvc_resources_get_resource_list_for_type(resources, SPVC_RESOURCE_TYPE_SUBPASS_INPUT, &list, &count);
+  if (count > 0 && out.find("input attachments") == std::string::npos)
+    add("input attachments (subpassInput; OpenGL has no subpasses)");
+  return out;
+}
+
+// One resource the GLSL declares, in Vulkan's declaration order.
+struct Declared {
+  uint32_t set = 0, binding = 0;
+  std::string name;
+  spvc_variable_id id = 0;
+  bool separate_image = false;  // its combined samplers take its place
+  bool push_constants = false;  // after every other resource
+  auto key() const { return std::tie(push_constants, set, binding, name); }
+};
+
+// SPIRV-Cross writes a specialization constant, outside Vulkan semantics, as a macro the application
+// would define when compiling GLSL at run time:
+//   #ifndef SPIRV_CROSS_CONSTANT_ID_3
+//   #define SPIRV_CROSS_CONSTANT_ID_3 64u
+//   #endif
+//   const uint kCount = SPIRV_CROSS_CONSTANT_ID_3;
+// GL_ARB_gl_spirv has real specialization constants (glSpecializeShader), so the declaration gets its
+// constant_id back. (Work-group sizes given by constants stay the macro: their default values.)
+void restore_specialization_constants(std::string& glsl) {
+  static constexpr std::string_view kMacro = " = SPIRV_CROSS_CONSTANT_ID_";
+  std::string out;
+  out.reserve(glsl.size() + 256);
+  size_t start = 0;
+  while (start < glsl.size()) {
+    size_t end = glsl.find('\n', start);
+    if (end == std::string::npos) end = glsl.size();
+    std::string_view line(glsl.data() + start, end - start);
+    const size_t at = line.find(kMacro);
+    if (line.starts_with("const ") && at != std::string_view::npos && line.ends_with(";")) {
+      std::string_view id = line.substr(at + kMacro.size());
+      id.remove_suffix(1);
+      if (!id.empty() && id.find_first_not_of("0123456789") == std::string_view::npos)
+        out += "layout(constant_id = " + std::string(id) + ") ";
+    }
+    out += line;
+    out += '\n';
+    start = end + 1;
+  }
+  glsl = std::move(out);
+}
+
+}  // namespace
+
+GlTranslation translate_for_opengl(std::span<const uint32_t> spirv, const std::string& sampler_suffix) {
+  GlTranslation out;
+  Context ctx;
+  spvc_parsed_ir ir = nullptr;
+  spvc_compiler compiler = nullptr;
+  spvc_resources resources = nullptr;
+  spvc_compiler_options options = nullptr;
+  auto failed = [&] {
+    out.error =
+        ctx.handle ? spvc_context_get_last_error_string(ctx.handle) : "cannot create a SPIRV-Cross context";
+    return out;
+  };
+  if (spvc_context_create(&ctx.handle) != SPVC_SUCCESS ||
+      spvc_context_parse_spirv(ctx.handle, spirv.data(), spirv.size(), &ir) != SPVC_SUCCESS ||
+      spvc_context_create_compiler(ctx.handle, SPVC_BACKEND_GLSL, ir, SPVC_CAPTURE_MODE_TAKE_OWNERSHIP,
+                                   &compiler) != SPVC_SUCCESS ||
+      spvc_compiler_create_shader_resources(compiler, &resources) != SPVC_SUCCESS)
+    return failed();
+  out.unsupported = refused_features(compiler, resources);
+  if (!out.unsupported.empty()) return out;
+
+  if (spvc_compiler_create_compiler_options(compiler, &options) != SPVC_SUCCESS) return failed();
+  spvc_compiler_options_set_uint(options, SPVC_COMPILER_OPTION_GLSL_VERSION, 450);
+  spvc_compiler_options_set_bool(options, SPVC_COMPILER_OPTION_GLSL_ES, SPVC_FALSE);
+  spvc_compiler_options_set_bool(options, SPVC_COMPILER_OPTION_GLSL_VULKAN_SEMANTICS, SPVC_FALSE);
+  spvc_compiler_options_set_bool(options, SPVC_COMPILER_OPTION_GLSL_EMIT_PUSH_CONSTANT_AS_UNIFORM_BUFFER,
+                                 SPVC_TRUE);
+  // gl_InstanceIndex becomes gl_InstanceID, not gl_InstanceID + a loose uniform SPIRV-Cross would add
+  // for the base instance: the archive binds no loose uniforms (docs/cli.md says what that means).
+  spvc_compiler_options_set_bool(options, SPVC_COMPILER_OPTION_GLSL_SUPPORT_NONZERO_BASE_INSTANCE,
+                                 SPVC_FALSE);
+  spvc_compiler_options_set_bool(options, SPVC_COMPILER_OPTION_GLSL_ENABLE_420PACK_EXTENSION, SPVC_TRUE);
+  if (spvc_compiler_install_compiler_options(compiler, options) != SPVC_SUCCESS) return failed();
+
+  // OpenGL samples through combined samplers only: every (image, sampler) pair the code uses becomes
+  // one, and an image read without a sampler (texelFetch, HLSL's Load) is paired with a dummy one.
+  spvc_variable_id dummy = 0;
+  if (spvc_compiler_build_dummy_sampler_for_combined_images(compiler, &dummy) != SPVC_SUCCESS ||
+      spvc_compiler_build_combined_image_samplers(compiler) != SPVC_SUCCESS)
+    return failed();
+  const spvc_combined_image_sampler* combined = nullptr;
+  size_t combined_count = 0;
+  if (spvc_compiler_get_combined_image_samplers(compiler, &combined, &combined_count) != SPVC_SUCCESS)
+    return failed();
+
+  std::vector<Declared> declared;
+  auto collect = [&](spvc_resource_type type, bool separate_image, bool push_constants) {
+    const spvc_reflected_resource* list = nullptr;
+    size_t count = 0;
+    spvc_resources_get_resource_list_for_type(resources, type, &list, &count);
+    for (size_t i = 0; i < count; ++i)
+      declared.push_back({spvc_compiler_get_decoration(compiler, list[i].id, SpvDecorationDescriptorSet),
+                          spvc_compiler_get_decoration(compiler, list[i].id, SpvDecorationBinding),
+                          list[i].name, list[i].id, separate_image, push_constants});
+  };
+  collect(SPVC_RESOURCE_TYPE_UNIFORM_BUFFER, false, false);
+  collect(SPVC_RESOURCE_TYPE_STORAGE_BUFFER, false, false);
+  collect(SPVC_RESOURCE_TYPE_SAMPLED_IMAGE, false, false);
+  collect(SPVC_RESOURCE_TYPE_STORAGE_IMAGE, false, false);
+  collect(SPVC_RESOURCE_TYPE_SEPARATE_IMAGE, true, false);
+  collect(SPVC_RESOURCE_TYPE_PUSH_CONSTANT, false, true);
+  std::sort(declared.begin(), declared.end(),
+            [](const Declared& a, const Declared& b) { return a.key() < b.key(); });
+
+  auto name_of = [&](spvc_variable_id id) {
+    const char* name = spvc_compiler_get_name(compiler, id);
+    return std::string(name ? name : "");
+  };
+  std::set<std::string> taken;
+  for (const Declared& d : declared) taken.insert(d.name);
+  uint32_t next = 0;
+  for (const Declared& d : declared) {
+    if (!d.separate_image) {
+      spvc_compiler_set_decoration(compiler, d.id, SpvDecorationBinding, next);
+      spvc_compiler_set_decoration(compiler, d.id, SpvDecorationDescriptorSet, 0);
+      out.name_of_binding[next++] = d.push_constants ? kGlPushConstantsName : d.name;
+      continue;
+    }
+    std::vector<const spvc_combined_image_sampler*> pairs;
+    for (size_t i = 0; i < combined_count; ++i)
+      if (combined[i].image_id == d.id) pairs.push_back(&combined[i]);
+    for (const spvc_combined_image_sampler* pair : pairs) {
+      const std::string sampler = pair->sampler_id == dummy ? "" : name_of(pair->sampler_id);
+      std::string name = d.name;
+      if (pairs.size() > 1 && sampler != d.name + sampler_suffix) name += "_" + sampler;
+      if (name != d.name && !taken.insert(name).second) name += "_" + std::to_string(next);  // still unique
+      spvc_compiler_set_name(compiler, pair->combined_id, name.c_str());
+      spvc_compiler_set_decoration(compiler, pair->combined_id, SpvDecorationBinding, next);
+      spvc_compiler_set_decoration(compiler, pair->combined_id, SpvDecorationDescriptorSet, 0);
+      out.name_of_binding[next++] = name;
+    }
+  }
+
+  const char* source = nullptr;
+  if (spvc_compiler_compile(compiler, &source) != SPVC_SUCCESS) return failed();
+  out.glsl = source;
+  restore_specialization_constants(out.glsl);
+  return out;
+}
+
+}  // namespace statepack::packager
