@@ -198,7 +198,7 @@ TEST(ArchiveFormat, RoundTripKeepsEveryField) {
   auto decoded = decode(aligned.span());
   ASSERT_TRUE(decoded) << decoded.error().message;
   const Contents& c = *decoded;
-  EXPECT_EQ(c.format_version, kFormatVersion);
+  EXPECT_EQ(c.format_version, kWrittenVersion);
   EXPECT_EQ(c.producer_version, 42u);
   EXPECT_EQ(c.content_version, 7u);
   ASSERT_EQ(c.spirv.size(), 2u);

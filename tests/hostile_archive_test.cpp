@@ -553,5 +553,28 @@ TEST(HostileArchive, OpenGlBlockIsCheckedAgainstItsSpirv) {
          "cannot bind");
 }
 
+// Only capabilities OpenGL 4.5 with GL_ARB_gl_spirv defines reach the GL driver: Mesa's llvmpipe crashes
+// linking a fragment-barycentric module (found with a public shader collection).
+TEST(HostileArchive, OpenGlModulesWithCapabilitiesOutsideOpenGlAreRefused) {
+  auto loaded = format::load_archive_file(STATEPACK_GL_SLICE_ARCHIVE);
+  ASSERT_TRUE(loaded) << loaded.error().message;
+  const format::Contents& c = loaded->contents;
+  const uint32_t blob = c.gl_pipelines.at(0).shaders.at(0).blob;
+  for (uint32_t capability :
+       {5284u /* FragmentBarycentricKHR */, 4439u /* MultiView */, 40u /* InputAttachment */}) {
+    std::vector<uint32_t> words(c.spirv[blob].begin(), c.spirv[blob].end());
+    words.insert(words.begin() + 5, {(2u << 16) | 17u, capability});  // OpCapability, first instruction
+    format::Contents m = c;
+    m.spirv[blob] = words;
+    ForgedBytes bytes(format::encode(m));
+    auto archive = Archive::from_memory(bytes.span());
+    ASSERT_FALSE(archive) << capability;
+    EXPECT_NE(archive.error().message.find("declares SPIR-V capability " + std::to_string(capability) +
+                                           ", which OpenGL 4.5 with GL_ARB_gl_spirv does not have"),
+              std::string::npos)
+        << archive.error().message;
+  }
+}
+
 }  // namespace
 }  // namespace statepack::testing

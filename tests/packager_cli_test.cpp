@@ -619,6 +619,32 @@ TEST_F(PackagerCli, OpenGlTranslatesVulkanSourcesAndRefusesWhatItCannotExpress) 
                 .exit_code,
             0);
 
+  // Each stage its own push-constant range is ordinary Vulkan; OpenGL links one block definition, so
+  // that is a pack error naming both shaders, never a link failure at run time.
+  std::ofstream(dir_ / "range_a.vert")
+      << "#version 450\nlayout(push_constant) uniform P { vec4 offset; } p;\n"
+         "void main() { gl_Position = p.offset; }\n";
+  std::ofstream(dir_ / "range_b.frag")
+      << "#version 450\n"
+         "layout(push_constant) uniform P { layout(offset = 16) vec4 tint; } p;\n"
+         "layout(location = 0) out vec4 color;\nvoid main() { color = p.tint; }\n";
+  const fs::path ranges_json = dir_ / "ranges.json";
+  std::ofstream(ranges_json) << R"({"Pipelines": [
+    {"PSODesc": {"Name": "Ranges PSO"}, "GraphicsPipeline": {"RTVFormats": {"0": "RGBA8_UNORM"}},
+     "pVS": {"Desc": {"Name": "Range A VS"}, "FilePath": "range_a.vert"},
+     "pPS": {"Desc": {"Name": "Range B PS"}, "FilePath": "range_b.frag"}}]})";
+  CliRun ranges = statepack("pack -i '" + ranges_json.string() + "' -o '" + (dir_ / "ranges.spk").string() +
+                            "' --vulkan --opengl");
+  EXPECT_EQ(ranges.exit_code, 1) << ranges.output;
+  EXPECT_NE(ranges.output.find("error: pipeline 'Ranges PSO' (OpenGL): shader 'Range B PS' declares the "
+                               "push-constant block with other members or offsets than shader 'Range A VS'"),
+            std::string::npos)
+      << ranges.output;
+  EXPECT_EQ(
+      statepack("pack -i '" + ranges_json.string() + "' -o '" + (dir_ / "ranges.spk").string() + "' --vulkan")
+          .exit_code,
+      0);
+
   // A source that tests VULKAN is compiled for OpenGL from its own text (its author wrote per-backend
   // code): a separate sampler left in the OpenGL branch is named, not a glslang syntax error.
   const fs::path shader = dir_ / "separate.frag", json = dir_ / "separate.json";

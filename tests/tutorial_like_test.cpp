@@ -619,5 +619,52 @@ TEST_F(TutorialLike, VulkanGlslWithPushConstantsAndSeparateSamplersDrawsAlikeOnO
     ASSERT_NEAR(vk_copy.pixels[0][p], std::lround(std::min(255.0, albedo[p] * 0.5 + 0.25 * 255)), 1) << p;
 }
 
+// Tessellation on OpenGL (GL 4.5 has it): the same patch, the same evaluated coordinates, the same image.
+TEST_F(TutorialLike, TessellationDrawsAlikeOnOpenGl) {
+  auto archive = Archive::from_file(STATEPACK_VULKAN_GLSL_ARCHIVE);
+  ASSERT_TRUE(archive) << archive.error().message;
+  // Format 4 (GLTS), which a version-3 reader must refuse rather than read without the patch size.
+  const format::Contents contents = detail::ArchiveAccess::contents(*archive);
+  EXPECT_EQ(contents.format_version, format::kGlTessellationVersion);
+  {
+    const std::vector<uint8_t> bytes = format::encode(contents);
+    EXPECT_EQ(bytes[12], format::kGlTessellationVersion) << "oldest_readable_version";
+    // Patches without a size, and a size without patches, are refused at load.
+    for (uint32_t points : {0u, 33u}) {
+      format::Contents m = contents;
+      for (auto& p : m.gl_pipelines)
+        if (p.name == "Tessellated Triangle PSO") p.graphics.patch_control_points = points;
+      ArchiveBytes forged = encode_aligned(m);
+      auto refused = Archive::from_memory(forged.bytes());
+      ASSERT_FALSE(refused) << points;
+      EXPECT_NE(refused.error().message.find("patch control points"), std::string::npos)
+          << refused.error().message;
+    }
+    format::Contents m = contents;
+    for (auto& p : m.gl_pipelines)
+      if (p.name == "Tessellated Triangle PSO") p.shaders.erase(p.shaders.begin() + 1);  // one stage only
+    ArchiveBytes forged = encode_aligned(m);
+    auto refused = Archive::from_memory(forged.bytes());
+    ASSERT_FALSE(refused);
+    EXPECT_NE(refused.error().message.find("needs both tessellation stages and a patch list topology"),
+              std::string::npos)
+        << refused.error().message;
+  }
+  auto dearchiver = Dearchiver::create({vk_->physical_device, vk_->device});
+  ASSERT_TRUE(dearchiver && dearchiver->add_archive(std::move(*archive)));
+  auto pso = dearchiver->unpack_graphics("Tessellated Triangle PSO");
+  ASSERT_TRUE(pso) << pso.error().message;
+  const Pixels on_vulkan = render_fullscreen(**pso, VK_FORMAT_R8G8B8A8_UNORM, kWidth, kHeight);
+
+  gl::Dearchiver gl_dearchiver = make_gl_dearchiver(load(STATEPACK_VULKAN_GLSL_ARCHIVE));
+  auto program = gl_dearchiver.unpack_graphics("Tessellated Triangle PSO");
+  ASSERT_TRUE(program) << program.error().message;
+  EXPECT_EQ((*program)->state.primitive_mode, GLenum(GL_PATCHES));
+  EXPECT_EQ((*program)->state.patch_vertices, 3);
+  const Pixels on_gl = render_gl(**program, (*program)->state, kWidth, kHeight);
+  expect_same(on_gl, on_vulkan, kRgba8, "tessellated");
+  expect_varied(on_vulkan, "tessellated (Vulkan)");
+}
+
 }  // namespace
 }  // namespace statepack::testing

@@ -277,6 +277,19 @@ void visit(V& v, PipelineTessellation& t) {
   v.u32(t.patch_control_points);
 }
 
+// The GLTS record (format 4): an OpenGL pipeline's patch control points.
+struct GlPipelineTessellation {
+  uint32_t patch_control_points = 0;
+};
+template <>
+struct Tag<GlPipelineTessellation> {
+  static constexpr uint32_t value = make_tag("GLTS");
+};
+template <class V>
+void visit(V& v, GlPipelineTessellation& t) {
+  v.u32(t.patch_control_points);
+}
+
 // Writes a record and everything its lists hold inline, lengths first: equal records give equal bytes,
 // so the bytes are a key for deduplication (record_key).
 struct KeyWriter {
@@ -676,11 +689,10 @@ Result<void> validate_gl_pipeline(const Contents& c, size_t i) {
   if (p.kind != PipelineKind::graphics && p.kind != PipelineKind::compute)
     return corrupt(what + " has an unknown kind");
   uint32_t stages = 0;
-  constexpr uint32_t kTessellationStages = 0x2 | 0x4;  // not stored for OpenGL (no patch list there)
+  constexpr uint32_t kTessellationStages = 0x2 | 0x4;
   for (const GlShader& s : p.shaders) {
-    if (!std::has_single_bit(s.stage) || (s.stage & kAllStages) == 0 || (s.stage & kTessellationStages) ||
-        (stages & s.stage))
-      return corrupt(what + " has a shader with an invalid, tessellation or repeated stage");
+    if (!std::has_single_bit(s.stage) || (s.stage & kAllStages) == 0 || (stages & s.stage))
+      return corrupt(what + " has a shader with an invalid or repeated stage");
     if (s.blob >= c.spirv.size()) return corrupt(what + " refers to a missing SPIR-V blob");
     stages |= s.stage;
   }
@@ -706,8 +718,11 @@ Result<void> validate_gl_pipeline(const Contents& c, size_t i) {
   for (const SpecConstant& s : p.constants)  // glSpecializeShader takes 32-bit values
     if (s.size != 4) return corrupt(what + ": specialization constant '" + s.name + "' is not 32-bit");
   if (p.kind == PipelineKind::graphics) {
-    if (p.graphics.topology == 10 || p.graphics.patch_control_points != 0)
-      return corrupt(what + " draws patches, which the OpenGL backend does not store");
+    // Both tessellation stages (as the Vulkan pipeline it comes from) exactly when it draws patches.
+    const uint32_t tessellation = stages & kTessellationStages;
+    if ((tessellation != 0 || p.graphics.topology == kTopologyPatchList) &&
+        (tessellation != kTessellationStages || p.graphics.topology != kTopologyPatchList))
+      return corrupt(what + " needs both tessellation stages and a patch list topology together");
     Pipeline as_vulkan;  // the same rules as a Vulkan pipeline's state without a render pass
     as_vulkan.name = p.name;
     as_vulkan.graphics = p.graphics;
@@ -880,6 +895,15 @@ std::vector<uint8_t> encode(const Contents& input) {
       w.append(t);
     }
   for (auto& p : c.gl_pipelines) w.append(p);  // before the pools are laid out: it adds GFXS and SPEC
+  const bool gl_tessellation =
+      std::any_of(c.gl_pipelines.begin(), c.gl_pipelines.end(), [](const GlPipeline& p) {
+        return p.kind == PipelineKind::graphics && p.graphics.patch_control_points != 0;
+      });
+  if (gl_tessellation)
+    for (auto& p : c.gl_pipelines) {
+      GlPipelineTessellation t{p.kind == PipelineKind::graphics ? p.graphics.patch_control_points : 0};
+      w.append(t);
+    }
 
   struct SectionOut {
     uint32_t tag;
@@ -910,6 +934,10 @@ std::vector<uint8_t> encode(const Contents& input) {
       PoolOut& pool = w.pools[Tag<decltype(record)>::value];
       sections.push_back({Tag<decltype(record)>::value, std::move(pool.bytes), pool.count});
     });
+  if (gl_tessellation) {
+    PoolOut& pool = w.pools[Tag<GlPipelineTessellation>::value];
+    sections.push_back({Tag<GlPipelineTessellation>::value, std::move(pool.bytes), pool.count});
+  }
   sections.push_back({kTagData, {}, 0});
 
   // Lay out: header, section table, sections, then DATA with 16-byte aligned blobs.
@@ -937,8 +965,10 @@ std::vector<uint8_t> encode(const Contents& input) {
 
   std::vector<uint8_t> out;
   out.insert(out.end(), kMagic.begin(), kMagic.end());
-  put_u32(out, kFormatVersion);
-  put_u32(out, tessellation ? kTessellationVersion : kOldestReadableVersion);
+  put_u32(out, gl_tessellation ? kGlTessellationVersion : kWrittenVersion);
+  put_u32(out, gl_tessellation ? kGlTessellationVersion
+               : tessellation  ? kTessellationVersion
+                               : kOldestReadableVersion);
   put_u32(out, kHeaderSize);
   put_u32(out, c.producer_version);
   put_u32(out, c.content_version);
@@ -1094,6 +1124,20 @@ Result<Contents> decode(std::span<const uint8_t> file) {
     });
     if (!present) return present.error();
     c.gl_pipelines = r.all<GlPipeline>("OpenGL pipeline");
+    // Format 4's GLTS, one record per OpenGL pipeline, present only when one tessellates.
+    if (r.sections.count(Tag<GlPipelineTessellation>::value)) {
+      if (auto valid = check(Tag<GlPipelineTessellation>::value, record_size<GlPipelineTessellation>());
+          !valid)
+        return valid.error();
+      if (r.sections[Tag<GlPipelineTessellation>::value].count != c.gl_pipelines.size())
+        return corrupt("section GLTS does not have one record per OpenGL pipeline");
+      std::vector<GlPipelineTessellation> tessellation = r.all<GlPipelineTessellation>("OpenGL tessellation");
+      for (size_t i = 0; i < tessellation.size() && !r.problem; ++i) {
+        if (c.gl_pipelines[i].kind != PipelineKind::graphics && tessellation[i].patch_control_points != 0)
+          return corrupt("OpenGL compute pipeline '" + c.gl_pipelines[i].name + "' has patch control points");
+        c.gl_pipelines[i].graphics.patch_control_points = tessellation[i].patch_control_points;
+      }
+    }
   }
   if (r.problem) return corrupt(*r.problem);
   if (auto valid = validate(c); !valid) return valid.error();

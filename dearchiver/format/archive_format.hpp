@@ -20,12 +20,18 @@
 namespace statepack::format {
 
 inline constexpr std::array<uint8_t, 8> kMagic = {0x89, 'S', 'P', 'K', '\r', '\n', 0x1A, '\n'};
-inline constexpr uint32_t kFormatVersion = 3;          // what this code writes (and reads: 1 to 3)
+inline constexpr uint32_t kFormatVersion = 4;          // what this code reads (1 to 4) and writes at most
 inline constexpr uint32_t kOldestReadableVersion = 2;  // what a reader must at least understand
 // Version 3 adds the TESS section (patch control points), written only when a pipeline tessellates; such
 // an archive needs a version-3 reader (a version-2 reader would create its pipelines without the count).
 // Archives without tessellation stay readable by version-2 readers.
 inline constexpr uint32_t kTessellationVersion = 3;
+// Version 4 adds the GLTS section (patch control points of OpenGL pipelines), written only when an
+// OpenGL pipeline tessellates; such an archive says version 4 in both fields (a version-3 reader would
+// find tessellation stages it refuses). Every other archive is written as version 3, byte for byte as
+// before.
+inline constexpr uint32_t kGlTessellationVersion = 4;
+inline constexpr uint32_t kWrittenVersion = 3;  // the format_version of archives without GLTS
 // Version 2 adds the PEXT and SPEC sections (dynamic states, specialization constants). A version-1
 // reader would ignore them and create pipelines with other dynamic states and no constants, so
 // archives written now need a version-2 reader; version-1 archives still read (no PEXT: the legacy
@@ -285,9 +291,9 @@ struct GlPipeline {
 // Everything an archive holds. When decoding, `spirv` points into the archive bytes (zero copy);
 // when encoding, the caller keeps the blobs alive and unique (the packager deduplicates them).
 struct Contents {
-  uint32_t format_version = kFormatVersion;  // set by decode; encode always writes kFormatVersion
-  uint32_t producer_version = 0;             // packager version, VK_MAKE_API_VERSION-style packing
-  uint32_t content_version = 0;              // user's version (statepack -v)
+  uint32_t format_version = kWrittenVersion;  // set by decode; encode writes 3, or 4 with GLTS
+  uint32_t producer_version = 0;              // packager version, VK_MAKE_API_VERSION-style packing
+  uint32_t content_version = 0;               // user's version (statepack -v)
   uint32_t backends = kBackendVulkan;
   std::vector<std::span<const uint32_t>> spirv;
   std::vector<Shader> shaders;

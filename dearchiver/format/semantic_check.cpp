@@ -1,6 +1,7 @@
 #include "semantic_check.hpp"
 
 #include <algorithm>
+#include <iterator>
 #include <optional>
 
 #include "spirv_walk.hpp"
@@ -119,6 +120,18 @@ std::optional<GlNamespace> gl_namespace_of_mask(spirv::DescriptorTypeMask compat
   return std::nullopt;
 }
 
+// The SPIR-V capabilities of OpenGL 4.5 core with GL_ARB_gl_spirv (its specification's table) and of
+// the GL_ARB extensions glslang's OpenGL client emits for GLSL 4.50 (shader ballot and vote, int64,
+// viewport layer array, shader draw parameters).
+bool gl_capability(uint32_t capability) {
+  static constexpr uint32_t kAllowed[] = {
+      0,    1,    2,    3,   10, 11, 21, 25, 27, 28, 29, 30, 31, 32, 33,
+      34,   35,   36,   37,                                               // Matrix .. SampledRect
+      43,   44,   45,   46,  47, 48, 49, 50, 51, 52, 53, 54, 55, 56, 57,  // Sampled1D .. MultiViewport
+      4423, 4427, 4431, 5254};  // SubgroupBallotKHR, DrawParameters, SubgroupVoteKHR, ViewportIndexLayer
+  return std::find(std::begin(kAllowed), std::end(kAllowed), capability) != std::end(kAllowed);
+}
+
 // A GL pipeline's shaders against its binding table: each stage's entry point exists, every resource it
 // uses has a binding of its kind at its number, and there are no push constants (OpenGL has none).
 // `work` counts resources checked against `budget` (the pipelines x resources bound, as for Vulkan).
@@ -145,6 +158,12 @@ Result<void> check_gl_pipeline(const Contents& c, const GlPipeline& p,
                      shader.entry_point + "' in its SPIR-V");
     if (module.push_constants && module.uses(*entry, module.push_constants->variable))
       return corrupt(who + " uses push constants, which OpenGL does not have");
+    // Only what OpenGL 4.5 with GL_ARB_gl_spirv defines reaches the driver: Mesa's llvmpipe crashes
+    // linking a fragment-barycentric module, for one.
+    for (uint32_t capability : module.capabilities)
+      if (!gl_capability(capability))
+        return corrupt(who + " declares SPIR-V capability " + std::to_string(capability) +
+                       ", which OpenGL 4.5 with GL_ARB_gl_spirv does not have");
     if (auto ok = check_constants(module, p.constants, shader.stage, "OpenGL pipeline '" + p.name + "'",
                                   "shader '" + shader.name + "'");
         !ok)

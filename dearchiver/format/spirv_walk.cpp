@@ -22,6 +22,7 @@ constexpr uint64_t kMaxSizeSteps = 1 << 16;  // type visits spent sizing push co
 enum Op : uint32_t {
   kOpName = 5,
   kOpEntryPoint = 15,
+  kOpCapability = 17,
   kOpTypeBool = 20,
   kOpTypeInt = 21,
   kOpTypeFloat = 22,
@@ -123,6 +124,10 @@ struct Walker {
     auto need = [&](size_t n) { return operands.size() >= n; };
     auto id_ok = [&](uint32_t id) { return id != 0 && id < module.bound; };
     switch (op) {
+      case kOpCapability:
+        if (!need(1)) return fail(at, "OpCapability is too short");
+        module.capabilities.push_back(operands[0]);
+        return {};
       case kOpEntryPoint: {
         if (!need(3)) return fail(at, "OpEntryPoint is too short");
         EntryPoint entry;

@@ -69,6 +69,7 @@ struct Module {
   std::optional<PushConstantBlock> push_constants;
   bool writes_point_size = false;            // point lists need it from the last pre-rasterization stage
   std::vector<SpecConstant> spec_constants;  // sorted by constant_id
+  std::vector<uint32_t> capabilities;        // every OpCapability, in module order
 
   const SpecConstant* find_spec_constant(uint32_t constant_id) const;
   // Bit i set: an output occupies location i (0-31). For a fragment shader, the render targets it

@@ -7,6 +7,8 @@
 #include <string>
 #include <tuple>
 
+#include "gl_translate.hpp"
+
 namespace statepack::packager {
 namespace {
 
@@ -15,6 +17,8 @@ struct Merged {
   uint32_t count = 1;
   uint32_t stages = 0;
   std::tuple<uint32_t, uint32_t> declared;  // (set, binding) where first seen: the numbering order
+  std::string block_layout;                 // a block's members: every stage must declare the same
+  std::string first_shader;                 // "shader 'X'" that declared it first, for messages
 };
 
 }  // namespace
@@ -51,8 +55,20 @@ bool build_gl_layout(const PipelineDesc& p, const std::vector<StageInput>& stage
         ok = false;
         continue;
       }
-      auto [it, inserted] = by_name.try_emplace(b.name, Merged{*kind, count, b.stage, {b.set, b.binding}});
-      if (!inserted && (it->second.kind != *kind || it->second.count != count)) {
+      auto [it, inserted] = by_name.try_emplace(
+          b.name, Merged{*kind, count, b.stage, {b.set, b.binding}, b.block_layout, shader});
+      if (!inserted && it->second.block_layout != b.block_layout) {
+        // Vulkan lets each stage declare its own view of a buffer (push constants especially: each stage
+        // its range); OpenGL links one definition per block and refuses the program otherwise.
+        const std::string block = b.name == kGlPushConstantsName ? std::string("the push-constant block")
+                                                                 : "the block '" + b.name + "'";
+        diag.error(stage.desc->where,
+                   who + ": " + shader + " declares " + block + " with other members or offsets than " +
+                       it->second.first_shader +
+                       "; OpenGL links one definition per block, so declare it alike in every stage (all "
+                       "members, at the same offsets; a shared #include)");
+        ok = false;
+      } else if (!inserted && (it->second.kind != *kind || it->second.count != count)) {
         diag.error(stage.desc->where, who + ": " + shader + " declares '" + b.name +
                                           "' differently from another stage (kind or array size)");
         ok = false;

@@ -44,6 +44,7 @@ constexpr Refused kRefusedCapabilities[] = {
     {SpvCapabilityFragmentDensityEXT, "fragment density maps"},
     {SpvCapabilityVulkanMemoryModel, "the Vulkan memory model"},
     {SpvCapabilityFragmentShaderPixelInterlockEXT, "fragment shader interlock"},
+    {SpvCapabilityFragmentBarycentricKHR, "fragment shader barycentrics (gl_BaryCoordEXT)"},
 };
 
 // What stops the translation before it starts, by name; empty when nothing does.
@@ -118,6 +119,7 @@ GlTranslation translate_for_opengl(std::span<const uint32_t> spirv, const std::s
   auto failed = [&] {
     out.error =
         ctx.handle ? spvc_context_get_last_error_string(ctx.handle) : "cannot create a SPIRV-Cross context";
+    while (!out.error.empty() && (out.error.back() == '\n' || out.error.back() == ' ')) out.error.pop_back();
     return out;
   };
   if (spvc_context_create(&ctx.handle) != SPVC_SUCCESS ||

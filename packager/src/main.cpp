@@ -65,6 +65,9 @@ int run(int argc, char** argv) {
       "statepack: packs render-state notation (DRSN JSON) and GLSL/HLSL shaders into one archive of\n"
       "pre-compiled SPIR-V that libstatepack_dearchiver turns into Vulkan pipelines."};
   app.set_version_flag("--version", std::string("statepack ") + kVersionString + " (archive format " +
+                                        std::to_string(statepack::format::kWrittenVersion) + ", " +
+                                        std::to_string(statepack::format::kFormatVersion) +
+                                        " with OpenGL tessellation; reads 1 to " +
                                         std::to_string(statepack::format::kFormatVersion) + ")");
   app.require_subcommand(1);
   app.footer("Exit codes: 0 success, 1 input error (notation, shader), 2 usage error, 3 I/O error.");

@@ -286,6 +286,17 @@ void make_opengl_unit(const CompiledUnit& vulkan, const PackOptions& options, Co
     gl.opengl = true;
     out.compiled = compile_shader(vulkan.desc, gl, direct_errors);
   } else {
+    // What is translated must be valid SPIR-V: SPIRV-Cross would carry a fault (two outputs at one
+    // location, as glslang makes of some HLSL) into GLSL that then fails to compile. With --vulkan the
+    // Vulkan stage reports the same fault at the pipeline.
+    CompileOptions check = options.compile;
+    check.optimization = Optimization::none;
+    check.strip_debug_info = false;
+    std::vector<uint32_t> copy = vulkan.compiled.spirv;
+    if (std::string invalid = finalize_spirv(copy, check); !invalid.empty()) {
+      if (!options.vulkan) diag.error(vulkan.desc.where, who + ": " + invalid);
+      return;
+    }
     GlTranslation t = translate_for_opengl(vulkan.compiled.spirv, "_sampler");
     if (!t.unsupported.empty()) {
       diag.error(vulkan.desc.where, who + ": uses " + t.unsupported + ", which OpenGL 4.5 does not have");
@@ -357,10 +368,6 @@ void add_opengl(const Notation& notation, const CompiledShaders& compiled, const
     const auto compiled_stages = compiled.stages_of(i);
     if (!compiled_stages) continue;  // its compile errors are reported
     const std::vector<StageInput>& stages = *compiled_stages;
-    if (p.kind == format::PipelineKind::graphics && p.graphics.topology == VK_PRIMITIVE_TOPOLOGY_PATCH_LIST) {
-      diag.error(p.where, "pipeline '" + p.name + "' (OpenGL): tessellation is not packed for OpenGL yet");
-      continue;
-    }
     GlLayout layout;
     if (!build_gl_layout(p, stages, layout, diag)) continue;
     std::vector<format::SpecConstant> constants;

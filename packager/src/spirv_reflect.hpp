@@ -17,6 +17,9 @@ struct ReflectedBinding {
   uint32_t stage = 0;  // VkShaderStageFlagBits of the module
   // Word offsets of the DescriptorSet and Binding literals, for patching (0 when absent).
   uint32_t set_word = 0, binding_word = 0;
+  // Uniform and storage blocks: their members (names, types, offsets, strides) as text, equal exactly
+  // when two stages declare the same block; OpenGL links one definition per block (empty otherwise).
+  std::string block_layout;
 };
 
 // A specialization constant the module declares (SpecId), by the name the source gave it.

@@ -1,0 +1,6 @@
+#version 450
+// The full-screen triangle's corners, from the vertex index alone.
+void main() {
+  vec2 corner = vec2((gl_VertexIndex << 1) & 2, gl_VertexIndex & 2);
+  gl_Position = vec4(corner * 2.0 - 1.0, 0.0, 1.0);
+}
