@@ -666,5 +666,34 @@ TEST_F(TutorialLike, TessellationDrawsAlikeOnOpenGl) {
   expect_varied(on_vulkan, "tessellated (Vulkan)");
 }
 
+// Specialization constants survive the translation: the notation's values reach glSpecializeShader (the
+// shader's defaults would give 1 and 2.0).
+TEST_F(TutorialLike, TranslatedSpecializationConstantsTakeTheNotationsValues) {
+  const fs::path out = fs::path(STATEPACK_TEST_OUTPUT_DIR) / "specialization_gl.spk";
+  CommandResult pack =
+      run_command("cd '" + std::string(STATEPACK_CORPUS_DIR) + "/valid' && '" + STATEPACK_EXE +
+                  "' pack -i specialization_and_dynamic_state.json -s ../shaders -o '" + out.string() +
+                  "' --vulkan --opengl");
+  ASSERT_EQ(pack.exit_code, 0) << pack.output;
+  gl::Dearchiver gl_dearchiver = make_gl_dearchiver(load(out.c_str()));
+  auto program = gl_dearchiver.unpack_compute("Specialized CS");
+  ASSERT_TRUE(program) << program.error().message;
+  const uint32_t initial[2] = {0, 0};
+  const GLuint buffer = gl_buffer(initial, sizeof initial);
+  glUseProgram((*program)->program);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER,
+                   gl_binding(**program, "Result", gl::Binding::Kind::storage_buffer), buffer);
+  glDispatchCompute(1, 1, 1);
+  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+  uint32_t result[2] = {};
+  glGetNamedBufferSubData(buffer, 0, sizeof result, result);
+  glUseProgram(0);
+  glDeleteBuffers(1, &buffer);
+  float scaled = 0;
+  std::memcpy(&scaled, &result[1], 4);
+  EXPECT_EQ(result[0], 995u);  // kNegate true, kBase 5
+  EXPECT_EQ(scaled, -0.5f);    // kScale -0.25
+}
+
 }  // namespace
 }  // namespace statepack::testing
