@@ -45,6 +45,12 @@ constexpr Refused kRefusedCapabilities[] = {
     {SpvCapabilityVulkanMemoryModel, "the Vulkan memory model"},
     {SpvCapabilityFragmentShaderPixelInterlockEXT, "fragment shader interlock"},
     {SpvCapabilityFragmentBarycentricKHR, "fragment shader barycentrics (gl_BaryCoordEXT)"},
+    {SpvCapabilitySparseResidency, "sparse residency (sparseTexture*ARB)"},
+    {SpvCapabilityMinLod, "minimum-LOD clamps (texture*ClampARB)"},
+    {SpvCapabilityInt64Atomics, "64-bit atomics"},
+    {SpvCapabilityInt16, "16-bit integers"},
+    {SpvCapabilityInt8, "8-bit integers"},
+    {SpvCapabilityFloat16, "16-bit floats"},
 };
 
 // What stops the translation before it starts, by name; empty when nothing does.
