@@ -306,6 +306,44 @@ class TutorialLike : public GlTest {
     EXPECT_GT(int(*hi) - int(*lo), 100) << what;
   }
 
+  // The tutorial's G-buffer pass (4 targets, its constants) on Vulkan, patched as the tutorial does.
+  VulkanPass draw_gbuffer_vulkan(Dearchiver& dearchiver) {
+    auto gbuffer =
+        dearchiver.unpack_graphics("G-Buffer PSO", [](PatchableState& s) { set_targets(s, kGBuffer); });
+    EXPECT_TRUE(gbuffer) << gbuffer.error().message;
+    if (!gbuffer) return {};
+    const GBufferConstants constants;
+    auto ubo = samples::create_host_buffer(*vk_, sizeof constants, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
+    EXPECT_TRUE(ubo);
+    if (!ubo) return {};
+    std::memcpy((*ubo)->mapped, &constants, sizeof constants);
+    const BindingInfo& cb = vk_binding(**gbuffer, "cbConstants");
+    auto set = make_set((*gbuffer)->set_layouts.at(cb.set),
+                        {{cb.binding, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, (*ubo)->buffer}});
+    VulkanPass pass = draw_vulkan(**gbuffer, kGBuffer, [&](VkCommandBuffer cmd) {
+      vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, (*gbuffer)->layout, cb.set, 1, &set->set,
+                              0, nullptr);
+    });
+    EXPECT_EQ(pass.pixels.size(), 4u);
+    return pass;
+  }
+
+  // The same on OpenGL.
+  static std::unique_ptr<GlPass> draw_gbuffer_gl(gl::Dearchiver& dearchiver) {
+    auto gbuffer = dearchiver.unpack_graphics("G-Buffer PSO");
+    EXPECT_TRUE(gbuffer) << gbuffer.error().message;
+    if (!gbuffer) return nullptr;
+    EXPECT_EQ((*gbuffer)->state.color_count, 4u);  // a blend state for each target the shader writes
+    const GBufferConstants constants;
+    const GLuint ubo = gl_buffer(&constants, sizeof constants);
+    auto pass = draw_gl(**gbuffer, kGBuffer, [&] {
+      glBindBufferBase(GL_UNIFORM_BUFFER,
+                       gl_binding(**gbuffer, "cbConstants", gl::Binding::Kind::uniform_buffer), ubo);
+    });
+    glDeleteBuffers(1, &ubo);
+    return pass;
+  }
+
   fs::path packed_archive() {
     const fs::path out = fs::path(STATEPACK_TEST_OUTPUT_DIR) / "tutorial_like.spk";
     fs::create_directories(out.parent_path());
@@ -381,28 +419,14 @@ TEST_F(TutorialLike, EveryPassDrawsTheSamePixelsOnVulkanAndOpenGl) {
   gl::Dearchiver gl_dearchiver = make_gl_dearchiver(load(path.c_str()));
 
   // --- Vulkan, patched as the tutorial's ModifyPipelineStateCreateInfo does.
-  auto gbuffer =
-      dearchiver->unpack_graphics("G-Buffer PSO", [](PatchableState& s) { set_targets(s, kGBuffer); });
-  ASSERT_TRUE(gbuffer) << gbuffer.error().message;
   auto shade = dearchiver->unpack_graphics(
       "Shade PSO", [](PatchableState& s) { set_targets(s, std::span(&kRadiance, 1)); });
   ASSERT_TRUE(shade) << shade.error().message;
   auto resolve = dearchiver->unpack_graphics(
       "Resolve PSO", [](PatchableState& s) { set_targets(s, std::span(&kRgba8, 1)); });
   ASSERT_TRUE(resolve) << resolve.error().message;
-
-  const GBufferConstants constants;
   const ResolveConstants push;
-  auto ubo = samples::create_host_buffer(*vk_, sizeof constants, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
-  ASSERT_TRUE(ubo);
-  std::memcpy((*ubo)->mapped, &constants, sizeof constants);
-  const BindingInfo& cb = vk_binding(**gbuffer, "cbConstants");
-  auto gbuffer_set = make_set((*gbuffer)->set_layouts.at(cb.set),
-                              {{cb.binding, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, (*ubo)->buffer}});
-  VulkanPass vk_gbuffer = draw_vulkan(**gbuffer, kGBuffer, [&](VkCommandBuffer cmd) {
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, (*gbuffer)->layout, cb.set, 1,
-                            &gbuffer_set->set, 0, nullptr);
-  });
+  VulkanPass vk_gbuffer = draw_gbuffer_vulkan(*dearchiver);
   ASSERT_EQ(vk_gbuffer.pixels.size(), 4u);
 
   const char* gbuffer_names[4] = {"g_Albedo", "g_Normal", "g_Emittance", "g_Depth"};
@@ -432,19 +456,12 @@ TEST_F(TutorialLike, EveryPassDrawsTheSamePixelsOnVulkanAndOpenGl) {
   ASSERT_EQ(vk_resolve.pixels.size(), 1u);
 
   // --- OpenGL: the same three programs from the archive's OpenGL block.
-  auto gl_gbuffer = gl_dearchiver.unpack_graphics("G-Buffer PSO");
-  ASSERT_TRUE(gl_gbuffer) << gl_gbuffer.error().message;
   auto gl_shade = gl_dearchiver.unpack_graphics("Shade PSO");
   ASSERT_TRUE(gl_shade) << gl_shade.error().message;
   auto gl_resolve = gl_dearchiver.unpack_graphics("Resolve PSO");
   ASSERT_TRUE(gl_resolve) << gl_resolve.error().message;
-  EXPECT_EQ((*gl_gbuffer)->state.color_count, 4u);  // a blend state for each target the shader writes
-
-  const GLuint gl_ubo = gl_buffer(&constants, sizeof constants);
-  auto gl_gbuffer_pass = draw_gl(**gl_gbuffer, kGBuffer, [&] {
-    glBindBufferBase(GL_UNIFORM_BUFFER,
-                     gl_binding(**gl_gbuffer, "cbConstants", gl::Binding::Kind::uniform_buffer), gl_ubo);
-  });
+  auto gl_gbuffer_pass = draw_gbuffer_gl(gl_dearchiver);
+  ASSERT_NE(gl_gbuffer_pass, nullptr);
   GlSampler point;
   auto gl_shade_pass = draw_gl(**gl_shade, std::span(&kRadiance, 1), [&] {
     for (int i = 0; i < 4; ++i) {
@@ -462,7 +479,6 @@ TEST_F(TutorialLike, EveryPassDrawsTheSamePixelsOnVulkanAndOpenGl) {
                      gl_binding(**gl_resolve, "$PushConstants", gl::Binding::Kind::uniform_buffer), gl_push);
   });
   for (GLuint unit = 0; unit < 4; ++unit) glBindSampler(unit, 0);
-  glDeleteBuffers(1, &gl_ubo);
   glDeleteBuffers(1, &gl_push);
 
   // --- The same pixels, pass by pass; and they are the tutorial's values, not two blank images.
@@ -559,21 +575,9 @@ TEST_F(TutorialLike, VulkanGlslWithPushConstantsAndSeparateSamplersDrawsAlikeOnO
   } tint;
 
   // The source image: the tutorial's albedo, drawn on each backend.
-  auto gbuffer =
-      dearchiver->unpack_graphics("G-Buffer PSO", [](PatchableState& s) { set_targets(s, kGBuffer); });
   auto copy = dearchiver->unpack_graphics("Tinted Copy PSO");
-  ASSERT_TRUE(gbuffer && copy);
-  const GBufferConstants constants;
-  auto ubo = samples::create_host_buffer(*vk_, sizeof constants, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
-  ASSERT_TRUE(ubo);
-  std::memcpy((*ubo)->mapped, &constants, sizeof constants);
-  const BindingInfo& cb = vk_binding(**gbuffer, "cbConstants");
-  auto gbuffer_set = make_set((*gbuffer)->set_layouts.at(cb.set),
-                              {{cb.binding, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, (*ubo)->buffer}});
-  VulkanPass source = draw_vulkan(**gbuffer, kGBuffer, [&](VkCommandBuffer cmd) {
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, (*gbuffer)->layout, cb.set, 1,
-                            &gbuffer_set->set, 0, nullptr);
-  });
+  ASSERT_TRUE(copy) << copy.error().message;
+  VulkanPass source = draw_gbuffer_vulkan(*dearchiver);
   ASSERT_EQ(source.images.size(), 4u);
   const BindingInfo& image = vk_binding(**copy, "source");
   EXPECT_EQ(image.set, 1u);
@@ -590,14 +594,10 @@ TEST_F(TutorialLike, VulkanGlslWithPushConstantsAndSeparateSamplersDrawsAlikeOnO
 
   gl::Dearchiver gl_dearchiver = make_gl_dearchiver(load(tutorial.c_str()));
   ASSERT_TRUE(gl_dearchiver.add_archive(load(STATEPACK_VULKAN_GLSL_ARCHIVE)));
-  auto gl_gbuffer = gl_dearchiver.unpack_graphics("G-Buffer PSO");
   auto gl_copy = gl_dearchiver.unpack_graphics("Tinted Copy PSO");
-  ASSERT_TRUE(gl_gbuffer && gl_copy);
-  const GLuint gl_ubo = gl_buffer(&constants, sizeof constants);
-  auto gl_source = draw_gl(**gl_gbuffer, kGBuffer, [&] {
-    glBindBufferBase(GL_UNIFORM_BUFFER,
-                     gl_binding(**gl_gbuffer, "cbConstants", gl::Binding::Kind::uniform_buffer), gl_ubo);
-  });
+  ASSERT_TRUE(gl_copy) << gl_copy.error().message;
+  auto gl_source = draw_gbuffer_gl(gl_dearchiver);
+  ASSERT_NE(gl_source, nullptr);
   GlSampler point;
   const GLuint gl_tint = gl_buffer(&tint, sizeof tint);
   auto gl_copy_pass = draw_gl(**gl_copy, std::span(&kRgba8, 1), [&] {
@@ -608,7 +608,6 @@ TEST_F(TutorialLike, VulkanGlslWithPushConstantsAndSeparateSamplersDrawsAlikeOnO
                      gl_binding(**gl_copy, "$PushConstants", gl::Binding::Kind::uniform_buffer), gl_tint);
   });
   glBindSampler(0, 0);
-  glDeleteBuffers(1, &gl_ubo);
   glDeleteBuffers(1, &gl_tint);
 
   expect_same(gl_copy_pass->pixels[0], vk_copy.pixels[0], kRgba8, "tinted copy");

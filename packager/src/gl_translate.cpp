@@ -1,22 +1,16 @@
 #include "gl_translate.hpp"
 
-#include <spirv_cross/spirv_cross_c.h>
+#include <spirv_cross_c.h>
 
 #include <algorithm>
 #include <set>
 #include <string_view>
 #include <tuple>
 
+#include "spirv_cross_context.hpp"
+
 namespace statepack::packager {
 namespace {
-
-// Owns a SPIRV-Cross context (and so every object made from it).
-struct Context {
-  spvc_context handle = nullptr;
-  ~Context() {
-    if (handle) spvc_context_destroy(handle);
-  }
-};
 
 // Vulkan features OpenGL 4.5 (with GL_ARB_gl_spirv) has no form for, by the capability that declares
 // them; said by name instead of a glslang error about generated text.
@@ -117,7 +111,7 @@ void restore_specialization_constants(std::string& glsl) {
 
 GlTranslation translate_for_opengl(std::span<const uint32_t> spirv, const std::string& sampler_suffix) {
   GlTranslation out;
-  Context ctx;
+  SpirvCrossContext ctx;
   spvc_parsed_ir ir = nullptr;
   spvc_compiler compiler = nullptr;
   spvc_resources resources = nullptr;

@@ -5,16 +5,10 @@
 
 #include <algorithm>
 
+#include "spirv_cross_context.hpp"
+
 namespace statepack::packager {
 namespace {
-
-// Frees the spirv-cross context (and everything it allocated) on every path.
-struct Context {
-  spvc_context handle = nullptr;
-  ~Context() {
-    if (handle) spvc_context_destroy(handle);
-  }
-};
 
 InterfaceVariable::Base base_of(spvc_type type) {
   switch (spvc_type_get_basetype(type)) {
@@ -128,7 +122,7 @@ std::string describe_type(spvc_compiler compiler, spvc_type_id id, int depth) {
 
 Reflection reflect_spirv(std::span<const uint32_t> spirv, uint32_t stage) {
   Reflection out;
-  Context ctx;
+  SpirvCrossContext ctx;
   spvc_parsed_ir ir = nullptr;
   spvc_compiler compiler = nullptr;
   spvc_resources resources = nullptr;
