@@ -63,6 +63,25 @@ TEST(NotationCorpus, ValidFilesPackAndMatchTheirGoldens) {
   }
 }
 
+// One source, every backend: every valid file packs for OpenGL too (translated from Vulkan, or from its
+// own text where it tests VULKAN), and what it writes loads (pack checks that before writing).
+TEST(NotationCorpus, ValidFilesPackForOpenGlToo) {
+  fs::create_directories(kOutput);
+  auto inputs = files(kCorpus / "valid", ".json");
+  ASSERT_GE(inputs.size(), 5u);
+  for (const fs::path& input : inputs) {
+    SCOPED_TRACE(input.filename().string());
+    fs::path archive = kOutput / (input.stem().string() + "_gl.spk");
+    CliRun pack =
+        run_in(input.parent_path(), "pack -i '" + input.filename().string() + "' -s ../shaders -o '" +
+                                        archive.string() + "' --vulkan --opengl");
+    ASSERT_EQ(pack.exit_code, 0) << pack.output;
+    CliRun inspect = run_in(kOutput, "inspect --json '" + archive.string() + "'");
+    ASSERT_EQ(inspect.exit_code, 0) << inspect.output;
+    EXPECT_NE(inspect.output.find("\"opengl\""), std::string::npos) << inspect.output;
+  }
+}
+
 TEST(NotationCorpus, InvalidFilesFailWithTheExpectedErrors) {
   auto expectations = files(kCorpus / "invalid", ".expected");
   ASSERT_GE(expectations.size(), 8u);

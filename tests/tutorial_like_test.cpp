@@ -694,5 +694,43 @@ TEST_F(TutorialLike, TranslatedSpecializationConstantsTakeTheNotationsValues) {
   EXPECT_EQ(scaled, -0.5f);    // kScale -0.25
 }
 
+// Every program of every valid corpus file, packed for both backends, links on llvmpipe with no GL
+// error, and lists the bindings its Vulkan pipeline has (by name; separate samplers become part of
+// their texture, push constants the $PushConstants block).
+TEST_F(TutorialLike, EveryCorpusProgramLinksOnOpenGl) {
+  auto archives = corpus_archives();  // tests/CMakeLists.txt: corpus_gl/*.spk for this executable
+  ASSERT_GE(archives.size(), 10u);
+  size_t programs = 0;
+  for (const auto& path : archives) {
+    SCOPED_TRACE(path);
+    auto loaded = Archive::from_file(path);
+    ASSERT_TRUE(loaded) << loaded.error().message;
+    const format::Contents contents = detail::ArchiveAccess::contents(*loaded);
+    if (contents.gl_pipelines.empty()) continue;  // a notation without pipelines
+    gl::Dearchiver gl_dearchiver = make_gl_dearchiver(std::move(*loaded));
+    for (const format::GlPipeline& p : contents.gl_pipelines) {
+      auto program = p.kind == format::PipelineKind::compute ? gl_dearchiver.unpack_compute(p.name)
+                                                             : gl_dearchiver.unpack_graphics(p.name);
+      ASSERT_TRUE(program) << p.name << ": " << program.error().message;
+      EXPECT_NE((*program)->program, 0u);
+      ++programs;
+      const format::Pipeline* vulkan = nullptr;
+      for (const format::Pipeline& v : contents.pipelines)
+        if (v.name == p.name) vulkan = &v;
+      ASSERT_NE(vulkan, nullptr) << p.name;
+      for (uint32_t set : vulkan->set_layouts) {
+        if (set == format::kNone) continue;
+        for (const format::Binding& b : contents.set_layouts[set].bindings) {
+          if (b.descriptor_type == VK_DESCRIPTOR_TYPE_SAMPLER) continue;  // part of a texture on GL
+          EXPECT_NE((*program)->find_binding(b.name), nullptr) << p.name << ": " << b.name;
+        }
+      }
+      if (vulkan->push_constant_size > 0)
+        EXPECT_NE((*program)->find_binding("$PushConstants"), nullptr) << p.name;
+    }
+  }
+  EXPECT_GT(programs, 10u);
+}
+
 }  // namespace
 }  // namespace statepack::testing
