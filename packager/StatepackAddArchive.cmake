@@ -14,6 +14,9 @@
 #     [VERIFY]                        # also run `statepack verify` on the local Vulkan device
 #     [ARGS <extra packager args>...])
 #
+# Relative INPUTS are looked up in the current source dir, then in each RENDER_STATE_DIRS entry; one
+# found nowhere (and not a GENERATED source) is an error at configure time. docs/cmake.md has a
+# complete example and every keyword.
 # The archive is a build product of <target> (built by `all`). The packager writes a depfile listing
 # every JSON and shader file it read, so the archive is repacked exactly when one of them changes.
 # The archive's path is stored in the target property STATEPACK_ARCHIVE. With VERIFY, every object of
@@ -55,10 +58,30 @@ function(statepack_add_archive target)
 
   set(args pack -o "${output}" --vulkan --depfile "${output}.d")
   set(inputs "")
+  # Each input is found now, as the packager will find it (the current source dir, then each
+  # RENDER_STATE_DIRS entry, as Diligent's -r), so that a wrong path is this function's error at
+  # configure time rather than the generator's "no rule to make target" at build time.
   foreach(input IN LISTS ARG_INPUTS)
-    cmake_path(ABSOLUTE_PATH input BASE_DIRECTORY "${CMAKE_CURRENT_SOURCE_DIR}" NORMALIZE)
-    list(APPEND args -i "${input}")
-    list(APPEND inputs "${input}")
+    set(candidates "")
+    foreach(base IN ITEMS "${CMAKE_CURRENT_SOURCE_DIR}" ${ARG_RENDER_STATE_DIRS})
+      cmake_path(ABSOLUTE_PATH base BASE_DIRECTORY "${CMAKE_CURRENT_SOURCE_DIR}" NORMALIZE)
+      cmake_path(ABSOLUTE_PATH input BASE_DIRECTORY "${base}" NORMALIZE OUTPUT_VARIABLE candidate)
+      list(APPEND candidates "${candidate}")
+    endforeach()
+    set(found "")
+    foreach(candidate IN LISTS candidates)
+      get_source_file_property(generated "${candidate}" GENERATED)
+      if(EXISTS "${candidate}" OR generated)
+        set(found "${candidate}")
+        break()
+      endif()
+    endforeach()
+    if(NOT found)
+      list(JOIN candidates ", " looked)
+      message(FATAL_ERROR "statepack_add_archive(${target}): INPUTS file '${input}' not found (looked for ${looked})")
+    endif()
+    list(APPEND args -i "${found}")
+    list(APPEND inputs "${found}")
   endforeach()
   foreach(dir IN LISTS ARG_SHADER_DIRS)
     cmake_path(ABSOLUTE_PATH dir BASE_DIRECTORY "${CMAKE_CURRENT_SOURCE_DIR}" NORMALIZE)

@@ -70,4 +70,29 @@ out=$("$work/pkg-config-gl-app" "$work/Ninja/consumer_gl.spk" 2>&1) || fail "pkg
 echo "$out" | grep -q "unpacked 'Consumer PSO' on OpenGL" || fail "pkg-config GL application: $out"
 echo "pkg-config (OpenGL): $out"
 
+# Adoption edges: a project without C++ (LANGUAGES NONE) still packs with the installed package; an
+# input found through RENDER_STATE_DIRS (Diligent's -r) packs; a wrong INPUTS path is this function's
+# error at configure time, not the generator's "no rule to make target" at build time.
+mkdir -p "$work/none-src/assets" "$work/none-src/shaders"
+cp "$here/states.json" "$work/none-src/assets/"
+cp -r "$here/shaders/." "$work/none-src/shaders/"
+cat >"$work/none-src/CMakeLists.txt" <<'EOF2'
+cmake_minimum_required(VERSION 3.25)
+project(packs_only LANGUAGES NONE)
+find_package(statepack CONFIG REQUIRED)
+statepack_add_archive(states OUTPUT states.spk INPUTS states.json RENDER_STATE_DIRS assets SHADER_DIRS shaders)
+EOF2
+cmake -S "$work/none-src" -B "$work/none" -G Ninja -DCMAKE_PREFIX_PATH="$prefix" >"$work/none.log" 2>&1 ||
+  fail "LANGUAGES NONE: configure failed: $(cat "$work/none.log")"
+grep -q "Could NOT find Vulkan" "$work/none.log" && fail "LANGUAGES NONE: $(cat "$work/none.log")"
+cmake --build "$work/none" >>"$work/none.log" 2>&1 || fail "LANGUAGES NONE: build failed: $(cat "$work/none.log")"
+[[ -s "$work/none/states.spk" ]] || fail "LANGUAGES NONE: no archive"
+sed -i 's/INPUTS states.json/INPUTS stats.json/' "$work/none-src/CMakeLists.txt"
+if cmake -S "$work/none-src" -B "$work/none-typo" -G Ninja -DCMAKE_PREFIX_PATH="$prefix" >"$work/typo.log" 2>&1; then
+  fail "a wrong INPUTS path configured"
+fi
+grep -q "statepack_add_archive(states): INPUTS file 'stats.json' not found" "$work/typo.log" ||
+  fail "a wrong INPUTS path: $(cat "$work/typo.log")"
+echo "adoption edges: LANGUAGES NONE packs, RENDER_STATE_DIRS inputs found, a wrong INPUTS path is a configure error"
+
 echo "installed package: all checks passed"

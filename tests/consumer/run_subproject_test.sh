@@ -25,4 +25,7 @@ done
 bad=$(echo "$targets" | grep -xE 'dearchiver_tests|packager_cli_tests|path_tracer|unpack_demo|load_benchmark|archive_fuzzer' || true)
 [[ -z "$bad" ]] || fail "a subproject build has statepack's own tests, samples or benchmarks: $bad"
 [[ ! -e "$work/build/CTestTestfile.cmake" ]] || fail "statepack registered tests in the parent project"
+# The parent's build type stands, also none: statepack does not force its RelWithDebInfo on it.
+build_type=$(grep -E '^CMAKE_BUILD_TYPE:' "$work/build/CMakeCache.txt" | cut -d= -f2- || true)
+[[ -z "$build_type" ]] || fail "the parent project's empty build type became '$build_type'"
 echo "subproject: all checks passed"
