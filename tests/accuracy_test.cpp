@@ -13,8 +13,8 @@
 #include <regex>
 #include <sstream>
 
+#include "path_tracer/reference.hpp"
 #include "pfm_image.hpp"
-#include "reference.hpp"
 #include "run_command.hpp"
 #include "seed_renders.hpp"
 

@@ -8,7 +8,7 @@
 #include <map>
 #include <set>
 
-#include "archive_format.hpp"
+#include "format/archive_format.hpp"
 
 namespace statepack::format {
 namespace {

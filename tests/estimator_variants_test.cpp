@@ -12,9 +12,9 @@
 #include <sstream>
 #include <string>
 
-#include "app.hpp"
-#include "offline.hpp"
-#include "reference.hpp"
+#include "path_tracer/app.hpp"
+#include "path_tracer/offline.hpp"
+#include "path_tracer/reference.hpp"
 #include "seed_renders.hpp"
 
 namespace {

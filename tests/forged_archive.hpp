@@ -8,7 +8,7 @@
 #include <span>
 #include <vector>
 
-#include "archive_format.hpp"
+#include "format/archive_format.hpp"
 
 namespace statepack::testing {
 

@@ -3,7 +3,7 @@
 // start over when the image size changes.
 #include <gtest/gtest.h>
 
-#include "frame_pacing.hpp"
+#include "path_tracer/frame_pacing.hpp"
 
 namespace {
 

@@ -8,11 +8,11 @@
 #include <cstring>
 #include <vector>
 
-#include "archive_access.hpp"
-#include "archive_format.hpp"
-#include "gl_context.hpp"
-#include "gl_state.hpp"
+#include "common/gl_context.hpp"
+#include "format/archive_format.hpp"
+#include "gl/gl_state.hpp"
 #include "gl_test_fixture.hpp"
+#include "runtime/archive_access.hpp"
 #include "statepack/gl_dearchiver.hpp"
 #include "vulkan_test_fixture.hpp"
 

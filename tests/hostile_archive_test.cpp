@@ -11,9 +11,9 @@
 #include <filesystem>
 #include <fstream>
 
-#include "archive_access.hpp"
-#include "archive_file.hpp"
 #include "forged_archive.hpp"
+#include "format/archive_file.hpp"
+#include "runtime/archive_access.hpp"
 #include "vulkan_test_fixture.hpp"
 
 namespace statepack::testing {

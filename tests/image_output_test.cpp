@@ -7,7 +7,7 @@
 #include <limits>
 #include <vector>
 
-#include "image_io.hpp"
+#include "path_tracer/image_io.hpp"
 
 namespace {
 

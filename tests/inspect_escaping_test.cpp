@@ -6,9 +6,9 @@
 #include <filesystem>
 #include <fstream>
 
-#include "archive_access.hpp"
 #include "forged_archive.hpp"
 #include "run_command.hpp"
+#include "runtime/archive_access.hpp"
 #include "statepack/dearchiver.hpp"
 
 namespace statepack::testing {

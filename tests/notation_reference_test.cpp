@@ -8,8 +8,8 @@
 #include <set>
 #include <sstream>
 
-#include "enum_tables.hpp"
-#include "notation_reference.hpp"
+#include "notation/enum_tables.hpp"
+#include "notation/notation_reference.hpp"
 
 namespace {
 

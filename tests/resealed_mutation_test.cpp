@@ -12,8 +12,8 @@
 #include <fstream>
 #include <random>
 
-#include "archive_access.hpp"
 #include "forged_archive.hpp"
+#include "runtime/archive_access.hpp"
 #include "vulkan_test_fixture.hpp"
 
 namespace statepack::testing {

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <cstring>
 
-#include "sampler.hpp"
+#include "path_tracer/sampler.hpp"
 #include "vulkan_test_fixture.hpp"
 
 namespace statepack::testing {

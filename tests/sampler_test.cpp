@@ -8,7 +8,7 @@
 #include <cmath>
 #include <vector>
 
-#include "sampler.hpp"
+#include "path_tracer/sampler.hpp"
 
 namespace {
 

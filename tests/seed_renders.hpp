@@ -10,9 +10,9 @@
 #include <string>
 #include <vector>
 
-#include "app.hpp"
-#include "offline.hpp"
-#include "reference.hpp"
+#include "path_tracer/app.hpp"
+#include "path_tracer/offline.hpp"
+#include "path_tracer/reference.hpp"
 #include "seed_statistics.hpp"
 
 namespace statepack::testing {

@@ -5,8 +5,8 @@
 #include <fstream>
 #include <vector>
 
-#include "archive_access.hpp"
-#include "archive_format.hpp"
+#include "format/archive_format.hpp"
+#include "runtime/archive_access.hpp"
 #include "vulkan_test_fixture.hpp"
 
 namespace statepack::testing {

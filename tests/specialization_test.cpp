@@ -2,8 +2,8 @@
 // two results on lavapipe, and the modify callback overrides a constant by name (sizes checked).
 #include <cstring>
 
-#include "archive_access.hpp"
-#include "archive_format.hpp"
+#include "format/archive_format.hpp"
+#include "runtime/archive_access.hpp"
 #include "vulkan_test_fixture.hpp"
 
 namespace statepack::testing {

@@ -6,8 +6,8 @@
 #include <set>
 #include <thread>
 
-#include "archive_access.hpp"
-#include "archive_format.hpp"
+#include "format/archive_format.hpp"
+#include "runtime/archive_access.hpp"
 #include "vulkan_test_fixture.hpp"
 
 namespace statepack::testing {

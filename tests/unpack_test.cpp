@@ -4,8 +4,8 @@
 #include <set>
 #include <sstream>
 
-#include "archive_access.hpp"
-#include "archive_format.hpp"
+#include "format/archive_format.hpp"
+#include "runtime/archive_access.hpp"
 #include "vulkan_test_fixture.hpp"
 
 namespace statepack::testing {

@@ -4,7 +4,7 @@
 
 #include <vulkan/vulkan.hpp>
 
-#include "vulkan_spelling.hpp"
+#include "notation/vulkan_spelling.hpp"
 
 namespace statepack::packager {
 namespace {

@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "common/vulkan_context.hpp"
 #include "statepack/dearchiver.hpp"
-#include "vulkan_context.hpp"
 
 namespace statepack::testing {
 

@@ -1,7 +1,7 @@
 #include "archive_file.hpp"
 
-#include "file_io.hpp"
 #include "semantic_check.hpp"
+#include "support/file_io.hpp"
 
 namespace statepack::format {
 

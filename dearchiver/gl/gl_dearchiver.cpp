@@ -8,12 +8,12 @@
 #include <set>
 #include <utility>
 
-#include "api_guard.hpp"
-#include "archive_access.hpp"
-#include "archive_format.hpp"
+#include "format/archive_format.hpp"
+#include "format/spirv_walk.hpp"
 #include "gl_state.hpp"
-#include "spirv_walk.hpp"
-#include "suggest.hpp"
+#include "runtime/api_guard.hpp"
+#include "runtime/archive_access.hpp"
+#include "support/suggest.hpp"
 
 namespace statepack::gl {
 

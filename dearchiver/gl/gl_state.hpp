@@ -4,7 +4,7 @@
 
 #include <string_view>
 
-#include "archive_format.hpp"
+#include "format/archive_format.hpp"
 #include "statepack/gl_dearchiver.hpp"
 
 namespace statepack::gl::detail {

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "gl_context.hpp"
+#include "common/gl_context.hpp"
 #include "statepack/gl_dearchiver.hpp"
 
 namespace {

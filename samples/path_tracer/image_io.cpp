@@ -7,7 +7,7 @@
 #include <cstdlib>
 #include <cstring>
 
-#include "file_io.hpp"
+#include "support/file_io.hpp"
 
 #define STB_IMAGE_WRITE_IMPLEMENTATION
 #define STBI_WRITE_NO_STDIO

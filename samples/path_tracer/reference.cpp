@@ -4,8 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "parallel_for.hpp"
 #include "random.hpp"
+#include "support/parallel_for.hpp"
 
 namespace statepack::path_tracer {
 namespace {

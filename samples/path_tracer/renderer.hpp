@@ -6,10 +6,10 @@
 #include <memory>
 #include <vector>
 
+#include "common/vulkan_context.hpp"
 #include "sampler.hpp"
 #include "scene.hpp"
 #include "statepack/dearchiver.hpp"
-#include "vulkan_context.hpp"
 
 namespace statepack::path_tracer {
 

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
-#include "file_io.hpp"
+#include "support/file_io.hpp"
 
 namespace statepack::path_tracer {
 namespace {

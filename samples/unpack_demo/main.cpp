@@ -7,8 +7,8 @@
 
 #include <vulkan/vulkan.hpp>  // vk::to_string: Vulkan-Hpp names every enum
 
+#include "common/vulkan_context.hpp"
 #include "statepack/dearchiver.hpp"
-#include "vulkan_context.hpp"
 
 namespace {
 

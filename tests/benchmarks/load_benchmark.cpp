@@ -16,12 +16,12 @@
 #include <thread>
 #include <vector>
 
-#include "archive_format.hpp"
-#include "file_io.hpp"
-#include "notation.hpp"
-#include "shader_compiler.hpp"
+#include "common/vulkan_context.hpp"
+#include "format/archive_format.hpp"
+#include "notation/notation.hpp"
+#include "shaders/shader_compiler.hpp"
 #include "statepack/dearchiver.hpp"
-#include "vulkan_context.hpp"
+#include "support/file_io.hpp"
 
 namespace {
 

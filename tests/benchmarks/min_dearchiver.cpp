@@ -2,8 +2,8 @@
 // Compared in size with min_glslang.cpp by tests/benchmarks/load_benchmark.sh.
 #include <cstdio>
 
+#include "common/vulkan_context.hpp"
 #include "statepack/dearchiver.hpp"
-#include "vulkan_context.hpp"
 
 int main(int argc, char** argv) {
   if (argc < 3) return std::fprintf(stderr, "usage: min_dearchiver <archive> <compute pipeline>\n"), 2;

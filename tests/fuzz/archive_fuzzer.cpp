@@ -8,9 +8,9 @@
 #include <cstring>
 #include <vector>
 
-#include "archive_format.hpp"
-#include "semantic_check.hpp"
-#include "spirv_walk.hpp"
+#include "format/archive_format.hpp"
+#include "format/semantic_check.hpp"
+#include "format/spirv_walk.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   std::vector<uint32_t> aligned((size + 3) / 4);  // the reader requires 4-byte alignment

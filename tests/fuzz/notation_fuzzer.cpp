@@ -8,7 +8,7 @@
 #include <sstream>
 #include <string>
 
-#include "notation.hpp"
+#include "notation/notation.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   using namespace statepack::packager;

@@ -1,0 +1,63 @@
+// Archive: owns (from_file) or borrows (from_memory) an archive's bytes and keeps their validated,
+// decoded contents; the loading itself is the format library's.
+#include "api_guard.hpp"
+#include "archive_access.hpp"
+#include "format/archive_file.hpp"
+#include "statepack/dearchiver.hpp"
+
+namespace statepack {
+
+struct Archive::State {
+  format::LoadedArchive loaded;  // `owned` stays empty for borrowed bytes
+};
+
+Archive::Archive(std::unique_ptr<State> state) : state_(std::move(state)) {}
+Archive::Archive(Archive&&) noexcept = default;
+Archive& Archive::operator=(Archive&&) noexcept = default;
+Archive::~Archive() = default;
+
+Result<Archive> Archive::from_file(const std::filesystem::path& path, std::optional<uint32_t> required) {
+  return api_guard("Archive::from_file", [&]() -> Result<Archive> {
+    auto loaded = format::load_archive_file(path, required);
+    if (!loaded) return loaded.error();
+    return Archive(std::make_unique<State>(State{std::move(loaded.value())}));
+  });
+}
+
+Result<Archive> Archive::from_memory(std::span<const uint8_t> bytes, std::optional<uint32_t> required) {
+  return api_guard("Archive::from_memory", [&]() -> Result<Archive> {
+    auto contents = format::load_archive(bytes, required, "archive in memory");
+    if (!contents) return contents.error();
+    auto state = std::make_unique<State>();
+    state->loaded.contents = std::move(contents.value());
+    return Archive(std::move(state));
+  });
+}
+
+uint32_t Archive::content_version() const {
+  return state_->loaded.contents.content_version;
+}
+uint32_t Archive::format_version() const {
+  return state_->loaded.contents.format_version;
+}
+
+std::vector<ObjectInfo> Archive::objects() const {
+  const format::Contents& c = state_->loaded.contents;
+  std::vector<ObjectInfo> out;
+  for (const auto& p : c.pipelines)
+    out.push_back({p.name, p.kind == format::PipelineKind::compute ? ObjectKind::compute_pipeline
+                                                                   : ObjectKind::graphics_pipeline});
+  for (const auto& l : c.set_layouts)
+    if (!l.name.empty()) out.push_back({l.name, ObjectKind::resource_signature});
+  for (const auto& r : c.render_passes) out.push_back({r.name, ObjectKind::render_pass});
+  for (uint32_t s : c.standalone_shaders) out.push_back({c.shaders[s].name, ObjectKind::shader});
+  return out;
+}
+
+namespace detail {
+const format::Contents& ArchiveAccess::contents(const Archive& archive) {
+  return archive.state_->loaded.contents;
+}
+}  // namespace detail
+
+}  // namespace statepack

@@ -1,0 +1,57 @@
+// What the device allows, checked before any vkCreate* call: values beyond a device limit are
+// undefined behaviour in Vulkan, and drivers (lavapipe among them) trust them, allocating gigabytes
+// for an absurd push constant size or crashing on a missing set. Each error names the object, the
+// value and the limit.
+#pragma once
+
+#include <vulkan/vulkan.h>
+
+#include <functional>
+#include <string_view>
+
+#include "format/archive_format.hpp"
+#include "format/spirv_walk.hpp"
+
+namespace statepack {
+
+struct DeviceCaps {
+  VkPhysicalDevice physical_device = VK_NULL_HANDLE;
+  VkPhysicalDeviceProperties properties{};
+
+  // Thread-safe (Vulkan allows concurrent physical-device queries).
+  VkFormatProperties format(uint32_t format) const;
+};
+
+// A descriptor set layout on its own (signatures, and each set of a pipeline).
+Result<void> check_set_layout(const format::SetLayout& layout, const DeviceCaps& caps,
+                              std::string_view owner);
+
+// A render pass: attachment formats, sample counts and layouts, attachments per subpass, and
+// dependencies (stage and access masks that agree, features for the stages they name).
+Result<void> check_render_pass(const format::RenderPass& pass, const DeviceCaps& caps,
+                               const VkPhysicalDeviceFeatures& features);
+
+// An immutable sampler: anisotropy, LOD bias and the rules for unnormalized coordinates.
+Result<void> check_sampler(const format::Sampler& sampler, const DeviceCaps& caps, std::string_view owner);
+
+// A pipeline's layout and shaders (SPIR-V version, sets, descriptors per stage and per layout,
+// push constants).
+Result<void> check_pipeline_layout(const format::Contents& contents, const format::Pipeline& pipeline,
+                                   const DeviceCaps& caps);
+
+// A graphics pipeline's fixed-function state after the modify callback: vertex input, attachments,
+// samples, blending.
+struct GraphicsTargets {
+  uint32_t color_count = 0;
+  const VkFormat* color_formats = nullptr;
+  VkFormat depth_stencil_format = VK_FORMAT_UNDEFINED;
+  VkSampleCountFlagBits samples = VK_SAMPLE_COUNT_1_BIT;
+  const bool* blend_enabled = nullptr;  // color_count entries
+};
+// The walked module of a blob (walked once per archive by the caller; every blob walked at load).
+using ModuleOf = std::function<const spirv::Module*(uint32_t blob)>;
+Result<void> check_graphics_state(const format::Contents& contents, const format::Pipeline& pipeline,
+                                  const GraphicsTargets& targets, const DeviceCaps& caps,
+                                  const ModuleOf& module_of);
+
+}  // namespace statepack

@@ -1,0 +1,69 @@
+// The Vulkan objects pipelines share, created once per archived object and kept until the Dearchiver
+// goes: shader modules, descriptor set layouts (and the empty one that fills holes in the set numbering),
+// immutable samplers, render passes and pipeline layouts. Every object is checked against the device
+// before it is created. Not thread-safe: the Dearchiver's lock covers it.
+#pragma once
+
+#include <map>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <tuple>
+#include <utility>
+#include <vector>
+
+#include "device_limits.hpp"
+#include "format/archive_format.hpp"
+#include "format/spirv_walk.hpp"
+#include "statepack/dearchiver.hpp"
+
+namespace statepack {
+
+class ObjectCache {
+ public:
+  // `archives` is the Dearchiver's list: objects are keyed by (archive index, record index).
+  ObjectCache(const DeviceContext& context, const DeviceCaps& caps, const VkPhysicalDeviceFeatures& features,
+              const std::vector<Archive>& archives)
+      : context_(context), caps_(caps), features_(features), archives_(archives) {}
+  ObjectCache(const ObjectCache&) = delete;
+  ObjectCache& operator=(const ObjectCache&) = delete;
+  ~ObjectCache();
+
+  const format::Contents& contents(size_t archive) const;
+
+  // `owner` names what needs the object, for errors.
+  Result<VkShaderModule> module(size_t archive, uint32_t blob, std::string_view owner);
+  // format::kNone gives the empty layout.
+  Result<VkDescriptorSetLayout> set_layout(size_t archive, uint32_t index, std::string_view pipeline);
+  Result<VkSampler> sampler(size_t archive, uint32_t index, std::string_view binding);
+  Result<VkRenderPass> render_pass(size_t archive, uint32_t index);
+  Result<VkPipelineLayout> pipeline_layout(const std::vector<VkDescriptorSetLayout>& set_layouts,
+                                           uint32_t push_constant_size, uint32_t push_constant_stages,
+                                           std::string_view pipeline);
+
+  // The sampler object set_layout created for a binding's immutable sampler, or null.
+  VkSampler immutable_sampler_of(size_t archive, const format::Binding& binding) const;
+  // A blob's declarations, walked once (the walk succeeded at load; nullptr if it somehow does not).
+  const spirv::Module* walked(size_t archive, uint32_t blob);
+
+ private:
+  using Key = std::pair<size_t, uint32_t>;  // (archive, index of the record or blob)
+  // The one place a cached object is looked up, or created and kept.
+  template <class Handle, class Create>
+  Result<Handle> find_or_create(std::map<Key, Handle>& cache, Key key, Create&& create);
+
+  const DeviceContext& context_;
+  const DeviceCaps& caps_;
+  const VkPhysicalDeviceFeatures& features_;
+  const std::vector<Archive>& archives_;
+  std::map<Key, VkShaderModule> modules_;
+  std::map<Key, VkDescriptorSetLayout> set_layouts_;
+  std::map<Key, VkSampler> samplers_;
+  std::map<Key, VkRenderPass> render_passes_;
+  VkDescriptorSetLayout empty_set_layout_ = VK_NULL_HANDLE;
+  std::map<std::tuple<std::vector<VkDescriptorSetLayout>, uint32_t, uint32_t>, VkPipelineLayout>
+      pipeline_layouts_;                                        // (set layouts, push size, push stages)
+  std::map<Key, std::optional<spirv::Module>> walked_modules_;  // (archive, blob)
+};
+
+}  // namespace statepack

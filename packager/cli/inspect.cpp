@@ -1,0 +1,490 @@
+// statepack inspect: every object of an archive, as text or as JSON.
+#include "inspect.hpp"
+
+#include "notation/enum_tables.hpp"
+
+#include <cinttypes>
+#include <cstdio>
+#include <nlohmann/json.hpp>
+#include <ostream>
+#include <vulkan/vulkan.hpp>  // vk::to_string: Vulkan's own enum names, kept up to date by the SDK
+
+#include "format/archive_file.hpp"
+#include "format/archive_format.hpp"
+#include "format/spirv_walk.hpp"
+#include "pack/packer.hpp"
+
+namespace statepack::packager {
+namespace {
+
+using Json = nlohmann::ordered_json;  // keys in insertion order: stable, readable output
+
+std::string version_text(uint32_t v) {
+  return std::to_string(v >> 22) + "." + std::to_string((v >> 12) & 0x3FF) + "." + std::to_string(v & 0xFFF);
+}
+std::string hex64(uint64_t v) {
+  char text[19];
+  std::snprintf(text, sizeof text, "%016" PRIx64, v);
+  return text;
+}
+// Names come from the archive, which anyone can edit: JSON output replaces bytes that are not UTF-8
+// with U+FFFD (nlohmann's error_handler_t::replace), and text output, which goes to terminals, shows
+// control characters, backslashes and bytes that are not UTF-8 as \xNN escapes.
+std::string printable(const std::string& name) {
+  std::string out;
+  auto escape = [&](unsigned char c) {
+    char text[5];
+    std::snprintf(text, sizeof text, "\\x%02X", c);
+    out += text;
+  };
+  for (size_t i = 0; i < name.size();) {
+    const auto c = static_cast<unsigned char>(name[i]);
+    // Length of a well-formed UTF-8 sequence starting here (RFC 3629: no overlongs, no surrogates).
+    size_t length = 0;
+    if (c < 0x80) {
+      length = 1;
+    } else if (c >= 0xC2 && c <= 0xF4) {
+      length = c < 0xE0 ? 2 : c < 0xF0 ? 3 : 4;
+      if (i + length > name.size()) length = 0;
+      for (size_t k = 1; k < length; ++k)
+        if ((static_cast<unsigned char>(name[i + k]) & 0xC0) != 0x80) length = 0;
+      if (length > 0) {
+        const auto c1 = static_cast<unsigned char>(name[i + 1]);
+        if ((c == 0xE0 && c1 < 0xA0) || (c == 0xED && c1 > 0x9F) || (c == 0xF0 && c1 < 0x90) ||
+            (c == 0xF4 && c1 > 0x8F))
+          length = 0;
+        // C1 controls (U+0080-U+009F) steer terminals as well as C0 ones do.
+        if (c == 0xC2 && c1 < 0xA0) length = 0;
+      }
+    }
+    if (length == 1 && (c < 0x20 || c == 0x7F || c == '\\')) length = 0;
+    if (length == 0) {
+      escape(c);
+      ++i;
+    } else {
+      out.append(name, i, length);
+      i += length;
+    }
+  }
+  return out;
+}
+std::string text(const Json& value) {
+  return printable(value.get<std::string>());
+}
+
+std::string none_or(uint32_t index) {
+  return index == format::kNone ? "none" : std::to_string(index);
+}
+
+Json stages_json(uint32_t flags) {
+  Json out = Json::array();
+  for (uint32_t bit = 1; bit <= VK_SHADER_STAGE_COMPUTE_BIT; bit <<= 1)
+    if (flags & bit) out.push_back(vk::to_string(vk::ShaderStageFlagBits(bit)));
+  return out;
+}
+
+Json binding_json(const format::Binding& b) {
+  Json j;
+  j["name"] = b.name;
+  j["binding"] = b.binding;
+  j["type"] = vk::to_string(vk::DescriptorType(b.descriptor_type));
+  j["count"] = b.count;
+  j["stages"] = stages_json(b.stage_flags);
+  if (b.immutable_sampler != format::kNone) j["immutable_sampler"] = b.immutable_sampler;
+  return j;
+}
+
+Json graphics_json(const format::Contents& c, const format::Pipeline& p) {
+  const format::GraphicsState& g = p.graphics;
+  Json j;
+  j["topology"] = vk::to_string(vk::PrimitiveTopology(g.topology));
+  if (g.patch_control_points != 0) j["patch_control_points"] = g.patch_control_points;
+  j["polygon_mode"] = vk::to_string(vk::PolygonMode(g.polygon_mode));
+  j["cull_mode"] = g.cull_mode == 0 ? "None" : vk::to_string(vk::CullModeFlagBits(g.cull_mode));
+  j["front_face"] = vk::to_string(vk::FrontFace(g.front_face));
+  j["depth_test"] = g.depth_test != 0;
+  j["depth_write"] = g.depth_write != 0;
+  j["depth_compare"] = vk::to_string(vk::CompareOp(g.depth_compare));
+  j["depth_clamp"] = g.depth_clamp != 0;
+  j["depth_bias"] = {
+      {"constant", g.depth_bias}, {"clamp", g.depth_bias_clamp}, {"slope", g.depth_bias_slope}};
+  j["stencil_test"] = g.stencil_test != 0;
+  auto stencil_ops = [](const format::StencilOpState& s) {
+    return Json{{"fail", vk::to_string(vk::StencilOp(s.fail_op))},
+                {"pass", vk::to_string(vk::StencilOp(s.pass_op))},
+                {"depth_fail", vk::to_string(vk::StencilOp(s.depth_fail_op))},
+                {"compare", vk::to_string(vk::CompareOp(s.compare_op))}};
+  };
+  j["stencil"] = {{"read_mask", g.stencil_read_mask},
+                  {"write_mask", g.stencil_write_mask},
+                  {"front", stencil_ops(g.front)},
+                  {"back", stencil_ops(g.back)}};
+  j["samples"] = g.samples;
+  j["sample_mask"] = g.sample_mask;
+  j["alpha_to_coverage"] = g.alpha_to_coverage != 0;
+  Json formats = Json::array();
+  for (uint32_t i = 0; i < g.color_count; ++i) {
+    Json target;
+    target["format"] = vk::to_string(vk::Format(g.color_formats[i]));
+    target["blend"] = g.blend[i].enable != 0;
+    {  // factors and ops are stored (and shown) even when blending is off
+      target["color"] = vk::to_string(vk::BlendFactor(g.blend[i].src_color)) + " " +
+                        vk::to_string(vk::BlendOp(g.blend[i].color_op)) + " " +
+                        vk::to_string(vk::BlendFactor(g.blend[i].dst_color));
+      target["alpha"] = vk::to_string(vk::BlendFactor(g.blend[i].src_alpha)) + " " +
+                        vk::to_string(vk::BlendOp(g.blend[i].alpha_op)) + " " +
+                        vk::to_string(vk::BlendFactor(g.blend[i].dst_alpha));
+    }
+    target["write_mask"] = g.blend[i].write_mask;
+    formats.push_back(target);
+  }
+  j["render_targets"] = formats;
+  // Targets the pixel shader writes beyond the archive's count: the notation left them to run time.
+  Json run_time = Json::array();
+  for (uint32_t index : p.shaders) {
+    if (index >= c.shaders.size() || c.shaders[index].stage != VK_SHADER_STAGE_FRAGMENT_BIT) continue;
+    auto module = spirv::walk(c.spirv.at(c.shaders[index].blob));
+    const uint32_t written = module ? module->output_location_mask() : 0;
+    for (uint32_t l = g.color_count; l < 32; ++l)
+      if (written & (1u << l)) run_time.push_back(l);
+  }
+  if (!run_time.empty()) j["run_time_render_targets"] = run_time;
+  j["depth_stencil_format"] = vk::to_string(vk::Format(g.depth_stencil_format));
+  Json bindings = Json::array(), attributes = Json::array();
+  for (const auto& b : g.vertex_bindings)
+    bindings.push_back({{"binding", b.binding},
+                        {"stride", b.stride},
+                        {"rate", vk::to_string(vk::VertexInputRate(b.input_rate))}});
+  for (const auto& a : g.vertex_attributes)
+    attributes.push_back({{"location", a.location},
+                          {"binding", a.binding},
+                          {"format", vk::to_string(vk::Format(a.format))},
+                          {"offset", a.offset}});
+  if (!bindings.empty()) j["vertex_bindings"] = bindings;
+  if (!attributes.empty()) j["vertex_attributes"] = attributes;
+  j["render_pass"] = p.render_pass == format::kNone ? "none" : c.render_passes[p.render_pass].name;
+  if (p.render_pass != format::kNone) j["subpass"] = p.subpass;
+  return j;
+}
+
+Json contents_json(const format::Contents& c, size_t size) {
+  Json j;
+  j["format_version"] = c.format_version;
+  j["producer_version"] = version_text(c.producer_version);
+  j["content_version"] = c.content_version;
+  j["backends"] = Json::array();
+  if (c.backends & format::kBackendVulkan) j["backends"].push_back("vulkan");
+  if (c.backends & format::kBackendOpenGL) j["backends"].push_back("opengl");
+  j["size"] = size;
+  Json blobs = Json::array();
+  for (auto blob : c.spirv)
+    blobs.push_back({{"size", blob.size_bytes()},
+                     {"xxh3", hex64(format::hash_bytes(
+                                  {reinterpret_cast<const uint8_t*>(blob.data()), blob.size_bytes()}))}});
+  j["spirv_blobs"] = blobs;
+  Json shaders = Json::array();
+  for (const auto& s : c.shaders)
+    shaders.push_back({{"name", s.name},
+                       {"stage", vk::to_string(vk::ShaderStageFlagBits(s.stage))},
+                       {"entry_point", s.entry_point},
+                       {"blob", s.blob}});
+  j["shaders"] = shaders;
+  Json standalone = Json::array();
+  for (uint32_t s : c.standalone_shaders) standalone.push_back(c.shaders[s].name);
+  j["standalone_shaders"] = standalone;
+  Json samplers = Json::array();
+  for (const auto& s : c.samplers)
+    samplers.push_back(
+        {{"filter", vk::to_string(vk::Filter(s.min_filter)) + "/" + vk::to_string(vk::Filter(s.mag_filter)) +
+                        "/" + vk::to_string(vk::SamplerMipmapMode(s.mipmap_mode))},
+         {"address", vk::to_string(vk::SamplerAddressMode(s.address_u)) + "/" +
+                         vk::to_string(vk::SamplerAddressMode(s.address_v)) + "/" +
+                         vk::to_string(vk::SamplerAddressMode(s.address_w))},
+         {"anisotropy", s.anisotropy_enable ? s.max_anisotropy : 0.0f},
+         {"compare", s.compare_enable ? vk::to_string(vk::CompareOp(s.compare_op)) : "none"}});
+  j["samplers"] = samplers;
+  Json signatures = Json::array();
+  for (const auto& l : c.set_layouts) {
+    if (l.name.empty()) continue;
+    Json sig{{"name", l.name}, {"set", l.binding_index}};
+    Json bindings = Json::array();
+    for (const auto& b : l.bindings) bindings.push_back(binding_json(b));
+    sig["bindings"] = bindings;
+    signatures.push_back(sig);
+  }
+  j["resource_signatures"] = signatures;
+  Json passes = Json::array();
+  for (const auto& rp : c.render_passes) {
+    Json pass{{"name", rp.name}};
+    Json attachments = Json::array();
+    for (const auto& a : rp.attachments)
+      attachments.push_back({{"format", vk::to_string(vk::Format(a.format))},
+                             {"samples", a.samples},
+                             {"load", vk::to_string(vk::AttachmentLoadOp(a.load_op))},
+                             {"store", vk::to_string(vk::AttachmentStoreOp(a.store_op))},
+                             {"stencil_load", vk::to_string(vk::AttachmentLoadOp(a.stencil_load_op))},
+                             {"stencil_store", vk::to_string(vk::AttachmentStoreOp(a.stencil_store_op))},
+                             {"initial_layout", vk::to_string(vk::ImageLayout(a.initial_layout))},
+                             {"final_layout", vk::to_string(vk::ImageLayout(a.final_layout))}});
+    pass["attachments"] = attachments;
+    Json subpasses = Json::array();
+    for (const auto& s : rp.subpasses) {
+      auto refs = [](const std::vector<format::AttachmentRef>& list) {
+        Json out = Json::array();
+        for (const auto& r : list) out.push_back(none_or(r.attachment));
+        return out;
+      };
+      subpasses.push_back({{"inputs", refs(s.inputs)},
+                           {"colors", refs(s.colors)},
+                           {"resolves", refs(s.resolves)},
+                           {"depth_stencil", none_or(s.depth_stencil.attachment)}});
+    }
+    pass["subpasses"] = subpasses;
+    Json dependencies = Json::array();
+    for (const auto& d : rp.dependencies)
+      dependencies.push_back(
+          {{"src_subpass", d.src_subpass == format::kNone ? Json("external") : Json(d.src_subpass)},
+           {"dst_subpass", d.dst_subpass == format::kNone ? Json("external") : Json(d.dst_subpass)},
+           {"src_stages", vk::to_string(vk::PipelineStageFlags(d.src_stages))},
+           {"dst_stages", vk::to_string(vk::PipelineStageFlags(d.dst_stages))},
+           {"src_access", vk::to_string(vk::AccessFlags(d.src_access))},
+           {"dst_access", vk::to_string(vk::AccessFlags(d.dst_access))},
+           {"flags", vk::to_string(vk::DependencyFlags(d.flags))}});
+    pass["dependencies"] = dependencies;
+    passes.push_back(pass);
+  }
+  j["render_passes"] = passes;
+  Json pipelines = Json::array();
+  for (const auto& p : c.pipelines) {
+    Json pj{{"name", p.name}, {"kind", p.kind == format::PipelineKind::compute ? "compute" : "graphics"}};
+    Json stages = Json::array();
+    for (uint32_t s : p.shaders)
+      stages.push_back({{"stage", vk::to_string(vk::ShaderStageFlagBits(c.shaders[s].stage))},
+                        {"shader", c.shaders[s].name},
+                        {"size", c.spirv[c.shaders[s].blob].size_bytes()}});
+    pj["shaders"] = stages;
+    Json sets = Json::array();
+    for (uint32_t set = 0; set < p.set_layouts.size(); ++set) {
+      Json sj{{"set", set}};
+      if (p.set_layouts[set] != format::kNone) {
+        const auto& layout = c.set_layouts[p.set_layouts[set]];
+        if (!layout.name.empty()) sj["signature"] = layout.name;
+        Json bindings = Json::array();
+        for (const auto& b : layout.bindings) bindings.push_back(binding_json(b));
+        sj["bindings"] = bindings;
+      }
+      sets.push_back(sj);
+    }
+    pj["sets"] = sets;
+    if (p.push_constant_size)
+      pj["push_constants"] = {{"size", p.push_constant_size},
+                              {"stages", stages_json(p.push_constant_stages)}};
+    if (p.kind == format::PipelineKind::graphics) {
+      pj["graphics"] = graphics_json(c, p);
+      Json dynamic = Json::array();
+      for (const auto& [name, bit] : kDynamicStates)
+        if (bit != kUnsupportedValue && (p.dynamic_states & bit)) dynamic.push_back(name);
+      pj["dynamic_states"] = dynamic;
+    }
+    if (!p.constants.empty()) {
+      Json constants = Json::array();
+      for (const auto& k : p.constants) {
+        char value[24];
+        std::snprintf(value, sizeof value, k.size == 8 ? "0x%016llx" : "0x%08llx",
+                      static_cast<unsigned long long>(k.value));
+        constants.push_back({{"name", k.name},
+                             {"stage", vk::to_string(vk::ShaderStageFlagBits(k.stage))},
+                             {"constant_id", k.constant_id},
+                             {"size", k.size},
+                             {"value", value}});
+      }
+      pj["specialization_constants"] = constants;
+    }
+    pipelines.push_back(pj);
+  }
+  j["pipelines"] = pipelines;
+  // The OpenGL block, only when present (Vulkan-only archives print as before).
+  if (!c.gl_pipelines.empty()) {
+    Json gl = Json::array();
+    for (const auto& p : c.gl_pipelines) {
+      Json pj{{"name", p.name}, {"kind", p.kind == format::PipelineKind::compute ? "compute" : "graphics"}};
+      Json gl_shaders = Json::array();
+      for (const auto& s : p.shaders)
+        gl_shaders.push_back({{"stage", vk::to_string(vk::ShaderStageFlagBits(s.stage))},
+                              {"shader", s.name},
+                              {"entry_point", s.entry_point},
+                              {"blob", s.blob},
+                              {"size", c.spirv[s.blob].size_bytes()}});
+      pj["shaders"] = gl_shaders;
+      Json bindings = Json::array();
+      for (const auto& b : p.bindings)
+        bindings.push_back({{"name", b.name},
+                            {"kind", format::gl_namespace_name(b.kind)},
+                            {"binding", b.binding},
+                            {"count", b.count},
+                            {"stages", stages_json(b.stages)}});
+      pj["bindings"] = bindings;
+      if (p.kind == format::PipelineKind::graphics) {
+        format::Pipeline as_vulkan;  // the same state, printed the same way (no render pass in OpenGL)
+        as_vulkan.graphics = p.graphics;
+        pj["graphics"] = graphics_json(c, as_vulkan);
+        pj["graphics"].erase("render_pass");
+      }
+      Json constants = Json::array();
+      for (const auto& k : p.constants)
+        constants.push_back({{"name", k.name},
+                             {"stage", vk::to_string(vk::ShaderStageFlagBits(k.stage))},
+                             {"constant_id", k.constant_id},
+                             {"size", k.size}});
+      if (!constants.empty()) pj["specialization_constants"] = constants;
+      gl.push_back(pj);
+    }
+    j["opengl_pipelines"] = gl;
+  }
+  return j;
+}
+
+void print_text(const Json& j, std::ostream& out) {
+  out << "format v" << j["format_version"].get<uint32_t>() << ", made by statepack "
+      << j["producer_version"].get<std::string>() << ", content version "
+      << j["content_version"].get<uint32_t>() << ", " << j["size"].get<size_t>()
+      << " bytes, backends: " << j["backends"].dump() << "\n";
+  out << j["spirv_blobs"].size() << " SPIR-V blob(s), " << j["shaders"].size() << " shader record(s), "
+      << j["samplers"].size() << " sampler(s)\n";
+  // The blob table's sizes and content hashes (decode checked each hash against its bytes).
+  for (size_t i = 0; i < j["spirv_blobs"].size(); ++i)
+    out << "  SPIR-V blob " << i << ": " << j["spirv_blobs"][i]["size"].get<size_t>() << " bytes, XXH3 "
+        << j["spirv_blobs"][i]["xxh3"].get<std::string>() << "\n";
+  for (const auto& p : j["pipelines"]) {
+    out << "pipeline '" << text(p["name"]) << "' (" << p["kind"].get<std::string>() << ")\n";
+    for (const auto& s : p["shaders"])
+      out << "  " << s["stage"].get<std::string>() << ": '" << text(s["shader"]) << "', "
+          << s["size"].get<size_t>() << " bytes\n";
+    for (const auto& set : p["sets"]) {
+      if (!set.contains("bindings")) continue;
+      out << "  set " << set["set"].get<uint32_t>();
+      if (set.contains("signature")) out << " (signature '" << text(set["signature"]) << "')";
+      out << "\n";
+      for (const auto& b : set["bindings"])
+        out << "    binding " << b["binding"].get<uint32_t>() << ": '" << text(b["name"]) << "' "
+            << b["type"].get<std::string>() << " x" << b["count"].get<uint32_t>() << " " << b["stages"].dump()
+            << "\n";
+    }
+    if (p.contains("push_constants"))
+      out << "  push constants: " << p["push_constants"]["size"].get<uint32_t>() << " bytes\n";
+    if (p.contains("specialization_constants"))
+      for (const auto& k : p["specialization_constants"])
+        out << "  specialization constant '" << text(k["name"]) << "' (" << k["stage"].get<std::string>()
+            << ", id " << k["constant_id"].get<uint32_t>() << ", " << k["size"].get<uint32_t>()
+            << " bytes) = " << k["value"].get<std::string>() << "\n";
+    if (p.contains("dynamic_states")) {
+      out << "  dynamic:";
+      for (const auto& d : p["dynamic_states"]) out << " " << d.get<std::string>();
+      out << "\n";
+    }
+    if (p.contains("graphics")) {
+      const auto& g = p["graphics"];
+      out << "  " << g["topology"].get<std::string>();
+      if (g.contains("patch_control_points")) out << " of " << g["patch_control_points"].get<uint32_t>();
+      out << ", cull " << g["cull_mode"].get<std::string>() << ", depth test "
+          << (g["depth_test"].get<bool>() ? "on" : "off") << ", targets:";
+      for (const auto& t : g["render_targets"])
+        out << " "
+            << (t["format"] == "Undefined" ? std::string("UNKNOWN (set at unpack)")
+                                           : t["format"].get<std::string>());
+      if (g.contains("run_time_render_targets")) {
+        out << " + set at run time:";
+        for (const auto& l : g["run_time_render_targets"]) out << " " << l.get<uint32_t>();
+      }
+      if (g["render_pass"] != "none") out << ", render pass '" << text(g["render_pass"]) << "'";
+      out << "\n";
+      out << "    raster: " << g["polygon_mode"].get<std::string>() << ", front face "
+          << g["front_face"].get<std::string>() << ", depth clamp "
+          << (g["depth_clamp"].get<bool>() ? "on" : "off") << ", depth bias "
+          << g["depth_bias"]["constant"].get<float>() << " (clamp " << g["depth_bias"]["clamp"].get<float>()
+          << ", slope " << g["depth_bias"]["slope"].get<float>() << ")\n";
+      out << "    depth: write " << (g["depth_write"].get<bool>() ? "on" : "off") << ", compare "
+          << g["depth_compare"].get<std::string>() << ", format "
+          << g["depth_stencil_format"].get<std::string>() << "\n";
+      const auto& st = g["stencil"];
+      auto ops = [](const Json& s) {
+        return s["compare"].get<std::string>() + " fail " + s["fail"].get<std::string>() + " pass " +
+               s["pass"].get<std::string>() + " depth-fail " + s["depth_fail"].get<std::string>();
+      };
+      out << "    stencil: " << (g["stencil_test"].get<bool>() ? "on" : "off") << ", read mask 0x" << std::hex
+          << st["read_mask"].get<uint32_t>() << ", write mask 0x" << st["write_mask"].get<uint32_t>()
+          << std::dec << ", front " << ops(st["front"]) << ", back " << ops(st["back"]) << "\n";
+      out << "    multisample: " << g["samples"].get<uint32_t>() << " sample(s), mask 0x" << std::hex
+          << g["sample_mask"].get<uint32_t>() << std::dec << ", alpha to coverage "
+          << (g["alpha_to_coverage"].get<bool>() ? "on" : "off") << "\n";
+      for (size_t i = 0; i < g["render_targets"].size(); ++i) {
+        const auto& t = g["render_targets"][i];
+        out << "    target " << i << ": blend " << (t["blend"].get<bool>() ? "on" : "off") << ", color "
+            << t["color"].get<std::string>() << ", alpha " << t["alpha"].get<std::string>()
+            << ", write mask 0x" << std::hex << t["write_mask"].get<uint32_t>() << std::dec << "\n";
+      }
+    }
+  }
+  for (const auto& s : j["resource_signatures"])
+    out << "resource signature '" << text(s["name"]) << "' (set " << s["set"].get<uint32_t>() << ", "
+        << s["bindings"].size() << " bindings)\n";
+  for (const auto& r : j["render_passes"]) {
+    out << "render pass '" << text(r["name"]) << "' (" << r["attachments"].size() << " attachments, "
+        << r["subpasses"].size() << " subpasses)\n";
+    for (size_t i = 0; i < r["attachments"].size(); ++i) {
+      const auto& a = r["attachments"][i];
+      out << "  attachment " << i << ": " << a["format"].get<std::string>() << " x"
+          << a["samples"].get<uint32_t>() << ", " << a["load"].get<std::string>() << "/"
+          << a["store"].get<std::string>() << ", stencil " << a["stencil_load"].get<std::string>() << "/"
+          << a["stencil_store"].get<std::string>() << ", " << a["initial_layout"].get<std::string>() << " -> "
+          << a["final_layout"].get<std::string>() << "\n";
+    }
+    auto subpass = [](const Json& s) { return s.is_string() ? s.get<std::string>() : s.dump(); };
+    for (const auto& d : r["dependencies"])
+      out << "  dependency " << subpass(d["src_subpass"]) << " -> " << subpass(d["dst_subpass"])
+          << ": stages " << d["src_stages"].get<std::string>() << " -> " << d["dst_stages"].get<std::string>()
+          << ", access " << d["src_access"].get<std::string>() << " -> " << d["dst_access"].get<std::string>()
+          << "\n";
+  }
+  for (const auto& s : j["standalone_shaders"]) out << "standalone shader '" << text(s) << "'\n";
+  if (j.contains("opengl_pipelines"))
+    for (const auto& p : j["opengl_pipelines"]) {
+      out << "OpenGL pipeline '" << text(p["name"]) << "' (" << p["kind"].get<std::string>() << ")\n";
+      for (const auto& s : p["shaders"])
+        out << "  " << s["stage"].get<std::string>() << ": '" << text(s["shader"]) << "', "
+            << s["size"].get<size_t>() << " bytes (blob " << s["blob"].get<uint32_t>() << ")\n";
+      for (const auto& b : p["bindings"])
+        out << "  " << b["kind"].get<std::string>() << " " << b["binding"].get<uint32_t>() << ": '"
+            << text(b["name"]) << "' x" << b["count"].get<uint32_t>() << " " << b["stages"].dump() << "\n";
+      if (p.contains("graphics")) {
+        const auto& g = p["graphics"];
+        out << "  " << g["topology"].get<std::string>() << ", cull " << g["cull_mode"].get<std::string>()
+            << ", front face " << g["front_face"].get<std::string>() << ", depth test "
+            << (g["depth_test"].get<bool>() ? "on" : "off") << ", " << g["render_targets"].size()
+            << " target(s)\n";
+      }
+    }
+}
+
+}  // namespace
+
+int run_inspect(const std::string& path, bool as_json, std::ostream& out, std::ostream& err) {
+  auto archive = format::load_archive_file(path);
+  if (!archive) {
+    err << "statepack: error: " << archive.error().message << '\n';
+    return archive.error().code == ErrorCode::io_error ? kExitIoError : kExitInputError;
+  }
+  std::error_code ec;
+  print_archive(archive->contents, static_cast<size_t>(std::filesystem::file_size(path, ec)), as_json, out);
+  return kExitSuccess;
+}
+
+void print_archive(const format::Contents& contents, size_t size, bool as_json, std::ostream& out) {
+  Json j = contents_json(contents, size);
+  if (as_json)
+    out << j.dump(2, ' ', false, Json::error_handler_t::replace) << '\n';
+  else
+    print_text(j, out);
+}
+
+}  // namespace statepack::packager

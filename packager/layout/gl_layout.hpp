@@ -1,0 +1,28 @@
+// A pipeline's OpenGL binding table, from its shaders compiled for OpenGL. OpenGL has no descriptor
+// sets: uniform buffers, storage buffers, textures and images each have binding numbers of their own.
+// Resources are numbered per kind in the order the shaders declare them (set, then binding), merged by
+// name across stages, and the modules' Binding decorations are patched to those numbers (DescriptorSet
+// to 0), so the archive's SPIR-V and table agree and the runtime binds by name.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "format/archive_format.hpp"
+#include "notation/diagnostics.hpp"
+#include "notation/notation.hpp"
+#include "pipeline_layout.hpp"
+
+namespace statepack::packager {
+
+struct GlLayout {
+  std::vector<format::GlBinding> bindings;           // sorted by (kind, binding)
+  std::vector<std::vector<uint32_t>> patched_spirv;  // per stage, in the order given
+};
+
+// False (with an error naming the pipeline and resource) for what OpenGL cannot express: separate
+// samplers or sampled images, input attachments, push constants, one name of two kinds or sizes.
+bool build_gl_layout(const PipelineDesc& pipeline, const std::vector<StageInput>& stages, GlLayout& out,
+                     Diagnostics& diag);
+
+}  // namespace statepack::packager

@@ -1,0 +1,28 @@
+// Checks between a graphics pipeline's notation and its compiled shaders: what one stage writes the
+// next must read with the same type, every vertex-shader input must come from the input layout with a
+// compatible format, and every fragment output must land on a render target of its kind. Vulkan
+// reports these only at pipeline creation, at draw time, or never (a blank picture); here each is an
+// error at the notation element involved, naming both sides.
+#pragma once
+
+#include <vector>
+
+#include "format/archive_format.hpp"
+#include "notation/diagnostics.hpp"
+#include "notation/notation.hpp"
+#include "pipeline_layout.hpp"
+
+namespace statepack::packager {
+
+// `g` is the pipeline's state with its render pass applied (formats of the subpass). Returns false
+// when an error was reported; warnings (unused input-layout elements, formats some devices do not
+// support for their use) do not fail.
+bool check_graphics_interfaces(const PipelineDesc& p, const format::GraphicsState& g,
+                               const std::vector<StageInput>& stages, const SourceTexts& sources,
+                               Diagnostics& diag);
+
+// Warns about color attachments of a render pass whose format Vulkan does not require devices to support
+// as a color attachment (once per attachment, at its pAttachments entry).
+void warn_render_pass_formats(const RenderPassDesc& pass, const SourceTexts& sources, Diagnostics& diag);
+
+}  // namespace statepack::packager

@@ -1,0 +1,309 @@
+#include "pipeline_layout.hpp"
+
+#include <vulkan/vulkan_core.h>
+
+#include <map>
+#include <set>
+
+#include "notation/enum_tables.hpp"
+#include "support/suggest.hpp"
+
+namespace statepack::packager {
+namespace {
+
+// Vulkan's name of the descriptor type, with the notation's resource type where one maps to it.
+std::string descriptor_name(uint32_t type) {
+  std::string name = format::descriptor_type_name(type);
+  switch (type) {
+    case VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE:
+      return name + " (TEXTURE_SRV)";
+    case VK_DESCRIPTOR_TYPE_STORAGE_IMAGE:
+      return name + " (TEXTURE_UAV)";
+    case VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER:
+      return name + " (CONSTANT_BUFFER)";
+    case VK_DESCRIPTOR_TYPE_STORAGE_BUFFER:
+      return name + " (BUFFER_SRV/BUFFER_UAV)";
+  }
+  return name;
+}
+
+std::string where_text(const PipelineDesc& p, const StageInput& stage) {
+  return "pipeline '" + p.name + "', shader '" + stage.desc->name + "'";
+}
+
+bool takes_sampler(uint32_t type) {
+  return type == VK_DESCRIPTOR_TYPE_SAMPLER || type == VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+}
+
+// One resource of the final layout and every reflected use of it, for patching.
+struct Slot {
+  format::Binding binding;
+  uint32_t set = 0;
+};
+
+void patch(std::vector<uint32_t>& words, const ReflectedBinding& r, uint32_t set, uint32_t binding) {
+  words[r.set_word] = set;
+  words[r.binding_word] = binding;
+}
+
+// Immutable samplers attach to the binding named SamplerOrTextureName (or that name plus the combined
+// sampler suffix); false when no sampler-taking binding has that name.
+bool attach_sampler(std::vector<Slot*>& candidates, const ImmutableSamplerDesc& s, const std::string& suffix,
+                    ContentsBuilder& builder) {
+  for (Slot* slot : candidates) {
+    if (!takes_sampler(slot->binding.descriptor_type)) continue;
+    if (slot->binding.name != s.name && (suffix.empty() || slot->binding.name != s.name + suffix)) continue;
+    slot->binding.immutable_sampler = builder.add_sampler(s.sampler);
+    return true;
+  }
+  return false;
+}
+
+bool check_stage_use(const PipelineDesc& p, const StageInput& stage, const ReflectedBinding& r,
+                     uint32_t declared_type, uint32_t declared_count, uint32_t declared_stages,
+                     Diagnostics& diag) {
+  if (declared_type != r.descriptor_type) {
+    diag.error(p.where, where_text(p, stage) + ": resource '" + r.name + "' is a " +
+                            descriptor_name(r.descriptor_type) + " in the shader but a " +
+                            descriptor_name(declared_type) + " in the layout");
+    return false;
+  }
+  if (r.count > declared_count) {
+    diag.error(p.where, where_text(p, stage) + ": resource '" + r.name + "' is an array of " +
+                            std::to_string(r.count) + " in the shader but of " +
+                            std::to_string(declared_count) + " in the layout");
+    return false;
+  }
+  if (declared_stages != 0 && (declared_stages & r.stage) == 0) {
+    diag.error(p.where, where_text(p, stage) + ": resource '" + r.name +
+                            "' is used in a stage its ShaderStages do not include");
+    return false;
+  }
+  return true;
+}
+
+bool layout_from_signatures(const PipelineDesc& p, const std::vector<StageInput>& stages,
+                            const Notation& notation, ContentsBuilder& builder, PipelineLayout& out,
+                            Diagnostics& diag) {
+  std::map<uint32_t, const SignatureDesc*> by_set;
+  for (const auto& name : p.signatures) {
+    const SignatureDesc* sig = nullptr;
+    for (const auto& s : notation.signatures)
+      if (s.name == name) sig = &s;
+    if (!sig) return false;  // reported by resolve_references
+    auto [it, inserted] = by_set.emplace(sig->binding_index, sig);
+    if (!inserted) {
+      diag.error(p.where, "pipeline '" + p.name + "': resource signatures '" + it->second->name + "' and '" +
+                              name + "' both use BindingIndex " + std::to_string(sig->binding_index));
+      return false;
+    }
+  }
+  uint32_t set_count = by_set.empty() ? 0 : by_set.rbegin()->first + 1;
+  out.set_layouts.assign(set_count, format::kNone);
+  for (const auto& [set, sig] : by_set)
+    out.set_layouts[set] = builder.add_set_layout(
+        signature_set_layout(*sig, !notation.ignored_signatures.count(sig->name), builder));
+
+  bool ok = true;
+  std::vector<std::string> all_names;
+  for (const auto& [set, sig] : by_set)
+    for (const auto& r : sig->resources) all_names.push_back(r.name);
+  for (size_t s = 0; s < stages.size(); ++s) {
+    for (const ReflectedBinding& r : stages[s].reflection->bindings) {
+      bool found = false;
+      for (const auto& [set, sig] : by_set) {
+        const format::SetLayout& layout = builder.contents.set_layouts[out.set_layouts[set]];
+        for (const format::Binding& b : layout.bindings) {
+          if (b.name != r.name) continue;
+          found = true;
+          ok &= check_stage_use(p, stages[s], r, b.descriptor_type, b.count, b.stage_flags, diag);
+          patch(out.patched_spirv[s], r, set, b.binding);
+        }
+        if (found) break;
+      }
+      if (!found) {
+        diag.error(p.where, where_text(p, stages[s]) + ": resource '" + r.name +
+                                "' is in none of the pipeline's resource signatures" +
+                                did_you_mean(r.name, all_names));
+        ok = false;
+      }
+    }
+  }
+  return ok;
+}
+
+// Where an error about resource `name` belongs: the ResourceLayout variable naming it, else `fallback`.
+Location variable_location(const PipelineDesc& p, const std::string& name, const SourceTexts& sources,
+                           const Location& fallback) {
+  for (const ResourceVariable& v : p.variables)
+    if (v.name == name) return sources.at(p.where, v.pointer);
+  return fallback;
+}
+
+bool implicit_layout(const PipelineDesc& p, const std::vector<StageInput>& stages, ContentsBuilder& builder,
+                     const SourceTexts& sources, PipelineLayout& out, Diagnostics& diag) {
+  // Merge uses by name across stages; the first use decides type and wished-for slot.
+  std::vector<Slot> slots;
+  std::map<std::string, size_t> by_name;
+  bool ok = true;
+  for (const StageInput& stage : stages) {
+    for (const ReflectedBinding& r : stage.reflection->bindings) {
+      auto [it, inserted] = by_name.emplace(r.name, slots.size());
+      if (inserted) {
+        slots.push_back({format::Binding{r.name, r.binding, r.descriptor_type, r.count, r.stage}, r.set});
+        continue;
+      }
+      Slot& slot = slots[it->second];
+      if (slot.binding.descriptor_type != r.descriptor_type || slot.binding.count != r.count) {
+        diag.error(variable_location(p, r.name, sources, stage.desc->where),
+                   where_text(p, stage) + ": resource '" + r.name + "' is declared as a " +
+                       descriptor_name(r.descriptor_type) + " of " + std::to_string(r.count) +
+                       ", but another stage declares it as a " +
+                       descriptor_name(slot.binding.descriptor_type) + " of " +
+                       std::to_string(slot.binding.count));
+        ok = false;
+      }
+      slot.binding.stage_flags |= r.stage;
+    }
+  }
+  // Keep each resource's own set and binding where free; move the rest (e.g. HLSL b0 and t0, which
+  // glslang both maps to binding 0) to the next free binding of the set.
+  std::set<std::pair<uint32_t, uint32_t>> taken;
+  for (Slot& slot : slots) {
+    auto wanted = std::pair{slot.set, slot.binding.binding};
+    if (!taken.count(wanted)) {
+      taken.insert(wanted);
+      continue;
+    }
+    if (p.flags & kDontRemapShaderResources) {
+      diag.error(p.where, "pipeline '" + p.name + "': resource '" + slot.binding.name + "' shares set " +
+                              std::to_string(slot.set) + ", binding " + std::to_string(slot.binding.binding) +
+                              " with another resource, and DONT_REMAP_SHADER_RESOURCES forbids moving it");
+      ok = false;
+      continue;
+    }
+    uint32_t binding = 0;
+    while (taken.count({slot.set, binding})) ++binding;
+    slot.binding.binding = binding;
+    taken.insert({slot.set, binding});
+  }
+  // ResourceLayout variables and immutable samplers must name resources the shaders use.
+  std::vector<std::string> names;
+  for (const Slot& slot : slots) names.push_back(slot.binding.name);
+  for (const ResourceVariable& v : p.variables) {
+    auto it = by_name.find(v.name);
+    if (it == by_name.end()) {
+      if (p.flags & kIgnoreMissingVariables) continue;
+      diag.error(sources.at(p.where, v.pointer), "pipeline '" + p.name + "': ResourceLayout variable '" +
+                                                     v.name + "' is not used by any of its shaders" +
+                                                     did_you_mean(v.name, names));
+      ok = false;
+    } else if (v.stages != 0 && (slots[it->second].binding.stage_flags & v.stages) == 0) {
+      diag.error(sources.at(p.where, v.pointer), "pipeline '" + p.name + "': variable '" + v.name +
+                                                     "' is declared for stages its shaders do not use it in");
+      ok = false;
+    }
+  }
+  std::vector<Slot*> candidates;
+  for (Slot& slot : slots) candidates.push_back(&slot);
+  for (size_t i = 0; i < p.immutable_samplers.size(); ++i) {
+    const ImmutableSamplerDesc& s = p.immutable_samplers[i];
+    if (attach_sampler(candidates, s, p.combined_sampler_suffix, builder) ||
+        (p.flags & kIgnoreMissingImmutableSamplers))
+      continue;
+    diag.error(i < p.immutable_sampler_pointers.size() ? sources.at(p.where, p.immutable_sampler_pointers[i])
+                                                       : p.where,
+               "pipeline '" + p.name + "': immutable sampler '" + s.name +
+                   "' matches no sampler or combined texture of its shaders" + did_you_mean(s.name, names));
+    ok = false;
+  }
+  if (!ok) return false;
+
+  uint32_t set_count = 0;
+  for (const Slot& slot : slots) set_count = std::max(set_count, slot.set + 1);
+  out.set_layouts.assign(set_count, format::kNone);
+  for (uint32_t set = 0; set < set_count; ++set) {
+    format::SetLayout layout;
+    for (const Slot& slot : slots)
+      if (slot.set == set) layout.bindings.push_back(slot.binding);
+    if (layout.bindings.empty()) continue;
+    std::sort(layout.bindings.begin(), layout.bindings.end(),
+              [](const format::Binding& a, const format::Binding& b) { return a.binding < b.binding; });
+    out.set_layouts[set] = builder.add_set_layout(layout);
+  }
+  for (size_t s = 0; s < stages.size(); ++s)
+    for (const ReflectedBinding& r : stages[s].reflection->bindings) {
+      const Slot& slot = slots[by_name[r.name]];
+      patch(out.patched_spirv[s], r, slot.set, slot.binding.binding);
+    }
+  return true;
+}
+
+}  // namespace
+
+format::SetLayout signature_set_layout(const SignatureDesc& signature, bool named, ContentsBuilder& builder) {
+  format::SetLayout layout;
+  layout.name = named ? signature.name : "";
+  layout.binding_index = signature.binding_index;
+  std::vector<Slot> slots;
+  uint32_t all_stages = 0;
+  for (uint32_t i = 0; i < signature.resources.size(); ++i) {
+    const SignatureResource& r = signature.resources[i];
+    slots.push_back(
+        {format::Binding{r.name, i, r.descriptor_type, r.array_size, r.stages}, signature.binding_index});
+    all_stages |= r.stages;
+  }
+  std::vector<Slot*> candidates;
+  for (Slot& slot : slots) candidates.push_back(&slot);
+  std::vector<Slot> extra;
+  for (const ImmutableSamplerDesc& s : signature.immutable_samplers) {
+    if (attach_sampler(candidates, s, signature.combined_sampler_suffix, builder)) continue;
+    // A sampler the shaders declare but Resources do not list: it gets a binding of its own. Named after
+    // a texture of a combined-sampler signature, it is that texture's sampler (the suffixed name).
+    std::string name = s.name;
+    for (const SignatureResource& r : signature.resources)
+      if (r.name == s.name && r.descriptor_type == VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE)
+        name = s.name + signature.combined_sampler_suffix;
+    uint32_t binding = static_cast<uint32_t>(slots.size() + extra.size());
+    extra.push_back({format::Binding{name, binding, VK_DESCRIPTOR_TYPE_SAMPLER, 1,
+                                     s.stages ? s.stages : all_stages, builder.add_sampler(s.sampler)},
+                     signature.binding_index});
+  }
+  for (const Slot& slot : slots) layout.bindings.push_back(slot.binding);
+  for (const Slot& slot : extra) layout.bindings.push_back(slot.binding);
+  return layout;
+}
+
+bool build_pipeline_layout(const PipelineDesc& pipeline, const std::vector<StageInput>& stages,
+                           const Notation& notation, ContentsBuilder& builder, PipelineLayout& out,
+                           Diagnostics& diag) {
+  out.patched_spirv.clear();
+  for (const StageInput& stage : stages) {
+    out.patched_spirv.push_back(*stage.spirv);
+    for (const ReflectedBinding& r : stage.reflection->bindings) {
+      if (r.set_word == 0 || r.binding_word == 0 || r.set_word >= stage.spirv->size() ||
+          r.binding_word >= stage.spirv->size()) {
+        diag.error(pipeline.where, where_text(pipeline, stage) + ": resource '" + r.name +
+                                       "' has no DescriptorSet/Binding decoration to patch");
+        return false;
+      }
+      if (r.count == 0) {
+        diag.error(pipeline.where, where_text(pipeline, stage) + ": resource '" + r.name +
+                                       "' is a runtime-sized array, which is not supported yet");
+        return false;
+      }
+    }
+    out.push_constant_size = std::max(out.push_constant_size, stage.reflection->push_constant_size);
+    if (stage.reflection->push_constant_size > 0) out.push_constant_stages |= stage.desc->stage;
+  }
+  if (!pipeline.signatures.empty()) {
+    if (!pipeline.variables.empty() || !pipeline.immutable_samplers.empty())
+      diag.warning(pipeline.where,
+                   "pipeline '" + pipeline.name +
+                       "' uses resource signatures; its ResourceLayout is ignored, as in DRSN");
+    return layout_from_signatures(pipeline, stages, notation, builder, out, diag);
+  }
+  return implicit_layout(pipeline, stages, builder, notation.sources, out, diag);
+}
+
+}  // namespace statepack::packager

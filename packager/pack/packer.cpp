@@ -1,0 +1,596 @@
+#include "packer.hpp"
+
+#include <vulkan/vulkan_core.h>
+
+#include <algorithm>
+#include <atomic>
+#include <bit>
+#include <map>
+#include <mutex>
+#include <ostream>
+#include <set>
+#include <thread>
+
+#include "cli/inspect.hpp"
+#include "format/archive_file.hpp"
+#include "format/archive_format.hpp"
+#include "format/spirv_walk.hpp"
+#include "layout/contents_builder.hpp"
+#include "layout/gl_layout.hpp"
+#include "layout/interface_check.hpp"
+#include "layout/pipeline_layout.hpp"
+#include "layout/specialization.hpp"
+#include "notation/input_file.hpp"
+#include "shaders/gl_translate.hpp"
+#include "shaders/spirv_reflect.hpp"
+#include "support/parallel_for.hpp"
+#include "version.hpp"
+
+namespace statepack::packager {
+namespace fs = std::filesystem;
+namespace {
+
+constexpr size_t kNoJob = SIZE_MAX;
+
+// Two slots compile to the same module when everything that feeds glslang is equal.
+std::string compile_key(const ShaderDesc& s) {
+  std::string key = std::to_string(s.stage) + '\0' + std::to_string(int(s.language)) + '\0' + s.entry_point +
+                    '\0' + s.file.string() + '\0' + s.source;
+  for (const auto& [name, value] : s.macros) key += '\0' + name + '=' + value;
+  return key;
+}
+
+struct CompiledUnit {
+  ShaderDesc desc;
+  CompiledShader compiled;
+  Reflection reflection;
+};
+
+// A path in Make syntax, as GCC writes depfiles (and Ninja and Make read them): spaces and '#' get a
+// backslash, backslashes before them are doubled, '$' doubles. Paths with control characters
+// (a newline cannot be escaped in Make syntax at all) have no spelling: nullopt.
+std::optional<std::string> depfile_escape(const std::string& path) {
+  std::string out;
+  for (size_t i = 0; i < path.size(); ++i) {
+    char c = path[i];
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7F) return std::nullopt;
+    if (c == ' ' || c == '#') {
+      for (size_t k = i; k > 0 && path[k - 1] == '\\'; --k) out += '\\';
+      out += '\\';
+    }
+    if (c == '$') out += '$';
+    out += c;
+  }
+  return out;
+}
+
+// A file name from an object name: keeps letters, digits, space, '-', '_' and '.'.
+std::string file_name_of(const std::string& name) {
+  std::string out;
+  for (char c : name)
+    out += (std::isalnum(static_cast<unsigned char>(c)) || c == ' ' || c == '-' || c == '_') ? c : '_';
+  return out.empty() ? "_" : out;
+}
+
+// Optimises, strips and validates each distinct module once, on all cores: the same patched module
+// used by several pipelines is finalised once.
+class Finalizer {
+ public:
+  explicit Finalizer(const CompileOptions& options) : options_(options) {}
+  size_t request(std::vector<uint32_t> words) {
+    std::string key(reinterpret_cast<const char*>(words.data()), words.size() * 4);
+    auto [it, inserted] = job_by_content_.try_emplace(std::move(key), jobs_.size());
+    if (inserted) jobs_.push_back({std::move(words), {}});
+    return it->second;
+  }
+  void run(uint32_t threads) {
+    parallel_for(jobs_.size(), threads,
+                 [&](size_t i) { jobs_[i].error = finalize_spirv(jobs_[i].words, options_); });
+  }
+  const std::vector<uint32_t>& words(size_t job) const { return jobs_[job].words; }
+  const std::string& error(size_t job) const { return jobs_[job].error; }
+
+ private:
+  struct Job {
+    std::vector<uint32_t> words;
+    std::string error;
+  };
+  const CompileOptions& options_;
+  std::map<std::string, size_t> job_by_content_;
+  std::vector<Job> jobs_;
+};
+
+// Writes --dump_dir files, each atomically and never over an input of the run.
+class Dumper {
+ public:
+  Dumper(std::optional<fs::path> dir, const CompileOptions& options, const std::vector<InputFile>& inputs)
+      : dir_(std::move(dir)), options_(options), inputs_(inputs) {}
+  void write(const fs::path& relative, const std::vector<uint32_t>& words, std::string& error) {
+    if (!dir_ || !error.empty()) return;
+    fs::path base = *dir_ / "Vulkan" / relative;
+    std::error_code ec;
+    fs::create_directories(base.parent_path(), ec);
+    if (ec) {
+      error = "cannot create the dump directory '" + base.parent_path().string() + "': " + ec.message();
+      return;
+    }
+    std::string text = disassemble_spirv(words, options_);
+    OutputSet files(inputs_);
+    error = files.stage(fs::path(base) += ".spv",
+                        {reinterpret_cast<const uint8_t*>(words.data()), words.size() * 4});
+    if (error.empty())
+      error = files.stage(fs::path(base) += ".spvasm",
+                          {reinterpret_cast<const uint8_t*>(text.data()), text.size()});
+    if (error.empty()) error = files.commit();
+  }
+
+ private:
+  std::optional<fs::path> dir_;
+  const CompileOptions& options_;
+  const std::vector<InputFile>& inputs_;
+};
+
+// --- the four stages of a pack: compile, plan, assemble, write ------------------------------------
+
+// Every distinct shader of the notation, compiled once and reflected, and which of them each pipeline
+// and each Shaders entry uses.
+struct CompiledShaders {
+  std::vector<CompiledUnit> units;
+  std::vector<std::vector<size_t>> pipeline_units;  // per pipeline: the units of its stages
+  std::vector<size_t> standalone_units;             // per Shaders entry
+
+  // The stages of pipeline `i` for layout and checks; nullopt when one did not compile.
+  std::optional<std::vector<StageInput>> stages_of(size_t i) const {
+    std::vector<StageInput> stages;
+    for (size_t u : pipeline_units[i]) {
+      if (!units[u].compiled.ok) return std::nullopt;
+      stages.push_back({&units[u].desc, &units[u].compiled.spirv, &units[u].reflection});
+    }
+    return stages;
+  }
+};
+
+// Compiles on all cores. Every shader whose own description is usable is compiled, even when other
+// objects have notation errors, so one run reports both (docs/cli.md).
+// `pipelines_only`: the standalone Shaders are left out (--opengl alone: its block stores pipelines only).
+CompiledShaders compile_shaders(const Notation& notation, const PackOptions& options, Diagnostics& diag,
+                                bool pipelines_only) {
+  CompiledShaders out;
+  std::map<std::string, size_t> unit_by_key;
+  auto unit_for = [&](const ShaderDesc& s) {
+    auto [it, inserted] = unit_by_key.try_emplace(compile_key(s), out.units.size());
+    if (inserted) out.units.push_back({s, {}, {}});
+    return it->second;
+  };
+  for (const auto& p : notation.pipelines) {
+    out.pipeline_units.emplace_back();
+    for (const auto& s : p.shaders)
+      if (!s.is_reference) out.pipeline_units.back().push_back(unit_for(s));
+  }
+  if (!pipelines_only)
+    for (const auto& s : notation.shaders) out.standalone_units.push_back(unit_for(s));
+  ShaderMessages compile_errors;  // an error in a shared #include is reported once
+  parallel_for(out.units.size(), options.threads, [&](size_t i) {
+    CompiledUnit& u = out.units[i];
+    if (u.desc.broken) return;  // its notation errors are reported; compiling it would guess
+    u.compiled = compile_shader(u.desc, options.compile, compile_errors);
+    if (!u.compiled.ok) return;
+    u.reflection = reflect_spirv(u.compiled.spirv, u.desc.stage);
+    if (!u.reflection.error.empty()) {
+      u.compiled.ok = false;
+      diag.error(u.desc.where,
+                 "shader '" + u.desc.name + "': SPIR-V reflection failed: " + u.reflection.error);
+    }
+  });
+  compile_errors.report(diag);
+  return out;
+}
+
+// A pipeline laid out and checked, its patched modules queued for finalising.
+struct PendingPipeline {
+  format::Pipeline pipeline;
+  std::vector<const ShaderDesc*> stages;
+  std::vector<size_t> jobs;  // Finalizer jobs, per stage
+  const PipelineDesc* desc;
+};
+
+struct Plan {
+  std::vector<PendingPipeline> pipelines;
+  std::vector<size_t> standalone_jobs;  // per Shaders entry: its Finalizer job, or kNoJob
+};
+
+// Signatures and render passes into the archive, then each pipeline's layout, constants and checks
+// against its shaders (serial and cheap); the modules to optimise and validate go to `finalizer`. A
+// shader that failed to compile stops only the pipelines that use it, so the others are still laid out
+// and checked and their errors reported.
+Plan plan_archive(const Notation& notation, const CompiledShaders& compiled, ContentsBuilder& builder,
+                  Finalizer& finalizer, Diagnostics& diag) {
+  Plan plan;
+  // Every signature and render pass is archived by name, used or not; Ignore.Signatures are not.
+  for (const auto& sig : notation.signatures)
+    if (!notation.ignored_signatures.count(sig.name))
+      builder.add_set_layout(signature_set_layout(sig, true, builder));
+  std::map<std::string, uint32_t> pass_index;
+  for (const auto& rp : notation.render_passes) {
+    pass_index[rp.pass.name] = builder.add_render_pass(rp.pass);
+    warn_render_pass_formats(rp, notation.sources, diag);
+  }
+
+  const auto& units = compiled.units;
+  for (size_t u : compiled.standalone_units)
+    plan.standalone_jobs.push_back(units[u].compiled.ok ? finalizer.request(units[u].compiled.spirv)
+                                                        : kNoJob);
+  for (size_t i = 0; i < notation.pipelines.size(); ++i) {
+    const PipelineDesc& p = notation.pipelines[i];
+    const auto compiled_stages = compiled.stages_of(i);
+    if (!compiled_stages) continue;  // its compile errors are reported; the other pipelines go on
+    const std::vector<StageInput>& stages = *compiled_stages;
+    PipelineLayout layout;
+    if (!build_pipeline_layout(p, stages, notation, builder, layout, diag)) continue;
+    std::vector<format::SpecConstant> constants;
+    if (!resolve_constants(p, stages, constants, diag)) continue;
+    PendingPipeline pp{{}, {}, {}, &p};
+    format::Pipeline& out_pipeline = pp.pipeline;
+    out_pipeline.name = p.name;
+    out_pipeline.kind = p.kind;
+    out_pipeline.graphics = p.graphics;
+    out_pipeline.set_layouts = layout.set_layouts;
+    out_pipeline.push_constant_size = layout.push_constant_size;
+    out_pipeline.push_constant_stages = layout.push_constant_stages;
+    out_pipeline.dynamic_states = p.kind == format::PipelineKind::graphics ? p.dynamic_states : 0;
+    out_pipeline.constants = std::move(constants);
+    if (!p.render_pass.empty()) {
+      out_pipeline.render_pass = pass_index.at(p.render_pass);
+      out_pipeline.subpass = p.subpass;  // its formats are in p.graphics (resolve_references applied them)
+    }
+    if (p.kind == format::PipelineKind::graphics &&
+        !check_graphics_interfaces(p, out_pipeline.graphics, stages, notation.sources, diag))
+      continue;
+    for (size_t s = 0; s < stages.size(); ++s) {
+      pp.stages.push_back(stages[s].desc);
+      pp.jobs.push_back(finalizer.request(std::move(layout.patched_spirv[s])));
+    }
+    plan.pipelines.push_back(std::move(pp));
+  }
+  return plan;
+}
+
+// What a backend-specific GLSL source (one that tests VULKAN or GL_SPIRV, compiled for OpenGL from its
+// own text) declares that OpenGL has no binding for: separate samplers and sampled images, input
+// attachments. glslang's OpenGL front end would only report a syntax error at the declaration
+// ("unexpected IDENTIFIER"), so they are refused by name instead. `""` when there are none.
+std::string refused_for_opengl(const CompiledUnit& vulkan) {
+  std::string names;
+  for (const ReflectedBinding& b : vulkan.reflection.bindings)
+    if (!format::gl_namespace_of(b.descriptor_type))
+      names += std::string(names.empty() ? "" : ", ") + "'" + b.name + "' (" +
+               format::descriptor_type_name(b.descriptor_type) + ")";
+  if (names.empty()) return "";
+  return "shader '" + vulkan.desc.name + "' (OpenGL): declares " + names +
+         " when VULKAN is not defined, which OpenGL does not have; use combined samplers (sampler2D and "
+         "the like) there, or drop the #ifdef VULKAN branches to let statepack translate the Vulkan code";
+}
+
+// One shader for OpenGL from its Vulkan unit: SPIR-V translated (gl_translate.hpp), or, for GLSL that
+// tests VULKAN or GL_SPIRV, its own text compiled again with glslang's OpenGL client.
+void make_opengl_unit(const CompiledUnit& vulkan, const PackOptions& options, CompiledUnit& out,
+                      ShaderMessages& direct_errors, Diagnostics& diag) {
+  const std::string who = "shader '" + vulkan.desc.name + "' (OpenGL)";
+  out.desc = vulkan.desc;
+  if (vulkan.compiled.backend_specific) {
+    if (std::string refused = refused_for_opengl(vulkan); !refused.empty()) {
+      diag.error(vulkan.desc.where, refused);
+      return;
+    }
+    CompileOptions gl = options.compile;
+    gl.opengl = true;
+    out.compiled = compile_shader(vulkan.desc, gl, direct_errors);
+  } else {
+    // What is translated must be valid SPIR-V: SPIRV-Cross would carry a fault (two outputs at one
+    // location, as glslang makes of some HLSL) into GLSL that then fails to compile. With --vulkan the
+    // Vulkan stage reports the same fault at the pipeline.
+    CompileOptions check = options.compile;
+    check.optimization = Optimization::none;
+    check.strip_debug_info = false;
+    std::vector<uint32_t> copy = vulkan.compiled.spirv;
+    if (std::string invalid = finalize_spirv(copy, check); !invalid.empty()) {
+      if (!options.vulkan) diag.error(vulkan.desc.where, who + ": " + invalid);
+      return;
+    }
+    GlTranslation t = translate_for_opengl(vulkan.compiled.spirv, "_sampler");
+    if (!t.unsupported.empty()) {
+      diag.error(vulkan.desc.where, who + ": uses " + t.unsupported + ", which OpenGL 4.5 does not have");
+      return;
+    }
+    if (!t.error.empty()) {
+      diag.error(vulkan.desc.where,
+                 who + ": SPIRV-Cross cannot translate its Vulkan SPIR-V to GLSL: " + t.error);
+      return;
+    }
+    std::string log;
+    out.compiled.spirv = compile_generated_glsl(t.glsl, vulkan.desc.stage, log);
+    if (out.compiled.spirv.empty()) {
+      while (!log.empty() && (log.back() == '\n' || log.back() == ' ')) log.pop_back();
+      for (char& c : log)
+        if (c == '\n') c = ' ';
+      diag.error(vulkan.desc.where, who +
+                                        ": the GLSL translated from its Vulkan SPIR-V does not compile for "
+                                        "OpenGL 4.5 (a statepack limitation worth reporting): " +
+                                        log);
+      return;
+    }
+    out.desc.entry_point = "main";  // SPIRV-Cross names the entry point main
+    out.compiled.ok = true;
+    out.reflection = reflect_spirv(out.compiled.spirv, out.desc.stage);
+    for (ReflectedBinding& b : out.reflection.bindings)  // the Vulkan names, whatever GLSL allowed
+      if (auto it = t.name_of_binding.find(b.binding); it != t.name_of_binding.end()) b.name = it->second;
+    if (!out.reflection.error.empty()) out.compiled.ok = false;
+    if (!out.reflection.error.empty())
+      diag.error(vulkan.desc.where, who + ": SPIR-V reflection failed: " + out.reflection.error);
+    return;
+  }
+  if (!out.compiled.ok) return;
+  out.reflection = reflect_spirv(out.compiled.spirv, out.desc.stage);
+  if (!out.reflection.error.empty()) {
+    out.compiled.ok = false;
+    diag.error(vulkan.desc.where, who + ": SPIR-V reflection failed: " + out.reflection.error);
+  }
+}
+
+// Every pipeline's shaders for OpenGL, unit for unit beside the Vulkan ones (the same pipeline_units),
+// on all cores. Standalone Shaders are left out: the OpenGL block stores pipelines only.
+CompiledShaders opengl_units(const CompiledShaders& vulkan, const PackOptions& options, Diagnostics& diag) {
+  CompiledShaders out;
+  out.pipeline_units = vulkan.pipeline_units;
+  out.units.resize(vulkan.units.size());
+  std::vector<char> used(vulkan.units.size(), 0);
+  for (const auto& units : vulkan.pipeline_units)
+    for (size_t u : units) used[u] = 1;
+  ShaderMessages direct_errors;
+  parallel_for(vulkan.units.size(), options.threads, [&](size_t u) {
+    if (used[u] && vulkan.units[u].compiled.ok)
+      make_opengl_unit(vulkan.units[u], options, out.units[u], direct_errors, diag);
+  });
+  direct_errors.report(diag);
+  return out;
+}
+
+// The OpenGL backend: each pipeline from its shaders compiled for OpenGL, with its own binding table
+// (gl_layout.hpp). Specialization constants are resolved as for Vulkan; when Vulkan is packed too its
+// stage has reported any error in them already.
+void add_opengl(const Notation& notation, const CompiledShaders& compiled, const PackOptions& options,
+                ContentsBuilder& builder, Diagnostics& diag) {
+  CompileOptions gl_options = options.compile;
+  gl_options.opengl = true;
+  Diagnostics reported_by_vulkan(0);
+  for (size_t i = 0; i < notation.pipelines.size(); ++i) {
+    const PipelineDesc& p = notation.pipelines[i];
+    const auto compiled_stages = compiled.stages_of(i);
+    if (!compiled_stages) continue;  // its compile errors are reported
+    const std::vector<StageInput>& stages = *compiled_stages;
+    GlLayout layout;
+    if (!build_gl_layout(p, stages, layout, diag)) continue;
+    std::vector<format::SpecConstant> constants;
+    if (!resolve_constants(p, stages, constants, options.vulkan ? reported_by_vulkan : diag)) continue;
+    if (auto wide =
+            std::find_if(constants.begin(), constants.end(), [](const auto& k) { return k.size != 4; });
+        wide != constants.end()) {
+      diag.error(p.where, "pipeline '" + p.name + "' (OpenGL): specialization constant '" + wide->name +
+                              "' is 64-bit; glSpecializeShader takes 32-bit values only");
+      continue;
+    }
+    // With Vulkan packed too, its stage has checked the notation against the shaders already.
+    if (!options.vulkan && p.kind == format::PipelineKind::graphics &&
+        !check_graphics_interfaces(p, p.graphics, stages, notation.sources, diag))
+      continue;
+    format::GlPipeline out{p.name, p.kind, {}, std::move(layout.bindings), {}, std::move(constants)};
+    if (p.kind == format::PipelineKind::graphics) {
+      out.graphics = p.graphics;  // with its subpass's formats
+      // OpenGL takes formats from the framebuffer; what it needs is a blend state for every target the
+      // pixel shader writes, also those the notation leaves to run time (their blend state is stored).
+      for (const StageInput& stage : stages)
+        if (stage.desc->stage == VK_SHADER_STAGE_FRAGMENT_BIT)
+          if (auto module = spirv::walk(*stage.spirv))
+            out.graphics.color_count =
+                std::max<uint32_t>(out.graphics.color_count,
+                                   std::min<uint32_t>(format::kMaxColorTargets,
+                                                      32 - std::countl_zero(module->output_location_mask())));
+    }
+    bool ok = true;
+    for (size_t s = 0; s < stages.size(); ++s) {
+      std::vector<uint32_t>& spirv = layout.patched_spirv[s];
+      if (std::string error = finalize_spirv(spirv, gl_options); !error.empty()) {
+        diag.error(stages[s].desc->where,
+                   "shader '" + stages[s].desc->name + "' (OpenGL): SPIR-V validation failed: " + error);
+        ok = false;
+        continue;
+      }
+      out.shaders.push_back({stages[s].desc->name, stages[s].desc->stage, builder.add_blob(spirv),
+                             stages[s].desc->entry_point});
+    }
+    if (ok) builder.contents.gl_pipelines.push_back(std::move(out));
+  }
+}
+
+// The finalised modules into the archive in notation order, so the archive does not depend on thread
+// timing; --dump_dir files written beside.
+void assemble_archive(const Notation& notation, const CompiledShaders& compiled, Plan& plan,
+                      const Finalizer& finalizer, ContentsBuilder& builder, Dumper& dumper,
+                      std::string& io_error, Diagnostics& diag) {
+  for (size_t s = 0; s < notation.shaders.size(); ++s) {
+    const CompiledUnit& unit = compiled.units[compiled.standalone_units[s]];
+    size_t job = plan.standalone_jobs[s];
+    if (job == kNoJob) continue;  // did not compile
+    if (!finalizer.error(job).empty()) {
+      diag.error(unit.desc.where, "shader '" + unit.desc.name + "': " + finalizer.error(job));
+      continue;
+    }
+    dumper.write(fs::path("shaders") / file_name_of(unit.desc.name), finalizer.words(job), io_error);
+    uint32_t blob = builder.add_blob(finalizer.words(job));
+    builder.contents.standalone_shaders.push_back(
+        builder.add_shader({unit.desc.name, unit.desc.stage, blob, unit.desc.entry_point}));
+  }
+  for (PendingPipeline& pp : plan.pipelines) {
+    const PipelineDesc& p = *pp.desc;
+    bool ok = true;
+    for (size_t s = 0; s < pp.stages.size(); ++s) {
+      size_t job = pp.jobs[s];
+      if (!finalizer.error(job).empty()) {
+        diag.error(p.where,
+                   "pipeline '" + p.name + "', shader '" + pp.stages[s]->name + "': " + finalizer.error(job));
+        ok = false;
+        continue;
+      }
+      const std::string kind =
+          p.kind == format::PipelineKind::compute ? "compute" : "graphics";  // as Diligent
+      dumper.write(fs::path(kind) / file_name_of(p.name) / file_name_of(pp.stages[s]->name),
+                   finalizer.words(job), io_error);
+      uint32_t blob = builder.add_blob(finalizer.words(job));
+      pp.pipeline.shaders.push_back(
+          builder.add_shader({pp.stages[s]->name, pp.stages[s]->stage, blob, pp.stages[s]->entry_point}));
+    }
+    if (ok) builder.contents.pipelines.push_back(std::move(pp.pipeline));
+  }
+}
+
+// Objects no pipeline uses are still archived (unpackable by name); say so, as they may be typos.
+void note_unused_objects(const Notation& notation, Diagnostics& diag) {
+  std::set<std::string> used_passes, used_signatures;
+  for (const auto& p : notation.pipelines) {
+    used_passes.insert(p.render_pass);
+    used_signatures.insert(p.signatures.begin(), p.signatures.end());
+  }
+  for (const auto& rp : notation.render_passes)
+    if (!used_passes.count(rp.pass.name))
+      diag.note(rp.where, "render pass '" + rp.pass.name + "' is used by no pipeline (archived anyway)");
+  for (const auto& sig : notation.signatures)
+    if (!used_signatures.count(sig.name))
+      diag.note(sig.where, "resource signature '" + sig.name + "' is used by no pipeline (archived anyway)");
+}
+
+// Archive and depfile, all or nothing: both to temporaries, then both renamed. Returns the exit code.
+int write_outputs(const PackOptions& options, const std::vector<InputFile>& inputs,
+                  const std::vector<uint8_t>& bytes, std::ostream& err) {
+  OutputSet outputs(inputs);
+  std::string text;
+  if (options.depfile) {
+    // Make syntax: "<output>: <every JSON and shader file read>".
+    std::set<std::string> deps;
+    for (const auto& f : inputs) deps.insert(f.path.string());
+    text = ":";
+    for (const auto& path : deps) text += " \\\n  " + depfile_escape(path).value_or("");
+    text += "\n";
+    deps.insert(options.output.string());
+    for (const auto& path : deps)
+      if (!depfile_escape(path)) {
+        err << "statepack: error: cannot write the depfile: the path '" << printable(path)
+            << "' holds a control character, which Make syntax cannot express\n";
+        return kExitIoError;
+      }
+    text = *depfile_escape(options.output.string()) + text;
+  }
+  std::string error = outputs.stage(options.output, bytes);
+  if (error.empty() && options.depfile)
+    error = outputs.stage(*options.depfile, {reinterpret_cast<const uint8_t*>(text.data()), text.size()});
+  if (error.empty()) error = outputs.commit();
+  if (!error.empty()) {
+    err << "statepack: error: " << printable(error) << '\n';
+    return error.starts_with("refusing") ? kExitUsage : kExitIoError;
+  }
+  return kExitSuccess;
+}
+
+}  // namespace
+
+int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err) {
+  // Outputs that can never be written are refused before any work (inputs are checked once known).
+  if (!options.check_only) {
+    OutputSet none({});
+    for (const auto* path : {&options.output, options.depfile ? &*options.depfile : nullptr}) {
+      if (!path) continue;
+      if (std::string reason = none.refuse_reason(*path); !reason.empty()) {
+        err << "statepack: error: " << printable(reason) << '\n';
+        return kExitUsage;
+      }
+    }
+  }
+  Diagnostics diag(options.max_errors);
+  Notation notation;
+  for (const auto& input : options.inputs) read_notation(input, options.notation, notation, diag);
+  resolve_references(notation, diag);
+  if (notation.pipelines.empty() && notation.shaders.empty() && notation.signatures.empty() &&
+      notation.render_passes.empty() && !diag.has_errors())
+    diag.note({options.inputs.empty() ? "" : options.inputs.front().string()},
+              "no pipelines, shaders, signatures or render passes: the archive is empty");
+  // Layouts and pipelines are planned only from an error-free notation; shaders compile regardless.
+  const bool notation_ok = !diag.has_errors();
+  // OpenGL is made from the Vulkan compile (translated, or checked against it), so --opengl alone
+  // compiles the pipelines' shaders for Vulkan too.
+  CompiledShaders compiled, gl_compiled;
+  if (options.vulkan || options.opengl) compiled = compile_shaders(notation, options, diag, !options.vulkan);
+  if (options.opengl) {
+    gl_compiled = opengl_units(compiled, options, diag);
+    if (!options.vulkan &&
+        (!notation.shaders.empty() || !notation.signatures.empty() || !notation.render_passes.empty()))
+      diag.warning(
+          {options.inputs.empty() ? "" : options.inputs.front().string()},
+          "--opengl alone stores pipelines only: the notation's standalone Shaders, resource "
+          "signatures and render passes are Vulkan objects and are left out (add --vulkan to keep them)");
+  }
+  // Every file read so far: no output may replace one of them.
+  std::vector<InputFile> inputs = notation.files_read;
+  for (const auto* c : {&compiled, &gl_compiled})
+    for (const auto& u : c->units)
+      inputs.insert(inputs.end(), u.compiled.files_read.begin(), u.compiled.files_read.end());
+
+  ContentsBuilder builder;
+  builder.contents.producer_version = kProducerVersion;
+  builder.contents.content_version = options.content_version;
+  builder.contents.backends =
+      (options.vulkan ? format::kBackendVulkan : 0u) | (options.opengl ? format::kBackendOpenGL : 0u);
+  Finalizer finalizer(options.compile);
+  Dumper dumper(options.dump_dir, options.compile, inputs);
+  std::string io_error;
+  if (notation_ok && options.vulkan) {
+    Plan plan = plan_archive(notation, compiled, builder, finalizer, diag);
+    finalizer.run(options.threads);  // optimise and validate every distinct module in parallel
+    assemble_archive(notation, compiled, plan, finalizer, builder, dumper, io_error, diag);
+  }
+  if (notation_ok && options.opengl) add_opengl(notation, gl_compiled, options, builder, diag);
+  if (!diag.has_errors()) note_unused_objects(notation, diag);
+  if (diag.has_errors()) {
+    diag.print(err);
+    err << "statepack: " << diag.error_count() << " error(s); no archive written\n";
+    return kExitInputError;
+  }
+  diag.print(err);  // warnings
+  if (!io_error.empty()) {
+    err << "statepack: error: " << io_error << '\n';
+    return kExitIoError;
+  }
+
+  std::vector<uint8_t> bytes = format::encode(builder.contents);
+  // What pack writes must load: decoded and checked against its SPIR-V as the runtime will, so a build
+  // step that says OK means it (a check the pack stages missed surfaces here, not in the application).
+  if (auto loads = format::load_archive(bytes, std::nullopt, "the packed archive would not load"); !loads) {
+    std::string message = loads.error().message;
+    if (auto at = message.find("corrupt archive: "); at != std::string::npos) message.erase(at, 17);
+    err << "statepack: error: " << printable(message) << "; no archive written\n";
+    return kExitInputError;
+  }
+  if (!options.check_only)
+    if (int code = write_outputs(options, inputs, bytes, err); code != kExitSuccess) return code;
+  if (options.print_contents) {
+    // Print what the archive holds, read back the way the dearchiver reads it.
+    auto written = format::decode(bytes);
+    if (!written) {
+      err << "statepack: error: the archive just written does not decode: " << written.error().message
+          << '\n';
+      return kExitIoError;
+    }
+    print_archive(*written, bytes.size(), false, out);
+  }
+  return kExitSuccess;
+}
+
+}  // namespace statepack::packager

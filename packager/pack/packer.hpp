@@ -1,0 +1,40 @@
+// The pack command: notation in, archive out.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <iosfwd>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "notation/diagnostics.hpp"
+#include "notation/notation.hpp"
+#include "shaders/shader_compiler.hpp"
+
+namespace statepack::packager {
+
+// Exit codes of the CLI (docs/cli.md).
+enum ExitCode : int { kExitSuccess = 0, kExitInputError = 1, kExitUsage = 2, kExitIoError = 3 };
+
+struct PackOptions {
+  std::vector<std::filesystem::path> inputs;
+  NotationOptions notation;
+  CompileOptions compile;
+  std::filesystem::path output;
+  std::optional<std::filesystem::path> depfile;
+  std::optional<std::filesystem::path> dump_dir;  // SPIR-V and disassembly per pipeline and shader
+  uint32_t content_version = 0;
+  bool vulkan = true;    // --vulkan: the Vulkan backend
+  bool opengl = false;   // --opengl: the OpenGL backend (GLSL compiled again for OpenGL 4.5 + ARB_gl_spirv)
+  uint32_t threads = 0;  // 0: all cores
+  bool print_contents = false;
+  bool check_only = false;
+  size_t max_errors =
+      Diagnostics::kDefaultMaxErrors;  // 0: no limit  // --check: pack and validate everything, write nothing
+};
+
+// Runs a whole pack; returns an ExitCode. Diagnostics are printed to `err`, progress to `out`.
+int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err);
+
+}  // namespace statepack::packager

@@ -1,0 +1,61 @@
+// GLSL and HLSL to SPIR-V with glslang, in process; each result validated by SPIRV-Tools.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "notation/diagnostics.hpp"
+#include "notation/input_file.hpp"
+#include "notation/notation.hpp"
+#include "shader_messages.hpp"
+
+namespace statepack::packager {
+
+enum class Optimization { none, speed, size };
+
+struct CompileOptions {
+  std::vector<std::filesystem::path> include_dirs;                 // -s: searched after the includer's dir
+  std::vector<std::pair<std::string, std::string>> global_macros;  // -D NAME=VALUE
+  uint32_t vulkan_version = 0x00400000;                            // VK_API_VERSION_1_0: SPIR-V 1.0
+  Optimization optimization = Optimization::none;
+  bool strip_debug_info = false;  // OpName, OpLine, ...: names the archive keeps in its binding table
+  // Compile for OpenGL 4.5 with GL_ARB_gl_spirv instead (glslang's OpenGL client, SPIR-V 1.0, validated
+  // for OpenGL 4.5): GL_SPIRV is defined and VULKAN is not, so one source can serve both. GLSL only.
+  bool opengl = false;
+};
+
+struct CompiledShader {
+  std::vector<uint32_t> spirv;
+  std::vector<InputFile> files_read;  // the source and every #include, for the depfile and output checks
+  bool backend_specific = false;      // GLSL whose text (or an #include's) tests_backend_macros
+  bool ok = false;
+};
+
+// Compiles one shader. Errors are reported against the shader's own file and line (or the #include's);
+// `messages` collects them from every shader, so an error in a shared #include is reported once.
+CompiledShader compile_shader(const ShaderDesc& shader, const CompileOptions& options,
+                              ShaderMessages& messages);
+// The same for a single shader, its errors added to `diagnostics` at once.
+CompiledShader compile_shader(const ShaderDesc& shader, const CompileOptions& options,
+                              Diagnostics& diagnostics);
+
+// Compiles GLSL that statepack itself generated (the OpenGL translation, gl_translate.hpp) with glslang's
+// OpenGL client: no includes, no macros. Empty SPIR-V, with glslang's log in `log`, when it fails.
+std::vector<uint32_t> compile_generated_glsl(const std::string& glsl, uint32_t stage, std::string& log);
+
+// Whether a GLSL source or one of its #includes tests VULKAN or GL_SPIRV in a preprocessor directive
+// (#if, #ifdef, #ifndef, #elif): its author wrote code per backend, so the OpenGL backend compiles its
+// own text rather than translating its Vulkan SPIR-V.
+bool tests_backend_macros(std::string_view source);
+
+// Optimises and strips `spirv` as the options say, then validates it with SPIRV-Tools.
+// Returns an empty string on success, else the reason.
+std::string finalize_spirv(std::vector<uint32_t>& spirv, const CompileOptions& options);
+
+// SPIR-V assembly text of `spirv`, for --dump_dir.
+std::string disassemble_spirv(const std::vector<uint32_t>& spirv, const CompileOptions& options);
+
+}  // namespace statepack::packager
