@@ -161,9 +161,7 @@ Result<void> save_pipeline_cache(const DeviceContext& context, VkPipelineCache c
     put32(file, 76, 0);
     put64(file, 80, size);
     put64(file, 88, XXH3_64bits(file.data() + kHeaderSize, size));
-    if (std::string error = write_file_atomically(path, file); !error.empty())
-      return Error{ErrorCode::io_error, error};
-    return {};
+    return write_file_atomically(path, file);
   });
 }
 

@@ -47,14 +47,14 @@ std::optional<FileIdentity> file_identity(const fs::path& path) {
   return FileIdentity{uint64_t(info.st_dev), uint64_t(info.st_ino)};
 }
 
-std::string write_file_atomically(const fs::path& path, std::span<const uint8_t> bytes,
-                                  const std::vector<fs::path>& inputs) {
+Result<void> write_file_atomically(const fs::path& path, std::span<const uint8_t> bytes,
+                                   const std::vector<fs::path>& inputs) {
   std::vector<InputFile> protected_inputs;
   for (const auto& input : inputs)
     if (auto id = file_identity(input)) protected_inputs.push_back({input, *id});
   OutputSet output(std::move(protected_inputs));
-  std::string error = output.stage(path, bytes);
-  return error.empty() ? output.commit() : error;
+  if (auto staged = output.stage(path, bytes); !staged) return staged;
+  return output.commit();
 }
 
 Result<FileBytes> read_regular_file(const fs::path& path, uint64_t max_size, const std::string& display) {

@@ -16,9 +16,10 @@ namespace statepack {
 // Writes `bytes` to a temporary beside `path`, then renames it over `path`: a failed write never leaves a
 // half file or destroys the previous one, and no planted link is followed (see output_files.hpp; this is
 // an OutputSet of one file). `inputs` are files the output must not replace (compared by identity).
-// Returns an empty string, or the reason.
-std::string write_file_atomically(const std::filesystem::path& path, std::span<const uint8_t> bytes,
-                                  const std::vector<std::filesystem::path>& inputs = {});
+// `invalid_argument` when the path may not be an output (OutputSet::refuse_reason), `io_error` when
+// writing fails; the message names the path and the reason.
+Result<void> write_file_atomically(const std::filesystem::path& path, std::span<const uint8_t> bytes,
+                                   const std::vector<std::filesystem::path>& inputs = {});
 
 // Which file a path reached (device and inode): the same file however the path is spelled (`..`, a
 // symlink, a hard link), so outputs can refuse to replace an input.

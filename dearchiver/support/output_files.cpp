@@ -68,6 +68,10 @@ std::string write_all(int fd, std::span<const uint8_t> bytes) {
   return "";
 }
 
+Error io_failure(std::string message) {
+  return Error{ErrorCode::io_error, std::move(message)};
+}
+
 }  // namespace
 
 OutputSet::~OutputSet() {
@@ -107,15 +111,16 @@ std::string OutputSet::refuse_reason(const fs::path& path) const {
   return "";
 }
 
-std::string OutputSet::stage(const fs::path& path, std::span<const uint8_t> bytes) {
-  if (std::string reason = refuse_reason(path); !reason.empty()) return reason;
+Result<void> OutputSet::stage(const fs::path& path, std::span<const uint8_t> bytes) {
+  if (std::string reason = refuse_reason(path); !reason.empty())
+    return Error{ErrorCode::invalid_argument, std::move(reason)};
   remove_stale_temporaries(path);
   Staged s{path, -1, {}};
   // An unnamed file first: it cannot outlive this process.
   s.fd = ::open(directory_of(path).c_str(), O_TMPFILE | O_WRONLY | O_CLOEXEC, 0666);
   if (s.fd < 0) {
     if (errno != EOPNOTSUPP && errno != EISDIR && errno != EINVAL)
-      return "cannot create " + quoted(path) + ": " + std::generic_category().message(errno);
+      return io_failure("cannot create " + quoted(path) + ": " + std::generic_category().message(errno));
     // No O_TMPFILE on this file system: a new named file; O_EXCL never follows a planted symlink.
     for (int attempt = 0; attempt < 100 && s.fd < 0; ++attempt) {
       s.temp = next_temp_name(path);
@@ -124,18 +129,18 @@ std::string OutputSet::stage(const fs::path& path, std::span<const uint8_t> byte
         std::string reason =
             "cannot create " + quoted(s.temp) + ": " + std::generic_category().message(errno);
         s.temp.clear();
-        return reason;
+        return io_failure(std::move(reason));
       }
     }
-    if (s.fd < 0) return "cannot create a temporary beside " + quoted(path);
+    if (s.fd < 0) return io_failure("cannot create a temporary beside " + quoted(path));
   }
   staged_.push_back(s);  // the destructor now cleans it up on any failure
   if (std::string reason = write_all(s.fd, bytes); !reason.empty())
-    return "cannot write " + quoted(path) + ": " + reason;
-  return "";
+    return io_failure("cannot write " + quoted(path) + ": " + reason);
+  return {};
 }
 
-std::string OutputSet::commit() {
+Result<void> OutputSet::commit() {
   // Give every unnamed temporary a name first, so a failure here still leaves every destination intact.
   for (auto& s : staged_) {
     if (!s.temp.empty()) continue;
@@ -148,24 +153,24 @@ std::string OutputSet::commit() {
            ::linkat(AT_FDCWD, proc.c_str(), AT_FDCWD, name.c_str(), AT_SYMLINK_FOLLOW) == 0))
         s.temp = name;
       else if (errno != EEXIST)
-        return "cannot create " + quoted(name) + ": " + std::generic_category().message(errno);
+        return io_failure("cannot create " + quoted(name) + ": " + std::generic_category().message(errno));
     }
-    if (s.temp.empty()) return "cannot create a temporary beside " + quoted(s.path);
+    if (s.temp.empty()) return io_failure("cannot create a temporary beside " + quoted(s.path));
   }
   for (auto& s : staged_) {
     if (::close(s.fd) != 0) {
       s.fd = -1;
-      return "cannot write " + quoted(s.path) + ": " + std::generic_category().message(errno);
+      return io_failure("cannot write " + quoted(s.path) + ": " + std::generic_category().message(errno));
     }
     s.fd = -1;
   }
   for (auto& s : staged_) {
     if (::rename(s.temp.c_str(), s.path.c_str()) != 0)
-      return "cannot replace " + quoted(s.path) + ": " + std::generic_category().message(errno);
+      return io_failure("cannot replace " + quoted(s.path) + ": " + std::generic_category().message(errno));
     s.temp.clear();
   }
   staged_.clear();
-  return "";
+  return {};
 }
 
 }  // namespace statepack

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "file_io.hpp"
+#include "statepack/result.hpp"
 
 namespace statepack {
 
@@ -37,11 +38,14 @@ class OutputSet {
   // spelling, a symlink or a hard link all count), or another output of the run.
   std::string refuse_reason(const std::filesystem::path& path) const;
 
-  // Checks `path`, then writes `bytes` to a temporary beside it. Returns an empty string or the reason.
-  std::string stage(const std::filesystem::path& path, std::span<const uint8_t> bytes);
+  // Checks `path`, then writes `bytes` to a temporary beside it. A path refuse_reason refuses is an
+  // `invalid_argument` error (the caller's choice of output: a usage error), every other failure
+  // `io_error`; the message says which path and why. Callers choose exit codes by the code, never by
+  // the text.
+  Result<void> stage(const std::filesystem::path& path, std::span<const uint8_t> bytes);
 
-  // Renames every staged temporary over its destination. Returns an empty string or the reason.
-  std::string commit();
+  // Renames every staged temporary over its destination; `io_error` when one cannot be.
+  Result<void> commit();
 
  private:
   struct Staged {

@@ -134,11 +134,11 @@ int run_merge(const MergeOptions& options, std::ostream& out, std::ostream& err)
   merged.producer_version = kProducerVersion;
   merged.content_version = content_version.value_or(0);
   std::vector<uint8_t> bytes = format::encode(merged);
-  std::string error = outputs.stage(options.output, bytes);
-  if (error.empty()) error = outputs.commit();
-  if (!error.empty()) {
-    err << "statepack: error: " << printable(error) << '\n';
-    return error.starts_with("refusing") ? kExitUsage : kExitIoError;
+  Result<void> written = outputs.stage(options.output, bytes);
+  if (written) written = outputs.commit();
+  if (!written) {
+    err << "statepack: error: " << printable(written.error().message) << '\n';
+    return exit_code_of_output_error(written.error());
   }
   out << "statepack: merged " << options.inputs.size() << " archive(s) into '"
       << printable(options.output.string()) << "': " << merged.pipelines.size() << " pipeline(s), "

@@ -116,12 +116,13 @@ class Dumper {
     }
     std::string text = disassemble_spirv(words, options_);
     OutputSet files(inputs_);
-    error = files.stage(fs::path(base) += ".spv",
-                        {reinterpret_cast<const uint8_t*>(words.data()), words.size() * 4});
-    if (error.empty())
-      error = files.stage(fs::path(base) += ".spvasm",
-                          {reinterpret_cast<const uint8_t*>(text.data()), text.size()});
-    if (error.empty()) error = files.commit();
+    Result<void> written = files.stage(fs::path(base) += ".spv",
+                                       {reinterpret_cast<const uint8_t*>(words.data()), words.size() * 4});
+    if (written)
+      written = files.stage(fs::path(base) += ".spvasm",
+                            {reinterpret_cast<const uint8_t*>(text.data()), text.size()});
+    if (written) written = files.commit();
+    if (!written) error = written.error().message;
   }
 
  private:
@@ -489,13 +490,13 @@ int write_outputs(const PackOptions& options, const std::vector<InputFile>& inpu
       }
     text = *depfile_escape(options.output.string()) + text;
   }
-  std::string error = outputs.stage(options.output, bytes);
-  if (error.empty() && options.depfile)
-    error = outputs.stage(*options.depfile, {reinterpret_cast<const uint8_t*>(text.data()), text.size()});
-  if (error.empty()) error = outputs.commit();
-  if (!error.empty()) {
-    err << "statepack: error: " << printable(error) << '\n';
-    return error.starts_with("refusing") ? kExitUsage : kExitIoError;
+  Result<void> written = outputs.stage(options.output, bytes);
+  if (written && options.depfile)
+    written = outputs.stage(*options.depfile, {reinterpret_cast<const uint8_t*>(text.data()), text.size()});
+  if (written) written = outputs.commit();
+  if (!written) {
+    err << "statepack: error: " << printable(written.error().message) << '\n';
+    return exit_code_of_output_error(written.error());
   }
   return kExitSuccess;
 }

@@ -17,6 +17,12 @@ namespace statepack::packager {
 // Exit codes of the CLI (docs/cli.md).
 enum ExitCode : int { kExitSuccess = 0, kExitInputError = 1, kExitUsage = 2, kExitIoError = 3 };
 
+// The exit code of a failed output (OutputSet, write_file_atomically): a path that may not be an output
+// is the caller's usage error, anything else an I/O error. Chosen by the code, never by the message.
+inline int exit_code_of_output_error(const Error& error) {
+  return error.code == ErrorCode::invalid_argument ? kExitUsage : kExitIoError;
+}
+
 struct PackOptions {
   std::vector<std::filesystem::path> inputs;
   NotationOptions notation;
