@@ -124,14 +124,9 @@ Result<std::unique_ptr<Plan>> Planner::plan_compute(const ArchivedPipeline& foun
   return plan;
 }
 
-Result<std::unique_ptr<Plan>> Planner::plan_graphics(const ArchivedPipeline& found,
-                                                     const ModifyCallback& modify) {
-  const format::GraphicsState& g = found.pipeline->graphics;
+Result<PatchableState> Planner::settle_graphics(const ArchivedPipeline& found, const ModifyCallback& modify) {
   const std::string& name = found.pipeline->name;
   const bool uses_render_pass = found.pipeline->render_pass != format::kNone;
-  if (!uses_render_pass && !context_.dynamic_rendering_enabled)
-    return Error{ErrorCode::unsupported,
-                 "pipeline '" + name + "' uses dynamic rendering, which the device was not created with"};
   // The state is settled and checked first, so that nothing is created for a pipeline that fails.
   PatchableState settled = to_patchable(*found.pipeline);
   const format::Shader* pixel_shader = nullptr;
@@ -176,11 +171,14 @@ Result<std::unique_ptr<Plan>> Planner::plan_graphics(const ArchivedPipeline& fou
                      "pipeline '" + name + "': render target " + std::to_string(i) +
                          " is UNKNOWN (a format set at run time); set PatchableState::color_formats[" +
                          std::to_string(i) + "] in the modify callback"};
-  if (auto missing = check_features(name, settled)) return *missing;
-  auto dynamic_mask = settle_dynamic_states(name, settled.dynamic_states);
-  if (!dynamic_mask) return dynamic_mask.error();
-  auto constants = settle_constants(*found.pipeline, settled.constants);
-  if (!constants) return constants.error();
+  return settled;
+}
+
+std::optional<Error> Planner::check_graphics(const ArchivedPipeline& found, const PatchableState& settled) {
+  const format::GraphicsState& g = found.pipeline->graphics;
+  const std::string& name = found.pipeline->name;
+  const bool uses_render_pass = found.pipeline->render_pass != format::kNone;
+  if (auto missing = check_features(name, settled)) return missing;
   // Adjacency topologies need the geometry shader feature; patch lists go with tessellation, only.
   if (g.topology >= VK_PRIMITIVE_TOPOLOGY_LINE_LIST_WITH_ADJACENCY &&
       g.topology <= VK_PRIMITIVE_TOPOLOGY_TRIANGLE_STRIP_WITH_ADJACENCY && !features_.geometryShader)
@@ -215,20 +213,13 @@ Result<std::unique_ptr<Plan>> Planner::plan_graphics(const ArchivedPipeline& fou
       !ok)
     return ok.error();
 
-  auto planned = plan_common(found, *constants);
-  if (!planned) return planned.error();
-  Plan& pl = **planned;
-  pl.out.bind_point = VK_PIPELINE_BIND_POINT_GRAPHICS;
-  pl.cacheable = !modify;
-  pl.state = settled;
-  const PatchableState& s = pl.state;
-  VkRenderPass render_pass = VK_NULL_HANDLE;
-  if (uses_render_pass) {
-    auto pass = cache_.render_pass(found.archive, found.pipeline->render_pass);
-    if (!pass) return pass.error();
-    render_pass = *pass;
-  }
+  return std::nullopt;
+}
 
+// The vertex input: every binding, and the attributes the vertex shader reads.
+void Planner::plan_vertex_input(const ArchivedPipeline& found, Plan& pl) {
+  const format::GraphicsState& g = found.pipeline->graphics;
+  const auto& contents = cache_.contents(found.archive);
   for (const auto& b : g.vertex_bindings)
     pl.vertex_bindings.push_back({b.binding, b.stride, static_cast<VkVertexInputRate>(b.input_rate)});
   // Attributes the vertex shader does not read have no effect; leaving them out keeps the layer
@@ -251,6 +242,12 @@ Result<std::unique_ptr<Plan>> Planner::plan_graphics(const ArchivedPipeline& fou
   pl.vertex_input.pVertexBindingDescriptions = pl.vertex_bindings.data();
   pl.vertex_input.vertexAttributeDescriptionCount = static_cast<uint32_t>(pl.vertex_attributes.size());
   pl.vertex_input.pVertexAttributeDescriptions = pl.vertex_attributes.data();
+}
+
+// Input assembly, tessellation, viewport, rasterizer, multisample, depth-stencil, blend, dynamic states
+// and dynamic-rendering formats, from the settled state in `pl.state`.
+void Planner::plan_fixed_function(const format::GraphicsState& g, uint32_t dynamic_mask, Plan& pl) {
+  const PatchableState& s = pl.state;
   pl.assembly.topology = static_cast<VkPrimitiveTopology>(g.topology);
   pl.tessellation.patchControlPoints = g.patch_control_points;  // 1..32 exactly when a patch list
   pl.viewport.viewportCount = 1;
@@ -261,7 +258,7 @@ Result<std::unique_ptr<Plan>> Planner::plan_graphics(const ArchivedPipeline& fou
   pl.raster.frontFace = s.rasterizer.front_face;
   // With a dynamic depth bias the bias is set per draw, so biasing must be on.
   pl.raster.depthBiasEnable = s.rasterizer.depth_bias != 0 || s.rasterizer.depth_bias_slope != 0 ||
-                              (*dynamic_mask & format::kDynamicDepthBias) != 0;
+                              (dynamic_mask & format::kDynamicDepthBias) != 0;
   pl.raster.depthBiasConstantFactor = s.rasterizer.depth_bias;
   pl.raster.depthBiasClamp = s.rasterizer.depth_bias_clamp;
   pl.raster.depthBiasSlopeFactor = s.rasterizer.depth_bias_slope;
@@ -280,7 +277,7 @@ Result<std::unique_ptr<Plan>> Planner::plan_graphics(const ArchivedPipeline& fou
   pl.depth.back = s.depth_stencil.back;
   pl.depth.maxDepthBounds = 1.0f;
   // Dynamic depth bounds are set per draw: the test is on (settle_dynamic_states checked the feature).
-  pl.depth.depthBoundsTestEnable = (*dynamic_mask & format::kDynamicDepthBounds) != 0;
+  pl.depth.depthBoundsTestEnable = (dynamic_mask & format::kDynamicDepthBounds) != 0;
   for (uint32_t i = 0; i < s.color_count; ++i) {
     const auto& b = s.blend[i];
     pl.attachments[i] = {b.enable,    b.src_color, b.dst_color, b.color_op,
@@ -295,6 +292,40 @@ Result<std::unique_ptr<Plan>> Planner::plan_graphics(const ArchivedPipeline& fou
   pl.rendering.pColorAttachmentFormats = s.color_formats.data();
   pl.rendering.depthAttachmentFormat = depth_attachment ? s.depth_stencil_format : VK_FORMAT_UNDEFINED;
   pl.rendering.stencilAttachmentFormat = stencil_attachment ? s.depth_stencil_format : VK_FORMAT_UNDEFINED;
+}
+
+Result<std::unique_ptr<Plan>> Planner::plan_graphics(const ArchivedPipeline& found,
+                                                     const ModifyCallback& modify) {
+  const format::GraphicsState& g = found.pipeline->graphics;
+  const std::string& name = found.pipeline->name;
+  const bool uses_render_pass = found.pipeline->render_pass != format::kNone;
+  if (!uses_render_pass && !context_.dynamic_rendering_enabled)
+    return Error{ErrorCode::unsupported,
+                 "pipeline '" + name + "' uses dynamic rendering, which the device was not created with"};
+  // The state is settled and checked first, so that nothing is created for a pipeline that fails.
+  auto settled_or = settle_graphics(found, modify);
+  if (!settled_or) return settled_or.error();
+  PatchableState& settled = *settled_or;
+  if (auto bad = check_graphics(found, settled)) return *bad;
+  auto dynamic_mask = settle_dynamic_states(name, settled.dynamic_states);
+  if (!dynamic_mask) return dynamic_mask.error();
+  auto constants = settle_constants(*found.pipeline, settled.constants);
+  if (!constants) return constants.error();
+
+  auto planned = plan_common(found, *constants);
+  if (!planned) return planned.error();
+  Plan& pl = **planned;
+  pl.out.bind_point = VK_PIPELINE_BIND_POINT_GRAPHICS;
+  pl.cacheable = !modify;
+  pl.state = std::move(settled);
+  VkRenderPass render_pass = VK_NULL_HANDLE;
+  if (uses_render_pass) {
+    auto pass = cache_.render_pass(found.archive, found.pipeline->render_pass);
+    if (!pass) return pass.error();
+    render_pass = *pass;
+  }
+  plan_vertex_input(found, pl);
+  plan_fixed_function(g, *dynamic_mask, pl);
 
   VkGraphicsPipelineCreateInfo& info = pl.graphics;
   info.pNext = uses_render_pass ? nullptr : &pl.rendering;

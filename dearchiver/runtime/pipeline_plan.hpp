@@ -73,6 +73,13 @@ class Planner {
   // Layout, set layouts, binding table and shader stages: what both kinds of pipeline need.
   Result<std::unique_ptr<Plan>> plan_common(const ArchivedPipeline& found,
                                             const std::vector<SpecializationConstant>& constants);
+  // A graphics pipeline's state after the callback, checked: the callback's values, render targets
+  // for every location the pixel shader writes, no UNKNOWN format left.
+  Result<PatchableState> settle_graphics(const ArchivedPipeline& found, const ModifyCallback& modify);
+  // The settled state against the device: features, topology and tessellation, render pass, limits.
+  std::optional<Error> check_graphics(const ArchivedPipeline& found, const PatchableState& settled);
+  void plan_vertex_input(const ArchivedPipeline& found, Plan& plan);
+  static void plan_fixed_function(const format::GraphicsState& g, uint32_t dynamic_mask, Plan& plan);
   // The dynamic states a callback settled: each one statepack supports and the device has, viewport and
   // scissor included, none twice. Returns them as the archive's bit mask.
   Result<uint32_t> settle_dynamic_states(const std::string& name, std::vector<VkDynamicState>& states);
