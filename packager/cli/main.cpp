@@ -53,6 +53,184 @@ std::optional<uint32_t> parse_vulkan_version(const std::string& text) {
 
 }  // namespace
 
+// `pack`: its options, and the checks that turn them into PackOptions.
+struct PackCommand {
+  CLI::App* app = nullptr;
+  CLI::Option* output_option = nullptr;
+  PackOptions options;
+  std::vector<std::string> inputs, render_state_dirs, shader_dirs, defines;
+  std::string output, vulkan_version = "1.0", depfile, dump_dir, optimize = "none";
+  bool strip_debug = false;
+  bool vulkan = false, opengl = false, opengles = false, dx11 = false, dx12 = false, metal_macos = false,
+       metal_ios = false, webgpu = false;
+
+  void add_to(CLI::App& parent) {
+    app = parent.add_subcommand("pack", "Pack notation files into an archive (the default command)");
+    app->add_option("-i,--input", inputs,
+                    "Input notation file (repeatable); searched in the CWD, then -r dirs")
+        ->required();
+    app->add_option("-r,--render_state_dir", render_state_dirs,
+                    "Directory to search for notation files (repeatable)");
+    app->add_option(
+        "-s,--shader_dir", shader_dirs,
+        "Directory to search for shader files and #includes after the referring file's own (repeatable)");
+    output_option = app->add_option("-o,--output", output, "Output archive (required unless --check)");
+    app->add_flag("--check", options.check_only,
+                  "Pack and validate everything, but write no archive or depfile (-o not needed)");
+    app->add_option("--max-errors", options.max_errors, "Stop after this many errors; 0: no limit")
+        ->capture_default_str();
+    app->add_option("-t,--thread", options.threads, "Compiler threads (0: all cores)")->capture_default_str();
+    app->add_option("-v,--content_version", options.content_version,
+                    "User content version stored in the header")
+        ->capture_default_str();
+    app->add_option("-D", defines, "Macro for every shader, NAME=VALUE or NAME (repeatable)");
+    app->add_option("--depfile", depfile,
+                    "Write a Make-style depfile listing every JSON and shader file read");
+    app->add_option("--vulkan_version", vulkan_version,
+                    "Target Vulkan version: 1.0 (SPIR-V 1.0), 1.1, 1.2 or 1.3")
+        ->capture_default_str();
+    app->add_option(
+        "-d,--dump_dir", dump_dir,
+        "Write each pipeline's final SPIR-V and its disassembly under DIR/Vulkan/<kind>/<pipeline>/");
+    app->add_option("--optimize", optimize, "SPIR-V optimisation: none, speed or size")
+        ->capture_default_str();
+    app->add_flag(
+        "--strip_debug,--strip_reflection", strip_debug,
+        "Strip debug information (names, lines) from the SPIR-V; binding names stay in the archive");
+    app->add_flag("--print_contents", options.print_contents, "Print the archive's contents");
+    app->add_flag("--vulkan", vulkan, "Produce the Vulkan backend (SPIR-V)");
+    app->add_flag("--opengl", opengl,
+                  "Produce the OpenGL backend (OpenGL 4.5 + GL_ARB_gl_spirv) from the same sources: each "
+                  "shader's Vulkan SPIR-V translated (SPIRV-Cross, then glslang's OpenGL client); GLSL that "
+                  "tests VULKAN or GL_SPIRV is compiled from its own text");
+    app->add_flag("--opengles", opengles, "OpenGL ES backend (not produced: warning)");
+    app->add_flag("--dx11", dx11, "Direct3D 11 backend (not produced on this platform: warning)");
+    app->add_flag("--dx12", dx12, "Direct3D 12 backend (not produced on this platform: warning)");
+    app->add_flag("--metal_macos", metal_macos,
+                  "Metal macOS backend (not produced on this platform: warning)");
+    app->add_flag("--metal_ios", metal_ios, "Metal iOS backend (not produced on this platform: warning)");
+    app->add_flag("--webgpu", webgpu, "WebGPU backend (not produced: warning)");
+  }
+
+  // Turns the options into `options`; false (with the error printed) for a usage error.
+  bool settle(std::ostream& err) {
+    if (output_option->count() == 0 && !options.check_only) {
+      err << "statepack: error: --output is required (or --check to write nothing)\n";
+      return false;
+    }
+    if (options.check_only && (output_option->count() > 0 || !depfile.empty())) {
+      err << "statepack: error: --check writes nothing: drop -o and --depfile, or drop --check\n";
+      return false;
+    }
+    for (auto [on, flag] : {std::pair{opengles, "--opengles"},
+                            {dx11, "--dx11"},
+                            {dx12, "--dx12"},
+                            {metal_macos, "--metal_macos"},
+                            {metal_ios, "--metal_ios"},
+                            {webgpu, "--webgpu"}})
+      if (on)
+        err << "statepack: warning: " << flag << ": this backend cannot be produced by statepack; ignored\n";
+    if (!vulkan && !opengl) {
+      err << "statepack: error: no backend to produce; pass --vulkan, --opengl or both\n";
+      return false;
+    }
+    options.vulkan = vulkan;
+    options.opengl = opengl;
+    auto version = parse_vulkan_version(vulkan_version);
+    if (!version) {
+      err << "statepack: error: --vulkan_version must be 1.0, 1.1, 1.2 or 1.3, not '" << vulkan_version
+          << "'\n";
+      return false;
+    }
+    options.compile.vulkan_version = *version;
+    const bool dirs_ok = check_search_dirs("-s", shader_dirs, err);
+    if (!check_search_dirs("-r", render_state_dirs, err) || !dirs_ok) return false;
+    for (auto& i : inputs) options.inputs.emplace_back(i);
+    for (auto& d : render_state_dirs) options.notation.render_state_dirs.emplace_back(d);
+    for (auto& d : shader_dirs) {
+      options.notation.shader_dirs.emplace_back(d);
+      options.compile.include_dirs.emplace_back(d);
+    }
+    for (auto& d : defines) options.compile.global_macros.push_back(parse_define(d));
+    options.output = output;
+    if (!dump_dir.empty()) options.dump_dir = dump_dir;
+    options.compile.strip_debug_info = strip_debug;
+    if (optimize == "speed")
+      options.compile.optimization = Optimization::speed;
+    else if (optimize == "size")
+      options.compile.optimization = Optimization::size;
+    else if (optimize != "none") {
+      err << "statepack: error: --optimize must be none, speed or size, not '" << optimize << "'\n";
+      return false;
+    }
+    if (!depfile.empty()) options.depfile = depfile;
+    return true;
+  }
+};
+
+struct MergeCommand {
+  CLI::App* app = nullptr;
+  MergeOptions options;
+  std::vector<std::string> inputs;
+  std::string output;
+
+  void add_to(CLI::App& parent) {
+    app = parent.add_subcommand("merge",
+                                "Merge archives into one: shared SPIR-V, shaders and layouts stored once; a "
+                                "name defined differently in two inputs is an error");
+    app->add_option("archives", inputs, "Archives to merge, in order")->required();
+    app->add_option("-o,--output", output, "The merged archive")->required();
+    app->add_option("-v,--content_version", options.content_version,
+                    "Content version of the merged archive (default: the inputs', which must then agree)");
+  }
+  int run() {
+    for (const auto& p : inputs) options.inputs.emplace_back(p);
+    options.output = output;
+    return run_merge(options, std::cout, std::cerr);
+  }
+};
+
+struct VerifyCommand {
+  CLI::App* app = nullptr;
+  VerifyOptions options;
+  std::vector<std::string> paths;
+  std::string format = "RGBA8_UNORM", cache;
+  bool no_validation = false;
+
+  void add_to(CLI::App& parent) {
+    app = parent.add_subcommand(
+        "verify",
+        "Unpack every object of archives on a local Vulkan device, validation layer on; "
+        "exit 1 on any error or validation message");
+    app->add_option("archives", paths, "Archives to verify")->required();
+    app->add_option(
+        "--device", options.device_index,
+        "Vulkan device index (vkEnumeratePhysicalDevices order; default: the first Vulkan 1.3 one)");
+    app->add_option(
+           "--format", format,
+           "Format for render targets the archive leaves to run time (UNKNOWN, or absent while the pixel "
+           "shader writes them)")
+        ->capture_default_str();
+    app->add_option(
+        "--cache", cache,
+        "Pipeline cache file: loaded when present and valid for this device, saved after (warming)");
+    app->add_flag("--no-validation", no_validation, "Do not enable the validation layer");
+  }
+  int run() {
+    for (const auto& p : paths) options.archives.emplace_back(p);
+    auto color_format = parse_vk_format(format);
+    if (!color_format) {
+      std::cerr << "statepack: error: --format: unknown texture format '" << printable(format)
+                << "' (use the notation's names, e.g. RGBA8_UNORM or BGRA8_UNORM_SRGB)\n";
+      return kExitUsage;
+    }
+    options.color_format = *color_format;
+    options.validation = !no_validation;
+    if (!cache.empty()) options.cache = cache;
+    return run_verify(options, std::cout, std::cerr);
+  }
+};
+
 int run(int argc, char** argv) {
   // Diligent command lines have no subcommand: "statepack -i a.json ..." means "statepack pack -i a.json
   // ...".
@@ -72,100 +250,22 @@ int run(int argc, char** argv) {
   app.require_subcommand(1);
   app.footer("Exit codes: 0 success, 1 input error (notation, shader), 2 usage error, 3 I/O error.");
 
-  PackOptions options;
-  std::vector<std::string> inputs, render_state_dirs, shader_dirs, defines;
-  std::string output, vulkan_version = "1.0", depfile, dump_dir, optimize = "none";
-  bool strip_debug = false;
-  bool vulkan = false, opengl = false, opengles = false, dx11 = false, dx12 = false, metal_macos = false,
-       metal_ios = false, webgpu = false;
-  CLI::App* pack = app.add_subcommand("pack", "Pack notation files into an archive (the default command)");
-  pack->add_option("-i,--input", inputs,
-                   "Input notation file (repeatable); searched in the CWD, then -r dirs")
-      ->required();
-  pack->add_option("-r,--render_state_dir", render_state_dirs,
-                   "Directory to search for notation files (repeatable)");
-  pack->add_option(
-      "-s,--shader_dir", shader_dirs,
-      "Directory to search for shader files and #includes after the referring file's own (repeatable)");
-  auto* output_option = pack->add_option("-o,--output", output, "Output archive (required unless --check)");
-  pack->add_flag("--check", options.check_only,
-                 "Pack and validate everything, but write no archive or depfile (-o not needed)");
-  pack->add_option("--max-errors", options.max_errors, "Stop after this many errors; 0: no limit")
-      ->capture_default_str();
-  pack->add_option("-t,--thread", options.threads, "Compiler threads (0: all cores)")->capture_default_str();
-  pack->add_option("-v,--content_version", options.content_version,
-                   "User content version stored in the header")
-      ->capture_default_str();
-  pack->add_option("-D", defines, "Macro for every shader, NAME=VALUE or NAME (repeatable)");
-  pack->add_option("--depfile", depfile,
-                   "Write a Make-style depfile listing every JSON and shader file read");
-  pack->add_option("--vulkan_version", vulkan_version,
-                   "Target Vulkan version: 1.0 (SPIR-V 1.0), 1.1, 1.2 or 1.3")
-      ->capture_default_str();
-  pack->add_option(
-      "-d,--dump_dir", dump_dir,
-      "Write each pipeline's final SPIR-V and its disassembly under DIR/Vulkan/<kind>/<pipeline>/");
-  pack->add_option("--optimize", optimize, "SPIR-V optimisation: none, speed or size")->capture_default_str();
-  pack->add_flag("--strip_debug,--strip_reflection", strip_debug,
-                 "Strip debug information (names, lines) from the SPIR-V; binding names stay in the archive");
-  pack->add_flag("--print_contents", options.print_contents, "Print the archive's contents");
-  pack->add_flag("--vulkan", vulkan, "Produce the Vulkan backend (SPIR-V)");
-  pack->add_flag(
-      "--opengl", opengl,
-      "Produce the OpenGL backend: GLSL compiled again for OpenGL 4.5 with GL_ARB_gl_spirv (GL_SPIRV "
-      "defined, VULKAN not), bindings numbered per kind");
-  pack->add_flag("--opengles", opengles, "OpenGL ES backend (not produced: warning)");
-  pack->add_flag("--dx11", dx11, "Direct3D 11 backend (not produced on this platform: warning)");
-  pack->add_flag("--dx12", dx12, "Direct3D 12 backend (not produced on this platform: warning)");
-  pack->add_flag("--metal_macos", metal_macos,
-                 "Metal macOS backend (not produced on this platform: warning)");
-  pack->add_flag("--metal_ios", metal_ios, "Metal iOS backend (not produced on this platform: warning)");
-  pack->add_flag("--webgpu", webgpu, "WebGPU backend (not produced: warning)");
-
+  PackCommand pack;
+  pack.add_to(app);
   std::string inspect_path;
   bool inspect_json = false;
   CLI::App* inspect =
       app.add_subcommand("inspect", "Print every object of an archive: sizes, layouts, bindings");
   inspect->add_option("archive", inspect_path, "The archive")->required();
   inspect->add_flag("--json", inspect_json, "Print JSON instead of text");
-
   CLI::App* schema_command = app.add_subcommand(
       "schema",
       "Print the notation's JSON Schema (draft-07), for editors: generated from the tables the "
       "packer reads with");
-
-  MergeOptions merge_options;
-  std::vector<std::string> merge_inputs;
-  std::string merge_output;
-  CLI::App* merge = app.add_subcommand(
-      "merge",
-      "Merge archives into one: shared SPIR-V, shaders and layouts stored once; a name defined "
-      "differently in two inputs is an error");
-  merge->add_option("archives", merge_inputs, "Archives to merge, in order")->required();
-  merge->add_option("-o,--output", merge_output, "The merged archive")->required();
-  merge->add_option("-v,--content_version", merge_options.content_version,
-                    "Content version of the merged archive (default: the inputs', which must then agree)");
-
-  VerifyOptions verify_options;
-  std::vector<std::string> verify_paths;
-  std::string verify_format = "RGBA8_UNORM", verify_cache;
-  bool verify_no_validation = false;
-  CLI::App* verify = app.add_subcommand(
-      "verify",
-      "Unpack every object of archives on a local Vulkan device, validation layer on; exit 1 on any "
-      "error or validation message");
-  verify->add_option("archives", verify_paths, "Archives to verify")->required();
-  verify->add_option(
-      "--device", verify_options.device_index,
-      "Vulkan device index (vkEnumeratePhysicalDevices order; default: the first Vulkan 1.3 one)");
-  verify
-      ->add_option("--format", verify_format,
-                   "Format for render targets the archive leaves UNKNOWN (patched at run time)")
-      ->capture_default_str();
-  verify->add_option(
-      "--cache", verify_cache,
-      "Pipeline cache file: loaded when present and valid for this device, saved after (warming)");
-  verify->add_flag("--no-validation", verify_no_validation, "Do not enable the validation layer");
+  MergeCommand merge;
+  merge.add_to(app);
+  VerifyCommand verify;
+  verify.add_to(app);
 
   try {
     std::vector<char*> raw;
@@ -181,77 +281,10 @@ int run(int argc, char** argv) {
     std::cout << schema::notation_json_schema().dump(2) << '\n';
     return kExitSuccess;
   }
-  if (merge->parsed()) {
-    for (const auto& p : merge_inputs) merge_options.inputs.emplace_back(p);
-    merge_options.output = merge_output;
-    return run_merge(merge_options, std::cout, std::cerr);
-  }
-  if (verify->parsed()) {
-    for (const auto& p : verify_paths) verify_options.archives.emplace_back(p);
-    auto format = parse_vk_format(verify_format);
-    if (!format) {
-      std::cerr << "statepack: error: --format: unknown texture format '" << printable(verify_format)
-                << "' (use the notation's names, e.g. RGBA8_UNORM or BGRA8_UNORM_SRGB)\n";
-      return kExitUsage;
-    }
-    verify_options.color_format = *format;
-    verify_options.validation = !verify_no_validation;
-    if (!verify_cache.empty()) verify_options.cache = verify_cache;
-    return run_verify(verify_options, std::cout, std::cerr);
-  }
-  if (output_option->count() == 0 && !options.check_only) {
-    std::cerr << "statepack: error: --output is required (or --check to write nothing)\n";
-    return kExitUsage;
-  }
-  if (options.check_only && (output_option->count() > 0 || !depfile.empty())) {
-    std::cerr << "statepack: error: --check writes nothing: drop -o and --depfile, or drop --check\n";
-    return kExitUsage;
-  }
-
-  for (auto [on, flag] : {std::pair{opengles, "--opengles"},
-                          {dx11, "--dx11"},
-                          {dx12, "--dx12"},
-                          {metal_macos, "--metal_macos"},
-                          {metal_ios, "--metal_ios"},
-                          {webgpu, "--webgpu"}})
-    if (on)
-      std::cerr << "statepack: warning: " << flag
-                << ": this backend cannot be produced by statepack; ignored\n";
-  if (!vulkan && !opengl) {
-    std::cerr << "statepack: error: no backend to produce; pass --vulkan, --opengl or both\n";
-    return kExitUsage;
-  }
-  options.vulkan = vulkan;
-  options.opengl = opengl;
-  auto version = parse_vulkan_version(vulkan_version);
-  if (!version) {
-    std::cerr << "statepack: error: --vulkan_version must be 1.0, 1.1, 1.2 or 1.3, not '" << vulkan_version
-              << "'\n";
-    return kExitUsage;
-  }
-  options.compile.vulkan_version = *version;
-  const bool dirs_ok = check_search_dirs("-s", shader_dirs, std::cerr);
-  if (!check_search_dirs("-r", render_state_dirs, std::cerr) || !dirs_ok) return kExitUsage;
-  for (auto& i : inputs) options.inputs.emplace_back(i);
-  for (auto& d : render_state_dirs) options.notation.render_state_dirs.emplace_back(d);
-  for (auto& d : shader_dirs) {
-    options.notation.shader_dirs.emplace_back(d);
-    options.compile.include_dirs.emplace_back(d);
-  }
-  for (auto& d : defines) options.compile.global_macros.push_back(parse_define(d));
-  options.output = output;
-  if (!dump_dir.empty()) options.dump_dir = dump_dir;
-  options.compile.strip_debug_info = strip_debug;
-  if (optimize == "speed")
-    options.compile.optimization = Optimization::speed;
-  else if (optimize == "size")
-    options.compile.optimization = Optimization::size;
-  else if (optimize != "none") {
-    std::cerr << "statepack: error: --optimize must be none, speed or size, not '" << optimize << "'\n";
-    return kExitUsage;
-  }
-  if (!depfile.empty()) options.depfile = depfile;
-  return run_pack(options, std::cout, std::cerr);
+  if (merge.app->parsed()) return merge.run();
+  if (verify.app->parsed()) return verify.run();
+  if (!pack.settle(std::cerr)) return kExitUsage;
+  return run_pack(pack.options, std::cout, std::cerr);
 }
 
 // No exception may end the process with an abort: every one becomes an error line and an exit code.
