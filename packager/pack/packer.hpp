@@ -32,7 +32,7 @@ struct PackOptions {
   std::optional<std::filesystem::path> dump_dir;  // SPIR-V and disassembly per pipeline and shader
   uint32_t content_version = 0;
   bool vulkan = true;    // --vulkan: the Vulkan backend
-  bool opengl = false;   // --opengl: the OpenGL backend (GLSL compiled again for OpenGL 4.5 + ARB_gl_spirv)
+  bool opengl = false;   // --opengl: the OpenGL backend (OpenGL 4.5 + ARB_gl_spirv, docs/cli.md)
   uint32_t threads = 0;  // 0: all cores
   bool print_contents = false;
   bool check_only = false;

@@ -23,7 +23,8 @@ struct CompileOptions {
   Optimization optimization = Optimization::none;
   bool strip_debug_info = false;  // OpName, OpLine, ...: names the archive keeps in its binding table
   // Compile for OpenGL 4.5 with GL_ARB_gl_spirv instead (glslang's OpenGL client, SPIR-V 1.0, validated
-  // for OpenGL 4.5): GL_SPIRV is defined and VULKAN is not, so one source can serve both. GLSL only.
+  // for OpenGL 4.5): GL_SPIRV is defined and VULKAN is not. Used for GLSL that tests those macros;
+  // every other shader reaches OpenGL translated from its Vulkan SPIR-V (gl_translate.hpp).
   bool opengl = false;
 };
 
