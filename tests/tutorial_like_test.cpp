@@ -615,7 +615,8 @@ TEST_F(TutorialLike, VulkanGlslWithPushConstantsAndSeparateSamplersDrawsAlikeOnO
   // And it is the tint applied to the source: red = albedo red * 0.5 + 0.25.
   const Pixels& albedo = source.pixels[0];
   for (size_t p = 0; p < albedo.size(); p += 4 * 37)
-    ASSERT_NEAR(vk_copy.pixels[0][p], std::lround(std::min(255.0, albedo[p] * 0.5 + 0.25 * 255)), 1) << p;
+    ASSERT_NEAR(double(vk_copy.pixels[0][p]), std::round(std::min(255.0, albedo[p] * 0.5 + 0.25 * 255)), 1.0)
+        << p;
 }
 
 // Tessellation on OpenGL (GL 4.5 has it): the same patch, the same evaluated coordinates, the same image.
@@ -725,8 +726,9 @@ TEST_F(TutorialLike, EveryCorpusProgramLinksOnOpenGl) {
           EXPECT_NE((*program)->find_binding(b.name), nullptr) << p.name << ": " << b.name;
         }
       }
-      if (vulkan->push_constant_size > 0)
+      if (vulkan->push_constant_size > 0) {
         EXPECT_NE((*program)->find_binding("$PushConstants"), nullptr) << p.name;
+      }
     }
   }
   EXPECT_GT(programs, 10u);
