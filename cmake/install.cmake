@@ -5,7 +5,10 @@
 include(CMakePackageConfigHelpers)
 set(statepack_config_dir ${CMAKE_INSTALL_LIBDIR}/cmake/statepack)
 
-set(statepack_installed_targets statepack_dearchiver statepack_gl)
+set(statepack_installed_targets statepack_dearchiver)
+if(STATEPACK_BUILD_GL)
+  list(APPEND statepack_installed_targets statepack_gl)
+endif()
 if(STATEPACK_BUILD_PACKAGER)
   list(APPEND statepack_installed_targets statepack)
 endif()
@@ -45,6 +48,8 @@ else()
 endif()
 configure_file(cmake/statepack_dearchiver.pc.in ${PROJECT_BINARY_DIR}/statepack_dearchiver.pc @ONLY)
 install(FILES ${PROJECT_BINARY_DIR}/statepack_dearchiver.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)
-# The OpenGL runtime: on top of the dearchiver's (Archive) and libepoxy's.
-configure_file(cmake/statepack_gl.pc.in ${PROJECT_BINARY_DIR}/statepack_gl.pc @ONLY)
-install(FILES ${PROJECT_BINARY_DIR}/statepack_gl.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)
+if(STATEPACK_BUILD_GL)
+  # The OpenGL runtime: on top of the dearchiver's (Archive) and libepoxy's.
+  configure_file(cmake/statepack_gl.pc.in ${PROJECT_BINARY_DIR}/statepack_gl.pc @ONLY)
+  install(FILES ${PROJECT_BINARY_DIR}/statepack_gl.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)
+endif()

@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# STATEPACK_BUILD_PACKAGER=OFF, as an application that only loads archives builds statepack: a fresh
+# STATEPACK_BUILD_PACKAGER=OFF and STATEPACK_BUILD_GL=OFF, as an application that only loads archives
+# on Vulkan builds statepack: a fresh
 # build of the source tree (shared dearchiver, so that ldd can look at it) in which glslang,
 # SPIRV-Tools, spirv-cross, CLI11 and nlohmann_json are never even looked for (they are installed here,
 # so the proof is that the configuration does not know them), no packager, test or sample target exists,
@@ -13,12 +14,13 @@ rm -rf "$work" && mkdir -p "$work"
 build=$work/build
 
 # Debug: the quickest to compile; warnings are still errors.
-cmake -S "$root" -B "$build" -G Ninja -DSTATEPACK_BUILD_PACKAGER=OFF -DSTATEPACK_SHARED=ON \
+# STATEPACK_BUILD_GL=OFF too: a Vulkan-only runtime needs neither the shader toolchain nor libepoxy.
+cmake -S "$root" -B "$build" -G Ninja -DSTATEPACK_BUILD_PACKAGER=OFF -DSTATEPACK_BUILD_GL=OFF -DSTATEPACK_SHARED=ON \
   -DSTATEPACK_WERROR=ON -DCMAKE_BUILD_TYPE=Debug >"$work/configure.log" 2>&1 ||
   fail "configure failed: $(cat "$work/configure.log")"
 # What find_package (<name>_DIR) and pkg_check_modules (__pkg_config_checked_<prefix>) leave in the cache.
 # (FindVulkan's own glslangValidator lookup is not the packager's and is left out.)
-looked_for='^(glslang|SPIRV-Tools|SPIRV-Tools-opt|CLI11|nlohmann_json|GTest|glfw3)_DIR:|^__pkg_config_checked_(SPIRV_CROSS_C|IMGUI):'
+looked_for='^(glslang|SPIRV-Tools|SPIRV-Tools-opt|CLI11|nlohmann_json|GTest|glfw3)_DIR:|^__pkg_config_checked_(SPIRV_CROSS_C|IMGUI|EPOXY):'
 found=$(grep -E "$looked_for" "$build/CMakeCache.txt" | head -5 || true)
 [[ -z "$found" ]] || fail "the packager's dependencies were looked for: $found"
 # Tests, samples and benchmarks run the packager, so they are off without it.
@@ -28,7 +30,7 @@ done
 
 targets=$(ninja -C "$build" -t targets all | cut -d: -f1)
 echo "$targets" | grep -q "libstatepack_dearchiver.so" || fail "no dearchiver target: $targets"
-bad=$(echo "$targets" | grep -E '(^|/)(statepack|statepack_packager|statepack_docs|dearchiver_tests|path_tracer|unpack_demo)$|libstatepack_packager' || true)
+bad=$(echo "$targets" | grep -E '(^|/)(statepack|statepack_packager|statepack_docs|dearchiver_tests|path_tracer|unpack_demo)$|libstatepack_packager|libstatepack_gl' || true)
 [[ -z "$bad" ]] || fail "targets beyond the dearchiver: $bad"
 
 out=$(cmake --build "$build" 2>&1) || fail "build failed: $out"
@@ -51,8 +53,12 @@ cmake_minimum_required(VERSION 3.25)
 project(user CXX)  # find_dependency(Vulkan) looks for a library: that needs a language
 find_package(statepack CONFIG REQUIRED)
 get_target_property(type statepack::dearchiver TYPE)
-if(TARGET statepack::statepack OR NOT type STREQUAL "SHARED_LIBRARY")
-  message(FATAL_ERROR "expected a shared statepack::dearchiver and no statepack::statepack (type ${type})")
+if(TARGET statepack::statepack OR TARGET statepack::gl OR NOT type STREQUAL "SHARED_LIBRARY")
+  message(FATAL_ERROR "expected a shared statepack::dearchiver, no statepack::statepack, no statepack::gl (type ${type})")
+endif()
+find_package(statepack CONFIG COMPONENTS gl QUIET)  # built without it: the component says so
+if(statepack_FOUND)
+  message(FATAL_ERROR "find_package(statepack COMPONENTS gl) succeeded on a build without the OpenGL runtime")
 endif()
 message(STATUS "found the shared dearchiver alone")
 EOF2
