@@ -167,6 +167,138 @@ Json graphics_json(const format::Contents& c, const format::Pipeline& p) {
   return j;
 }
 
+Json sampler_json(const format::Sampler& s) {
+  return {{"filter", vk::to_string(vk::Filter(s.min_filter)) + "/" + vk::to_string(vk::Filter(s.mag_filter)) +
+                         "/" + vk::to_string(vk::SamplerMipmapMode(s.mipmap_mode))},
+          {"address", vk::to_string(vk::SamplerAddressMode(s.address_u)) + "/" +
+                          vk::to_string(vk::SamplerAddressMode(s.address_v)) + "/" +
+                          vk::to_string(vk::SamplerAddressMode(s.address_w))},
+          {"anisotropy", s.anisotropy_enable ? s.max_anisotropy : 0.0f},
+          {"compare", s.compare_enable ? vk::to_string(vk::CompareOp(s.compare_op)) : "none"}};
+}
+
+Json render_pass_json(const format::RenderPass& rp) {
+  Json pass{{"name", rp.name}};
+  Json attachments = Json::array();
+  for (const auto& a : rp.attachments)
+    attachments.push_back({{"format", vk::to_string(vk::Format(a.format))},
+                           {"samples", a.samples},
+                           {"load", vk::to_string(vk::AttachmentLoadOp(a.load_op))},
+                           {"store", vk::to_string(vk::AttachmentStoreOp(a.store_op))},
+                           {"stencil_load", vk::to_string(vk::AttachmentLoadOp(a.stencil_load_op))},
+                           {"stencil_store", vk::to_string(vk::AttachmentStoreOp(a.stencil_store_op))},
+                           {"initial_layout", vk::to_string(vk::ImageLayout(a.initial_layout))},
+                           {"final_layout", vk::to_string(vk::ImageLayout(a.final_layout))}});
+  pass["attachments"] = attachments;
+  Json subpasses = Json::array();
+  for (const auto& s : rp.subpasses) {
+    auto refs = [](const std::vector<format::AttachmentRef>& list) {
+      Json out = Json::array();
+      for (const auto& r : list) out.push_back(none_or(r.attachment));
+      return out;
+    };
+    subpasses.push_back({{"inputs", refs(s.inputs)},
+                         {"colors", refs(s.colors)},
+                         {"resolves", refs(s.resolves)},
+                         {"depth_stencil", none_or(s.depth_stencil.attachment)}});
+  }
+  pass["subpasses"] = subpasses;
+  Json dependencies = Json::array();
+  for (const auto& d : rp.dependencies)
+    dependencies.push_back(
+        {{"src_subpass", d.src_subpass == format::kNone ? Json("external") : Json(d.src_subpass)},
+         {"dst_subpass", d.dst_subpass == format::kNone ? Json("external") : Json(d.dst_subpass)},
+         {"src_stages", vk::to_string(vk::PipelineStageFlags(d.src_stages))},
+         {"dst_stages", vk::to_string(vk::PipelineStageFlags(d.dst_stages))},
+         {"src_access", vk::to_string(vk::AccessFlags(d.src_access))},
+         {"dst_access", vk::to_string(vk::AccessFlags(d.dst_access))},
+         {"flags", vk::to_string(vk::DependencyFlags(d.flags))}});
+  pass["dependencies"] = dependencies;
+  return pass;
+}
+
+Json pipeline_json(const format::Contents& c, const format::Pipeline& p) {
+  Json pj{{"name", p.name}, {"kind", p.kind == format::PipelineKind::compute ? "compute" : "graphics"}};
+  Json stages = Json::array();
+  for (uint32_t s : p.shaders)
+    stages.push_back({{"stage", vk::to_string(vk::ShaderStageFlagBits(c.shaders[s].stage))},
+                      {"shader", c.shaders[s].name},
+                      {"size", c.spirv[c.shaders[s].blob].size_bytes()}});
+  pj["shaders"] = stages;
+  Json sets = Json::array();
+  for (uint32_t set = 0; set < p.set_layouts.size(); ++set) {
+    Json sj{{"set", set}};
+    if (p.set_layouts[set] != format::kNone) {
+      const auto& layout = c.set_layouts[p.set_layouts[set]];
+      if (!layout.name.empty()) sj["signature"] = layout.name;
+      Json bindings = Json::array();
+      for (const auto& b : layout.bindings) bindings.push_back(binding_json(b));
+      sj["bindings"] = bindings;
+    }
+    sets.push_back(sj);
+  }
+  pj["sets"] = sets;
+  if (p.push_constant_size)
+    pj["push_constants"] = {{"size", p.push_constant_size}, {"stages", stages_json(p.push_constant_stages)}};
+  if (p.kind == format::PipelineKind::graphics) {
+    pj["graphics"] = graphics_json(c, p);
+    Json dynamic = Json::array();
+    for (const auto& [name, bit] : kDynamicStates)
+      if (bit != kUnsupportedValue && (p.dynamic_states & bit)) dynamic.push_back(name);
+    pj["dynamic_states"] = dynamic;
+  }
+  if (!p.constants.empty()) {
+    Json constants = Json::array();
+    for (const auto& k : p.constants) {
+      char value[24];
+      std::snprintf(value, sizeof value, k.size == 8 ? "0x%016llx" : "0x%08llx",
+                    static_cast<unsigned long long>(k.value));
+      constants.push_back({{"name", k.name},
+                           {"stage", vk::to_string(vk::ShaderStageFlagBits(k.stage))},
+                           {"constant_id", k.constant_id},
+                           {"size", k.size},
+                           {"value", value}});
+    }
+    pj["specialization_constants"] = constants;
+  }
+  return pj;
+}
+
+// An OpenGL pipeline: its own shaders and binding table, the same graphics state as Vulkan's.
+Json gl_pipeline_json(const format::Contents& c, const format::GlPipeline& p) {
+  Json pj{{"name", p.name}, {"kind", p.kind == format::PipelineKind::compute ? "compute" : "graphics"}};
+  Json gl_shaders = Json::array();
+  for (const auto& s : p.shaders)
+    gl_shaders.push_back({{"stage", vk::to_string(vk::ShaderStageFlagBits(s.stage))},
+                          {"shader", s.name},
+                          {"entry_point", s.entry_point},
+                          {"blob", s.blob},
+                          {"size", c.spirv[s.blob].size_bytes()}});
+  pj["shaders"] = gl_shaders;
+  Json bindings = Json::array();
+  for (const auto& b : p.bindings)
+    bindings.push_back({{"name", b.name},
+                        {"kind", format::gl_namespace_name(b.kind)},
+                        {"binding", b.binding},
+                        {"count", b.count},
+                        {"stages", stages_json(b.stages)}});
+  pj["bindings"] = bindings;
+  if (p.kind == format::PipelineKind::graphics) {
+    format::Pipeline as_vulkan;  // the same state, printed the same way (no render pass in OpenGL)
+    as_vulkan.graphics = p.graphics;
+    pj["graphics"] = graphics_json(c, as_vulkan);
+    pj["graphics"].erase("render_pass");
+  }
+  Json constants = Json::array();
+  for (const auto& k : p.constants)
+    constants.push_back({{"name", k.name},
+                         {"stage", vk::to_string(vk::ShaderStageFlagBits(k.stage))},
+                         {"constant_id", k.constant_id},
+                         {"size", k.size}});
+  if (!constants.empty()) pj["specialization_constants"] = constants;
+  return pj;
+}
+
 Json contents_json(const format::Contents& c, size_t size) {
   Json j;
   j["format_version"] = c.format_version;
@@ -193,15 +325,7 @@ Json contents_json(const format::Contents& c, size_t size) {
   for (uint32_t s : c.standalone_shaders) standalone.push_back(c.shaders[s].name);
   j["standalone_shaders"] = standalone;
   Json samplers = Json::array();
-  for (const auto& s : c.samplers)
-    samplers.push_back(
-        {{"filter", vk::to_string(vk::Filter(s.min_filter)) + "/" + vk::to_string(vk::Filter(s.mag_filter)) +
-                        "/" + vk::to_string(vk::SamplerMipmapMode(s.mipmap_mode))},
-         {"address", vk::to_string(vk::SamplerAddressMode(s.address_u)) + "/" +
-                         vk::to_string(vk::SamplerAddressMode(s.address_v)) + "/" +
-                         vk::to_string(vk::SamplerAddressMode(s.address_w))},
-         {"anisotropy", s.anisotropy_enable ? s.max_anisotropy : 0.0f},
-         {"compare", s.compare_enable ? vk::to_string(vk::CompareOp(s.compare_op)) : "none"}});
+  for (const auto& s : c.samplers) samplers.push_back(sampler_json(s));
   j["samplers"] = samplers;
   Json signatures = Json::array();
   for (const auto& l : c.set_layouts) {
@@ -214,131 +338,15 @@ Json contents_json(const format::Contents& c, size_t size) {
   }
   j["resource_signatures"] = signatures;
   Json passes = Json::array();
-  for (const auto& rp : c.render_passes) {
-    Json pass{{"name", rp.name}};
-    Json attachments = Json::array();
-    for (const auto& a : rp.attachments)
-      attachments.push_back({{"format", vk::to_string(vk::Format(a.format))},
-                             {"samples", a.samples},
-                             {"load", vk::to_string(vk::AttachmentLoadOp(a.load_op))},
-                             {"store", vk::to_string(vk::AttachmentStoreOp(a.store_op))},
-                             {"stencil_load", vk::to_string(vk::AttachmentLoadOp(a.stencil_load_op))},
-                             {"stencil_store", vk::to_string(vk::AttachmentStoreOp(a.stencil_store_op))},
-                             {"initial_layout", vk::to_string(vk::ImageLayout(a.initial_layout))},
-                             {"final_layout", vk::to_string(vk::ImageLayout(a.final_layout))}});
-    pass["attachments"] = attachments;
-    Json subpasses = Json::array();
-    for (const auto& s : rp.subpasses) {
-      auto refs = [](const std::vector<format::AttachmentRef>& list) {
-        Json out = Json::array();
-        for (const auto& r : list) out.push_back(none_or(r.attachment));
-        return out;
-      };
-      subpasses.push_back({{"inputs", refs(s.inputs)},
-                           {"colors", refs(s.colors)},
-                           {"resolves", refs(s.resolves)},
-                           {"depth_stencil", none_or(s.depth_stencil.attachment)}});
-    }
-    pass["subpasses"] = subpasses;
-    Json dependencies = Json::array();
-    for (const auto& d : rp.dependencies)
-      dependencies.push_back(
-          {{"src_subpass", d.src_subpass == format::kNone ? Json("external") : Json(d.src_subpass)},
-           {"dst_subpass", d.dst_subpass == format::kNone ? Json("external") : Json(d.dst_subpass)},
-           {"src_stages", vk::to_string(vk::PipelineStageFlags(d.src_stages))},
-           {"dst_stages", vk::to_string(vk::PipelineStageFlags(d.dst_stages))},
-           {"src_access", vk::to_string(vk::AccessFlags(d.src_access))},
-           {"dst_access", vk::to_string(vk::AccessFlags(d.dst_access))},
-           {"flags", vk::to_string(vk::DependencyFlags(d.flags))}});
-    pass["dependencies"] = dependencies;
-    passes.push_back(pass);
-  }
+  for (const auto& rp : c.render_passes) passes.push_back(render_pass_json(rp));
   j["render_passes"] = passes;
   Json pipelines = Json::array();
-  for (const auto& p : c.pipelines) {
-    Json pj{{"name", p.name}, {"kind", p.kind == format::PipelineKind::compute ? "compute" : "graphics"}};
-    Json stages = Json::array();
-    for (uint32_t s : p.shaders)
-      stages.push_back({{"stage", vk::to_string(vk::ShaderStageFlagBits(c.shaders[s].stage))},
-                        {"shader", c.shaders[s].name},
-                        {"size", c.spirv[c.shaders[s].blob].size_bytes()}});
-    pj["shaders"] = stages;
-    Json sets = Json::array();
-    for (uint32_t set = 0; set < p.set_layouts.size(); ++set) {
-      Json sj{{"set", set}};
-      if (p.set_layouts[set] != format::kNone) {
-        const auto& layout = c.set_layouts[p.set_layouts[set]];
-        if (!layout.name.empty()) sj["signature"] = layout.name;
-        Json bindings = Json::array();
-        for (const auto& b : layout.bindings) bindings.push_back(binding_json(b));
-        sj["bindings"] = bindings;
-      }
-      sets.push_back(sj);
-    }
-    pj["sets"] = sets;
-    if (p.push_constant_size)
-      pj["push_constants"] = {{"size", p.push_constant_size},
-                              {"stages", stages_json(p.push_constant_stages)}};
-    if (p.kind == format::PipelineKind::graphics) {
-      pj["graphics"] = graphics_json(c, p);
-      Json dynamic = Json::array();
-      for (const auto& [name, bit] : kDynamicStates)
-        if (bit != kUnsupportedValue && (p.dynamic_states & bit)) dynamic.push_back(name);
-      pj["dynamic_states"] = dynamic;
-    }
-    if (!p.constants.empty()) {
-      Json constants = Json::array();
-      for (const auto& k : p.constants) {
-        char value[24];
-        std::snprintf(value, sizeof value, k.size == 8 ? "0x%016llx" : "0x%08llx",
-                      static_cast<unsigned long long>(k.value));
-        constants.push_back({{"name", k.name},
-                             {"stage", vk::to_string(vk::ShaderStageFlagBits(k.stage))},
-                             {"constant_id", k.constant_id},
-                             {"size", k.size},
-                             {"value", value}});
-      }
-      pj["specialization_constants"] = constants;
-    }
-    pipelines.push_back(pj);
-  }
+  for (const auto& p : c.pipelines) pipelines.push_back(pipeline_json(c, p));
   j["pipelines"] = pipelines;
   // The OpenGL block, only when present (Vulkan-only archives print as before).
   if (!c.gl_pipelines.empty()) {
     Json gl = Json::array();
-    for (const auto& p : c.gl_pipelines) {
-      Json pj{{"name", p.name}, {"kind", p.kind == format::PipelineKind::compute ? "compute" : "graphics"}};
-      Json gl_shaders = Json::array();
-      for (const auto& s : p.shaders)
-        gl_shaders.push_back({{"stage", vk::to_string(vk::ShaderStageFlagBits(s.stage))},
-                              {"shader", s.name},
-                              {"entry_point", s.entry_point},
-                              {"blob", s.blob},
-                              {"size", c.spirv[s.blob].size_bytes()}});
-      pj["shaders"] = gl_shaders;
-      Json bindings = Json::array();
-      for (const auto& b : p.bindings)
-        bindings.push_back({{"name", b.name},
-                            {"kind", format::gl_namespace_name(b.kind)},
-                            {"binding", b.binding},
-                            {"count", b.count},
-                            {"stages", stages_json(b.stages)}});
-      pj["bindings"] = bindings;
-      if (p.kind == format::PipelineKind::graphics) {
-        format::Pipeline as_vulkan;  // the same state, printed the same way (no render pass in OpenGL)
-        as_vulkan.graphics = p.graphics;
-        pj["graphics"] = graphics_json(c, as_vulkan);
-        pj["graphics"].erase("render_pass");
-      }
-      Json constants = Json::array();
-      for (const auto& k : p.constants)
-        constants.push_back({{"name", k.name},
-                             {"stage", vk::to_string(vk::ShaderStageFlagBits(k.stage))},
-                             {"constant_id", k.constant_id},
-                             {"size", k.size}});
-      if (!constants.empty()) pj["specialization_constants"] = constants;
-      gl.push_back(pj);
-    }
+    for (const auto& p : c.gl_pipelines) gl.push_back(gl_pipeline_json(c, p));
     j["opengl_pipelines"] = gl;
   }
   return j;
