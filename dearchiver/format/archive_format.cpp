@@ -264,30 +264,35 @@ void visit(V& v, PipelineExtras& e) {
   v.u32(e.dynamic_states), v.list(e.constants);
 }
 
-// The TESS record (format 3): a pipeline's patch control points.
-struct PipelineTessellation {
+// A pipeline's patch control points, one record per pipeline of its list, in a section written only
+// when one of them tessellates: TESS (format 3) for the Vulkan pipelines, GLTS (format 4) for OpenGL's.
+template <uint32_t kTag>
+struct PatchControlPoints {
   uint32_t patch_control_points = 0;
 };
-template <>
-struct Tag<PipelineTessellation> {
-  static constexpr uint32_t value = make_tag("TESS");
+template <uint32_t kTag>
+struct Tag<PatchControlPoints<kTag>> {
+  static constexpr uint32_t value = kTag;
 };
-template <class V>
-void visit(V& v, PipelineTessellation& t) {
+template <class V, uint32_t kTag>
+void visit(V& v, PatchControlPoints<kTag>& t) {
   v.u32(t.patch_control_points);
 }
+using PipelineTessellation = PatchControlPoints<make_tag("TESS")>;
+using GlPipelineTessellation = PatchControlPoints<make_tag("GLTS")>;
 
-// The GLTS record (format 4): an OpenGL pipeline's patch control points.
-struct GlPipelineTessellation {
-  uint32_t patch_control_points = 0;
-};
-template <>
-struct Tag<GlPipelineTessellation> {
-  static constexpr uint32_t value = make_tag("GLTS");
-};
-template <class V>
-void visit(V& v, GlPipelineTessellation& t) {
-  v.u32(t.patch_control_points);
+// Appends one Record per pipeline when any of `pipelines` tessellates; returns whether one does.
+template <class Record, class Out, class Pipelines>
+bool append_patch_control_points(Out& w, const Pipelines& pipelines) {
+  const bool any = std::any_of(pipelines.begin(), pipelines.end(), [](const auto& p) {
+    return p.kind == PipelineKind::graphics && p.graphics.patch_control_points != 0;
+  });
+  if (any)
+    for (const auto& p : pipelines) {
+      Record t{p.kind == PipelineKind::graphics ? p.graphics.patch_control_points : 0};
+      w.append(t);
+    }
+  return any;
 }
 
 // Writes a record and everything its lists hold inline, lengths first: equal records give equal bytes,
@@ -886,24 +891,9 @@ std::vector<uint8_t> encode(const Contents& input) {
     PipelineExtras extras{p.kind == PipelineKind::graphics ? p.dynamic_states : 0, p.constants};
     w.append(extras);
   }
-  const bool tessellation = std::any_of(c.pipelines.begin(), c.pipelines.end(), [](const Pipeline& p) {
-    return p.kind == PipelineKind::graphics && p.graphics.patch_control_points != 0;
-  });
-  if (tessellation)
-    for (auto& p : c.pipelines) {
-      PipelineTessellation t{p.kind == PipelineKind::graphics ? p.graphics.patch_control_points : 0};
-      w.append(t);
-    }
+  const bool tessellation = append_patch_control_points<PipelineTessellation>(w, c.pipelines);
   for (auto& p : c.gl_pipelines) w.append(p);  // before the pools are laid out: it adds GFXS and SPEC
-  const bool gl_tessellation =
-      std::any_of(c.gl_pipelines.begin(), c.gl_pipelines.end(), [](const GlPipeline& p) {
-        return p.kind == PipelineKind::graphics && p.graphics.patch_control_points != 0;
-      });
-  if (gl_tessellation)
-    for (auto& p : c.gl_pipelines) {
-      GlPipelineTessellation t{p.kind == PipelineKind::graphics ? p.graphics.patch_control_points : 0};
-      w.append(t);
-    }
+  const bool gl_tessellation = append_patch_control_points<GlPipelineTessellation>(w, c.gl_pipelines);
 
   struct SectionOut {
     uint32_t tag;
@@ -1100,19 +1090,28 @@ Result<Contents> decode(std::span<const uint8_t> file) {
   } else {
     for (auto& p : c.pipelines) p.dynamic_states = p.kind == PipelineKind::graphics ? kDynamicLegacy : 0;
   }
-  // Format 3's TESS, one record per pipeline, present only when a pipeline tessellates.
-  if (r.sections.count(Tag<PipelineTessellation>::value)) {
-    if (auto valid = check(Tag<PipelineTessellation>::value, record_size<PipelineTessellation>()); !valid)
-      return valid.error();
-    if (r.sections[Tag<PipelineTessellation>::value].count != c.pipelines.size())
-      return corrupt("section TESS does not have one record per pipeline");
-    std::vector<PipelineTessellation> tessellation = r.all<PipelineTessellation>("pipeline tessellation");
-    for (size_t i = 0; i < tessellation.size() && !r.problem; ++i) {
-      if (c.pipelines[i].kind != PipelineKind::graphics && tessellation[i].patch_control_points != 0)
-        return corrupt("compute pipeline '" + c.pipelines[i].name + "' has patch control points");
-      c.pipelines[i].graphics.patch_control_points = tessellation[i].patch_control_points;
+  // TESS (format 3) and GLTS (format 4): one record per pipeline of their list, present only when one
+  // of them tessellates.
+  auto read_patch_control_points = [&](auto record, auto& pipelines, const char* section,
+                                       const std::string& kind, const char* label) -> Result<void> {
+    using Record = decltype(record);
+    if (!r.sections.count(Tag<Record>::value)) return {};
+    if (auto valid = check(Tag<Record>::value, record_size<Record>()); !valid) return valid;
+    if (r.sections[Tag<Record>::value].count != pipelines.size())
+      return corrupt(std::string("section ") + section + " does not have one record per " + kind +
+                     "pipeline");
+    std::vector<Record> points = r.all<Record>(label);
+    for (size_t i = 0; i < points.size() && !r.problem; ++i) {
+      if (pipelines[i].kind != PipelineKind::graphics && points[i].patch_control_points != 0)
+        return corrupt(kind + "compute pipeline '" + pipelines[i].name + "' has patch control points");
+      pipelines[i].graphics.patch_control_points = points[i].patch_control_points;
     }
-  }
+    return {};
+  };
+  if (auto read =
+          read_patch_control_points(PipelineTessellation{}, c.pipelines, "TESS", "", "pipeline tessellation");
+      !read)
+    return read.error();
   // The OpenGL block: all three sections or none. Its constants are in the SPEC pool, whose size is
   // checked here too (an archive without PEXT has not checked it).
   if (r.sections.count(Tag<GlPipeline>::value)) {
@@ -1124,20 +1123,10 @@ Result<Contents> decode(std::span<const uint8_t> file) {
     });
     if (!present) return present.error();
     c.gl_pipelines = r.all<GlPipeline>("OpenGL pipeline");
-    // Format 4's GLTS, one record per OpenGL pipeline, present only when one tessellates.
-    if (r.sections.count(Tag<GlPipelineTessellation>::value)) {
-      if (auto valid = check(Tag<GlPipelineTessellation>::value, record_size<GlPipelineTessellation>());
-          !valid)
-        return valid.error();
-      if (r.sections[Tag<GlPipelineTessellation>::value].count != c.gl_pipelines.size())
-        return corrupt("section GLTS does not have one record per OpenGL pipeline");
-      std::vector<GlPipelineTessellation> tessellation = r.all<GlPipelineTessellation>("OpenGL tessellation");
-      for (size_t i = 0; i < tessellation.size() && !r.problem; ++i) {
-        if (c.gl_pipelines[i].kind != PipelineKind::graphics && tessellation[i].patch_control_points != 0)
-          return corrupt("OpenGL compute pipeline '" + c.gl_pipelines[i].name + "' has patch control points");
-        c.gl_pipelines[i].graphics.patch_control_points = tessellation[i].patch_control_points;
-      }
-    }
+    if (auto read = read_patch_control_points(GlPipelineTessellation{}, c.gl_pipelines, "GLTS", "OpenGL ",
+                                              "OpenGL tessellation");
+        !read)
+      return read.error();
   }
   if (r.problem) return corrupt(*r.problem);
   if (auto valid = validate(c); !valid) return valid.error();
