@@ -278,6 +278,7 @@ void make_opengl_unit(const CompiledUnit& vulkan, const PackOptions& options, Co
                       ShaderMessages& direct_errors, Diagnostics& diag) {
   const std::string who = "shader '" + vulkan.desc.name + "' (OpenGL)";
   out.desc = vulkan.desc;
+  std::map<uint32_t, std::string> name_of_binding;  // translated modules' binding numbers -> names
   if (vulkan.compiled.backend_specific) {
     if (std::string refused = refused_for_opengl(vulkan); !refused.empty()) {
       diag.error(vulkan.desc.where, refused);
@@ -322,13 +323,7 @@ void make_opengl_unit(const CompiledUnit& vulkan, const PackOptions& options, Co
     }
     out.desc.entry_point = "main";  // SPIRV-Cross names the entry point main
     out.compiled.ok = true;
-    out.reflection = reflect_spirv(out.compiled.spirv, out.desc.stage);
-    for (ReflectedBinding& b : out.reflection.bindings)  // the Vulkan names, whatever GLSL allowed
-      if (auto it = t.name_of_binding.find(b.binding); it != t.name_of_binding.end()) b.name = it->second;
-    if (!out.reflection.error.empty()) out.compiled.ok = false;
-    if (!out.reflection.error.empty())
-      diag.error(vulkan.desc.where, who + ": SPIR-V reflection failed: " + out.reflection.error);
-    return;
+    name_of_binding = std::move(t.name_of_binding);
   }
   if (!out.compiled.ok) return;
   out.reflection = reflect_spirv(out.compiled.spirv, out.desc.stage);
@@ -336,6 +331,8 @@ void make_opengl_unit(const CompiledUnit& vulkan, const PackOptions& options, Co
     out.compiled.ok = false;
     diag.error(vulkan.desc.where, who + ": SPIR-V reflection failed: " + out.reflection.error);
   }
+  for (ReflectedBinding& b : out.reflection.bindings)  // translated: the Vulkan names, whatever GLSL allowed
+    if (auto it = name_of_binding.find(b.binding); it != name_of_binding.end()) b.name = it->second;
 }
 
 // Every pipeline's shaders for OpenGL, unit for unit beside the Vulkan ones (the same pipeline_units),

@@ -168,6 +168,36 @@ void initialize_glslang() {
   std::call_once(initialized, [] { glslang::InitializeProcess(); });
 }
 
+// OpenGL 4.5 with GL_ARB_gl_spirv: glslang's OpenGL client, SPIR-V 1.0.
+void target_opengl(glslang::TShader& ts, EShLanguage stage) {
+  ts.setEnvInput(glslang::EShSourceGlsl, stage, glslang::EShClientOpenGL, 450);
+  ts.setEnvClient(glslang::EShClientOpenGL, glslang::EShTargetOpenGL_450);
+  ts.setEnvTarget(glslang::EShTargetSpv, glslang::EShTargetSpv_1_0);
+}
+
+// A parsed shader linked on its own and turned into SPIR-V (glslang's optimizer off: SPIRV-Tools
+// finalises the module later). On failure `spirv` is empty and `link_log` (glslang's link messages) or
+// `generation_error` says why.
+struct LinkedSpirv {
+  std::vector<uint32_t> spirv;
+  std::string link_log, generation_error;
+};
+LinkedSpirv link_to_spirv(glslang::TShader& ts, EShLanguage stage, EShMessages messages) {
+  LinkedSpirv out;
+  glslang::TProgram program;
+  program.addShader(&ts);
+  if (!program.link(messages) || !program.mapIO()) {
+    out.link_log = program.getInfoLog();
+    return out;
+  }
+  glslang::SpvOptions spv_options;
+  spv_options.disableOptimizer = true;
+  spv::SpvBuildLogger logger;
+  glslang::GlslangToSpv(*program.getIntermediate(stage), out.spirv, &logger, &spv_options);
+  if (out.spirv.empty()) out.generation_error = "SPIR-V generation failed: " + logger.getAllMessages();
+  return out;
+}
+
 spv_target_env target_env(const CompileOptions& options) {
   if (options.opengl) return SPV_ENV_OPENGL_4_5;
   switch (options.vulkan_version >> 12 & 0x3FF) {  // minor of VK_MAKE_API_VERSION
@@ -260,9 +290,7 @@ CompiledShader compile_shader(const ShaderDesc& original, const CompileOptions& 
                              : minor == 1 ? glslang::EShTargetSpv_1_3
                                           : glslang::EShTargetSpv_1_0;
   if (options.opengl) {
-    ts.setEnvInput(glslang::EShSourceGlsl, stage, glslang::EShClientOpenGL, 450);
-    ts.setEnvClient(glslang::EShClientOpenGL, glslang::EShTargetOpenGL_450);
-    ts.setEnvTarget(glslang::EShTargetSpv, glslang::EShTargetSpv_1_0);
+    target_opengl(ts, stage);
   } else {
     ts.setEnvInput(hlsl ? glslang::EShSourceHlsl : glslang::EShSourceGlsl, stage, glslang::EShClientVulkan,
                    100);
@@ -302,21 +330,17 @@ CompiledShader compile_shader(const ShaderDesc& original, const CompileOptions& 
     }
     if (misplaced) return result;
   }
-  glslang::TProgram program;
-  program.addShader(&ts);
-  if (!program.link(messages) || !program.mapIO()) {
-    report_log(program.getInfoLog(), shader, errors, file_name);
+  LinkedSpirv linked = link_to_spirv(ts, stage, messages);
+  if (!linked.link_log.empty()) {
+    report_log(linked.link_log, shader, errors, file_name);
     return result;
   }
+  if (!linked.generation_error.empty()) {
+    errors.error(shader.where, shader.name, linked.generation_error);
+    return result;
+  }
+  result.spirv = std::move(linked.spirv);
   result.backend_specific = !hlsl && (tests_backend_macros(source) || includer.backend_specific());
-  glslang::SpvOptions spv_options;
-  spv_options.disableOptimizer = true;
-  spv::SpvBuildLogger logger;
-  glslang::GlslangToSpv(*program.getIntermediate(stage), result.spirv, &logger, &spv_options);
-  if (auto messages_text = logger.getAllMessages(); result.spirv.empty()) {
-    errors.error(shader.where, shader.name, "SPIR-V generation failed: " + messages_text);
-    return result;
-  }
   // A resource counts as used by what the entry point statically uses: glslang keeps every global of
   // the source (one HLSL file often holds VSMain and PSMain with disjoint resources), so module-scope
   // variables nothing references are removed before reflection decides the layout.
@@ -367,28 +391,16 @@ std::vector<uint32_t> compile_generated_glsl(const std::string& glsl, uint32_t v
   const char* strings[] = {glsl.c_str()};
   ts.setStrings(strings, 1);
   ts.setEntryPoint("main");
-  ts.setEnvInput(glslang::EShSourceGlsl, stage, glslang::EShClientOpenGL, 450);
-  ts.setEnvClient(glslang::EShClientOpenGL, glslang::EShTargetOpenGL_450);
-  ts.setEnvTarget(glslang::EShTargetSpv, glslang::EShTargetSpv_1_0);
+  target_opengl(ts, stage);
   const auto messages = static_cast<EShMessages>(EShMsgSpvRules | EShMsgEnhanced);
   glslang::TShader::ForbidIncluder no_includes;
-  glslang::TProgram program;
-  std::vector<uint32_t> spirv;
   if (!ts.parse(GetDefaultResources(), 450, false, messages, no_includes)) {
     log = ts.getInfoLog();
-    return spirv;
+    return {};
   }
-  program.addShader(&ts);
-  if (!program.link(messages) || !program.mapIO()) {
-    log = program.getInfoLog();
-    return spirv;
-  }
-  glslang::SpvOptions spv_options;
-  spv_options.disableOptimizer = true;
-  spv::SpvBuildLogger logger;
-  glslang::GlslangToSpv(*program.getIntermediate(stage), spirv, &logger, &spv_options);
-  if (spirv.empty()) log = "SPIR-V generation failed: " + logger.getAllMessages();
-  return spirv;
+  LinkedSpirv linked = link_to_spirv(ts, stage, messages);
+  log = linked.link_log.empty() ? linked.generation_error : linked.link_log;
+  return std::move(linked.spirv);
 }
 
 std::string finalize_spirv(std::vector<uint32_t>& spirv, const CompileOptions& options) {
