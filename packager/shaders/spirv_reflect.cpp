@@ -4,6 +4,7 @@
 #include <vulkan/vulkan_core.h>
 
 #include <algorithm>
+#include <map>
 
 #include "spirv_cross_context.hpp"
 
@@ -91,31 +92,43 @@ void add_interface(spvc_compiler compiler, const spvc_reflected_resource* list, 
   }
 }
 
-// A block type's members as text (see ReflectedBinding::block_layout). Nesting deeper than
-// kMaxDepth is summarised: the walk is bounded whatever the module declares.
-std::string describe_type(spvc_compiler compiler, spvc_type_id id, int depth) {
-  constexpr int kMaxDepth = 16;
-  spvc_type type = spvc_compiler_get_type_handle(compiler, id);
-  std::string out = std::to_string(int(spvc_type_get_basetype(type))) + "x" +
-                    std::to_string(spvc_type_get_vector_size(type)) + "x" +
-                    std::to_string(spvc_type_get_columns(type));
-  for (unsigned d = 0; d < spvc_type_get_num_array_dimensions(type); ++d)
-    out += "[" + std::to_string(spvc_type_get_array_dimension(type, d)) + "]";
-  const unsigned members = spvc_type_get_num_member_types(type);
-  if (members == 0) return out;
-  if (depth >= kMaxDepth) return out + "{...}";
-  out += "{";
-  for (unsigned m = 0; m < members; ++m) {
-    const char* name = spvc_compiler_get_member_name(compiler, id, m);
-    unsigned offset = 0, array_stride = 0, matrix_stride = 0;
-    spvc_compiler_type_struct_member_offset(compiler, type, m, &offset);
-    spvc_compiler_type_struct_member_array_stride(compiler, type, m, &array_stride);
-    spvc_compiler_type_struct_member_matrix_stride(compiler, type, m, &matrix_stride);
-    out += std::string(name ? name : "") + "@" + std::to_string(offset) + "/" + std::to_string(array_stride) +
-           "/" + std::to_string(matrix_stride) + ":" +
-           describe_type(compiler, spvc_type_get_member_type(type, m), depth + 1) + ";";
+// A block type's members as text (see ReflectedBinding::block_layout). Each distinct struct type is
+// written once, in first-use order, and a member of struct type names it by that number, so the text
+// grows with the module's types, never with how often they nest (a struct of ten structs of ten
+// structs ... would otherwise be written out 10^depth times), and no recursion follows the input.
+std::string describe_block(spvc_compiler compiler, spvc_type_id block) {
+  std::vector<spvc_type_id> structs{block};
+  std::map<spvc_type_id, size_t> number{{block, 0}};
+  std::string out;
+  for (size_t k = 0; k < structs.size(); ++k) {
+    const spvc_type_id id = structs[k];
+    spvc_type type = spvc_compiler_get_type_handle(compiler, id);
+    out += "#" + std::to_string(k) + "{";
+    for (unsigned m = 0; m < spvc_type_get_num_member_types(type); ++m) {
+      const spvc_type_id member_id = spvc_type_get_member_type(type, m);
+      spvc_type member = spvc_compiler_get_type_handle(compiler, member_id);
+      const char* name = spvc_compiler_get_member_name(compiler, id, m);
+      unsigned offset = 0, array_stride = 0, matrix_stride = 0;
+      spvc_compiler_type_struct_member_offset(compiler, type, m, &offset);
+      spvc_compiler_type_struct_member_array_stride(compiler, type, m, &array_stride);
+      spvc_compiler_type_struct_member_matrix_stride(compiler, type, m, &matrix_stride);
+      out += std::string(name ? name : "") + "@" + std::to_string(offset) + "/" +
+             std::to_string(array_stride) + "/" + std::to_string(matrix_stride) + ":" +
+             std::to_string(int(spvc_type_get_basetype(member))) + "x" +
+             std::to_string(spvc_type_get_vector_size(member)) + "x" +
+             std::to_string(spvc_type_get_columns(member));
+      for (unsigned d = 0; d < spvc_type_get_num_array_dimensions(member); ++d)
+        out += "[" + std::to_string(spvc_type_get_array_dimension(member, d)) + "]";
+      if (spvc_type_get_num_member_types(member) > 0) {
+        auto [it, added] = number.try_emplace(member_id, structs.size());
+        if (added) structs.push_back(member_id);
+        out += "#" + std::to_string(it->second);
+      }
+      out += ";";
+    }
+    out += "}";
   }
-  return out + "}";
+  return out;
 }
 
 }  // namespace
@@ -179,7 +192,7 @@ Reflection reflect_spirv(std::span<const uint32_t> spirv, uint32_t stage) {
                               ? kind.buffer_descriptor
                               : kind.descriptor;
       if (kind.type == SPVC_RESOURCE_TYPE_UNIFORM_BUFFER || kind.type == SPVC_RESOURCE_TYPE_STORAGE_BUFFER)
-        b.block_layout = describe_type(compiler, list[i].base_type_id, 0);
+        b.block_layout = describe_block(compiler, list[i].base_type_id);
       b.count = 1;
       for (unsigned d = 0; d < spvc_type_get_num_array_dimensions(type); ++d)
         b.count *= spvc_type_get_array_dimension(type, d);  // 0 for runtime arrays: caught by the packer
