@@ -110,78 +110,12 @@ class TutorialLike : public GlTest {
 
   // Vulkan: a full-screen triangle into new images of `targets` (left SHADER_READ_ONLY for the next
   // pass), with their bytes read back.
-  struct VulkanPass {
-    std::vector<std::unique_ptr<samples::DeviceImage>> images;
-    std::vector<Pixels> pixels;
-  };
+  using VulkanPass = RenderedTargets;
   VulkanPass draw_vulkan(const UnpackedPipeline& pso, std::span<const Target> targets,
                          const std::function<void(VkCommandBuffer)>& bind) {
-    VulkanPass pass;
-    std::vector<std::unique_ptr<samples::HostBuffer>> readbacks;
-    for (const Target& t : targets) {
-      auto image = samples::create_device_image(
-          *vk_, t.vk, kWidth, kHeight,
-          VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
-      EXPECT_TRUE(image) << image.error().message;
-      if (!image) return pass;
-      pass.images.push_back(std::move(*image));
-      auto readback = samples::create_host_buffer(*vk_, VkDeviceSize(kWidth) * kHeight * t.bytes,
-                                                  VK_BUFFER_USAGE_TRANSFER_DST_BIT);
-      EXPECT_TRUE(readback);
-      if (!readback) return pass;
-      readbacks.push_back(std::move(*readback));
-    }
-    auto done = vk_->submit_and_wait([&](VkCommandBuffer cmd) {
-      std::vector<VkRenderingAttachmentInfo> colors;
-      for (const auto& image : pass.images) {
-        samples::image_barrier(cmd, image->image, VK_IMAGE_LAYOUT_UNDEFINED,
-                               VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, 0,
-                               VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT,
-                               VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT);
-        VkRenderingAttachmentInfo color{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
-        color.imageView = image->view;
-        color.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
-        color.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
-        color.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
-        colors.push_back(color);
-      }
-      VkRenderingInfo rendering{VK_STRUCTURE_TYPE_RENDERING_INFO};
-      rendering.renderArea = {{0, 0}, {kWidth, kHeight}};
-      rendering.layerCount = 1;
-      rendering.colorAttachmentCount = uint32_t(colors.size());
-      rendering.pColorAttachments = colors.data();
-      vkCmdBeginRendering(cmd, &rendering);
-      VkViewport viewport{0, 0, float(kWidth), float(kHeight), 0, 1};
-      VkRect2D scissor{{0, 0}, {kWidth, kHeight}};
-      vkCmdSetViewport(cmd, 0, 1, &viewport);
-      vkCmdSetScissor(cmd, 0, 1, &scissor);
-      vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pso.pipeline);
-      bind(cmd);
-      vkCmdDraw(cmd, 3, 1, 0, 0);
-      vkCmdEndRendering(cmd);
-      for (size_t i = 0; i < pass.images.size(); ++i) {
-        VkImage image = pass.images[i]->image;
-        samples::image_barrier(cmd, image, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
-                               VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT,
-                               VK_ACCESS_TRANSFER_READ_BIT, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT,
-                               VK_PIPELINE_STAGE_TRANSFER_BIT);
-        VkBufferImageCopy copy{};
-        copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-        copy.imageExtent = {kWidth, kHeight, 1};
-        vkCmdCopyImageToBuffer(cmd, image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readbacks[i]->buffer, 1,
-                               &copy);
-        samples::image_barrier(cmd, image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-                               VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_ACCESS_TRANSFER_READ_BIT,
-                               VK_ACCESS_SHADER_READ_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
-                               VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT);
-      }
-    });
-    EXPECT_TRUE(done) << done.error().message;
-    for (size_t i = 0; i < readbacks.size(); ++i) {
-      const auto* bytes = static_cast<const uint8_t*>(readbacks[i]->mapped);
-      pass.pixels.emplace_back(bytes, bytes + size_t(kWidth) * kHeight * targets[i].bytes);
-    }
-    return pass;
+    std::vector<TargetFormat> formats;
+    for (const Target& t : targets) formats.push_back({t.vk, t.bytes});
+    return render_targets(pso, formats, kWidth, kHeight, bind);
   }
 
   // OpenGL: the same into new textures (kept for the next pass), read back in the same row order (see

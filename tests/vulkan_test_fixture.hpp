@@ -6,6 +6,7 @@
 
 #include <functional>
 #include <memory>
+#include <span>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -64,39 +65,56 @@ class VulkanTest : public ::testing::Test {
     return std::move(dearchiver.value());
   }
 
-  // Draws `pso` (a full-screen triangle, 3 vertices) into a width x height image of `format` (4 bytes per
-  // pixel) and returns its bytes; `bind` records what the draw needs bound besides the pipeline.
-  std::vector<uint8_t> render_fullscreen(const UnpackedPipeline& pso, VkFormat format, uint32_t width,
-                                         uint32_t height,
-                                         const std::function<void(VkCommandBuffer)>& bind = {}) {
-    auto target = samples::create_device_image(
-        *vk_, format, width, height, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
-    EXPECT_TRUE(target);
-    VkImage image = (*target)->image;
-    VkImageView view = (*target)->view;
-    auto readback =
-        samples::create_host_buffer(*vk_, VkDeviceSize(width) * height * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT);
-    EXPECT_TRUE(readback);
+  // One render target of a draw: its format and the bytes of one of its pixels.
+  struct TargetFormat {
+    VkFormat format;
+    uint32_t bytes_per_pixel;
+  };
+  // The images a draw rendered into, left in SHADER_READ_ONLY_OPTIMAL for a pass that samples them,
+  // and their bytes, read back.
+  struct RenderedTargets {
+    std::vector<std::unique_ptr<samples::DeviceImage>> images;
+    std::vector<std::vector<uint8_t>> pixels;
+  };
 
-    auto barrier = [&](VkCommandBuffer cmd, VkImageLayout from, VkImageLayout to, VkAccessFlags src_access,
-                       VkAccessFlags dst_access, VkPipelineStageFlags src_stage,
-                       VkPipelineStageFlags dst_stage) {
-      samples::image_barrier(cmd, image, from, to, src_access, dst_access, src_stage, dst_stage);
-    };
+  // Draws `pso` (a full-screen triangle, 3 vertices) into new width x height images, one per target;
+  // `bind` records what the draw needs bound besides the pipeline.
+  RenderedTargets render_targets(const UnpackedPipeline& pso, std::span<const TargetFormat> targets,
+                                 uint32_t width, uint32_t height,
+                                 const std::function<void(VkCommandBuffer)>& bind = {}) {
+    RenderedTargets out;
+    std::vector<std::unique_ptr<samples::HostBuffer>> readbacks;
+    for (const TargetFormat& t : targets) {
+      auto image = samples::create_device_image(
+          *vk_, t.format, width, height,
+          VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
+      EXPECT_TRUE(image) << image.error().message;
+      auto readback = samples::create_host_buffer(*vk_, VkDeviceSize(width) * height * t.bytes_per_pixel,
+                                                  VK_BUFFER_USAGE_TRANSFER_DST_BIT);
+      EXPECT_TRUE(readback);
+      if (!image || !readback) return {};
+      out.images.push_back(std::move(*image));
+      readbacks.push_back(std::move(*readback));
+    }
     auto submitted = vk_->submit_and_wait([&](VkCommandBuffer cmd) {
-      barrier(cmd, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, 0,
-              VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT,
-              VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT);
-      VkRenderingAttachmentInfo color{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
-      color.imageView = view;
-      color.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
-      color.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
-      color.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+      std::vector<VkRenderingAttachmentInfo> colors;
+      for (const auto& image : out.images) {
+        samples::image_barrier(cmd, image->image, VK_IMAGE_LAYOUT_UNDEFINED,
+                               VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, 0,
+                               VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT,
+                               VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT);
+        VkRenderingAttachmentInfo color{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+        color.imageView = image->view;
+        color.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+        color.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+        color.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+        colors.push_back(color);
+      }
       VkRenderingInfo rendering{VK_STRUCTURE_TYPE_RENDERING_INFO};
       rendering.renderArea = {{0, 0}, {width, height}};
       rendering.layerCount = 1;
-      rendering.colorAttachmentCount = 1;
-      rendering.pColorAttachments = &color;
+      rendering.colorAttachmentCount = uint32_t(colors.size());
+      rendering.pColorAttachments = colors.data();
       vkCmdBeginRendering(cmd, &rendering);
       VkViewport viewport{0, 0, float(width), float(height), 0, 1};
       VkRect2D scissor{{0, 0}, {width, height}};
@@ -106,18 +124,38 @@ class VulkanTest : public ::testing::Test {
       if (bind) bind(cmd);  // descriptor sets, push constants
       vkCmdDraw(cmd, 3, 1, 0, 0);
       vkCmdEndRendering(cmd);
-      barrier(cmd, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-              VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, VK_ACCESS_TRANSFER_READ_BIT,
-              VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT);
-      VkBufferImageCopy copy{};
-      copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-      copy.imageExtent = {width, height, 1};
-      vkCmdCopyImageToBuffer(cmd, image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, (*readback)->buffer, 1, &copy);
+      for (size_t i = 0; i < out.images.size(); ++i) {
+        VkImage image = out.images[i]->image;
+        samples::image_barrier(cmd, image, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
+                               VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT,
+                               VK_ACCESS_TRANSFER_READ_BIT, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT,
+                               VK_PIPELINE_STAGE_TRANSFER_BIT);
+        VkBufferImageCopy copy{};
+        copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+        copy.imageExtent = {width, height, 1};
+        vkCmdCopyImageToBuffer(cmd, image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readbacks[i]->buffer, 1,
+                               &copy);
+        samples::image_barrier(cmd, image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                               VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_ACCESS_TRANSFER_READ_BIT,
+                               VK_ACCESS_SHADER_READ_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                               VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT);
+      }
     });
-    EXPECT_TRUE(submitted);
-    const auto* bytes = static_cast<const uint8_t*>((*readback)->mapped);
-    std::vector<uint8_t> pixels(bytes, bytes + size_t(width) * height * 4);
-    return pixels;
+    EXPECT_TRUE(submitted) << submitted.error().message;
+    for (size_t i = 0; i < readbacks.size(); ++i) {
+      const auto* bytes = static_cast<const uint8_t*>(readbacks[i]->mapped);
+      out.pixels.emplace_back(bytes, bytes + size_t(width) * height * targets[i].bytes_per_pixel);
+    }
+    return out;
+  }
+
+  // The same into one image of `format` (4 bytes per pixel), returning its bytes.
+  std::vector<uint8_t> render_fullscreen(const UnpackedPipeline& pso, VkFormat format, uint32_t width,
+                                         uint32_t height,
+                                         const std::function<void(VkCommandBuffer)>& bind = {}) {
+    const TargetFormat target{format, 4};
+    RenderedTargets rendered = render_targets(pso, std::span(&target, 1), width, height, bind);
+    return rendered.pixels.empty() ? std::vector<uint8_t>{} : std::move(rendered.pixels[0]);
   }
 
   std::unique_ptr<samples::VulkanContext> vk_;
