@@ -39,12 +39,14 @@ install(FILES ${PROJECT_BINARY_DIR}/statepackConfig.cmake ${PROJECT_BINARY_DIR}/
 # A static library's users need libxxhash on their link line even without `pkg-config --static`.
 file(RELATIVE_PATH statepack_pc_to_prefix ${CMAKE_INSTALL_FULL_LIBDIR}/pkgconfig ${CMAKE_INSTALL_PREFIX})
 string(REGEX REPLACE "/$" "" statepack_pc_to_prefix "${statepack_pc_to_prefix}")
+# Vulkan only for its headers (--cflags): the library opens the loader at run time or uses the
+# application's dispatch, so it puts no -lvulkan on anyone's link line.
 if(STATEPACK_SHARED)
-  set(statepack_pc_requires "vulkan")
-  set(statepack_pc_requires_private "libxxhash")
+  set(statepack_pc_requires "")
+  set(statepack_pc_requires_private "vulkan libxxhash")
 else()
-  set(statepack_pc_requires "vulkan libxxhash")
-  set(statepack_pc_requires_private "")
+  set(statepack_pc_requires "libxxhash")
+  set(statepack_pc_requires_private "vulkan")
 endif()
 configure_file(cmake/statepack_dearchiver.pc.in ${PROJECT_BINARY_DIR}/statepack_dearchiver.pc @ONLY)
 install(FILES ${PROJECT_BINARY_DIR}/statepack_dearchiver.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)

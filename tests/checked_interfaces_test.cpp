@@ -34,9 +34,9 @@ TEST_F(CheckedInterfacesTest, ForwardPipelineDrawsFromTwoVertexBuffersWithBlendi
   const std::array<Attributes, 3> attributes = {
       {{{255, 0, 0, 255}, 2}, {{255, 0, 0, 255}, 2}, {{255, 0, 0, 255}, 2}}};
   auto position_buffer =
-      samples::create_host_buffer(*vk_, sizeof positions, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT);
+      bootstrap::create_host_buffer(*vk_, sizeof positions, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT);
   auto attribute_buffer =
-      samples::create_host_buffer(*vk_, sizeof attributes, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT);
+      bootstrap::create_host_buffer(*vk_, sizeof attributes, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT);
   ASSERT_TRUE(position_buffer && attribute_buffer);
   std::memcpy((*position_buffer)->mapped, positions.data(), sizeof positions);
   std::memcpy((*attribute_buffer)->mapped, attributes.data(), sizeof attributes);

@@ -26,18 +26,19 @@ TEST_F(DynamicStateTest, OnePipelineServesDrawsWithDifferentBlendConstantsAndSte
 
   constexpr uint32_t kSize = 8;
   auto color =
-      samples::create_device_image(*vk_, VK_FORMAT_R8G8B8A8_UNORM, kSize, kSize,
-                                   VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
-  auto depth = samples::create_device_image(*vk_, VK_FORMAT_D24_UNORM_S8_UINT, kSize, kSize,
-                                            VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT);
+      bootstrap::create_device_image(*vk_, VK_FORMAT_R8G8B8A8_UNORM, kSize, kSize,
+                                     VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
+  auto depth = bootstrap::create_device_image(*vk_, VK_FORMAT_D24_UNORM_S8_UINT, kSize, kSize,
+                                              VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT);
   ASSERT_TRUE(color && depth);
-  auto readback = samples::create_host_buffer(*vk_, kSize * kSize * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT);
+  auto readback = bootstrap::create_host_buffer(*vk_, kSize * kSize * 4, VK_BUFFER_USAGE_TRANSFER_DST_BIT);
   ASSERT_TRUE(readback);
   auto done = vk_->submit_and_wait([&](VkCommandBuffer cmd) {
-    samples::image_barrier(cmd, (*color)->image, VK_IMAGE_LAYOUT_UNDEFINED,
-                           VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, 0, VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT,
-                           VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT);
-    samples::image_barrier(
+    bootstrap::image_barrier(cmd, (*color)->image, VK_IMAGE_LAYOUT_UNDEFINED,
+                             VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, 0,
+                             VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT,
+                             VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT);
+    bootstrap::image_barrier(
         cmd, (*depth)->image, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL, 0,
         VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT | VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT,
         VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT,
@@ -86,10 +87,10 @@ TEST_F(DynamicStateTest, OnePipelineServesDrawsWithDifferentBlendConstantsAndSte
       vkCmdDraw(cmd, 3, 1, 0, 0);
     }
     vkCmdEndRendering(cmd);
-    samples::image_barrier(cmd, (*color)->image, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
-                           VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT,
-                           VK_ACCESS_TRANSFER_READ_BIT, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT,
-                           VK_PIPELINE_STAGE_TRANSFER_BIT);
+    bootstrap::image_barrier(cmd, (*color)->image, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
+                             VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT,
+                             VK_ACCESS_TRANSFER_READ_BIT, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT,
+                             VK_PIPELINE_STAGE_TRANSFER_BIT);
     VkBufferImageCopy copy{};
     copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
     copy.imageExtent = {kSize, kSize, 1};

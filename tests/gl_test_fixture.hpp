@@ -9,7 +9,7 @@
 #include <cstring>
 #include <vector>
 
-#include "common/gl_context.hpp"
+#include "bootstrap/gl_context.hpp"
 #include "format/archive_format.hpp"
 #include "runtime/archive_access.hpp"
 #include "statepack/gl_dearchiver.hpp"
@@ -36,9 +36,9 @@ inline ArchiveBytes encode_aligned(const format::Contents& contents) {
 class GlTest : public VulkanTest {
  protected:
   void SetUp() override {
-    samples::GlContextOptions options;
+    bootstrap::GlContextOptions options;
     options.require_llvmpipe = true;
-    auto created = samples::GlContext::create(options);
+    auto created = bootstrap::GlContext::create(options);
     ASSERT_TRUE(created) << created.error().message;
     gl_ = std::move(created.value());
     VulkanTest::SetUp();
@@ -151,13 +151,13 @@ class GlTest : public VulkanTest {
     const BindingInfo* values = (*pso)->find_binding("Values");
     EXPECT_NE(values, nullptr);
     if (!values) return {};
-    auto buffer = samples::create_host_buffer(*vk_, (count + 24) * sizeof(uint32_t),
-                                              VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+    auto buffer = bootstrap::create_host_buffer(*vk_, (count + 24) * sizeof(uint32_t),
+                                                VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
     EXPECT_TRUE(buffer);
     if (!buffer) return {};
     std::memset((*buffer)->mapped, 0xAB, (*buffer)->size);
-    auto set = samples::bind_storage_buffer(*vk_, (*pso)->set_layouts.at(values->set), values->binding,
-                                            (*buffer)->buffer);
+    auto set = bootstrap::bind_storage_buffer(*vk_, (*pso)->set_layouts.at(values->set), values->binding,
+                                              (*buffer)->buffer);
     EXPECT_TRUE(set) << set.error().message;
     if (!set) return {};
     const uint32_t params[3] = {count, multiplier, offset};
@@ -185,7 +185,7 @@ class GlTest : public VulkanTest {
     return std::all_of(pixels.begin(), pixels.end(), [](uint8_t v) { return v == 0; });
   }
 
-  std::unique_ptr<samples::GlContext> gl_;
+  std::unique_ptr<bootstrap::GlContext> gl_;
 };
 
 }  // namespace statepack::testing

@@ -8,7 +8,7 @@
 #include <cstring>
 #include <vector>
 
-#include "common/gl_context.hpp"
+#include "bootstrap/gl_context.hpp"
 #include "format/archive_format.hpp"
 #include "gl/gl_state.hpp"
 #include "gl_test_fixture.hpp"

@@ -32,25 +32,25 @@ TEST_F(ImmutableSamplerTest, SamplesThroughTheArchivedSamplerWithNoSamplerWritte
   // A 2x2 texture: red, green / blue, white.
   const std::array<std::array<uint8_t, 4>, 4> texels = {
       {{255, 0, 0, 255}, {0, 255, 0, 255}, {0, 0, 255, 255}, {255, 255, 255, 255}}};
-  auto texture = samples::create_device_image(*vk_, VK_FORMAT_R8G8B8A8_UNORM, 2, 2,
-                                              VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT);
+  auto texture = bootstrap::create_device_image(*vk_, VK_FORMAT_R8G8B8A8_UNORM, 2, 2,
+                                                VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT);
   ASSERT_TRUE(texture) << texture.error().message;
-  auto upload = samples::create_host_buffer(*vk_, sizeof texels, VK_BUFFER_USAGE_TRANSFER_SRC_BIT);
+  auto upload = bootstrap::create_host_buffer(*vk_, sizeof texels, VK_BUFFER_USAGE_TRANSFER_SRC_BIT);
   ASSERT_TRUE(upload);
   std::memcpy((*upload)->mapped, texels.data(), sizeof texels);
   auto uploaded = vk_->submit_and_wait([&](VkCommandBuffer cmd) {
-    samples::image_barrier(cmd, (*texture)->image, VK_IMAGE_LAYOUT_UNDEFINED,
-                           VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 0, VK_ACCESS_TRANSFER_WRITE_BIT,
-                           VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT);
+    bootstrap::image_barrier(cmd, (*texture)->image, VK_IMAGE_LAYOUT_UNDEFINED,
+                             VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 0, VK_ACCESS_TRANSFER_WRITE_BIT,
+                             VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT);
     VkBufferImageCopy copy{};
     copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
     copy.imageExtent = {2, 2, 1};
     vkCmdCopyBufferToImage(cmd, (*upload)->buffer, (*texture)->image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1,
                            &copy);
-    samples::image_barrier(cmd, (*texture)->image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
-                           VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_ACCESS_TRANSFER_WRITE_BIT,
-                           VK_ACCESS_SHADER_READ_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
-                           VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT);
+    bootstrap::image_barrier(cmd, (*texture)->image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                             VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_ACCESS_TRANSFER_WRITE_BIT,
+                             VK_ACCESS_SHADER_READ_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                             VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT);
   });
   ASSERT_TRUE(uploaded) << uploaded.error().message;
 

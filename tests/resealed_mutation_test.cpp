@@ -311,10 +311,10 @@ TEST_F(ResealedMutations, NeverCrashOrReachVulkanUnchecked) {
     if (i % 250 == 249) {
       vk_->destroy_device();  // the layer reports objects a mutant left behind
       for (const auto& m : vk_->validation_messages()) ADD_FAILURE() << m;
-      samples::VulkanContextOptions options;
+      bootstrap::VulkanContextOptions options;
       options.validation = true;
       options.require_lavapipe = true;
-      auto fresh = samples::VulkanContext::create(options);
+      auto fresh = bootstrap::VulkanContext::create(options);
       ASSERT_TRUE(fresh) << fresh.error().message;
       vk_ = std::move(fresh.value());
       messages_before = 0;

@@ -24,9 +24,9 @@ class Random : public VulkanTest {
     EXPECT_TRUE(pso) << pso.error().message;
     const BindingInfo* words = (*pso)->find_binding("Words");
     const VkDeviceSize size = VkDeviceSize(width) * height * 16;
-    auto buffer = samples::create_host_buffer(*vk_, size, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
-    auto set = samples::bind_storage_buffer(*vk_, (*pso)->set_layouts.at(words->set), words->binding,
-                                            (*buffer)->buffer);
+    auto buffer = bootstrap::create_host_buffer(*vk_, size, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+    auto set = bootstrap::bind_storage_buffer(*vk_, (*pso)->set_layouts.at(words->set), words->binding,
+                                              (*buffer)->buffer);
     const uint32_t params[6] = {width, height, sample, dimension, sobol ? 1u : 0u, bounce};
     auto done = vk_->submit_and_wait([&](VkCommandBuffer cmd) {
       vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, (*pso)->pipeline);

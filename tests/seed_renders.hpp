@@ -22,7 +22,7 @@ inline std::vector<std::vector<float>> render_seeds(const path_tracer::Scene& sc
                                                     path_tracer::RenderSettings settings, uint32_t width,
                                                     uint32_t height, uint32_t spp, uint32_t seeds) {
   std::vector<std::vector<float>> images;
-  auto vk = samples::VulkanContext::create({});
+  auto vk = bootstrap::VulkanContext::create({});
   EXPECT_TRUE(vk) << vk.error().message;
   if (!vk) return images;
   {

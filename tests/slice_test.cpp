@@ -12,7 +12,7 @@
 namespace statepack::testing {
 namespace {
 
-using samples::create_host_buffer;
+using bootstrap::create_host_buffer;
 
 class SliceTest : public VulkanTest {
  protected:
@@ -39,8 +39,8 @@ TEST_F(SliceTest, ComputePipelineFillsBuffer) {
   ASSERT_TRUE(buffer);
   std::memset((*buffer)->mapped, 0xAB, (*buffer)->size);
 
-  auto set = samples::bind_storage_buffer(*vk_, (*pso)->set_layouts.at(values->set), values->binding,
-                                          (*buffer)->buffer);
+  auto set = bootstrap::bind_storage_buffer(*vk_, (*pso)->set_layouts.at(values->set), values->binding,
+                                            (*buffer)->buffer);
   ASSERT_TRUE(set) << set.error().message;
 
   const uint32_t params[3] = {kCount, 7, 5};

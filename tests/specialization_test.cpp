@@ -21,13 +21,13 @@ class SpecializationTest : public VulkanTest {
   }
   // Runs the pipeline once; returns what the shader wrote: (value, scaled).
   std::pair<uint32_t, float> run(const UnpackedPipeline& pso) {
-    auto buffer = samples::create_host_buffer(*vk_, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+    auto buffer = bootstrap::create_host_buffer(*vk_, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
     EXPECT_TRUE(buffer);
     std::memset((*buffer)->mapped, 0, 16);
     const BindingInfo* result = pso.find_binding("Result");
     EXPECT_NE(result, nullptr);
-    auto set = samples::bind_storage_buffer(*vk_, pso.set_layouts.at(result->set), result->binding,
-                                            (*buffer)->buffer);
+    auto set = bootstrap::bind_storage_buffer(*vk_, pso.set_layouts.at(result->set), result->binding,
+                                              (*buffer)->buffer);
     EXPECT_TRUE(set);
     auto done = vk_->submit_and_wait([&](VkCommandBuffer cmd) {
       vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pso.pipeline);

@@ -247,7 +247,7 @@ class TutorialLike : public GlTest {
     EXPECT_TRUE(gbuffer) << gbuffer.error().message;
     if (!gbuffer) return {};
     const GBufferConstants constants;
-    auto ubo = samples::create_host_buffer(*vk_, sizeof constants, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
+    auto ubo = bootstrap::create_host_buffer(*vk_, sizeof constants, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
     EXPECT_TRUE(ubo);
     if (!ubo) return {};
     std::memcpy((*ubo)->mapped, &constants, sizeof constants);
@@ -448,8 +448,8 @@ TEST_F(TutorialLike, HlslComputeFillsTheSameValuesOnBothBackends) {
   ASSERT_TRUE(dearchiver && dearchiver->add_archive(std::move(*archive)));
   auto pso = dearchiver->unpack_compute("Scale PSO");
   ASSERT_TRUE(pso) << pso.error().message;
-  auto values = samples::create_host_buffer(*vk_, initial.size() * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
-  auto ubo = samples::create_host_buffer(*vk_, sizeof uniforms, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
+  auto values = bootstrap::create_host_buffer(*vk_, initial.size() * 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  auto ubo = bootstrap::create_host_buffer(*vk_, sizeof uniforms, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
   ASSERT_TRUE(values && ubo);
   std::memcpy((*values)->mapped, initial.data(), initial.size() * 4);
   std::memcpy((*ubo)->mapped, uniforms, sizeof uniforms);

@@ -118,6 +118,65 @@ TEST_F(Unpack, InvalidCreateArgumentsAreErrors) {
   EXPECT_EQ(missing.error().code, ErrorCode::invalid_argument);
 }
 
+// The application owns dispatch: every entry point comes through the functions it gives. A table that
+// wraps vkCreateComputePipelines sees the dearchiver's call; one that lacks a function is refused at
+// create, naming the function; a get_instance_proc_addr without its instance is refused.
+namespace app_dispatch {
+PFN_vkGetDeviceProcAddr real_device_proc_addr = nullptr;
+PFN_vkCreateComputePipelines real_create_compute = nullptr;
+int compute_creates = 0;
+const char* withheld = nullptr;
+VKAPI_ATTR VkResult VKAPI_CALL counting_create_compute(VkDevice device, VkPipelineCache cache, uint32_t count,
+                                                       const VkComputePipelineCreateInfo* infos,
+                                                       const VkAllocationCallbacks* allocator,
+                                                       VkPipeline* pipelines) {
+  ++compute_creates;
+  return real_create_compute(device, cache, count, infos, allocator, pipelines);
+}
+VKAPI_ATTR PFN_vkVoidFunction VKAPI_CALL device_proc_addr(VkDevice device, const char* name) {
+  if (withheld && std::strcmp(name, withheld) == 0) return nullptr;
+  if (std::strcmp(name, "vkCreateComputePipelines") == 0) {
+    real_create_compute = reinterpret_cast<PFN_vkCreateComputePipelines>(real_device_proc_addr(device, name));
+    return reinterpret_cast<PFN_vkVoidFunction>(&counting_create_compute);
+  }
+  return real_device_proc_addr(device, name);
+}
+}  // namespace app_dispatch
+
+TEST_F(Unpack, TheApplicationsDispatchIsTheOneUsed) {
+  DeviceContext context = vk_->device_context();
+  app_dispatch::real_device_proc_addr =
+      reinterpret_cast<PFN_vkGetDeviceProcAddr>(vkGetInstanceProcAddr(vk_->instance, "vkGetDeviceProcAddr"));
+  context.get_device_proc_addr = &app_dispatch::device_proc_addr;
+  app_dispatch::compute_creates = 0;
+  app_dispatch::withheld = nullptr;
+  {
+    auto dearchiver = Dearchiver::create(context);
+    ASSERT_TRUE(dearchiver) << dearchiver.error().message;
+    ASSERT_TRUE(dearchiver->add_archive(Archive::from_file(STATEPACK_TEST_ARCHIVE).value()));
+    auto pso = dearchiver->unpack_compute("Fill Buffer PSO");
+    ASSERT_TRUE(pso) << pso.error().message;
+    EXPECT_NE((*pso)->pipeline, VK_NULL_HANDLE);
+  }
+  EXPECT_EQ(app_dispatch::compute_creates, 1);
+
+  app_dispatch::withheld = "vkCreateGraphicsPipelines";
+  auto lacking = Dearchiver::create(context);
+  ASSERT_FALSE(lacking);
+  EXPECT_EQ(lacking.error().code, ErrorCode::not_found);
+  EXPECT_NE(lacking.error().message.find("vkCreateGraphicsPipelines"), std::string::npos)
+      << lacking.error().message;
+  app_dispatch::withheld = nullptr;
+
+  DeviceContext no_instance = vk_->device_context();
+  no_instance.instance = VK_NULL_HANDLE;
+  auto refused = Dearchiver::create(no_instance);
+  ASSERT_FALSE(refused);
+  EXPECT_EQ(refused.error().code, ErrorCode::invalid_argument);
+  EXPECT_NE(refused.error().message.find("DeviceContext::instance"), std::string::npos)
+      << refused.error().message;
+}
+
 // The driver's own failure reaches the caller as a value, not only as text: an allocator that refuses
 // every allocation makes lavapipe's create calls return VK_ERROR_OUT_OF_HOST_MEMORY.
 TEST_F(Unpack, AFailedVulkanCallCarriesItsVkResult) {

@@ -2,15 +2,15 @@
 // messenger records what it reports. Without this, a silent harness would pass every Vulkan test.
 #include <gtest/gtest.h>
 
-#include "common/vulkan_context.hpp"
+#include "bootstrap/vulkan_context.hpp"
 
 namespace {
 
 TEST(ValidationLayer, InvalidUsageIsRecorded) {
-  statepack::samples::VulkanContextOptions options;
+  statepack::bootstrap::VulkanContextOptions options;
   options.validation = true;
   options.require_lavapipe = true;
-  auto vk = statepack::samples::VulkanContext::create(options);
+  auto vk = statepack::bootstrap::VulkanContext::create(options);
   ASSERT_TRUE(vk) << vk.error().message;
   EXPECT_NE((*vk)->driver_name.find("llvmpipe"), std::string::npos) << (*vk)->driver_name;
   ASSERT_TRUE((*vk)->validation_messages().empty());
@@ -33,9 +33,9 @@ namespace {
 
 // The fixture's leak check: destroying a device with live children is reported by the layer.
 TEST(ValidationLayer, ObjectsLeftAliveAreReportedAtDeviceDestruction) {
-  statepack::samples::VulkanContextOptions options;
+  statepack::bootstrap::VulkanContextOptions options;
   options.require_lavapipe = true;
-  auto vk = statepack::samples::VulkanContext::create(options);
+  auto vk = statepack::bootstrap::VulkanContext::create(options);
   ASSERT_TRUE(vk) << vk.error().message;
   VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
   info.size = 64;

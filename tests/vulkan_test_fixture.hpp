@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "common/vulkan_context.hpp"
+#include "bootstrap/vulkan_context.hpp"
 #include "statepack/dearchiver.hpp"
 
 namespace statepack::testing {
@@ -38,12 +38,12 @@ inline std::vector<std::string> corpus_archives_without_run_time_state() {
 class VulkanTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    samples::VulkanContextOptions options;
+    bootstrap::VulkanContextOptions options;
     options.validation = true;
     options.require_lavapipe = true;
     // The dearchiver (given no feature list) assumes every supported feature is enabled: make it so.
     options.enable_supported_features = true;
-    auto created = samples::VulkanContext::create(options);
+    auto created = bootstrap::VulkanContext::create(options);
     ASSERT_TRUE(created) << created.error().message;
     vk_ = std::move(created.value());
   }
@@ -73,7 +73,7 @@ class VulkanTest : public ::testing::Test {
   // The images a draw rendered into, left in SHADER_READ_ONLY_OPTIMAL for a pass that samples them,
   // and their bytes, read back.
   struct RenderedTargets {
-    std::vector<std::unique_ptr<samples::DeviceImage>> images;
+    std::vector<std::unique_ptr<bootstrap::DeviceImage>> images;
     std::vector<std::vector<uint8_t>> pixels;
   };
 
@@ -83,14 +83,14 @@ class VulkanTest : public ::testing::Test {
                                  uint32_t width, uint32_t height,
                                  const std::function<void(VkCommandBuffer)>& bind = {}) {
     RenderedTargets out;
-    std::vector<std::unique_ptr<samples::HostBuffer>> readbacks;
+    std::vector<std::unique_ptr<bootstrap::HostBuffer>> readbacks;
     for (const TargetFormat& t : targets) {
-      auto image = samples::create_device_image(
+      auto image = bootstrap::create_device_image(
           *vk_, t.format, width, height,
           VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
       EXPECT_TRUE(image) << image.error().message;
-      auto readback = samples::create_host_buffer(*vk_, VkDeviceSize(width) * height * t.bytes_per_pixel,
-                                                  VK_BUFFER_USAGE_TRANSFER_DST_BIT);
+      auto readback = bootstrap::create_host_buffer(*vk_, VkDeviceSize(width) * height * t.bytes_per_pixel,
+                                                    VK_BUFFER_USAGE_TRANSFER_DST_BIT);
       EXPECT_TRUE(readback);
       if (!image || !readback) return {};
       out.images.push_back(std::move(*image));
@@ -99,10 +99,10 @@ class VulkanTest : public ::testing::Test {
     auto submitted = vk_->submit_and_wait([&](VkCommandBuffer cmd) {
       std::vector<VkRenderingAttachmentInfo> colors;
       for (const auto& image : out.images) {
-        samples::image_barrier(cmd, image->image, VK_IMAGE_LAYOUT_UNDEFINED,
-                               VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, 0,
-                               VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT,
-                               VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT);
+        bootstrap::image_barrier(cmd, image->image, VK_IMAGE_LAYOUT_UNDEFINED,
+                                 VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, 0,
+                                 VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT,
+                                 VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT);
         VkRenderingAttachmentInfo color{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
         color.imageView = image->view;
         color.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
@@ -126,19 +126,19 @@ class VulkanTest : public ::testing::Test {
       vkCmdEndRendering(cmd);
       for (size_t i = 0; i < out.images.size(); ++i) {
         VkImage image = out.images[i]->image;
-        samples::image_barrier(cmd, image, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
-                               VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT,
-                               VK_ACCESS_TRANSFER_READ_BIT, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT,
-                               VK_PIPELINE_STAGE_TRANSFER_BIT);
+        bootstrap::image_barrier(cmd, image, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
+                                 VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT,
+                                 VK_ACCESS_TRANSFER_READ_BIT, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT,
+                                 VK_PIPELINE_STAGE_TRANSFER_BIT);
         VkBufferImageCopy copy{};
         copy.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
         copy.imageExtent = {width, height, 1};
         vkCmdCopyImageToBuffer(cmd, image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readbacks[i]->buffer, 1,
                                &copy);
-        samples::image_barrier(cmd, image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
-                               VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_ACCESS_TRANSFER_READ_BIT,
-                               VK_ACCESS_SHADER_READ_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
-                               VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT);
+        bootstrap::image_barrier(cmd, image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                                 VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, VK_ACCESS_TRANSFER_READ_BIT,
+                                 VK_ACCESS_SHADER_READ_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                                 VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT);
       }
     });
     EXPECT_TRUE(submitted) << submitted.error().message;
@@ -158,7 +158,7 @@ class VulkanTest : public ::testing::Test {
     return rendered.pixels.empty() ? std::vector<uint8_t>{} : std::move(rendered.pixels[0]);
   }
 
-  std::unique_ptr<samples::VulkanContext> vk_;
+  std::unique_ptr<bootstrap::VulkanContext> vk_;
 };
 
 }  // namespace statepack::testing

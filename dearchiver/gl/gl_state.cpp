@@ -6,6 +6,19 @@
 #include <span>
 #include <string>
 #include <tuple>
+#include <type_traits>
+
+// The public header spells these values out so that it needs no GL header; they must be GL's.
+static_assert(statepack::gl::enums::kZero == GL_ZERO && statepack::gl::enums::kOne == GL_ONE &&
+              statepack::gl::enums::kTriangles == GL_TRIANGLES && statepack::gl::enums::kLess == GL_LESS &&
+              statepack::gl::enums::kAlways == GL_ALWAYS && statepack::gl::enums::kBack == GL_BACK &&
+              statepack::gl::enums::kCcw == GL_CCW && statepack::gl::enums::kFloat == GL_FLOAT &&
+              statepack::gl::enums::kFill == GL_FILL && statepack::gl::enums::kKeep == GL_KEEP &&
+              statepack::gl::enums::kFuncAdd == GL_FUNC_ADD);
+static_assert(std::is_same_v<statepack::gl::GLenum, ::GLenum> &&
+              std::is_same_v<statepack::gl::GLuint, ::GLuint> &&
+              std::is_same_v<statepack::gl::GLint, ::GLint> &&
+              std::is_same_v<statepack::gl::GLsizei, ::GLsizei>);
 
 namespace statepack::gl::detail {
 namespace {

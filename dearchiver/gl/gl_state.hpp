@@ -2,6 +2,8 @@
 // enum GL has no counterpart for (or an unknown one) is an error naming the pipeline, never a cast.
 #pragma once
 
+#include <epoxy/gl.h>
+
 #include <string_view>
 
 #include "format/archive_format.hpp"

@@ -7,7 +7,8 @@
 
 namespace statepack::detail {
 
-struct ArchiveAccess {
+// Exported although internal: statepack_gl, a library of its own, reads an Archive's tables through it.
+struct STATEPACK_API ArchiveAccess {
   static const format::Contents& contents(const Archive& archive);
 };
 

@@ -18,6 +18,7 @@
 #include "support/parallel_for.hpp"
 #include "support/suggest.hpp"
 #include "vk_result_string.hpp"
+#include "vulkan_functions.hpp"
 
 namespace statepack {
 
@@ -41,7 +42,7 @@ struct Dearchiver::State {
   std::mutex mutex;
 
   ~State() {  // the pipelines go before the objects they were made from (the cache, a member)
-    for (auto& p : pipelines) vkDestroyPipeline(context.device, p.pipeline, context.allocator);
+    for (auto& p : pipelines) caps.vk.vkDestroyPipeline(context.device, p.pipeline, context.allocator);
   }
 
   const format::Contents& contents(size_t archive) const {
@@ -90,11 +91,12 @@ struct Dearchiver::State {
 
   // Creates the pipeline of a plan; safe to call for different plans on several threads.
   Result<void> create(Plan& plan) const {
-    VkResult r = plan.out.bind_point == VK_PIPELINE_BIND_POINT_COMPUTE
-                     ? vkCreateComputePipelines(context.device, context.pipeline_cache, 1, &plan.compute,
-                                                context.allocator, &plan.out.pipeline)
-                     : vkCreateGraphicsPipelines(context.device, context.pipeline_cache, 1, &plan.graphics,
-                                                 context.allocator, &plan.out.pipeline);
+    VkResult r =
+        plan.out.bind_point == VK_PIPELINE_BIND_POINT_COMPUTE
+            ? caps.vk.vkCreateComputePipelines(context.device, context.pipeline_cache, 1, &plan.compute,
+                                               context.allocator, &plan.out.pipeline)
+            : caps.vk.vkCreateGraphicsPipelines(context.device, context.pipeline_cache, 1, &plan.graphics,
+                                                context.allocator, &plan.out.pipeline);
     if (r != VK_SUCCESS)
       return vulkan_failure(plan.out.bind_point == VK_PIPELINE_BIND_POINT_COMPUTE
                                 ? "vkCreateComputePipelines"
@@ -138,14 +140,17 @@ Result<Dearchiver> Dearchiver::create(const DeviceContext& context) {
   return api_guard("Dearchiver::create", [&]() -> Result<Dearchiver> {
     if (context.device == VK_NULL_HANDLE || context.physical_device == VK_NULL_HANDLE)
       return Error{ErrorCode::invalid_argument, "Dearchiver::create needs a VkPhysicalDevice and a VkDevice"};
+    auto functions = load_vulkan_functions(context, "Dearchiver::create");
+    if (!functions) return functions.error();
     auto state = std::make_unique<State>();
     state->context = context;
     state->caps.physical_device = context.physical_device;
-    vkGetPhysicalDeviceProperties(context.physical_device, &state->caps.properties);
+    state->caps.vk = *functions;
+    state->caps.vk.vkGetPhysicalDeviceProperties(context.physical_device, &state->caps.properties);
     if (context.enabled_features)
       state->features = *context.enabled_features;
     else
-      vkGetPhysicalDeviceFeatures(context.physical_device, &state->features);
+      state->caps.vk.vkGetPhysicalDeviceFeatures(context.physical_device, &state->features);
     return Dearchiver(std::move(state));
   });
 }

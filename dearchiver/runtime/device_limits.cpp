@@ -195,7 +195,7 @@ Result<void> check_numeric(const std::vector<spirv::Input>& variables, uint32_t 
 
 VkFormatProperties DeviceCaps::format(uint32_t f) const {
   VkFormatProperties p{};
-  vkGetPhysicalDeviceFormatProperties(physical_device, static_cast<VkFormat>(f), &p);
+  vk.vkGetPhysicalDeviceFormatProperties(physical_device, static_cast<VkFormat>(f), &p);
   return p;
 }
 

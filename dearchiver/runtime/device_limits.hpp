@@ -11,12 +11,16 @@
 
 #include "format/archive_format.hpp"
 #include "format/spirv_walk.hpp"
+#include "vulkan_functions.hpp"
 
 namespace statepack {
 
+// The device as the runtime sees it: its entry points (loaded once, from the application's dispatch),
+// limits and formats.
 struct DeviceCaps {
   VkPhysicalDevice physical_device = VK_NULL_HANDLE;
   VkPhysicalDeviceProperties properties{};
+  VulkanFunctions vk;
 
   // Thread-safe (Vulkan allows concurrent physical-device queries).
   VkFormatProperties format(uint32_t format) const;

@@ -10,12 +10,13 @@ namespace statepack {
 ObjectCache::~ObjectCache() {
   VkDevice device = context_.device;
   const VkAllocationCallbacks* alloc = context_.allocator;
-  for (auto& [key, layout] : pipeline_layouts_) vkDestroyPipelineLayout(device, layout, alloc);
-  for (auto& [key, layout] : set_layouts_) vkDestroyDescriptorSetLayout(device, layout, alloc);
-  for (auto& [key, sampler] : samplers_) vkDestroySampler(device, sampler, alloc);  // after their layouts
-  for (auto& [key, pass] : render_passes_) vkDestroyRenderPass(device, pass, alloc);
-  if (empty_set_layout_) vkDestroyDescriptorSetLayout(device, empty_set_layout_, alloc);
-  for (auto& [key, module] : modules_) vkDestroyShaderModule(device, module, alloc);
+  for (auto& [key, layout] : pipeline_layouts_) caps_.vk.vkDestroyPipelineLayout(device, layout, alloc);
+  for (auto& [key, layout] : set_layouts_) caps_.vk.vkDestroyDescriptorSetLayout(device, layout, alloc);
+  for (auto& [key, sampler] : samplers_)
+    caps_.vk.vkDestroySampler(device, sampler, alloc);  // after their layouts
+  for (auto& [key, pass] : render_passes_) caps_.vk.vkDestroyRenderPass(device, pass, alloc);
+  if (empty_set_layout_) caps_.vk.vkDestroyDescriptorSetLayout(device, empty_set_layout_, alloc);
+  for (auto& [key, module] : modules_) caps_.vk.vkDestroyShaderModule(device, module, alloc);
 }
 
 const format::Contents& ObjectCache::contents(size_t archive) const {
@@ -37,7 +38,7 @@ Result<VkShaderModule> ObjectCache::module(size_t archive, uint32_t blob, std::s
     info.codeSize = words.size_bytes();
     info.pCode = words.data();  // straight from the archive bytes: no copy
     VkShaderModule module = VK_NULL_HANDLE;
-    if (VkResult r = vkCreateShaderModule(context_.device, &info, context_.allocator, &module);
+    if (VkResult r = caps_.vk.vkCreateShaderModule(context_.device, &info, context_.allocator, &module);
         r != VK_SUCCESS)
       return vulkan_failure("vkCreateShaderModule", r, owner);
     return module;
@@ -49,8 +50,8 @@ Result<VkDescriptorSetLayout> ObjectCache::set_layout(size_t archive, uint32_t i
   if (index == format::kNone) {
     if (!empty_set_layout_) {
       VkDescriptorSetLayoutCreateInfo info{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-      if (VkResult r =
-              vkCreateDescriptorSetLayout(context_.device, &info, context_.allocator, &empty_set_layout_);
+      if (VkResult r = caps_.vk.vkCreateDescriptorSetLayout(context_.device, &info, context_.allocator,
+                                                            &empty_set_layout_);
           r != VK_SUCCESS)
         return vulkan_failure("vkCreateDescriptorSetLayout", r, pipeline);
     }
@@ -79,7 +80,8 @@ Result<VkDescriptorSetLayout> ObjectCache::set_layout(size_t archive, uint32_t i
     info.bindingCount = static_cast<uint32_t>(bindings.size());
     info.pBindings = bindings.data();
     VkDescriptorSetLayout layout = VK_NULL_HANDLE;
-    if (VkResult r = vkCreateDescriptorSetLayout(context_.device, &info, context_.allocator, &layout);
+    if (VkResult r =
+            caps_.vk.vkCreateDescriptorSetLayout(context_.device, &info, context_.allocator, &layout);
         r != VK_SUCCESS)
       return vulkan_failure("vkCreateDescriptorSetLayout", r, pipeline);
     return layout;
@@ -111,7 +113,8 @@ Result<VkSampler> ObjectCache::sampler(size_t archive, uint32_t index, std::stri
     info.borderColor = static_cast<VkBorderColor>(s.border_color);
     info.unnormalizedCoordinates = s.unnormalized_coordinates != 0;
     VkSampler sampler = VK_NULL_HANDLE;
-    if (VkResult r = vkCreateSampler(context_.device, &info, context_.allocator, &sampler); r != VK_SUCCESS)
+    if (VkResult r = caps_.vk.vkCreateSampler(context_.device, &info, context_.allocator, &sampler);
+        r != VK_SUCCESS)
       return vulkan_failure("vkCreateSampler", r, binding);
     return sampler;
   });
@@ -173,7 +176,8 @@ Result<VkRenderPass> ObjectCache::render_pass(size_t archive, uint32_t index) {
     info.dependencyCount = static_cast<uint32_t>(dependencies.size());
     info.pDependencies = dependencies.data();
     VkRenderPass pass = VK_NULL_HANDLE;
-    if (VkResult r = vkCreateRenderPass(context_.device, &info, context_.allocator, &pass); r != VK_SUCCESS)
+    if (VkResult r = caps_.vk.vkCreateRenderPass(context_.device, &info, context_.allocator, &pass);
+        r != VK_SUCCESS)
       return vulkan_failure("vkCreateRenderPass", r, rp.name);
     return pass;
   });
@@ -192,7 +196,7 @@ Result<VkPipelineLayout> ObjectCache::pipeline_layout(const std::vector<VkDescri
   info.pushConstantRangeCount = push_constant_size > 0 ? 1 : 0;
   info.pPushConstantRanges = &range;
   VkPipelineLayout layout = VK_NULL_HANDLE;
-  if (VkResult r = vkCreatePipelineLayout(context_.device, &info, context_.allocator, &layout);
+  if (VkResult r = caps_.vk.vkCreatePipelineLayout(context_.device, &info, context_.allocator, &layout);
       r != VK_SUCCESS)
     return vulkan_failure("vkCreatePipelineLayout", r, pipeline);
   pipeline_layouts_.emplace(std::move(key), layout);

@@ -26,6 +26,7 @@
 #include "statepack/dearchiver.hpp"
 #include "support/file_io.hpp"
 #include "vk_result_string.hpp"
+#include "vulkan_functions.hpp"
 
 namespace statepack {
 namespace {
@@ -40,19 +41,19 @@ struct Identity {
   std::string driver_text;
 };
 
-Identity identity_of(VkPhysicalDevice physical_device) {
+Identity identity_of(const VulkanFunctions& vk, VkPhysicalDevice physical_device) {
   Identity id;
   VkPhysicalDeviceProperties props;
-  vkGetPhysicalDeviceProperties(physical_device, &props);
+  vk.vkGetPhysicalDeviceProperties(physical_device, &props);
   id.vendor = props.vendorID;
   id.device = props.deviceID;
   id.driver_version = props.driverVersion;
   std::memcpy(id.cache_uuid, props.pipelineCacheUUID, 16);
-  if (props.apiVersion >= VK_API_VERSION_1_2) {
+  if (props.apiVersion >= VK_API_VERSION_1_2 && vk.vkGetPhysicalDeviceProperties2) {
     VkPhysicalDeviceDriverProperties driver{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES};
     VkPhysicalDeviceIDProperties ids{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_ID_PROPERTIES, &driver};
     VkPhysicalDeviceProperties2 props2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &ids};
-    vkGetPhysicalDeviceProperties2(physical_device, &props2);
+    vk.vkGetPhysicalDeviceProperties2(physical_device, &props2);
     id.driver_id = driver.driverID;
     std::memcpy(id.device_uuid, ids.deviceUUID, 16);
     id.driver_text = std::string(driver.driverName) + "\n" + driver.driverInfo;
@@ -110,13 +111,15 @@ std::string mismatch(std::span<const uint8_t> file, const Identity& id) {
 Result<PipelineCacheLoad> load_pipeline_cache(const DeviceContext& context,
                                               const std::filesystem::path& path) {
   return api_guard("load_pipeline_cache", [&]() -> Result<PipelineCacheLoad> {
+    auto vk = load_vulkan_functions(context, "load_pipeline_cache");
+    if (!vk) return vk.error();
     PipelineCacheLoad out;
     // Caches are driver blobs of a few megabytes; a larger file is not ours.
     auto read = read_regular_file(path, uint64_t{1} << 30);
     std::span<const uint8_t> file;
     if (read) {
       file = read->bytes();
-      out.reason = mismatch(file, identity_of(context.physical_device));
+      out.reason = mismatch(file, identity_of(*vk, context.physical_device));
     } else if (std::error_code ec; !std::filesystem::exists(path, ec)) {
       out.reason = "no pipeline cache file at '" + path.string() + "'";
     } else {
@@ -128,7 +131,7 @@ Result<PipelineCacheLoad> load_pipeline_cache(const DeviceContext& context,
       info.initialDataSize = file.size() - kHeaderSize;
       info.pInitialData = file.data() + kHeaderSize;
     }
-    if (VkResult r = vkCreatePipelineCache(context.device, &info, context.allocator, &out.cache);
+    if (VkResult r = vk->vkCreatePipelineCache(context.device, &info, context.allocator, &out.cache);
         r != VK_SUCCESS)
       return Error{ErrorCode::vulkan_error, "vkCreatePipelineCache failed: " + vk_result_string(r), r};
     return out;
@@ -138,15 +141,17 @@ Result<PipelineCacheLoad> load_pipeline_cache(const DeviceContext& context,
 Result<void> save_pipeline_cache(const DeviceContext& context, VkPipelineCache cache,
                                  const std::filesystem::path& path) {
   return api_guard("save_pipeline_cache", [&]() -> Result<void> {
+    auto vk = load_vulkan_functions(context, "save_pipeline_cache");
+    if (!vk) return vk.error();
     size_t size = 0;
-    if (VkResult r = vkGetPipelineCacheData(context.device, cache, &size, nullptr); r != VK_SUCCESS)
+    if (VkResult r = vk->vkGetPipelineCacheData(context.device, cache, &size, nullptr); r != VK_SUCCESS)
       return Error{ErrorCode::vulkan_error, "vkGetPipelineCacheData failed: " + vk_result_string(r), r};
     std::vector<uint8_t> file(kHeaderSize + size);
-    if (VkResult r = vkGetPipelineCacheData(context.device, cache, &size, file.data() + kHeaderSize);
+    if (VkResult r = vk->vkGetPipelineCacheData(context.device, cache, &size, file.data() + kHeaderSize);
         r != VK_SUCCESS)
       return Error{ErrorCode::vulkan_error, "vkGetPipelineCacheData failed: " + vk_result_string(r), r};
     file.resize(kHeaderSize + size);
-    const Identity id = identity_of(context.physical_device);
+    const Identity id = identity_of(*vk, context.physical_device);
     std::memcpy(file.data(), kMagic, 8);
     put32(file, 8, kVersion);
     put32(file, 12, kHeaderSize);

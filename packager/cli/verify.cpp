@@ -3,7 +3,7 @@
 #include <bit>
 #include <ostream>
 
-#include "common/vulkan_context.hpp"
+#include "bootstrap/vulkan_context.hpp"
 #include "layout/format_support.hpp"
 #include "notation/diagnostics.hpp"
 #include "notation/enum_tables.hpp"
@@ -77,12 +77,12 @@ std::optional<VkFormat> parse_vk_format(const std::string& name) {
 }
 
 int run_verify(const VerifyOptions& options, std::ostream& out, std::ostream& err) {
-  samples::VulkanContextOptions vk_options;
+  bootstrap::VulkanContextOptions vk_options;
   vk_options.validation = options.validation;
   vk_options.validation_if_present = true;
   vk_options.device_index = options.device_index;
   vk_options.enable_supported_features = true;
-  auto vk = samples::VulkanContext::create(vk_options);
+  auto vk = bootstrap::VulkanContext::create(vk_options);
   if (!vk) {
     err << "statepack: error: cannot create a Vulkan device: " << printable(vk.error().message) << '\n';
     return kExitIoError;
@@ -93,8 +93,7 @@ int run_verify(const VerifyOptions& options, std::ostream& out, std::ostream& er
     err << "statepack: note: the Vulkan validation layer is not installed; objects are only created "
            "(apt-get install vulkan-validationlayers)\n";
 
-  DeviceContext context{(*vk)->physical_device, (*vk)->device};
-  context.enabled_features = &(*vk)->enabled_features;
+  DeviceContext context = (*vk)->device_context();
   std::optional<PipelineCacheLoad> cache;
   if (options.cache) {
     auto loaded = load_pipeline_cache(context, *options.cache);

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "common/gl_context.hpp"
+#include "bootstrap/gl_context.hpp"
 #include "statepack/gl_dearchiver.hpp"
 
 namespace {
@@ -58,7 +58,7 @@ int main(int argc, char** argv) {
   std::printf("archive %s: format v%u, content version %u\n", path.c_str(), archive->format_version(),
               archive->content_version());
 
-  auto gl = statepack::samples::GlContext::create();
+  auto gl = statepack::bootstrap::GlContext::create();
   if (!gl) return fail("OpenGL", gl.error());
   std::printf("OpenGL: %s (%s), debug output on\n", (*gl)->renderer.c_str(), (*gl)->version.c_str());
 

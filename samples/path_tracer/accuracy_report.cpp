@@ -76,7 +76,7 @@ std::pair<double, double> errors(const std::vector<float>& rgba, const Reference
 struct Timing {
   std::vector<double> gpu_ms, wall_ms;
 };
-Result<Timing> time_interleaved(samples::VulkanContext& vk, Dearchiver& dearchiver, const Scene& scene,
+Result<Timing> time_interleaved(bootstrap::VulkanContext& vk, Dearchiver& dearchiver, const Scene& scene,
                                 const std::vector<Config>& configs, uint32_t bounces, uint32_t width,
                                 uint32_t height, uint32_t spp, uint32_t per_frame, uint32_t rounds) {
   std::vector<std::vector<double>> gpu(configs.size()), wall(configs.size());
@@ -149,9 +149,9 @@ int main(int argc, char** argv) {
   report.load_before = load_average();
   report.started = std::chrono::system_clock::now();
 
-  samples::VulkanContextOptions vk_options;
+  bootstrap::VulkanContextOptions vk_options;
   vk_options.validation = false;  // timing the driver, not the layer
-  auto vk = samples::VulkanContext::create(vk_options);
+  auto vk = bootstrap::VulkanContext::create(vk_options);
   if (!vk) return std::fprintf(stderr, "%s\n", vk.error().message.c_str()), 1;
   std::ofstream runs(fs::path(out_dir) / "runs.csv");
   runs << "bounces,config,spp,seed,mse,rel_mse\n";

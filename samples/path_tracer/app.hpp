@@ -23,8 +23,8 @@ int run_headless(const Options& options);
 int run_windowed(const Options& options);
 
 // Loads the archive into a dearchiver for `vk`; prints the reason and returns null on failure.
-std::unique_ptr<Dearchiver> load_archive(samples::VulkanContext& vk, const std::string& path);
+std::unique_ptr<Dearchiver> load_archive(bootstrap::VulkanContext& vk, const std::string& path);
 // Prints validation messages; returns how many there were.
-size_t report_validation(const samples::VulkanContext& vk);
+size_t report_validation(const bootstrap::VulkanContext& vk);
 
 }  // namespace statepack::path_tracer

@@ -33,9 +33,9 @@ int run_headless(const Options& o) {
            2;
   auto scene = load_scene(o.scene);
   if (!scene) return std::fprintf(stderr, "path_tracer: %s\n", scene.error().message.c_str()), 1;
-  samples::VulkanContextOptions vk_options;
+  bootstrap::VulkanContextOptions vk_options;
   vk_options.validation = o.validation;
-  auto vk = samples::VulkanContext::create(vk_options);
+  auto vk = bootstrap::VulkanContext::create(vk_options);
   if (!vk) return std::fprintf(stderr, "path_tracer: %s\n", vk.error().message.c_str()), 1;
   int status = 0;
   {

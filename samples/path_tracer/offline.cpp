@@ -8,7 +8,7 @@
 
 namespace statepack::path_tracer {
 
-std::unique_ptr<Dearchiver> load_archive(samples::VulkanContext& vk, const std::string& path) {
+std::unique_ptr<Dearchiver> load_archive(bootstrap::VulkanContext& vk, const std::string& path) {
   auto archive = Archive::from_file(path);
   if (!archive) {
     std::fprintf(stderr, "path_tracer: %s\n", archive.error().message.c_str());
@@ -19,13 +19,13 @@ std::unique_ptr<Dearchiver> load_archive(samples::VulkanContext& vk, const std::
   return std::make_unique<Dearchiver>(std::move(dearchiver.value()));
 }
 
-size_t report_validation(const samples::VulkanContext& vk) {
+size_t report_validation(const bootstrap::VulkanContext& vk) {
   auto messages = vk.validation_messages();
   for (const auto& m : messages) std::fprintf(stderr, "path_tracer: %s\n", m.c_str());
   return messages.size();
 }
 
-Result<OfflineRender> render_offline(samples::VulkanContext& vk, Dearchiver& dearchiver, const Scene& scene,
+Result<OfflineRender> render_offline(bootstrap::VulkanContext& vk, Dearchiver& dearchiver, const Scene& scene,
                                      const RenderSettings& settings, uint32_t width, uint32_t height,
                                      uint32_t spp,
                                      const std::function<void(uint32_t, uint32_t, double)>& progress) {
@@ -34,8 +34,8 @@ Result<OfflineRender> render_offline(samples::VulkanContext& vk, Dearchiver& dea
   auto renderer = Renderer::create(vk, dearchiver, width, height, kTargetFormat);
   if (!renderer) return renderer.error();
   auto target =
-      samples::create_device_image(vk, kTargetFormat, width, height,
-                                   VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
+      bootstrap::create_device_image(vk, kTargetFormat, width, height,
+                                     VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
   if (!target) return target.error();
   (*renderer)->set_scene(scene);
   (*renderer)->set_settings(settings);

@@ -16,7 +16,7 @@ struct OfflineRender {
 };
 
 // `progress(done, total, seconds)` is called after each batch.
-Result<OfflineRender> render_offline(samples::VulkanContext& vk, Dearchiver& dearchiver, const Scene& scene,
+Result<OfflineRender> render_offline(bootstrap::VulkanContext& vk, Dearchiver& dearchiver, const Scene& scene,
                                      const RenderSettings& settings, uint32_t width, uint32_t height,
                                      uint32_t spp,
                                      const std::function<void(uint32_t, uint32_t, double)>& progress = {});

@@ -7,7 +7,7 @@
 namespace statepack::path_tracer {
 namespace {
 
-using samples::image_barrier;
+using bootstrap::image_barrier;
 
 // std140 layout of `Constants` in shaders/path_tracer/scene.glsl.
 struct Constants {
@@ -24,7 +24,7 @@ Error vk_error(const char* call, VkResult r) {
 
 }  // namespace
 
-Result<std::unique_ptr<Renderer>> Renderer::create(samples::VulkanContext& vk, Dearchiver& dearchiver,
+Result<std::unique_ptr<Renderer>> Renderer::create(bootstrap::VulkanContext& vk, Dearchiver& dearchiver,
                                                    uint32_t width, uint32_t height, VkFormat target_format) {
   std::unique_ptr<Renderer> r(new Renderer(vk));
   r->width_ = width;
@@ -52,7 +52,7 @@ Result<std::unique_ptr<Renderer>> Renderer::create(samples::VulkanContext& vk, D
   r->trace_baseline_ = *trace_baseline;
   r->resolve_ = *resolve;
 
-  auto constants = samples::create_host_buffer(vk, sizeof(Constants), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
+  auto constants = bootstrap::create_host_buffer(vk, sizeof(Constants), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
   if (!constants) return constants.error();
   r->constants_ = std::move(constants.value());
 
@@ -115,7 +115,7 @@ Result<void> Renderer::create_images() {
                                       Wanted{&depth_, VK_FORMAT_R32_SFLOAT, gbuffer_usage},
                                       Wanted{&accumulation_, VK_FORMAT_R32G32B32A32_SFLOAT,
                                              VK_IMAGE_USAGE_STORAGE_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT}}) {
-    auto created = samples::create_device_image(vk_, format, width_, height_, usage);
+    auto created = bootstrap::create_device_image(vk_, format, width_, height_, usage);
     if (!created) return created.error();
     *image = std::move(created.value());
   }
@@ -198,7 +198,7 @@ void Renderer::upload_scene() {
   const VkDeviceSize size = boxes.size() * sizeof(GpuBox);
   if (!boxes_ || boxes_->size < size) {
     vkDeviceWaitIdle(vk_.device);
-    auto created = samples::create_host_buffer(vk_, size, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+    auto created = bootstrap::create_host_buffer(vk_, size, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
     if (!created) return;
     boxes_ = std::move(created.value());
     write_descriptors();
@@ -335,7 +335,7 @@ void Renderer::record(VkCommandBuffer cmd, VkImage target, VkImageView target_vi
 
 Result<std::vector<float>> Renderer::read_accumulation() {
   const VkDeviceSize size = VkDeviceSize(width_) * height_ * 4 * sizeof(float);
-  auto readback = samples::create_host_buffer(vk_, size, VK_BUFFER_USAGE_TRANSFER_DST_BIT);
+  auto readback = bootstrap::create_host_buffer(vk_, size, VK_BUFFER_USAGE_TRANSFER_DST_BIT);
   if (!readback) return readback.error();
   auto done = vk_.submit_and_wait([&](VkCommandBuffer cmd) {
     image_barrier(cmd, accumulation_->image, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,

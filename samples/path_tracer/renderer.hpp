@@ -6,7 +6,7 @@
 #include <memory>
 #include <vector>
 
-#include "common/vulkan_context.hpp"
+#include "bootstrap/vulkan_context.hpp"
 #include "sampler.hpp"
 #include "scene.hpp"
 #include "statepack/dearchiver.hpp"
@@ -56,7 +56,7 @@ struct RenderSettings {
 class Renderer {
  public:
   // `target_format` is the resolve pipeline's render-target format, patched into it at unpack time.
-  static Result<std::unique_ptr<Renderer>> create(samples::VulkanContext& vk, Dearchiver& dearchiver,
+  static Result<std::unique_ptr<Renderer>> create(bootstrap::VulkanContext& vk, Dearchiver& dearchiver,
                                                   uint32_t width, uint32_t height, VkFormat target_format);
   ~Renderer();
 
@@ -83,15 +83,15 @@ class Renderer {
   Result<std::vector<float>> read_accumulation();
 
  private:
-  using Image = std::unique_ptr<samples::DeviceImage>;
-  Renderer(samples::VulkanContext& vk) : vk_(vk) {}
+  using Image = std::unique_ptr<bootstrap::DeviceImage>;
+  Renderer(bootstrap::VulkanContext& vk) : vk_(vk) {}
   Result<void> create_images();
   void destroy_images();
   void write_descriptors();
   void upload_scene();
   void restart() { samples_done_ = 0, gbuffer_dirty_ = true; }
 
-  samples::VulkanContext& vk_;
+  bootstrap::VulkanContext& vk_;
   const UnpackedPipeline* gbuffer_ = nullptr;
   const UnpackedPipeline* trace_ = nullptr;  // next-event estimation (and BSDF sampling)
   const UnpackedPipeline* trace_mis_ = nullptr;
@@ -103,7 +103,7 @@ class Renderer {
   uint32_t light_index_ = 0, box_count_ = 0;
   bool other_emitters_ = false;
   RenderSettings settings_;
-  std::unique_ptr<samples::HostBuffer> constants_, boxes_;
+  std::unique_ptr<bootstrap::HostBuffer> constants_, boxes_;
   Image albedo_, normal_, emittance_, depth_, accumulation_;
   VkDescriptorPool pool_ = VK_NULL_HANDLE;
   VkDescriptorSet gbuffer_set_ = VK_NULL_HANDLE, trace_set_ = VK_NULL_HANDLE, resolve_set_ = VK_NULL_HANDLE;

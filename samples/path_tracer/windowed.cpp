@@ -41,10 +41,10 @@ class Window {
     uint32_t count = 0;
     const char** extensions = glfwGetRequiredInstanceExtensions(&count);
     if (!extensions) return fail("GLFW finds no Vulkan surface support");
-    samples::VulkanContextOptions vk_options;
+    bootstrap::VulkanContextOptions vk_options;
     vk_options.validation = o.validation;
     vk_options.instance_extensions.assign(extensions, extensions + count);
-    auto vk = samples::VulkanContext::create(vk_options);
+    auto vk = bootstrap::VulkanContext::create(vk_options);
     if (!vk) return fail(vk.error().message);
     vk_ = std::move(vk.value());
     if (glfwCreateWindowSurface(vk_->instance, window_, nullptr, &surface_) != VK_SUCCESS)
@@ -431,7 +431,7 @@ class Window {
     vkCmdBeginRenderPass(cmd_, &pass, VK_SUBPASS_CONTENTS_INLINE);
     ImGui_ImplVulkan_RenderDrawData(ImGui::GetDrawData(), cmd_);
     vkCmdEndRenderPass(cmd_);
-    std::unique_ptr<samples::HostBuffer> readback;
+    std::unique_ptr<bootstrap::HostBuffer> readback;
     if (capture && can_capture_) readback = record_capture(swapchain_.images[index]);
     vkEndCommandBuffer(cmd_);
 
@@ -469,15 +469,15 @@ class Window {
   }
 
   // Copies the presented image (what the window shows, panel included) to a host buffer.
-  std::unique_ptr<samples::HostBuffer> record_capture(VkImage image) {
+  std::unique_ptr<bootstrap::HostBuffer> record_capture(VkImage image) {
     const VkExtent2D e = swapchain_.extent;
-    auto buffer = samples::create_host_buffer(*vk_, VkDeviceSize(e.width) * e.height * 4,
-                                              VK_BUFFER_USAGE_TRANSFER_DST_BIT);
+    auto buffer = bootstrap::create_host_buffer(*vk_, VkDeviceSize(e.width) * e.height * 4,
+                                                VK_BUFFER_USAGE_TRANSFER_DST_BIT);
     if (!buffer) return nullptr;
     auto barrier = [&](VkImageLayout from, VkImageLayout to, VkAccessFlags src, VkAccessFlags dst) {
-      samples::image_barrier(cmd_, image, from, to, src, dst,
-                             VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
-                             VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT);
+      bootstrap::image_barrier(cmd_, image, from, to, src, dst,
+                               VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                               VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT);
     };
     barrier(VK_IMAGE_LAYOUT_PRESENT_SRC_KHR, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
             VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, VK_ACCESS_TRANSFER_READ_BIT);
@@ -534,7 +534,7 @@ class Window {
   }
 
   GLFWwindow* window_ = nullptr;
-  std::unique_ptr<samples::VulkanContext> vk_;
+  std::unique_ptr<bootstrap::VulkanContext> vk_;
   VkSurfaceKHR surface_ = VK_NULL_HANDLE;
   Swapchain swapchain_;
   VkRenderPass overlay_pass_ = VK_NULL_HANDLE;

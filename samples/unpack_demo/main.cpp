@@ -7,7 +7,7 @@
 
 #include <vulkan/vulkan.hpp>  // vk::to_string: Vulkan-Hpp names every enum
 
-#include "common/vulkan_context.hpp"
+#include "bootstrap/vulkan_context.hpp"
 #include "statepack/dearchiver.hpp"
 
 namespace {
@@ -19,15 +19,15 @@ int fail(const std::string& what, const statepack::Error& e) {
 }
 
 // Fills a buffer with the compute pipeline and prints the first values.
-int run_fill_buffer(statepack::samples::VulkanContext& vk, const statepack::UnpackedPipeline& pso) {
+int run_fill_buffer(statepack::bootstrap::VulkanContext& vk, const statepack::UnpackedPipeline& pso) {
   const statepack::BindingInfo* values = pso.find_binding("Values");
   if (!values) return std::fprintf(stderr, "unpack_demo: 'Values' binding missing\n"), 1;
   constexpr uint32_t kCount = 16;
-  auto buffer = statepack::samples::create_host_buffer(vk, kCount * sizeof(uint32_t),
-                                                       VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+  auto buffer = statepack::bootstrap::create_host_buffer(vk, kCount * sizeof(uint32_t),
+                                                         VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
   if (!buffer) return fail("buffer", buffer.error());
-  auto set = statepack::samples::bind_storage_buffer(vk, pso.set_layouts[values->set], values->binding,
-                                                     (*buffer)->buffer);
+  auto set = statepack::bootstrap::bind_storage_buffer(vk, pso.set_layouts[values->set], values->binding,
+                                                       (*buffer)->buffer);
   if (!set) return fail("descriptor set", set.error());
   const uint32_t params[3] = {kCount, 3, 1};
   auto done = vk.submit_and_wait([&](VkCommandBuffer cmd) {
@@ -59,9 +59,9 @@ int main(int argc, char** argv) {
   std::printf("archive %s: format v%u, content version %u, %zu named object(s)\n", path.c_str(),
               archive->format_version(), archive->content_version(), objects.size());
 
-  statepack::samples::VulkanContextOptions options;
+  statepack::bootstrap::VulkanContextOptions options;
   options.validation = true;
-  auto vk = statepack::samples::VulkanContext::create(options);
+  auto vk = statepack::bootstrap::VulkanContext::create(options);
   if (!vk) return fail("Vulkan", vk.error());
   std::printf("device: %s (%s), validation layer on\n", (*vk)->device_name.c_str(),
               (*vk)->driver_name.c_str());

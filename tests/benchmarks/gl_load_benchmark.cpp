@@ -17,7 +17,7 @@
 #include <string>
 #include <vector>
 
-#include "common/gl_context.hpp"
+#include "bootstrap/gl_context.hpp"
 #include "statepack/gl_dearchiver.hpp"
 
 namespace {
@@ -150,7 +150,7 @@ int main(int argc, char** argv) {
     pipelines.push_back(std::move(p));
   }
 
-  auto gl = statepack::samples::GlContext::create({.debug = false});
+  auto gl = statepack::bootstrap::GlContext::create({.debug = false});
   if (!gl) return std::fprintf(stderr, "gl_load_benchmark: %s\n", gl.error().message.c_str()), 1;
 
   std::vector<double> archive_ms, glsl_ms;

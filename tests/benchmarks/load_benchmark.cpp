@@ -16,7 +16,7 @@
 #include <thread>
 #include <vector>
 
-#include "common/vulkan_context.hpp"
+#include "bootstrap/vulkan_context.hpp"
 #include "format/archive_format.hpp"
 #include "notation/notation.hpp"
 #include "shaders/shader_compiler.hpp"
@@ -182,9 +182,9 @@ int main(int argc, char** argv) {
   if (!file) return std::fprintf(stderr, "%s\n", file.error().message.c_str()), 1;
   std::span<const uint8_t> bytes = file->bytes();
 
-  samples::VulkanContextOptions options;
+  bootstrap::VulkanContextOptions options;
   options.validation = false;  // timing the driver, not the layer
-  auto vk = samples::VulkanContext::create(options);
+  auto vk = bootstrap::VulkanContext::create(options);
   if (!vk) return std::fprintf(stderr, "Vulkan: %s\n", vk.error().message.c_str()), 1;
   VkDevice device = (*vk)->device;
 

@@ -8,7 +8,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "common/vulkan_context.hpp"
+#include "bootstrap/vulkan_context.hpp"
 
 int main(int argc, char** argv) {
   if (argc < 2) return std::fprintf(stderr, "usage: min_glslang <shader.comp>\n"), 2;
@@ -31,7 +31,7 @@ int main(int argc, char** argv) {
   std::vector<unsigned int> spirv;
   glslang::GlslangToSpv(*program.getIntermediate(EShLangCompute), spirv);
 
-  auto vk = statepack::samples::VulkanContext::create({false, false, {}});
+  auto vk = statepack::bootstrap::VulkanContext::create({false, false, {}});
   if (!vk) return 1;
   VkDevice device = (*vk)->device;
   VkShaderModuleCreateInfo module_info{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};

@@ -1,7 +1,14 @@
 // The consumer project's application, built against an installed statepack (find_package or
 // pkg-config): it loads the archive its build packed and creates the pipeline on the first Vulkan
 // device, so the installed headers, library and its dependencies are proven to link and work together.
+// Built twice: consumer_app links the Vulkan loader and calls Vulkan by symbol; consumer_volk_app
+// (STATEPACK_CONSUMER_VOLK) owns its dispatch through volk, links no libvulkan, and hands volk's
+// vkGetInstanceProcAddr to the Dearchiver, as an engine with its own function table does.
 // Usage: consumer_app <archive.spk>
+#ifdef STATEPACK_CONSUMER_VOLK
+#define VOLK_IMPLEMENTATION
+#include <volk.h>  // before any Vulkan header: it declares the functions as pointers
+#endif
 #include <statepack/dearchiver.hpp>
 
 #include <cstdio>
@@ -42,6 +49,9 @@ int main(int argc, char** argv) {
   if (argc != 2) return fail("usage", "consumer_app <archive.spk>");
   auto archive = statepack::Archive::from_file(argv[1]);
   if (!archive) return fail(argv[1], archive.error().message);
+#ifdef STATEPACK_CONSUMER_VOLK
+  if (volkInitialize() != VK_SUCCESS) return fail("volkInitialize", "no Vulkan loader");
+#endif
 
   VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
   app.apiVersion = VK_API_VERSION_1_1;
@@ -50,6 +60,9 @@ int main(int argc, char** argv) {
   VkInstance instance = VK_NULL_HANDLE;
   if (vkCreateInstance(&instance_info, nullptr, &instance) != VK_SUCCESS)
     return fail("vkCreateInstance", "failed");
+#ifdef STATEPACK_CONSUMER_VOLK
+  volkLoadInstance(instance);
+#endif
   VkPhysicalDevice physical_device = VK_NULL_HANDLE;
   uint32_t queue_family = 0;
   if (!pick_device(instance, physical_device, queue_family))
@@ -70,6 +83,10 @@ int main(int argc, char** argv) {
   {  // the Dearchiver destroys its objects before the device goes
     statepack::DeviceContext context{physical_device, device};
     context.dynamic_rendering_enabled = false;  // not enabled above; compute does not need it
+#ifdef STATEPACK_CONSUMER_VOLK
+    context.instance = instance;  // the application's dispatch, not the system loader's
+    context.get_instance_proc_addr = vkGetInstanceProcAddr;
+#endif
     auto dearchiver = statepack::Dearchiver::create(context);
     if (!dearchiver) return fail("Dearchiver::create", dearchiver.error().message);
     if (auto added = dearchiver->add_archive(std::move(*archive)); !added)
@@ -78,8 +95,8 @@ int main(int argc, char** argv) {
     if (!pso) {
       status = fail("unpack_compute", pso.error().message);
     } else {
-      std::printf("consumer_app: unpacked '%s' (%zu set layout(s))\n", (*pso)->name.c_str(),
-                  (*pso)->set_layouts.size());
+      std::printf("consumer_app: unpacked '%s' (%zu set layout(s))%s\n", (*pso)->name.c_str(),
+                  (*pso)->set_layouts.size(), context.get_instance_proc_addr ? " through volk" : "");
     }
   }
   vkDestroyDevice(device, nullptr);

@@ -4,6 +4,7 @@
 // its header and libepoxy are proven to link and work together.
 // Usage: consumer_gl_app <archive.spk>
 #include <epoxy/egl.h>
+#include <epoxy/gl.h>  // the application calls GL itself; statepack's header needs no GL header
 #include <statepack/gl_dearchiver.hpp>
 
 #include <cstdio>

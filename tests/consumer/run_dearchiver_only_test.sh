@@ -41,9 +41,20 @@ found=$(echo "$commands" | grep -iE 'glslang|SPIRV-Tools|spirv-cross|spirv_cross
 library=$(find "$build" -name 'libstatepack_dearchiver.so.*' -type f | head -1)
 [[ -n "$library" ]] || fail "no shared dearchiver was built"
 deps=$(ldd "$library")
-echo "$deps" | grep -q libvulkan || fail "ldd shows no Vulkan loader, so the check below proves nothing: $deps"
+echo "$deps" | grep -q libstdc++ || fail "ldd shows no libstdc++, so the checks below prove nothing: $deps"
 found=$(echo "$deps" | grep -iE 'glslang|spirv' || true)  # libSPIRV-Tools-shared, libspirv-cross-c-shared
 [[ -z "$found" ]] || fail "the dearchiver depends on the shader toolchain: $found"
+# The application owns Vulkan dispatch (or the loader is opened at run time): no libvulkan link.
+found=$(echo "$deps" | grep libvulkan || true)
+[[ -z "$found" ]] || fail "the dearchiver links the Vulkan loader: $found"
+# Hidden visibility: the library exports its public API (and the one internal door statepack_gl uses),
+# nothing else of statepack's.
+# (Standard templates instantiated over public types are the compiler's, not statepack's, and not listed.)
+exported=$(nm -DC --defined-only "$library" | grep -E ' [TW] ' | sed 's/^[^ ]* [TW] //' | grep -E '^statepack::[A-Za-z_:]+(\(|$)' || true)
+leaked=$(echo "$exported" | grep -vE '^statepack::(Archive|Dearchiver|UnpackedPipeline|detail::ArchiveAccess)::|^statepack::(to_string|load_pipeline_cache|save_pipeline_cache)\(' || true)
+[[ -z "$leaked" ]] || fail "internal symbols exported: $(echo "$leaked" | head -5)"
+echo "$exported" | grep -q '^statepack::Dearchiver::create' || fail "Dearchiver::create is not exported: $exported"
+echo "exported: $(echo "$exported" | wc -l) symbols, all public API"
 
 cmake --install "$build" --prefix "$work/prefix" >/dev/null || fail "install failed"
 [[ ! -e "$work/prefix/bin/statepack" ]] || fail "a packager was installed"

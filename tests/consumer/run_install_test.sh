@@ -26,7 +26,7 @@ for f in "$prefix/bin/statepack" "$libdir/libstatepack_dearchiver.a" "$libdir/li
 done
 # Only the public headers: the library's internal ones stay private.
 headers=$(cd "$prefix/include" && find . -type f | sort | tr '\n' ' ')
-[[ "$headers" == "./statepack/dearchiver.hpp ./statepack/gl_dearchiver.hpp ./statepack/result.hpp " ]] ||
+[[ "$headers" == "./statepack/dearchiver.hpp ./statepack/export.hpp ./statepack/gl_dearchiver.hpp ./statepack/result.hpp " ]] ||
   fail "installed headers: $headers"
 grep -rq "$build_dir" "$config_dir" "$libdir/pkgconfig" && fail "an installed CMake or pkg-config file names the build tree"
 
@@ -44,6 +44,13 @@ consume() {  # <generator> <configuration> <where the application lands>
   out=$("$dir/$3/consumer_app" "$dir/consumer.spk" 2>&1) || fail "$1: consumer_app failed: $out"
   echo "$out" | grep -q "unpacked 'Consumer PSO'" || fail "$1: consumer_app: $out"
   echo "$1 ($config): $out"
+  # Owning dispatch through volk: the application needs no libvulkan, directly or through statepack.
+  needs=$(readelf -d "$dir/$3/consumer_volk_app" | grep NEEDED)
+  echo "$needs" | grep -q libc.so || fail "$1: readelf shows no NEEDED entries, so the check proves nothing: $needs"
+  echo "$needs" | grep -q libvulkan && fail "$1: consumer_volk_app links the Vulkan loader: $needs"
+  out=$("$dir/$3/consumer_volk_app" "$dir/consumer.spk" 2>&1) || fail "$1: consumer_volk_app failed: $out"
+  echo "$out" | grep -q "unpacked 'Consumer PSO' (.*) through volk" || fail "$1: consumer_volk_app: $out"
+  echo "$1 ($config): $out"
   out=$("$dir/$3/consumer_gl_app" "$dir/consumer_gl.spk" 2>&1) || fail "$1: consumer_gl_app failed: $out"
   echo "$out" | grep -q "unpacked 'Consumer PSO' on OpenGL" || fail "$1: consumer_gl_app: $out"
   echo "$1 ($config): $out"
@@ -52,7 +59,8 @@ consume Ninja "" .
 consume "Ninja Multi-Config" Debug Debug
 
 # pkg-config alone: the flags it gives compile and link the same application.
-flags=$(PKG_CONFIG_PATH="$libdir/pkgconfig" pkg-config --cflags --libs statepack_dearchiver) ||
+# The application calls Vulkan itself, so it asks for the loader too (the library does not link one).
+flags=$(PKG_CONFIG_PATH="$libdir/pkgconfig" pkg-config --cflags --libs statepack_dearchiver vulkan) ||
   fail "pkg-config does not know statepack_dearchiver"
 includedir=$(PKG_CONFIG_PATH="$libdir/pkgconfig" pkg-config --variable=includedir statepack_dearchiver)
 [[ -f "$includedir/statepack/dearchiver.hpp" ]] || fail "pkg-config: the include directory lacks the headers: $flags"

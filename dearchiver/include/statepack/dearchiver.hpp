@@ -33,6 +33,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "statepack/export.hpp"
 #include "statepack/result.hpp"
 
 namespace statepack {
@@ -50,7 +51,7 @@ struct ObjectInfo {
 };
 
 // A loaded, fully validated archive. Owns its bytes (from_file) or borrows them (from_memory).
-class Archive {
+class STATEPACK_API Archive {
  public:
   // Reads and validates a file. `required_content_version`, when set, must equal the archive's.
   static Result<Archive> from_file(const std::filesystem::path& path,
@@ -187,7 +188,7 @@ struct BindingInfo {
   VkSampler immutable_sampler = VK_NULL_HANDLE;
 };
 
-struct UnpackedPipeline {
+struct STATEPACK_API UnpackedPipeline {
   std::string name;
   VkPipeline pipeline = VK_NULL_HANDLE;
   VkPipelineLayout layout = VK_NULL_HANDLE;
@@ -228,9 +229,18 @@ struct DeviceContext {
   // tessellation shaders, depth clamp, wireframe, dual-source or independent blending, anisotropy)
   // as errors. Null: assume every feature the device supports is enabled.
   const VkPhysicalDeviceFeatures* enabled_features = nullptr;
+  // Where the Vulkan entry points come from: the application owns dispatch. Give the loader you use
+  // (volk: `ctx.instance = instance; ctx.get_instance_proc_addr = vkGetInstanceProcAddr;` after
+  // volkLoadInstance) and every function is looked up through it once, in Dearchiver::create, and
+  // device functions through vkGetDeviceProcAddr. Null: the system loader, libvulkan.so.1, opened at
+  // run time (the library links no loader either way). load_pipeline_cache and save_pipeline_cache
+  // use the same fields.
+  VkInstance instance = VK_NULL_HANDLE;  // needed with get_instance_proc_addr
+  PFN_vkGetInstanceProcAddr get_instance_proc_addr = nullptr;
+  PFN_vkGetDeviceProcAddr get_device_proc_addr = nullptr;  // optional: else from get_instance_proc_addr
 };
 
-class Dearchiver {
+class STATEPACK_API Dearchiver {
  public:
   static Result<Dearchiver> create(const DeviceContext& context);
 
@@ -281,10 +291,10 @@ struct PipelineCacheLoad {
   bool reused = false;                     // the saved data was handed to the driver
   std::string reason;                      // why not, when not
 };
-Result<PipelineCacheLoad> load_pipeline_cache(const DeviceContext& context,
-                                              const std::filesystem::path& path);
+STATEPACK_API Result<PipelineCacheLoad> load_pipeline_cache(const DeviceContext& context,
+                                                            const std::filesystem::path& path);
 // Writes the cache's data behind that header, atomically (temporary file, then rename).
-Result<void> save_pipeline_cache(const DeviceContext& context, VkPipelineCache cache,
-                                 const std::filesystem::path& path);
+STATEPACK_API Result<void> save_pipeline_cache(const DeviceContext& context, VkPipelineCache cache,
+                                               const std::filesystem::path& path);
 
 }  // namespace statepack

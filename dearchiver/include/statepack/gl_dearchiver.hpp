@@ -29,9 +29,10 @@
 // Winding follows from that: GL computes a polygon's area with y up, Vulkan with y down, so the same
 // vertices wind the other way. The archive's VkFrontFace is therefore inverted for glFrontFace
 // (VK_FRONT_FACE_CLOCKWISE becomes GL_CCW), which culls exactly the triangles Vulkan culls.
+//
+// The header needs no GL header: the types below are OpenGL's own (khrplatform's) under the same names,
+// so values pass to and from epoxy, glad or GL/gl.h unchanged; include whichever loader you use.
 #pragma once
-
-#include <epoxy/gl.h>
 
 #include <array>
 #include <cstdint>
@@ -45,40 +46,52 @@
 
 namespace statepack::gl {
 
+using GLenum = unsigned int;
+using GLuint = unsigned int;
+using GLint = int;
+using GLsizei = int;
+// The enum values the defaults below start from (OpenGL's registry values; gl_state.cpp checks them
+// against the GL header it is built with).
+namespace enums {
+inline constexpr GLenum kZero = 0, kOne = 1, kTriangles = 0x0004, kLess = 0x0201, kAlways = 0x0207,
+                        kBack = 0x0405, kCcw = 0x0901, kFloat = 0x1406, kFill = 0x1B02, kKeep = 0x1E00,
+                        kFuncAdd = 0x8006;
+}  // namespace enums
+
 inline constexpr uint32_t kMaxColorTargets = 8;
 
 struct BlendTarget {
   bool enable = false;
-  GLenum src_color = GL_ONE, dst_color = GL_ZERO, color_op = GL_FUNC_ADD;
-  GLenum src_alpha = GL_ONE, dst_alpha = GL_ZERO, alpha_op = GL_FUNC_ADD;
+  GLenum src_color = enums::kOne, dst_color = enums::kZero, color_op = enums::kFuncAdd;
+  GLenum src_alpha = enums::kOne, dst_alpha = enums::kZero, alpha_op = enums::kFuncAdd;
   std::array<bool, 4> write_mask{true, true, true, true};  // glColorMaski: r, g, b, a
 };
 
 struct StencilFace {
-  GLenum fail_op = GL_KEEP, depth_fail_op = GL_KEEP, pass_op = GL_KEEP;
-  GLenum func = GL_ALWAYS;
+  GLenum fail_op = enums::kKeep, depth_fail_op = enums::kKeep, pass_op = enums::kKeep;
+  GLenum func = enums::kAlways;
 };
 
 // A graphics pipeline's fixed-function state in GL terms, translated from the archive. Viewport and
 // scissor are the application's (dynamic on Vulkan too); so are the two values Vulkan also leaves
 // dynamic, `stencil_reference` and `blend_color`, which apply() sets from these fields.
 struct FixedFunctionState {
-  GLenum primitive_mode = GL_TRIANGLES;  // for glDraw*
-  GLint patch_vertices = 0;              // GL_PATCHES only: glPatchParameteri(GL_PATCH_VERTICES, ...)
+  GLenum primitive_mode = enums::kTriangles;  // for glDraw*
+  GLint patch_vertices = 0;                   // GL_PATCHES only: glPatchParameteri(GL_PATCH_VERTICES, ...)
 
   // Rasterizer
   bool cull_enable = false;
-  GLenum cull_face = GL_BACK;     // glCullFace
-  GLenum front_face = GL_CCW;     // glFrontFace: the archive's VkFrontFace, inverted (see above)
-  GLenum polygon_mode = GL_FILL;  // glPolygonMode(GL_FRONT_AND_BACK, ...)
-  bool depth_clamp = false;       // GL_DEPTH_CLAMP (the notation's DepthClipEnable = false)
+  GLenum cull_face = enums::kBack;     // glCullFace
+  GLenum front_face = enums::kCcw;     // glFrontFace: the archive's VkFrontFace, inverted (see above)
+  GLenum polygon_mode = enums::kFill;  // glPolygonMode(GL_FRONT_AND_BACK, ...)
+  bool depth_clamp = false;            // GL_DEPTH_CLAMP (the notation's DepthClipEnable = false)
   bool depth_bias_enable = false;
   float depth_bias_constant = 0, depth_bias_slope = 0, depth_bias_clamp = 0;  // glPolygonOffset(Clamp)
 
   // Depth-stencil
   bool depth_test = false;
   bool depth_write = false;
-  GLenum depth_func = GL_LESS;
+  GLenum depth_func = enums::kLess;
   bool stencil_test = false;
   GLuint stencil_read_mask = 0xFF, stencil_write_mask = 0xFF;
   StencilFace stencil_front, stencil_back;
@@ -108,7 +121,7 @@ struct VertexInput {
   struct Attribute {
     GLuint location = 0, binding = 0;
     GLint size = 4;  // components, or GL_BGRA for B8G8R8A8 and A2R10G10B10 formats
-    GLenum type = GL_FLOAT;
+    GLenum type = enums::kFloat;
     bool normalized = false;
     Path path = Path::float_;
     GLuint offset = 0;  // relative offset within the binding's element
@@ -136,7 +149,7 @@ struct Binding {
   uint32_t stages = 0;  // VkShaderStageFlags of the stages that use it
 };
 
-const char* to_string(Binding::Kind kind);
+STATEPACK_API const char* to_string(Binding::Kind kind);
 
 struct Program {
   std::string name;  // the pipeline's
@@ -148,7 +161,7 @@ struct Program {
   const Binding* find_binding(std::string_view resource_name) const;  // nullptr when absent
 };
 
-class Dearchiver {
+class STATEPACK_API Dearchiver {
  public:
   // Needs a current OpenGL 4.5 (or later) core or compatibility context with GL_ARB_gl_spirv; errors
   // with `unsupported` otherwise.

@@ -9,6 +9,8 @@
 #include <utility>
 #include <variant>
 
+#include "statepack/export.hpp"
+
 namespace statepack {
 
 enum class ErrorCode {
@@ -30,7 +32,7 @@ enum class ErrorCode {
   gl_error,                  // an OpenGL shader did not specialize or a program did not link (driver's log)
 };
 
-const char* to_string(ErrorCode code);
+STATEPACK_API const char* to_string(ErrorCode code);
 
 struct Error {
   ErrorCode code;

@@ -2,7 +2,7 @@
 
 #include <cstring>
 
-namespace statepack::samples {
+namespace statepack::bootstrap {
 namespace {
 
 Error vk_error(const char* call, VkResult r) {
@@ -36,13 +36,20 @@ VKAPI_ATTR VkBool32 VKAPI_CALL VulkanContext::on_message(VkDebugUtilsMessageSeve
 
 Result<std::unique_ptr<VulkanContext>> VulkanContext::create(const VulkanContextOptions& options) {
   std::unique_ptr<VulkanContext> ctx(new VulkanContext());
+  if (auto r = ctx->create_instance(options); !r) return r.error();
+  if (auto r = ctx->choose_physical_device(options); !r) return r.error();
+  if (auto r = ctx->create_device(options); !r) return r.error();
+  return ctx;
+}
+
+Result<void> VulkanContext::create_instance(const VulkanContextOptions& options) {
   constexpr const char* kValidationLayer = "VK_LAYER_KHRONOS_validation";
   const bool validation =
       options.validation && (!options.validation_if_present || has_layer(kValidationLayer));
   if (validation && !has_layer(kValidationLayer))
     return Error{ErrorCode::unsupported,
                  "the Vulkan validation layer is missing: apt-get install vulkan-validationlayers"};
-  ctx->validation_enabled = validation;
+  validation_enabled = validation;
 
   VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
   app.pApplicationName = "statepack";
@@ -56,7 +63,7 @@ Result<std::unique_ptr<VulkanContext>> VulkanContext::create(const VulkanContext
                                VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT |
                                VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT;
   messenger_info.pfnUserCallback = &VulkanContext::on_message;
-  messenger_info.pUserData = ctx.get();
+  messenger_info.pUserData = this;
   VkInstanceCreateInfo instance_info{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
   if (validation) {
     layers.push_back(kValidationLayer);
@@ -68,20 +75,22 @@ Result<std::unique_ptr<VulkanContext>> VulkanContext::create(const VulkanContext
   instance_info.ppEnabledLayerNames = layers.data();
   instance_info.enabledExtensionCount = static_cast<uint32_t>(extensions.size());
   instance_info.ppEnabledExtensionNames = extensions.data();
-  if (VkResult r = vkCreateInstance(&instance_info, nullptr, &ctx->instance); r != VK_SUCCESS)
+  if (VkResult r = vkCreateInstance(&instance_info, nullptr, &instance); r != VK_SUCCESS)
     return vk_error("vkCreateInstance", r);
   if (validation) {
     auto create_messenger = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
-        vkGetInstanceProcAddr(ctx->instance, "vkCreateDebugUtilsMessengerEXT"));
-    if (VkResult r = create_messenger(ctx->instance, &messenger_info, nullptr, &ctx->messenger_);
-        r != VK_SUCCESS)
+        vkGetInstanceProcAddr(instance, "vkCreateDebugUtilsMessengerEXT"));
+    if (VkResult r = create_messenger(instance, &messenger_info, nullptr, &messenger_); r != VK_SUCCESS)
       return vk_error("vkCreateDebugUtilsMessengerEXT", r);
   }
+  return {};
+}
 
+Result<void> VulkanContext::choose_physical_device(const VulkanContextOptions& options) {
   uint32_t count = 0;
-  vkEnumeratePhysicalDevices(ctx->instance, &count, nullptr);
+  vkEnumeratePhysicalDevices(instance, &count, nullptr);
   std::vector<VkPhysicalDevice> devices(count);
-  vkEnumeratePhysicalDevices(ctx->instance, &count, devices.data());
+  vkEnumeratePhysicalDevices(instance, &count, devices.data());
   std::string seen;
   if (options.device_index >= 0 && size_t(options.device_index) >= devices.size())
     return Error{ErrorCode::unsupported, "there is no Vulkan device " + std::to_string(options.device_index) +
@@ -102,44 +111,44 @@ Result<std::unique_ptr<VulkanContext>> VulkanContext::create(const VulkanContext
       continue;
     }
     if (options.require_lavapipe && driver.driverID != VK_DRIVER_ID_MESA_LLVMPIPE) continue;
-    ctx->physical_device = pd;
-    ctx->device_name = props.properties.deviceName;
-    ctx->driver_name = std::string(driver.driverName) + " " + driver.driverInfo;
+    physical_device = pd;
+    device_name = props.properties.deviceName;
+    driver_name = std::string(driver.driverName) + " " + driver.driverInfo;
     break;
   }
-  if (!ctx->physical_device)
+  if (!physical_device)
     return Error{
         ErrorCode::unsupported,
         std::string(options.require_lavapipe ? "no lavapipe device (apt-get install mesa-vulkan-drivers)"
                                              : "no Vulkan 1.3 device") +
             "; devices seen: " + (seen.empty() ? "none" : seen)};
 
-  vkGetPhysicalDeviceQueueFamilyProperties(ctx->physical_device, &count, nullptr);
+  vkGetPhysicalDeviceQueueFamilyProperties(physical_device, &count, nullptr);
   std::vector<VkQueueFamilyProperties> families(count);
-  vkGetPhysicalDeviceQueueFamilyProperties(ctx->physical_device, &count, families.data());
-  bool found_queue = false;
+  vkGetPhysicalDeviceQueueFamilyProperties(physical_device, &count, families.data());
   for (uint32_t i = 0; i < count; ++i) {
     if ((families[i].queueFlags & (VK_QUEUE_GRAPHICS_BIT | VK_QUEUE_COMPUTE_BIT)) ==
         (VK_QUEUE_GRAPHICS_BIT | VK_QUEUE_COMPUTE_BIT)) {
-      ctx->queue_family = i;
-      found_queue = true;
-      break;
+      queue_family = i;
+      return {};
     }
   }
-  if (!found_queue) return Error{ErrorCode::unsupported, "no queue family with graphics and compute"};
+  return Error{ErrorCode::unsupported, "no queue family with graphics and compute"};
+}
 
+Result<void> VulkanContext::create_device(const VulkanContextOptions& options) {
   VkPhysicalDeviceVulkan13Features features13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
   features13.dynamicRendering = VK_TRUE;
   VkPhysicalDeviceFeatures2 features{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &features13};
   if (options.enable_supported_features) {
-    vkGetPhysicalDeviceFeatures(ctx->physical_device, &features.features);
+    vkGetPhysicalDeviceFeatures(physical_device, &features.features);
     // Robust buffer access changes behaviour and costs speed; nothing archived needs it.
     features.features.robustBufferAccess = VK_FALSE;
   }
-  ctx->enabled_features = features.features;
+  enabled_features = features.features;
   const float priority = 1.0f;
   VkDeviceQueueCreateInfo queue_info{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
-  queue_info.queueFamilyIndex = ctx->queue_family;
+  queue_info.queueFamilyIndex = queue_family;
   queue_info.queueCount = 1;
   queue_info.pQueuePriorities = &priority;
   std::vector<const char*> device_extensions;
@@ -150,15 +159,23 @@ Result<std::unique_ptr<VulkanContext>> VulkanContext::create(const VulkanContext
   device_info.pQueueCreateInfos = &queue_info;
   device_info.enabledExtensionCount = static_cast<uint32_t>(device_extensions.size());
   device_info.ppEnabledExtensionNames = device_extensions.data();
-  if (VkResult r = vkCreateDevice(ctx->physical_device, &device_info, nullptr, &ctx->device); r != VK_SUCCESS)
+  if (VkResult r = vkCreateDevice(physical_device, &device_info, nullptr, &device); r != VK_SUCCESS)
     return vk_error("vkCreateDevice", r);
-  vkGetDeviceQueue(ctx->device, ctx->queue_family, 0, &ctx->queue);
+  vkGetDeviceQueue(device, queue_family, 0, &queue);
   VkCommandPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
   pool_info.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
-  pool_info.queueFamilyIndex = ctx->queue_family;
-  if (VkResult r = vkCreateCommandPool(ctx->device, &pool_info, nullptr, &ctx->command_pool); r != VK_SUCCESS)
+  pool_info.queueFamilyIndex = queue_family;
+  if (VkResult r = vkCreateCommandPool(device, &pool_info, nullptr, &command_pool); r != VK_SUCCESS)
     return vk_error("vkCreateCommandPool", r);
-  return ctx;
+  return {};
+}
+
+DeviceContext VulkanContext::device_context() const {
+  DeviceContext context{physical_device, device};
+  context.enabled_features = &enabled_features;
+  context.instance = instance;
+  context.get_instance_proc_addr = vkGetInstanceProcAddr;
+  return context;
 }
 
 void VulkanContext::destroy_device() {
@@ -349,4 +366,4 @@ Result<std::unique_ptr<StorageBufferSet>> bind_storage_buffer(VulkanContext& vk,
   return out;
 }
 
-}  // namespace statepack::samples
+}  // namespace statepack::bootstrap

@@ -10,9 +10,10 @@
 #include <string>
 #include <vector>
 
+#include "statepack/dearchiver.hpp"
 #include "statepack/result.hpp"
 
-namespace statepack::samples {
+namespace statepack::bootstrap {
 
 struct VulkanContextOptions {
   bool validation = true;              // enable VK_LAYER_KHRONOS_validation (an error when it is missing)
@@ -41,6 +42,10 @@ class VulkanContext {
   bool validation_enabled = false;
   VkPhysicalDeviceFeatures enabled_features{};  // what the device was created with
 
+  // The Dearchiver's view of this device: its handles, the features it was created with, and this
+  // context's loader as the dispatch (as an engine hands over its own).
+  DeviceContext device_context() const;
+
   // Destroys the device while the messenger still listens, so objects left alive are reported
   // (tests call this before checking validation_messages()).
   void destroy_device();
@@ -56,6 +61,10 @@ class VulkanContext {
 
  private:
   VulkanContext() = default;
+  // The steps of create(), in order.
+  Result<void> create_instance(const VulkanContextOptions& options);
+  Result<void> choose_physical_device(const VulkanContextOptions& options);
+  Result<void> create_device(const VulkanContextOptions& options);
   static VKAPI_ATTR VkBool32 VKAPI_CALL on_message(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
                                                    VkDebugUtilsMessageTypeFlagsEXT types,
                                                    const VkDebugUtilsMessengerCallbackDataEXT* data,
@@ -106,4 +115,4 @@ struct StorageBufferSet {
 Result<std::unique_ptr<StorageBufferSet>> bind_storage_buffer(VulkanContext& vk, VkDescriptorSetLayout layout,
                                                               uint32_t binding, VkBuffer buffer);
 
-}  // namespace statepack::samples
+}  // namespace statepack::bootstrap

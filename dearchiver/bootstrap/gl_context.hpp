@@ -14,7 +14,7 @@
 
 #include "statepack/result.hpp"
 
-namespace statepack::samples {
+namespace statepack::bootstrap {
 
 struct GlContextOptions {
   bool debug = true;              // a debug context with the message callback (synchronous output)
@@ -51,4 +51,4 @@ class GlContext {
   std::vector<std::string> messages_;
 };
 
-}  // namespace statepack::samples
+}  // namespace statepack::bootstrap

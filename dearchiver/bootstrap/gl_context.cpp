@@ -3,7 +3,7 @@
 
 #include <cstdio>
 
-namespace statepack::samples {
+namespace statepack::bootstrap {
 
 namespace {
 
@@ -112,4 +112,4 @@ void GLAPIENTRY GlContext::on_message(GLenum, GLenum type, GLuint id, GLenum sev
                             "): " + text);
 }
 
-}  // namespace statepack::samples
+}  // namespace statepack::bootstrap
