@@ -983,7 +983,10 @@ std::vector<uint8_t> encode(const Contents& input) {
   return out;
 }
 
-Result<Contents> decode(std::span<const uint8_t> file) {
+namespace {
+
+// The fixed 64-byte header, before anything it points at is read.
+Result<void> check_header(std::span<const uint8_t> file) {
   if (reinterpret_cast<uintptr_t>(file.data()) % 4 != 0)
     return Error{ErrorCode::misaligned_memory,
                  "archive memory must be 4-byte aligned to hand SPIR-V to Vulkan"};
@@ -1010,17 +1013,15 @@ Result<Contents> decode(std::span<const uint8_t> file) {
   if (!kFuzzing && archive_checksum(file) != get_u64(h + kChecksumOffset))
     return Error{ErrorCode::checksum_mismatch, "archive checksum mismatch: the file is damaged"};
   if (header_size < kHeaderSize || header_size > file.size()) return corrupt("bad header size");
+  return {};
+}
 
-  Contents c;
-  c.format_version = version;
-  c.producer_version = get_u32(h + 20);
-  c.content_version = get_u32(h + 24);
-  c.backends = get_u32(h + 28);
-  uint32_t section_count = get_u32(h + 48), table = get_u32(h + 52);
+// The section table into r.sections; the header has been checked.
+Result<void> read_section_table(std::span<const uint8_t> file, Reader& r) {
+  const uint8_t* h = file.data();
+  uint32_t header_size = get_u32(h + 16), section_count = get_u32(h + 48), table = get_u32(h + 52);
   if (table < header_size || table % 4 != 0 || uint64_t(table) + uint64_t(section_count) * 16 > file.size())
     return corrupt("section table outside the file");
-
-  Reader r{file, {}};
   for (uint32_t i = 0; i < section_count; ++i) {
     const uint8_t* e = file.data() + table + 16 * i;
     Section s{get_u32(e + 4), get_u32(e + 8), get_u32(e + 12)};
@@ -1029,27 +1030,36 @@ Result<Contents> decode(std::span<const uint8_t> file) {
     if (!r.sections.emplace(get_u32(e), s).second)
       return corrupt("section " + std::to_string(i) + " is repeated");
   }
-  auto check = [&](uint32_t tag, uint32_t record) -> Result<void> {
-    char name[5] = {char(tag), char(tag >> 8), char(tag >> 16), char(tag >> 24), 0};
-    auto it = r.sections.find(tag);
-    if (it == r.sections.end()) return corrupt(std::string("missing section ") + name);
-    if (record != 0 && uint64_t(it->second.count) * record != it->second.size)
-      return corrupt(std::string("section ") + name + " size does not match its record count");
-    return {};
-  };
+  return {};
+}
+
+// Section TAG is present and, when it holds records of RECORD bytes, exactly its count of them.
+Result<void> check_section(const Reader& r, uint32_t tag, uint32_t record) {
+  char name[5] = {char(tag), char(tag >> 8), char(tag >> 16), char(tag >> 24), 0};
+  auto it = r.sections.find(tag);
+  if (it == r.sections.end()) return corrupt(std::string("missing section ") + name);
+  if (record != 0 && uint64_t(it->second.count) * record != it->second.size)
+    return corrupt(std::string("section ") + name + " size does not match its record count");
+  return {};
+}
+
+// The sections every format version has.
+Result<void> check_required_sections(const Reader& r) {
   Result<void> ok;
   for (auto [tag, size] : {std::pair{kTagStrings, 0u},
                            {kTagData, 0u},
                            {kTagBlobs, 16u},
                            {kTagIndices, 4u},
                            {kTagStandalone, 4u}})
-    if (ok = check(tag, size); !ok) return ok.error();
+    if (ok = check_section(r, tag, size); !ok) return ok.error();
   for_each_record_type([&](auto record) {
-    if (ok) ok = check(Tag<decltype(record)>::value, record_size<decltype(record)>());
+    if (ok) ok = check_section(r, Tag<decltype(record)>::value, record_size<decltype(record)>());
   });
-  if (!ok) return ok.error();
+  return ok;
+}
 
-  // Blobs: inside DATA, aligned, a whole number of SPIR-V words, content hash matching.
+// Blobs: inside DATA, aligned, a whole number of SPIR-V words, content hash matching.
+Result<void> read_spirv_blobs(std::span<const uint8_t> file, Reader& r, Contents& c) {
   const Section& data = r.sections[kTagData];
   const Section& blobs = r.sections[kTagBlobs];
   for (uint32_t i = 0; i < blobs.count; ++i) {
@@ -1065,6 +1075,77 @@ Result<Contents> decode(std::span<const uint8_t> file) {
     if (get_u32(bytes.data()) != kSpirvMagic) return corrupt("blob " + std::to_string(i) + " is not SPIR-V");
     c.spirv.emplace_back(reinterpret_cast<const uint32_t*>(bytes.data()), size / 4);
   }
+  return {};
+}
+
+// Format 2's PEXT (with its SPEC pool), one record per pipeline; absent in format 1.
+Result<void> read_pipeline_extras(Reader& r, Contents& c) {
+  if (!r.sections.count(Tag<PipelineExtras>::value)) {
+    for (auto& p : c.pipelines) p.dynamic_states = p.kind == PipelineKind::graphics ? kDynamicLegacy : 0;
+    return {};
+  }
+  for (auto [tag, size] : {std::pair{Tag<PipelineExtras>::value, record_size<PipelineExtras>()},
+                           std::pair{Tag<SpecConstant>::value, record_size<SpecConstant>()}})
+    if (auto valid = check_section(r, tag, size); !valid) return valid.error();
+  if (r.sections[Tag<PipelineExtras>::value].count != c.pipelines.size())
+    return corrupt("section PEXT does not have one record per pipeline");
+  std::vector<PipelineExtras> extras = r.all<PipelineExtras>("pipeline extension");
+  for (size_t i = 0; i < extras.size() && !r.problem; ++i) {
+    c.pipelines[i].dynamic_states = extras[i].dynamic_states;
+    c.pipelines[i].constants = std::move(extras[i].constants);
+  }
+  return {};
+}
+
+// TESS (format 3) and GLTS (format 4): one record per pipeline of their list, present only when one
+// of them tessellates.
+template <class Record, class P>
+Result<void> read_patch_control_points(Reader& r, std::vector<P>& pipelines, const char* section,
+                                       const std::string& kind, const char* label) {
+  if (!r.sections.count(Tag<Record>::value)) return {};
+  if (auto valid = check_section(r, Tag<Record>::value, record_size<Record>()); !valid) return valid;
+  if (r.sections[Tag<Record>::value].count != pipelines.size())
+    return corrupt(std::string("section ") + section + " does not have one record per " + kind + "pipeline");
+  std::vector<Record> points = r.all<Record>(label);
+  for (size_t i = 0; i < points.size() && !r.problem; ++i) {
+    if (pipelines[i].kind != PipelineKind::graphics && points[i].patch_control_points != 0)
+      return corrupt(kind + "compute pipeline '" + pipelines[i].name + "' has patch control points");
+    pipelines[i].graphics.patch_control_points = points[i].patch_control_points;
+  }
+  return {};
+}
+
+// The OpenGL block: all three sections or none. Its constants are in the SPEC pool, whose size is
+// checked here too (an archive without PEXT has not checked it).
+Result<void> read_gl_block(Reader& r, Contents& c) {
+  if (!r.sections.count(Tag<GlPipeline>::value)) return {};
+  if (auto valid = check_section(r, Tag<SpecConstant>::value, record_size<SpecConstant>()); !valid)
+    return valid.error();
+  Result<void> present;
+  for_each_gl_record_type([&](auto record) {
+    if (present) present = check_section(r, Tag<decltype(record)>::value, record_size<decltype(record)>());
+  });
+  if (!present) return present.error();
+  c.gl_pipelines = r.all<GlPipeline>("OpenGL pipeline");
+  return read_patch_control_points<GlPipelineTessellation>(r, c.gl_pipelines, "GLTS", "OpenGL ",
+                                                           "OpenGL tessellation");
+}
+
+}  // namespace
+
+Result<Contents> decode(std::span<const uint8_t> file) {
+  if (auto valid = check_header(file); !valid) return valid.error();
+  const uint8_t* h = file.data();
+  Contents c;
+  c.format_version = get_u32(h + 8);
+  c.producer_version = get_u32(h + 20);
+  c.content_version = get_u32(h + 24);
+  c.backends = get_u32(h + 28);
+
+  Reader r{file, {}};
+  if (auto read = read_section_table(file, r); !read) return read.error();
+  if (auto valid = check_required_sections(r); !valid) return valid.error();
+  if (auto read = read_spirv_blobs(file, r, c); !read) return read.error();
   const Section& standalone = r.sections[kTagStandalone];
   for (uint32_t i = 0; i < standalone.count; ++i)
     c.standalone_shaders.push_back(get_u32(file.data() + standalone.offset + 4 * i));
@@ -1075,59 +1156,12 @@ Result<Contents> decode(std::span<const uint8_t> file) {
   c.set_layouts = r.all<SetLayout>("set layout");
   c.render_passes = r.all<RenderPass>("render pass");
   c.pipelines = r.all<Pipeline>("pipeline");
-  // Format 2's PEXT (with its SPEC pool), one record per pipeline; absent in format 1.
-  if (r.sections.count(Tag<PipelineExtras>::value)) {
-    for (auto [tag, size] : {std::pair{Tag<PipelineExtras>::value, record_size<PipelineExtras>()},
-                             std::pair{Tag<SpecConstant>::value, record_size<SpecConstant>()}})
-      if (auto valid = check(tag, size); !valid) return valid.error();
-    if (r.sections[Tag<PipelineExtras>::value].count != c.pipelines.size())
-      return corrupt("section PEXT does not have one record per pipeline");
-    std::vector<PipelineExtras> extras = r.all<PipelineExtras>("pipeline extension");
-    for (size_t i = 0; i < extras.size() && !r.problem; ++i) {
-      c.pipelines[i].dynamic_states = extras[i].dynamic_states;
-      c.pipelines[i].constants = std::move(extras[i].constants);
-    }
-  } else {
-    for (auto& p : c.pipelines) p.dynamic_states = p.kind == PipelineKind::graphics ? kDynamicLegacy : 0;
-  }
-  // TESS (format 3) and GLTS (format 4): one record per pipeline of their list, present only when one
-  // of them tessellates.
-  auto read_patch_control_points = [&](auto record, auto& pipelines, const char* section,
-                                       const std::string& kind, const char* label) -> Result<void> {
-    using Record = decltype(record);
-    if (!r.sections.count(Tag<Record>::value)) return {};
-    if (auto valid = check(Tag<Record>::value, record_size<Record>()); !valid) return valid;
-    if (r.sections[Tag<Record>::value].count != pipelines.size())
-      return corrupt(std::string("section ") + section + " does not have one record per " + kind +
-                     "pipeline");
-    std::vector<Record> points = r.all<Record>(label);
-    for (size_t i = 0; i < points.size() && !r.problem; ++i) {
-      if (pipelines[i].kind != PipelineKind::graphics && points[i].patch_control_points != 0)
-        return corrupt(kind + "compute pipeline '" + pipelines[i].name + "' has patch control points");
-      pipelines[i].graphics.patch_control_points = points[i].patch_control_points;
-    }
-    return {};
-  };
-  if (auto read =
-          read_patch_control_points(PipelineTessellation{}, c.pipelines, "TESS", "", "pipeline tessellation");
+  if (auto read = read_pipeline_extras(r, c); !read) return read.error();
+  if (auto read = read_patch_control_points<PipelineTessellation>(r, c.pipelines, "TESS", "",
+                                                                  "pipeline tessellation");
       !read)
     return read.error();
-  // The OpenGL block: all three sections or none. Its constants are in the SPEC pool, whose size is
-  // checked here too (an archive without PEXT has not checked it).
-  if (r.sections.count(Tag<GlPipeline>::value)) {
-    if (auto valid = check(Tag<SpecConstant>::value, record_size<SpecConstant>()); !valid)
-      return valid.error();
-    Result<void> present;
-    for_each_gl_record_type([&](auto record) {
-      if (present) present = check(Tag<decltype(record)>::value, record_size<decltype(record)>());
-    });
-    if (!present) return present.error();
-    c.gl_pipelines = r.all<GlPipeline>("OpenGL pipeline");
-    if (auto read = read_patch_control_points(GlPipelineTessellation{}, c.gl_pipelines, "GLTS", "OpenGL ",
-                                              "OpenGL tessellation");
-        !read)
-      return read.error();
-  }
+  if (auto read = read_gl_block(r, c); !read) return read.error();
   if (r.problem) return corrupt(*r.problem);
   if (auto valid = validate(c); !valid) return valid.error();
   return c;

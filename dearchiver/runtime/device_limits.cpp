@@ -414,12 +414,11 @@ Result<void> check_pipeline_layout(const format::Contents& c, const format::Pipe
   return {};
 }
 
-Result<void> check_graphics_state(const format::Contents& c, const format::Pipeline& p,
-                                  const GraphicsTargets& t, const DeviceCaps& caps,
-                                  const ModuleOf& module_of) {
+namespace {
+
+Result<void> check_vertex_input(const format::GraphicsState& g, const std::string& who,
+                                const DeviceCaps& caps) {
   const VkPhysicalDeviceLimits& l = caps.properties.limits;
-  const std::string who = "pipeline '" + p.name + "'";
-  const format::GraphicsState& g = p.graphics;
   if (g.vertex_bindings.size() > l.maxVertexInputBindings)
     return over_limit(who, "the vertex binding count", g.vertex_bindings.size(), "maxVertexInputBindings",
                       l.maxVertexInputBindings);
@@ -456,84 +455,100 @@ Result<void> check_graphics_state(const format::Contents& c, const format::Pipel
                                                std::to_string(a.format) +
                                                ", which the device cannot read vertices from"};
   }
-  if (t.color_count > l.maxColorAttachments)
-    return over_limit(who, "the color attachment count", t.color_count, "maxColorAttachments",
-                      l.maxColorAttachments);
-  const bool dynamic_rendering = p.render_pass == format::kNone;
-  if (dynamic_rendering) {
-    for (uint32_t i = 0; i < t.color_count; ++i) {
-      if (t.color_formats[i] == VK_FORMAT_UNDEFINED) continue;
-      const VkFormatProperties f = caps.format(t.color_formats[i]);
-      if (!supports(f, VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BIT))
-        return Error{ErrorCode::unsupported, who + ": render target " + std::to_string(i) + " has format " +
-                                                 std::to_string(t.color_formats[i]) +
-                                                 ", which the device cannot render to"};
-      if (t.blend_enabled[i] && !supports(f, VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BLEND_BIT))
-        return Error{ErrorCode::unsupported, who + ": render target " + std::to_string(i) +
-                                                 " blends format " + std::to_string(t.color_formats[i]) +
-                                                 ", which the device cannot blend"};
-    }
-    if (t.depth_stencil_format != VK_FORMAT_UNDEFINED &&
-        !supports(caps.format(t.depth_stencil_format), VK_FORMAT_FEATURE_DEPTH_STENCIL_ATTACHMENT_BIT))
-      return Error{ErrorCode::unsupported, who + ": depth-stencil format " +
-                                               std::to_string(t.depth_stencil_format) +
-                                               " cannot be rendered to on this device"};
-    if (t.depth_stencil_format != VK_FORMAT_UNDEFINED && !(l.framebufferDepthSampleCounts & t.samples))
-      return Error{ErrorCode::unsupported, who + " renders depth with " + std::to_string(t.samples) +
-                                               " samples, which the device does not support"};
-  } else {
-    // The render pass fixes the attachments: the pipeline must agree with its subpass.
-    const format::RenderPass& pass = c.render_passes[p.render_pass];
-    const format::Subpass& sp = pass.subpasses[p.subpass];
-    if (t.color_count != sp.colors.size())
-      return Error{ErrorCode::corrupt, who + " blends " + std::to_string(t.color_count) +
-                                           " render target(s), but its subpass " + std::to_string(p.subpass) +
-                                           " of render pass '" + pass.name + "' has " +
-                                           std::to_string(sp.colors.size())};
-    std::vector<format::AttachmentRef> used(sp.colors.begin(), sp.colors.end());
-    used.push_back(sp.depth_stencil);
-    for (const auto& r : used)
-      if (r.attachment != format::kNone && pass.attachments[r.attachment].samples != t.samples)
-        return Error{ErrorCode::corrupt, who + " renders with " + std::to_string(t.samples) +
-                                             " samples, but attachment " + std::to_string(r.attachment) +
-                                             " of render pass '" + pass.name + "' has " +
-                                             std::to_string(pass.attachments[r.attachment].samples)};
-    for (uint32_t i = 0; i < t.color_count; ++i)
-      if (t.blend_enabled[i] && sp.colors[i].attachment != format::kNone &&
-          !supports(caps.format(pass.attachments[sp.colors[i].attachment].format),
-                    VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BLEND_BIT))
-        return Error{ErrorCode::unsupported, who + ": render target " + std::to_string(i) +
-                                                 " blends a format the device cannot blend"};
+  return {};
+}
+
+// Without a render pass the pipeline's own formats are the attachments: the device must render to them.
+Result<void> check_dynamic_rendering_targets(const GraphicsTargets& t, const std::string& who,
+                                             const DeviceCaps& caps) {
+  const VkPhysicalDeviceLimits& l = caps.properties.limits;
+  for (uint32_t i = 0; i < t.color_count; ++i) {
+    if (t.color_formats[i] == VK_FORMAT_UNDEFINED) continue;
+    const VkFormatProperties f = caps.format(t.color_formats[i]);
+    if (!supports(f, VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BIT))
+      return Error{ErrorCode::unsupported, who + ": render target " + std::to_string(i) + " has format " +
+                                               std::to_string(t.color_formats[i]) +
+                                               ", which the device cannot render to"};
+    if (t.blend_enabled[i] && !supports(f, VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BLEND_BIT))
+      return Error{ErrorCode::unsupported, who + ": render target " + std::to_string(i) + " blends format " +
+                                               std::to_string(t.color_formats[i]) +
+                                               ", which the device cannot blend"};
   }
-  // Points need a PointSize from the last stage before rasterization (here only the vertex stage can
-  // be: geometry and tessellation shaders leave it to their own output).
+  if (t.depth_stencil_format != VK_FORMAT_UNDEFINED &&
+      !supports(caps.format(t.depth_stencil_format), VK_FORMAT_FEATURE_DEPTH_STENCIL_ATTACHMENT_BIT))
+    return Error{ErrorCode::unsupported, who + ": depth-stencil format " +
+                                             std::to_string(t.depth_stencil_format) +
+                                             " cannot be rendered to on this device"};
+  if (t.depth_stencil_format != VK_FORMAT_UNDEFINED && !(l.framebufferDepthSampleCounts & t.samples))
+    return Error{ErrorCode::unsupported, who + " renders depth with " + std::to_string(t.samples) +
+                                             " samples, which the device does not support"};
+  return {};
+}
+
+// The render pass fixes the attachments: the pipeline must agree with its subpass.
+Result<void> check_subpass_targets(const format::Contents& c, const format::Pipeline& p,
+                                   const GraphicsTargets& t, const std::string& who, const DeviceCaps& caps) {
+  const format::RenderPass& pass = c.render_passes[p.render_pass];
+  const format::Subpass& sp = pass.subpasses[p.subpass];
+  if (t.color_count != sp.colors.size())
+    return Error{ErrorCode::corrupt, who + " blends " + std::to_string(t.color_count) +
+                                         " render target(s), but its subpass " + std::to_string(p.subpass) +
+                                         " of render pass '" + pass.name + "' has " +
+                                         std::to_string(sp.colors.size())};
+  std::vector<format::AttachmentRef> used(sp.colors.begin(), sp.colors.end());
+  used.push_back(sp.depth_stencil);
+  for (const auto& r : used)
+    if (r.attachment != format::kNone && pass.attachments[r.attachment].samples != t.samples)
+      return Error{ErrorCode::corrupt, who + " renders with " + std::to_string(t.samples) +
+                                           " samples, but attachment " + std::to_string(r.attachment) +
+                                           " of render pass '" + pass.name + "' has " +
+                                           std::to_string(pass.attachments[r.attachment].samples)};
+  for (uint32_t i = 0; i < t.color_count; ++i)
+    if (t.blend_enabled[i] && sp.colors[i].attachment != format::kNone &&
+        !supports(caps.format(pass.attachments[sp.colors[i].attachment].format),
+                  VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BLEND_BIT))
+      return Error{ErrorCode::unsupported,
+                   who + ": render target " + std::to_string(i) + " blends a format the device cannot blend"};
+  return {};
+}
+
+// Points need a PointSize from the last stage before rasterization (here only the vertex stage can
+// be: geometry and tessellation shaders leave it to their own output).
+Result<void> check_point_size(const format::Contents& c, const format::Pipeline& p, const std::string& who,
+                              const ModuleOf& module_of) {
   uint32_t stages = 0;
   for (uint32_t index : p.shaders) stages |= c.shaders[index].stage;
-  if (g.topology == VK_PRIMITIVE_TOPOLOGY_POINT_LIST &&
-      !(stages & (VK_SHADER_STAGE_GEOMETRY_BIT | VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT))) {
-    for (uint32_t index : p.shaders) {
-      const format::Shader& shader = c.shaders[index];
-      if (shader.stage != VK_SHADER_STAGE_VERTEX_BIT) continue;
-      const spirv::Module* module = module_of(shader.blob);
-      if (!module) return Error{ErrorCode::corrupt, "shader '" + shader.name + "' has no readable SPIR-V"};
-      if (!module->writes_point_size)
-        return Error{ErrorCode::corrupt, who + " draws points, but its vertex shader '" + shader.name +
-                                             "' does not write PointSize"};
-    }
+  if (p.graphics.topology != VK_PRIMITIVE_TOPOLOGY_POINT_LIST ||
+      (stages & (VK_SHADER_STAGE_GEOMETRY_BIT | VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT)))
+    return {};
+  for (uint32_t index : p.shaders) {
+    const format::Shader& shader = c.shaders[index];
+    if (shader.stage != VK_SHADER_STAGE_VERTEX_BIT) continue;
+    const spirv::Module* module = module_of(shader.blob);
+    if (!module) return Error{ErrorCode::corrupt, "shader '" + shader.name + "' has no readable SPIR-V"};
+    if (!module->writes_point_size)
+      return Error{ErrorCode::corrupt, who + " draws points, but its vertex shader '" + shader.name +
+                                           "' does not write PointSize"};
   }
-  // Vertex inputs and fragment outputs against the formats they meet.
+  return {};
+}
+
+// Vertex inputs and fragment outputs against the formats they meet.
+Result<void> check_interface_formats(const format::Contents& c, const format::Pipeline& p,
+                                     const GraphicsTargets& t, const std::string& who,
+                                     const ModuleOf& module_of) {
   for (uint32_t index : p.shaders) {
     const format::Shader& shader = c.shaders[index];
     if (shader.stage != VK_SHADER_STAGE_VERTEX_BIT && shader.stage != VK_SHADER_STAGE_FRAGMENT_BIT) continue;
     const spirv::Module* module = module_of(shader.blob);
     if (!module) return Error{ErrorCode::corrupt, "shader '" + shader.name + "' has no readable SPIR-V"};
     if (shader.stage == VK_SHADER_STAGE_VERTEX_BIT) {
-      for (const auto& a : g.vertex_attributes)
+      for (const auto& a : p.graphics.vertex_attributes)
         if (auto ok = check_numeric(module->inputs, a.location, a.format,
                                     who + ": the vertex attribute at location " + std::to_string(a.location));
             !ok)
           return ok;
-    } else if (dynamic_rendering) {
+    } else if (p.render_pass == format::kNone) {
       for (uint32_t i = 0; i < t.color_count; ++i)
         if (auto ok = check_numeric(module->outputs, i, t.color_formats[i],
                                     who + ": render target " + std::to_string(i));
@@ -551,6 +566,26 @@ Result<void> check_graphics_state(const format::Contents& c, const format::Pipel
     }
   }
   return {};
+}
+
+}  // namespace
+
+Result<void> check_graphics_state(const format::Contents& c, const format::Pipeline& p,
+                                  const GraphicsTargets& t, const DeviceCaps& caps,
+                                  const ModuleOf& module_of) {
+  const VkPhysicalDeviceLimits& l = caps.properties.limits;
+  const std::string who = "pipeline '" + p.name + "'";
+  if (auto ok = check_vertex_input(p.graphics, who, caps); !ok) return ok;
+  if (t.color_count > l.maxColorAttachments)
+    return over_limit(who, "the color attachment count", t.color_count, "maxColorAttachments",
+                      l.maxColorAttachments);
+  const bool dynamic_rendering = p.render_pass == format::kNone;
+  if (auto ok = dynamic_rendering ? check_dynamic_rendering_targets(t, who, caps)
+                                  : check_subpass_targets(c, p, t, who, caps);
+      !ok)
+    return ok;
+  if (auto ok = check_point_size(c, p, who, module_of); !ok) return ok;
+  return check_interface_formats(c, p, t, who, module_of);
 }
 
 }  // namespace statepack

@@ -352,6 +352,115 @@ Json contents_json(const format::Contents& c, size_t size) {
   return j;
 }
 
+// A Vulkan pipeline's graphics state: the summary line, then raster, depth, stencil, multisample and
+// each target's blend.
+void print_graphics_text(const Json& g, std::ostream& out) {
+  out << "  " << g["topology"].get<std::string>();
+  if (g.contains("patch_control_points")) out << " of " << g["patch_control_points"].get<uint32_t>();
+  out << ", cull " << g["cull_mode"].get<std::string>() << ", depth test "
+      << (g["depth_test"].get<bool>() ? "on" : "off") << ", targets:";
+  for (const auto& t : g["render_targets"])
+    out << " "
+        << (t["format"] == "Undefined" ? std::string("UNKNOWN (set at unpack)")
+                                       : t["format"].get<std::string>());
+  if (g.contains("run_time_render_targets")) {
+    out << " + set at run time:";
+    for (const auto& l : g["run_time_render_targets"]) out << " " << l.get<uint32_t>();
+  }
+  if (g["render_pass"] != "none") out << ", render pass '" << text(g["render_pass"]) << "'";
+  out << "\n";
+  out << "    raster: " << g["polygon_mode"].get<std::string>() << ", front face "
+      << g["front_face"].get<std::string>() << ", depth clamp "
+      << (g["depth_clamp"].get<bool>() ? "on" : "off") << ", depth bias "
+      << g["depth_bias"]["constant"].get<float>() << " (clamp " << g["depth_bias"]["clamp"].get<float>()
+      << ", slope " << g["depth_bias"]["slope"].get<float>() << ")\n";
+  out << "    depth: write " << (g["depth_write"].get<bool>() ? "on" : "off") << ", compare "
+      << g["depth_compare"].get<std::string>() << ", format " << g["depth_stencil_format"].get<std::string>()
+      << "\n";
+  const auto& st = g["stencil"];
+  auto ops = [](const Json& s) {
+    return s["compare"].get<std::string>() + " fail " + s["fail"].get<std::string>() + " pass " +
+           s["pass"].get<std::string>() + " depth-fail " + s["depth_fail"].get<std::string>();
+  };
+  out << "    stencil: " << (g["stencil_test"].get<bool>() ? "on" : "off") << ", read mask 0x" << std::hex
+      << st["read_mask"].get<uint32_t>() << ", write mask 0x" << st["write_mask"].get<uint32_t>() << std::dec
+      << ", front " << ops(st["front"]) << ", back " << ops(st["back"]) << "\n";
+  out << "    multisample: " << g["samples"].get<uint32_t>() << " sample(s), mask 0x" << std::hex
+      << g["sample_mask"].get<uint32_t>() << std::dec << ", alpha to coverage "
+      << (g["alpha_to_coverage"].get<bool>() ? "on" : "off") << "\n";
+  for (size_t i = 0; i < g["render_targets"].size(); ++i) {
+    const auto& t = g["render_targets"][i];
+    out << "    target " << i << ": blend " << (t["blend"].get<bool>() ? "on" : "off") << ", color "
+        << t["color"].get<std::string>() << ", alpha " << t["alpha"].get<std::string>() << ", write mask 0x"
+        << std::hex << t["write_mask"].get<uint32_t>() << std::dec << "\n";
+  }
+}
+
+void print_pipeline_text(const Json& p, std::ostream& out) {
+  out << "pipeline '" << text(p["name"]) << "' (" << p["kind"].get<std::string>() << ")\n";
+  for (const auto& s : p["shaders"])
+    out << "  " << s["stage"].get<std::string>() << ": '" << text(s["shader"]) << "', "
+        << s["size"].get<size_t>() << " bytes\n";
+  for (const auto& set : p["sets"]) {
+    if (!set.contains("bindings")) continue;
+    out << "  set " << set["set"].get<uint32_t>();
+    if (set.contains("signature")) out << " (signature '" << text(set["signature"]) << "')";
+    out << "\n";
+    for (const auto& b : set["bindings"])
+      out << "    binding " << b["binding"].get<uint32_t>() << ": '" << text(b["name"]) << "' "
+          << b["type"].get<std::string>() << " x" << b["count"].get<uint32_t>() << " " << b["stages"].dump()
+          << "\n";
+  }
+  if (p.contains("push_constants"))
+    out << "  push constants: " << p["push_constants"]["size"].get<uint32_t>() << " bytes\n";
+  if (p.contains("specialization_constants"))
+    for (const auto& k : p["specialization_constants"])
+      out << "  specialization constant '" << text(k["name"]) << "' (" << k["stage"].get<std::string>()
+          << ", id " << k["constant_id"].get<uint32_t>() << ", " << k["size"].get<uint32_t>()
+          << " bytes) = " << k["value"].get<std::string>() << "\n";
+  if (p.contains("dynamic_states")) {
+    out << "  dynamic:";
+    for (const auto& d : p["dynamic_states"]) out << " " << d.get<std::string>();
+    out << "\n";
+  }
+  if (p.contains("graphics")) print_graphics_text(p["graphics"], out);
+}
+
+void print_render_pass_text(const Json& r, std::ostream& out) {
+  out << "render pass '" << text(r["name"]) << "' (" << r["attachments"].size() << " attachments, "
+      << r["subpasses"].size() << " subpasses)\n";
+  for (size_t i = 0; i < r["attachments"].size(); ++i) {
+    const auto& a = r["attachments"][i];
+    out << "  attachment " << i << ": " << a["format"].get<std::string>() << " x"
+        << a["samples"].get<uint32_t>() << ", " << a["load"].get<std::string>() << "/"
+        << a["store"].get<std::string>() << ", stencil " << a["stencil_load"].get<std::string>() << "/"
+        << a["stencil_store"].get<std::string>() << ", " << a["initial_layout"].get<std::string>() << " -> "
+        << a["final_layout"].get<std::string>() << "\n";
+  }
+  auto subpass = [](const Json& s) { return s.is_string() ? s.get<std::string>() : s.dump(); };
+  for (const auto& d : r["dependencies"])
+    out << "  dependency " << subpass(d["src_subpass"]) << " -> " << subpass(d["dst_subpass"]) << ": stages "
+        << d["src_stages"].get<std::string>() << " -> " << d["dst_stages"].get<std::string>() << ", access "
+        << d["src_access"].get<std::string>() << " -> " << d["dst_access"].get<std::string>() << "\n";
+}
+
+void print_gl_pipeline_text(const Json& p, std::ostream& out) {
+  out << "OpenGL pipeline '" << text(p["name"]) << "' (" << p["kind"].get<std::string>() << ")\n";
+  for (const auto& s : p["shaders"])
+    out << "  " << s["stage"].get<std::string>() << ": '" << text(s["shader"]) << "', "
+        << s["size"].get<size_t>() << " bytes (blob " << s["blob"].get<uint32_t>() << ")\n";
+  for (const auto& b : p["bindings"])
+    out << "  " << b["kind"].get<std::string>() << " " << b["binding"].get<uint32_t>() << ": '"
+        << text(b["name"]) << "' x" << b["count"].get<uint32_t>() << " " << b["stages"].dump() << "\n";
+  if (p.contains("graphics")) {
+    const auto& g = p["graphics"];
+    out << "  " << g["topology"].get<std::string>() << ", cull " << g["cull_mode"].get<std::string>()
+        << ", front face " << g["front_face"].get<std::string>() << ", depth test "
+        << (g["depth_test"].get<bool>() ? "on" : "off") << ", " << g["render_targets"].size()
+        << " target(s)\n";
+  }
+}
+
 void print_text(const Json& j, std::ostream& out) {
   out << "format v" << j["format_version"].get<uint32_t>() << ", made by statepack "
       << j["producer_version"].get<std::string>() << ", content version "
@@ -363,115 +472,14 @@ void print_text(const Json& j, std::ostream& out) {
   for (size_t i = 0; i < j["spirv_blobs"].size(); ++i)
     out << "  SPIR-V blob " << i << ": " << j["spirv_blobs"][i]["size"].get<size_t>() << " bytes, XXH3 "
         << j["spirv_blobs"][i]["xxh3"].get<std::string>() << "\n";
-  for (const auto& p : j["pipelines"]) {
-    out << "pipeline '" << text(p["name"]) << "' (" << p["kind"].get<std::string>() << ")\n";
-    for (const auto& s : p["shaders"])
-      out << "  " << s["stage"].get<std::string>() << ": '" << text(s["shader"]) << "', "
-          << s["size"].get<size_t>() << " bytes\n";
-    for (const auto& set : p["sets"]) {
-      if (!set.contains("bindings")) continue;
-      out << "  set " << set["set"].get<uint32_t>();
-      if (set.contains("signature")) out << " (signature '" << text(set["signature"]) << "')";
-      out << "\n";
-      for (const auto& b : set["bindings"])
-        out << "    binding " << b["binding"].get<uint32_t>() << ": '" << text(b["name"]) << "' "
-            << b["type"].get<std::string>() << " x" << b["count"].get<uint32_t>() << " " << b["stages"].dump()
-            << "\n";
-    }
-    if (p.contains("push_constants"))
-      out << "  push constants: " << p["push_constants"]["size"].get<uint32_t>() << " bytes\n";
-    if (p.contains("specialization_constants"))
-      for (const auto& k : p["specialization_constants"])
-        out << "  specialization constant '" << text(k["name"]) << "' (" << k["stage"].get<std::string>()
-            << ", id " << k["constant_id"].get<uint32_t>() << ", " << k["size"].get<uint32_t>()
-            << " bytes) = " << k["value"].get<std::string>() << "\n";
-    if (p.contains("dynamic_states")) {
-      out << "  dynamic:";
-      for (const auto& d : p["dynamic_states"]) out << " " << d.get<std::string>();
-      out << "\n";
-    }
-    if (p.contains("graphics")) {
-      const auto& g = p["graphics"];
-      out << "  " << g["topology"].get<std::string>();
-      if (g.contains("patch_control_points")) out << " of " << g["patch_control_points"].get<uint32_t>();
-      out << ", cull " << g["cull_mode"].get<std::string>() << ", depth test "
-          << (g["depth_test"].get<bool>() ? "on" : "off") << ", targets:";
-      for (const auto& t : g["render_targets"])
-        out << " "
-            << (t["format"] == "Undefined" ? std::string("UNKNOWN (set at unpack)")
-                                           : t["format"].get<std::string>());
-      if (g.contains("run_time_render_targets")) {
-        out << " + set at run time:";
-        for (const auto& l : g["run_time_render_targets"]) out << " " << l.get<uint32_t>();
-      }
-      if (g["render_pass"] != "none") out << ", render pass '" << text(g["render_pass"]) << "'";
-      out << "\n";
-      out << "    raster: " << g["polygon_mode"].get<std::string>() << ", front face "
-          << g["front_face"].get<std::string>() << ", depth clamp "
-          << (g["depth_clamp"].get<bool>() ? "on" : "off") << ", depth bias "
-          << g["depth_bias"]["constant"].get<float>() << " (clamp " << g["depth_bias"]["clamp"].get<float>()
-          << ", slope " << g["depth_bias"]["slope"].get<float>() << ")\n";
-      out << "    depth: write " << (g["depth_write"].get<bool>() ? "on" : "off") << ", compare "
-          << g["depth_compare"].get<std::string>() << ", format "
-          << g["depth_stencil_format"].get<std::string>() << "\n";
-      const auto& st = g["stencil"];
-      auto ops = [](const Json& s) {
-        return s["compare"].get<std::string>() + " fail " + s["fail"].get<std::string>() + " pass " +
-               s["pass"].get<std::string>() + " depth-fail " + s["depth_fail"].get<std::string>();
-      };
-      out << "    stencil: " << (g["stencil_test"].get<bool>() ? "on" : "off") << ", read mask 0x" << std::hex
-          << st["read_mask"].get<uint32_t>() << ", write mask 0x" << st["write_mask"].get<uint32_t>()
-          << std::dec << ", front " << ops(st["front"]) << ", back " << ops(st["back"]) << "\n";
-      out << "    multisample: " << g["samples"].get<uint32_t>() << " sample(s), mask 0x" << std::hex
-          << g["sample_mask"].get<uint32_t>() << std::dec << ", alpha to coverage "
-          << (g["alpha_to_coverage"].get<bool>() ? "on" : "off") << "\n";
-      for (size_t i = 0; i < g["render_targets"].size(); ++i) {
-        const auto& t = g["render_targets"][i];
-        out << "    target " << i << ": blend " << (t["blend"].get<bool>() ? "on" : "off") << ", color "
-            << t["color"].get<std::string>() << ", alpha " << t["alpha"].get<std::string>()
-            << ", write mask 0x" << std::hex << t["write_mask"].get<uint32_t>() << std::dec << "\n";
-      }
-    }
-  }
+  for (const auto& p : j["pipelines"]) print_pipeline_text(p, out);
   for (const auto& s : j["resource_signatures"])
     out << "resource signature '" << text(s["name"]) << "' (set " << s["set"].get<uint32_t>() << ", "
         << s["bindings"].size() << " bindings)\n";
-  for (const auto& r : j["render_passes"]) {
-    out << "render pass '" << text(r["name"]) << "' (" << r["attachments"].size() << " attachments, "
-        << r["subpasses"].size() << " subpasses)\n";
-    for (size_t i = 0; i < r["attachments"].size(); ++i) {
-      const auto& a = r["attachments"][i];
-      out << "  attachment " << i << ": " << a["format"].get<std::string>() << " x"
-          << a["samples"].get<uint32_t>() << ", " << a["load"].get<std::string>() << "/"
-          << a["store"].get<std::string>() << ", stencil " << a["stencil_load"].get<std::string>() << "/"
-          << a["stencil_store"].get<std::string>() << ", " << a["initial_layout"].get<std::string>() << " -> "
-          << a["final_layout"].get<std::string>() << "\n";
-    }
-    auto subpass = [](const Json& s) { return s.is_string() ? s.get<std::string>() : s.dump(); };
-    for (const auto& d : r["dependencies"])
-      out << "  dependency " << subpass(d["src_subpass"]) << " -> " << subpass(d["dst_subpass"])
-          << ": stages " << d["src_stages"].get<std::string>() << " -> " << d["dst_stages"].get<std::string>()
-          << ", access " << d["src_access"].get<std::string>() << " -> " << d["dst_access"].get<std::string>()
-          << "\n";
-  }
+  for (const auto& r : j["render_passes"]) print_render_pass_text(r, out);
   for (const auto& s : j["standalone_shaders"]) out << "standalone shader '" << text(s) << "'\n";
   if (j.contains("opengl_pipelines"))
-    for (const auto& p : j["opengl_pipelines"]) {
-      out << "OpenGL pipeline '" << text(p["name"]) << "' (" << p["kind"].get<std::string>() << ")\n";
-      for (const auto& s : p["shaders"])
-        out << "  " << s["stage"].get<std::string>() << ": '" << text(s["shader"]) << "', "
-            << s["size"].get<size_t>() << " bytes (blob " << s["blob"].get<uint32_t>() << ")\n";
-      for (const auto& b : p["bindings"])
-        out << "  " << b["kind"].get<std::string>() << " " << b["binding"].get<uint32_t>() << ": '"
-            << text(b["name"]) << "' x" << b["count"].get<uint32_t>() << " " << b["stages"].dump() << "\n";
-      if (p.contains("graphics")) {
-        const auto& g = p["graphics"];
-        out << "  " << g["topology"].get<std::string>() << ", cull " << g["cull_mode"].get<std::string>()
-            << ", front face " << g["front_face"].get<std::string>() << ", depth test "
-            << (g["depth_test"].get<bool>() ? "on" : "off") << ", " << g["render_targets"].size()
-            << " target(s)\n";
-      }
-    }
+    for (const auto& p : j["opengl_pipelines"]) print_gl_pipeline_text(p, out);
 }
 
 }  // namespace

@@ -561,6 +561,152 @@ std::optional<SignatureDesc> read_signature(ReadContext& ctx, const Json& j, con
   return sig;
 }
 
+namespace {
+
+// One entry of 'pAttachments'; std::nullopt when it is not an object (already reported).
+std::optional<format::Attachment> read_attachment(ReadContext& ctx, const Json& a, const std::string& ap,
+                                                  size_t index) {
+  JsonReader& json = ctx.json;
+  if (!json.expect_object(a, ap, "an attachment")) return std::nullopt;
+  json.check_keys(a, ap, schema::kAttachment, "attachment");
+  format::Attachment att;
+  att.load_op = VK_ATTACHMENT_LOAD_OP_LOAD;
+  att.store_op = VK_ATTACHMENT_STORE_OP_STORE;
+  att.stencil_load_op = VK_ATTACHMENT_LOAD_OP_LOAD;
+  att.stencil_store_op = VK_ATTACHMENT_STORE_OP_STORE;
+  if (!a.contains("Format")) json.error(ap, "an attachment needs a 'Format'");
+  json.enum_field(a, "Format", ap, kTextureFormats, "texture format", att.format);
+  json.unsigned_number(a, "SampleCount", ap, att.samples);
+  if (!std::has_single_bit(att.samples) || att.samples > 64)
+    json.error(ap + "/SampleCount", "the sample count must be 1, 2, 4, 8, 16, 32 or 64");
+  json.enum_field(a, "LoadOp", ap, kLoadOps, "load op", att.load_op);
+  json.enum_field(a, "StoreOp", ap, kStoreOps, "store op", att.store_op);
+  json.enum_field(a, "StencilLoadOp", ap, kLoadOps, "load op", att.stencil_load_op);
+  json.enum_field(a, "StencilStoreOp", ap, kStoreOps, "store op", att.stencil_store_op);
+  json.enum_field(a, "InitialState", ap, kResourceStates, "resource state", att.initial_layout);
+  json.enum_field(a, "FinalState", ap, kResourceStates, "resource state", att.final_layout);
+  if (att.final_layout == VK_IMAGE_LAYOUT_UNDEFINED)
+    json.error(ap, "an attachment needs a 'FinalState' (Vulkan cannot end a render pass in UNDEFINED)");
+  // Diligent's defaults (LoadOp LOAD, InitialState UNKNOWN) ask Vulkan to load an image whose layout
+  // is UNDEFINED, i.e. whose contents are gone: an error here instead of at pipeline creation.
+  const bool stencil_only = att.format == VK_FORMAT_S8_UINT;
+  const bool has_stencil = stencil_only || att.format == VK_FORMAT_D24_UNORM_S8_UINT ||
+                           att.format == VK_FORMAT_D32_SFLOAT_S8_UINT ||
+                           att.format == VK_FORMAT_D16_UNORM_S8_UINT;
+  if (!ctx.defaults_mode && att.initial_layout == VK_IMAGE_LAYOUT_UNDEFINED) {
+    if (att.load_op == VK_ATTACHMENT_LOAD_OP_LOAD && !stencil_only)
+      json.error(ap,
+                 "attachment " + std::to_string(index) +
+                     ": LoadOp LOAD (the default) needs an 'InitialState': an image in the UNDEFINED layout "
+                     "has no contents to load (VUID-VkAttachmentDescription-format-06699); set "
+                     "'InitialState' or use LoadOp CLEAR or DISCARD");
+    else if (att.stencil_load_op == VK_ATTACHMENT_LOAD_OP_LOAD && has_stencil)
+      json.error(ap, "attachment " + std::to_string(index) +
+                         ": StencilLoadOp LOAD (the default) needs an 'InitialState' "
+                         "(VUID-VkAttachmentDescription-format-06700); set 'InitialState' or use "
+                         "StencilLoadOp CLEAR or DISCARD");
+  }
+  return att;
+}
+
+void read_attachment_reference(ReadContext& ctx, const Json& r, const std::string& rp_ptr,
+                               size_t attachment_count, format::AttachmentRef& out) {
+  JsonReader& json = ctx.json;
+  if (!json.expect_object(r, rp_ptr, "an attachment reference")) return;
+  json.check_keys(r, rp_ptr, schema::kAttachmentReference, "attachment reference");
+  json.unsigned_number(r, "AttachmentIndex", rp_ptr, out.attachment);
+  json.enum_field(r, "State", rp_ptr, kResourceStates, "resource state", out.layout);
+  if (out.attachment != format::kNone && out.attachment >= attachment_count)
+    json.error(rp_ptr + "/AttachmentIndex",
+               "attachment " + std::to_string(out.attachment) + " does not exist");
+  else if (out.attachment != format::kNone && out.layout == VK_IMAGE_LAYOUT_UNDEFINED && !ctx.defaults_mode)
+    json.error(rp_ptr,
+               "an attachment reference needs a 'State' (a subpass cannot use an attachment in the "
+               "UNDEFINED layout: VUID-VkAttachmentReference-layout-03077)");
+}
+
+// A subpass's list of attachment references under KEY; an entry that is not an object still takes its
+// slot, as a default reference.
+void read_attachment_references(ReadContext& ctx, const Json& s, const char* key, const std::string& sp,
+                                size_t attachment_count, std::vector<format::AttachmentRef>& out) {
+  auto list = s.find(key);
+  if (list == s.end() || !ctx.json.expect_array(*list, sp + "/" + key, key)) return;
+  for (size_t i = 0; i < list->size(); ++i)
+    read_attachment_reference(ctx, (*list)[i], sp + "/" + key + "/" + std::to_string(i), attachment_count,
+                              out.emplace_back());
+}
+
+void read_preserve_attachments(JsonReader& json, const Json& s, const std::string& sp,
+                               size_t attachment_count, format::Subpass& subpass) {
+  auto preserve = s.find("pPreserveAttachments");
+  if (preserve == s.end() ||
+      !json.expect_array(*preserve, sp + "/pPreserveAttachments", "'pPreserveAttachments'"))
+    return;
+  for (size_t k = 0; k < preserve->size(); ++k) {
+    const Json& p = (*preserve)[k];
+    if (!p.is_number_unsigned() || p.get<uint64_t>() >= attachment_count)
+      json.error(sp + "/pPreserveAttachments/" + std::to_string(k), "not an attachment index");
+    else
+      subpass.preserve.push_back(p.get<uint32_t>());
+  }
+}
+
+// One entry of 'pSubpasses'; std::nullopt when it is not an object (already reported).
+std::optional<format::Subpass> read_subpass(ReadContext& ctx, const Json& s, const std::string& sp,
+                                            size_t attachment_count) {
+  JsonReader& json = ctx.json;
+  if (!json.expect_object(s, sp, "a subpass")) return std::nullopt;
+  json.check_keys(s, sp, schema::kSubpass, "subpass");
+  uint32_t unused = 0;
+  for (const char* count : {"InputAttachmentCount", "RenderTargetAttachmentCount", "PreserveAttachmentCount"})
+    json.unsigned_number(s, count, sp, unused);
+  format::Subpass subpass;
+  read_attachment_references(ctx, s, "pInputAttachments", sp, attachment_count, subpass.inputs);
+  read_attachment_references(ctx, s, "pRenderTargetAttachments", sp, attachment_count, subpass.colors);
+  read_attachment_references(ctx, s, "pResolveAttachments", sp, attachment_count, subpass.resolves);
+  if (auto d = s.find("pDepthStencilAttachment"); d != s.end())
+    read_attachment_reference(ctx, *d, sp + "/pDepthStencilAttachment", attachment_count,
+                              subpass.depth_stencil);
+  if (s.contains("pShadingRateAttachment"))
+    json.error(sp + "/pShadingRateAttachment", "shading-rate attachments are not supported by statepack yet");
+  if (!subpass.resolves.empty() && subpass.resolves.size() != subpass.colors.size())
+    json.error(sp + "/pResolveAttachments", "needs one resolve attachment per render target");
+  if (subpass.colors.size() > format::kMaxColorTargets)
+    json.error(sp + "/pRenderTargetAttachments", "at most 8 render targets");
+  read_preserve_attachments(json, s, sp, attachment_count, subpass);
+  return subpass;
+}
+
+// One entry of 'pDependencies'; std::nullopt when it is not an object (already reported).
+std::optional<format::Dependency> read_dependency(ReadContext& ctx, const Json& d, const std::string& dp,
+                                                  size_t subpass_count) {
+  JsonReader& json = ctx.json;
+  if (!json.expect_object(d, dp, "a dependency")) return std::nullopt;
+  json.check_keys(d, dp, schema::kDependency, "dependency");
+  format::Dependency dep;
+  json.unsigned_number(d, "SrcSubpass", dp, dep.src_subpass);
+  json.unsigned_number(d, "DstSubpass", dp, dep.dst_subpass);
+  json.flags_field(d, "SrcStageMask", dp, kPipelineStages, "pipeline stage", dep.src_stages);
+  json.flags_field(d, "DstStageMask", dp, kPipelineStages, "pipeline stage", dep.dst_stages);
+  json.flags_field(d, "SrcAccessMask", dp, kAccessFlags, "access flag", dep.src_access);
+  json.flags_field(d, "DstAccessMask", dp, kAccessFlags, "access flag", dep.dst_access);
+  for (auto [key, mask] :
+       {std::pair{"SrcStageMask", dep.src_stages}, std::pair{"DstStageMask", dep.dst_stages}})
+    if (mask == 0 && !ctx.defaults_mode)
+      json.error(dp, std::string("a dependency needs a '") + key + "' naming at least one pipeline stage (" +
+                         (key[0] == 'S' ? "VUID-VkSubpassDependency-srcStageMask-03937"
+                                        : "VUID-VkSubpassDependency-dstStageMask-03937") +
+                         ")");
+  for (auto [key, index] :
+       {std::pair{"SrcSubpass", dep.src_subpass}, std::pair{"DstSubpass", dep.dst_subpass}})
+    if (index != format::kNone && index >= subpass_count)
+      json.error(dp + "/" + key,
+                 "subpass " + std::to_string(index) + " does not exist (4294967295 is external)");
+  return dep;
+}
+
+}  // namespace
+
 std::optional<RenderPassDesc> read_render_pass(ReadContext& ctx, const Json& j, const std::string& pointer) {
   JsonReader& json = ctx.json;
   if (!json.expect_object(j, pointer, "a render pass")) return std::nullopt;
@@ -577,139 +723,25 @@ std::optional<RenderPassDesc> read_render_pass(ReadContext& ctx, const Json& j, 
 
   if (auto list = j.find("pAttachments");
       list != j.end() && json.expect_array(*list, pointer + "/pAttachments", "'pAttachments'")) {
-    for (size_t i = 0; i < list->size(); ++i) {
-      std::string ap = pointer + "/pAttachments/" + std::to_string(i);
-      const Json& a = (*list)[i];
-      if (!json.expect_object(a, ap, "an attachment")) continue;
-      json.check_keys(a, ap, schema::kAttachment, "attachment");
-      format::Attachment att;
-      att.load_op = VK_ATTACHMENT_LOAD_OP_LOAD;
-      att.store_op = VK_ATTACHMENT_STORE_OP_STORE;
-      att.stencil_load_op = VK_ATTACHMENT_LOAD_OP_LOAD;
-      att.stencil_store_op = VK_ATTACHMENT_STORE_OP_STORE;
-      if (!a.contains("Format")) json.error(ap, "an attachment needs a 'Format'");
-      json.enum_field(a, "Format", ap, kTextureFormats, "texture format", att.format);
-      json.unsigned_number(a, "SampleCount", ap, att.samples);
-      if (!std::has_single_bit(att.samples) || att.samples > 64)
-        json.error(ap + "/SampleCount", "the sample count must be 1, 2, 4, 8, 16, 32 or 64");
-      json.enum_field(a, "LoadOp", ap, kLoadOps, "load op", att.load_op);
-      json.enum_field(a, "StoreOp", ap, kStoreOps, "store op", att.store_op);
-      json.enum_field(a, "StencilLoadOp", ap, kLoadOps, "load op", att.stencil_load_op);
-      json.enum_field(a, "StencilStoreOp", ap, kStoreOps, "store op", att.stencil_store_op);
-      json.enum_field(a, "InitialState", ap, kResourceStates, "resource state", att.initial_layout);
-      json.enum_field(a, "FinalState", ap, kResourceStates, "resource state", att.final_layout);
-      if (att.final_layout == VK_IMAGE_LAYOUT_UNDEFINED)
-        json.error(ap, "an attachment needs a 'FinalState' (Vulkan cannot end a render pass in UNDEFINED)");
-      // Diligent's defaults (LoadOp LOAD, InitialState UNKNOWN) ask Vulkan to load an image whose layout
-      // is UNDEFINED, i.e. whose contents are gone: an error here instead of at pipeline creation.
-      const bool stencil_only = att.format == VK_FORMAT_S8_UINT;
-      const bool has_stencil = stencil_only || att.format == VK_FORMAT_D24_UNORM_S8_UINT ||
-                               att.format == VK_FORMAT_D32_SFLOAT_S8_UINT ||
-                               att.format == VK_FORMAT_D16_UNORM_S8_UINT;
-      if (!ctx.defaults_mode && att.initial_layout == VK_IMAGE_LAYOUT_UNDEFINED) {
-        if (att.load_op == VK_ATTACHMENT_LOAD_OP_LOAD && !stencil_only)
-          json.error(
-              ap, "attachment " + std::to_string(i) +
-                      ": LoadOp LOAD (the default) needs an 'InitialState': an image in the UNDEFINED layout "
-                      "has no contents to load (VUID-VkAttachmentDescription-format-06699); set "
-                      "'InitialState' or use LoadOp CLEAR or DISCARD");
-        else if (att.stencil_load_op == VK_ATTACHMENT_LOAD_OP_LOAD && has_stencil)
-          json.error(ap, "attachment " + std::to_string(i) +
-                             ": StencilLoadOp LOAD (the default) needs an 'InitialState' "
-                             "(VUID-VkAttachmentDescription-format-06700); set 'InitialState' or use "
-                             "StencilLoadOp CLEAR or DISCARD");
-      }
-      rp.attachments.push_back(att);
-    }
-  }
-  auto reference = [&](const Json& r, const std::string& rp_ptr, format::AttachmentRef& out) {
-    if (!json.expect_object(r, rp_ptr, "an attachment reference")) return;
-    json.check_keys(r, rp_ptr, schema::kAttachmentReference, "attachment reference");
-    json.unsigned_number(r, "AttachmentIndex", rp_ptr, out.attachment);
-    json.enum_field(r, "State", rp_ptr, kResourceStates, "resource state", out.layout);
-    if (out.attachment != format::kNone && out.attachment >= rp.attachments.size())
-      json.error(rp_ptr + "/AttachmentIndex",
-                 "attachment " + std::to_string(out.attachment) + " does not exist");
-    else if (out.attachment != format::kNone && out.layout == VK_IMAGE_LAYOUT_UNDEFINED && !ctx.defaults_mode)
-      json.error(rp_ptr,
-                 "an attachment reference needs a 'State' (a subpass cannot use an attachment in the "
-                 "UNDEFINED layout: VUID-VkAttachmentReference-layout-03077)");
-  };
-  auto references = [&](const Json& s, const char* key, const std::string& sp,
-                        std::vector<format::AttachmentRef>& out) {
-    auto list = s.find(key);
-    if (list == s.end() || !json.expect_array(*list, sp + "/" + key, key)) return;
     for (size_t i = 0; i < list->size(); ++i)
-      reference((*list)[i], sp + "/" + key + "/" + std::to_string(i), out.emplace_back());
-  };
+      if (auto att = read_attachment(ctx, (*list)[i], pointer + "/pAttachments/" + std::to_string(i), i))
+        rp.attachments.push_back(*att);
+  }
   if (auto list = j.find("pSubpasses");
       list != j.end() && json.expect_array(*list, pointer + "/pSubpasses", "'pSubpasses'")) {
-    for (size_t i = 0; i < list->size(); ++i) {
-      std::string sp = pointer + "/pSubpasses/" + std::to_string(i);
-      const Json& s = (*list)[i];
-      if (!json.expect_object(s, sp, "a subpass")) continue;
-      json.check_keys(s, sp, schema::kSubpass, "subpass");
-      for (const char* count :
-           {"InputAttachmentCount", "RenderTargetAttachmentCount", "PreserveAttachmentCount"})
-        json.unsigned_number(s, count, sp, unused);
-      format::Subpass subpass;
-      references(s, "pInputAttachments", sp, subpass.inputs);
-      references(s, "pRenderTargetAttachments", sp, subpass.colors);
-      references(s, "pResolveAttachments", sp, subpass.resolves);
-      if (auto d = s.find("pDepthStencilAttachment"); d != s.end())
-        reference(*d, sp + "/pDepthStencilAttachment", subpass.depth_stencil);
-      if (s.contains("pShadingRateAttachment"))
-        json.error(sp + "/pShadingRateAttachment",
-                   "shading-rate attachments are not supported by statepack yet");
-      if (!subpass.resolves.empty() && subpass.resolves.size() != subpass.colors.size())
-        json.error(sp + "/pResolveAttachments", "needs one resolve attachment per render target");
-      if (subpass.colors.size() > format::kMaxColorTargets)
-        json.error(sp + "/pRenderTargetAttachments", "at most 8 render targets");
-      if (auto preserve = s.find("pPreserveAttachments");
-          preserve != s.end() &&
-          json.expect_array(*preserve, sp + "/pPreserveAttachments", "'pPreserveAttachments'")) {
-        for (size_t k = 0; k < preserve->size(); ++k) {
-          const Json& p = (*preserve)[k];
-          if (!p.is_number_unsigned() || p.get<uint64_t>() >= rp.attachments.size())
-            json.error(sp + "/pPreserveAttachments/" + std::to_string(k), "not an attachment index");
-          else
-            subpass.preserve.push_back(p.get<uint32_t>());
-        }
-      }
-      rp.subpasses.push_back(std::move(subpass));
-    }
+    for (size_t i = 0; i < list->size(); ++i)
+      if (auto subpass = read_subpass(ctx, (*list)[i], pointer + "/pSubpasses/" + std::to_string(i),
+                                      rp.attachments.size()))
+        rp.subpasses.push_back(std::move(*subpass));
   }
   if (rp.subpasses.empty() && !ctx.defaults_mode)
     json.error(pointer, "render pass '" + rp.name + "' needs a subpass");
   if (auto list = j.find("pDependencies");
       list != j.end() && json.expect_array(*list, pointer + "/pDependencies", "'pDependencies'")) {
-    for (size_t i = 0; i < list->size(); ++i) {
-      std::string dp = pointer + "/pDependencies/" + std::to_string(i);
-      const Json& d = (*list)[i];
-      if (!json.expect_object(d, dp, "a dependency")) continue;
-      json.check_keys(d, dp, schema::kDependency, "dependency");
-      format::Dependency dep;
-      json.unsigned_number(d, "SrcSubpass", dp, dep.src_subpass);
-      json.unsigned_number(d, "DstSubpass", dp, dep.dst_subpass);
-      json.flags_field(d, "SrcStageMask", dp, kPipelineStages, "pipeline stage", dep.src_stages);
-      json.flags_field(d, "DstStageMask", dp, kPipelineStages, "pipeline stage", dep.dst_stages);
-      json.flags_field(d, "SrcAccessMask", dp, kAccessFlags, "access flag", dep.src_access);
-      json.flags_field(d, "DstAccessMask", dp, kAccessFlags, "access flag", dep.dst_access);
-      for (auto [key, mask] :
-           {std::pair{"SrcStageMask", dep.src_stages}, std::pair{"DstStageMask", dep.dst_stages}})
-        if (mask == 0 && !ctx.defaults_mode)
-          json.error(dp, std::string("a dependency needs a '") + key +
-                             "' naming at least one pipeline stage (" +
-                             (key[0] == 'S' ? "VUID-VkSubpassDependency-srcStageMask-03937"
-                                            : "VUID-VkSubpassDependency-dstStageMask-03937") +
-                             ")");
-      for (auto [key, index] :
-           {std::pair{"SrcSubpass", dep.src_subpass}, std::pair{"DstSubpass", dep.dst_subpass}})
-        if (index != format::kNone && index >= rp.subpasses.size())
-          json.error(dp + "/" + key,
-                     "subpass " + std::to_string(index) + " does not exist (4294967295 is external)");
-      rp.dependencies.push_back(dep);
-    }
+    for (size_t i = 0; i < list->size(); ++i)
+      if (auto dep = read_dependency(ctx, (*list)[i], pointer + "/pDependencies/" + std::to_string(i),
+                                     rp.subpasses.size()))
+        rp.dependencies.push_back(*dep);
   }
   // With errors the object is still returned, marked broken, when it has a name: references to it
   // then resolve (one cause, one message) and a different redefinition is still reported.

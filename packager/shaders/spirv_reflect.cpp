@@ -131,6 +131,124 @@ std::string describe_block(spvc_compiler compiler, spvc_type_id block) {
   return out;
 }
 
+// The descriptor type of each spirv-cross resource list.
+struct DescriptorKind {
+  spvc_resource_type type;
+  VkDescriptorType descriptor, buffer_descriptor;  // the second for images of dimension Buffer
+};
+constexpr DescriptorKind kDescriptorKinds[] = {
+    {SPVC_RESOURCE_TYPE_UNIFORM_BUFFER, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER},
+    {SPVC_RESOURCE_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+    {SPVC_RESOURCE_TYPE_SAMPLED_IMAGE, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
+     VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER},
+    {SPVC_RESOURCE_TYPE_SEPARATE_IMAGE, VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE,
+     VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER},
+    {SPVC_RESOURCE_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
+     VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER},
+    {SPVC_RESOURCE_TYPE_SEPARATE_SAMPLERS, VK_DESCRIPTOR_TYPE_SAMPLER, VK_DESCRIPTOR_TYPE_SAMPLER},
+    {SPVC_RESOURCE_TYPE_SUBPASS_INPUT, VK_DESCRIPTOR_TYPE_INPUT_ATTACHMENT,
+     VK_DESCRIPTOR_TYPE_INPUT_ATTACHMENT},
+};
+
+ReflectedBinding reflect_binding(spvc_compiler compiler, const spvc_reflected_resource& resource,
+                                 const DescriptorKind& kind, uint32_t stage) {
+  ReflectedBinding b;
+  b.name = resource.name;
+  b.set = spvc_compiler_get_decoration(compiler, resource.id, SpvDecorationDescriptorSet);
+  b.binding = spvc_compiler_get_decoration(compiler, resource.id, SpvDecorationBinding);
+  b.stage = stage;
+  unsigned word = 0;
+  if (spvc_compiler_get_binary_offset_for_decoration(compiler, resource.id, SpvDecorationDescriptorSet,
+                                                     &word))
+    b.set_word = word;
+  if (spvc_compiler_get_binary_offset_for_decoration(compiler, resource.id, SpvDecorationBinding, &word))
+    b.binding_word = word;
+  spvc_type type = spvc_compiler_get_type_handle(compiler, resource.type_id);
+  bool is_image = kind.type == SPVC_RESOURCE_TYPE_SAMPLED_IMAGE ||
+                  kind.type == SPVC_RESOURCE_TYPE_SEPARATE_IMAGE ||
+                  kind.type == SPVC_RESOURCE_TYPE_STORAGE_IMAGE;
+  b.descriptor_type = (is_image && spvc_type_get_image_dimension(type) == SpvDimBuffer)
+                          ? kind.buffer_descriptor
+                          : kind.descriptor;
+  if (kind.type == SPVC_RESOURCE_TYPE_UNIFORM_BUFFER || kind.type == SPVC_RESOURCE_TYPE_STORAGE_BUFFER)
+    b.block_layout = describe_block(compiler, resource.base_type_id);
+  b.count = 1;
+  for (unsigned d = 0; d < spvc_type_get_num_array_dimensions(type); ++d)
+    b.count *= spvc_type_get_array_dimension(type, d);  // 0 for runtime arrays: caught by the packer
+  return b;
+}
+
+void add_bindings(spvc_compiler compiler, spvc_resources resources, uint32_t stage,
+                  std::vector<ReflectedBinding>& out) {
+  for (const DescriptorKind& kind : kDescriptorKinds) {
+    const spvc_reflected_resource* list = nullptr;
+    size_t count = 0;
+    spvc_resources_get_resource_list_for_type(resources, kind.type, &list, &count);
+    for (size_t i = 0; i < count; ++i) out.push_back(reflect_binding(compiler, list[i], kind, stage));
+  }
+}
+
+void add_stage_interfaces(spvc_compiler compiler, spvc_resources resources, uint32_t stage, Reflection& out) {
+  // Tessellation and geometry stages read (and the control stage writes) one value per vertex.
+  const bool arrayed_inputs = stage == VK_SHADER_STAGE_TESSELLATION_CONTROL_BIT ||
+                              stage == VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT ||
+                              stage == VK_SHADER_STAGE_GEOMETRY_BIT;
+  const spvc_reflected_resource* list = nullptr;
+  size_t count = 0;
+  spvc_resources_get_resource_list_for_type(resources, SPVC_RESOURCE_TYPE_STAGE_INPUT, &list, &count);
+  add_interface(compiler, list, count, arrayed_inputs, out.inputs);
+  spvc_resources_get_resource_list_for_type(resources, SPVC_RESOURCE_TYPE_STAGE_OUTPUT, &list, &count);
+  add_interface(compiler, list, count, stage == VK_SHADER_STAGE_TESSELLATION_CONTROL_BIT, out.outputs);
+}
+
+ReflectedConstant reflect_constant(spvc_compiler compiler, const spvc_specialization_constant& constant) {
+  ReflectedConstant k;
+  k.constant_id = constant.constant_id;
+  const char* name = spvc_compiler_get_name(compiler, constant.id);
+  k.name = name ? name : "";
+  spvc_constant handle = spvc_compiler_get_constant_handle(compiler, constant.id);
+  spvc_type type = spvc_compiler_get_type_handle(compiler, spvc_constant_get_type(handle));
+  using ConstantKind = ReflectedConstant::Kind;
+  switch (spvc_type_get_basetype(type)) {
+    case SPVC_BASETYPE_BOOLEAN:
+      k.kind = ConstantKind::boolean;
+      break;
+    case SPVC_BASETYPE_INT32:
+      k.kind = ConstantKind::int32;
+      break;
+    case SPVC_BASETYPE_UINT32:
+      k.kind = ConstantKind::uint32;
+      break;
+    case SPVC_BASETYPE_FP32:
+      k.kind = ConstantKind::float32;
+      break;
+    case SPVC_BASETYPE_INT64:
+      k.kind = ConstantKind::int64, k.size = 8;
+      break;
+    case SPVC_BASETYPE_UINT64:
+      k.kind = ConstantKind::uint64, k.size = 8;
+      break;
+    case SPVC_BASETYPE_FP64:
+      k.kind = ConstantKind::float64, k.size = 8;
+      break;
+    default:
+      k.kind = ConstantKind::other;
+      break;
+  }
+  return k;
+}
+
+uint32_t push_constant_size(spvc_compiler compiler, spvc_resources resources) {
+  const spvc_reflected_resource* push = nullptr;
+  size_t push_count = 0;
+  spvc_resources_get_resource_list_for_type(resources, SPVC_RESOURCE_TYPE_PUSH_CONSTANT, &push, &push_count);
+  if (push_count == 0) return 0;
+  size_t size = 0;
+  spvc_compiler_get_declared_struct_size(
+      compiler, spvc_compiler_get_type_handle(compiler, push[0].base_type_id), &size);
+  return static_cast<uint32_t>(size);
+}
+
 }  // namespace
 
 Reflection reflect_spirv(std::span<const uint32_t> spirv, uint32_t stage) {
@@ -148,116 +266,14 @@ Reflection reflect_spirv(std::span<const uint32_t> spirv, uint32_t stage) {
         ctx.handle ? spvc_context_get_last_error_string(ctx.handle) : "cannot create a spirv-cross context";
     return out;
   }
-
-  struct Kind {
-    spvc_resource_type type;
-    VkDescriptorType descriptor, buffer_descriptor;  // the second for images of dimension Buffer
-  };
-  const Kind kinds[] = {
-      {SPVC_RESOURCE_TYPE_UNIFORM_BUFFER, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER,
-       VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER},
-      {SPVC_RESOURCE_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-       VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
-      {SPVC_RESOURCE_TYPE_SAMPLED_IMAGE, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER,
-       VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER},
-      {SPVC_RESOURCE_TYPE_SEPARATE_IMAGE, VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE,
-       VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER},
-      {SPVC_RESOURCE_TYPE_STORAGE_IMAGE, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE,
-       VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER},
-      {SPVC_RESOURCE_TYPE_SEPARATE_SAMPLERS, VK_DESCRIPTOR_TYPE_SAMPLER, VK_DESCRIPTOR_TYPE_SAMPLER},
-      {SPVC_RESOURCE_TYPE_SUBPASS_INPUT, VK_DESCRIPTOR_TYPE_INPUT_ATTACHMENT,
-       VK_DESCRIPTOR_TYPE_INPUT_ATTACHMENT},
-  };
-  for (const Kind& kind : kinds) {
-    const spvc_reflected_resource* list = nullptr;
-    size_t count = 0;
-    spvc_resources_get_resource_list_for_type(resources, kind.type, &list, &count);
-    for (size_t i = 0; i < count; ++i) {
-      ReflectedBinding b;
-      b.name = list[i].name;
-      b.set = spvc_compiler_get_decoration(compiler, list[i].id, SpvDecorationDescriptorSet);
-      b.binding = spvc_compiler_get_decoration(compiler, list[i].id, SpvDecorationBinding);
-      b.stage = stage;
-      unsigned word = 0;
-      if (spvc_compiler_get_binary_offset_for_decoration(compiler, list[i].id, SpvDecorationDescriptorSet,
-                                                         &word))
-        b.set_word = word;
-      if (spvc_compiler_get_binary_offset_for_decoration(compiler, list[i].id, SpvDecorationBinding, &word))
-        b.binding_word = word;
-      spvc_type type = spvc_compiler_get_type_handle(compiler, list[i].type_id);
-      bool is_image = kind.type == SPVC_RESOURCE_TYPE_SAMPLED_IMAGE ||
-                      kind.type == SPVC_RESOURCE_TYPE_SEPARATE_IMAGE ||
-                      kind.type == SPVC_RESOURCE_TYPE_STORAGE_IMAGE;
-      b.descriptor_type = (is_image && spvc_type_get_image_dimension(type) == SpvDimBuffer)
-                              ? kind.buffer_descriptor
-                              : kind.descriptor;
-      if (kind.type == SPVC_RESOURCE_TYPE_UNIFORM_BUFFER || kind.type == SPVC_RESOURCE_TYPE_STORAGE_BUFFER)
-        b.block_layout = describe_block(compiler, list[i].base_type_id);
-      b.count = 1;
-      for (unsigned d = 0; d < spvc_type_get_num_array_dimensions(type); ++d)
-        b.count *= spvc_type_get_array_dimension(type, d);  // 0 for runtime arrays: caught by the packer
-      out.bindings.push_back(std::move(b));
-    }
-  }
-  // Tessellation and geometry stages read (and the control stage writes) one value per vertex.
-  const bool arrayed_inputs = stage == VK_SHADER_STAGE_TESSELLATION_CONTROL_BIT ||
-                              stage == VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT ||
-                              stage == VK_SHADER_STAGE_GEOMETRY_BIT;
-  const spvc_reflected_resource* list = nullptr;
-  size_t count = 0;
-  spvc_resources_get_resource_list_for_type(resources, SPVC_RESOURCE_TYPE_STAGE_INPUT, &list, &count);
-  add_interface(compiler, list, count, arrayed_inputs, out.inputs);
-  spvc_resources_get_resource_list_for_type(resources, SPVC_RESOURCE_TYPE_STAGE_OUTPUT, &list, &count);
-  add_interface(compiler, list, count, stage == VK_SHADER_STAGE_TESSELLATION_CONTROL_BIT, out.outputs);
-
+  add_bindings(compiler, resources, stage, out.bindings);
+  add_stage_interfaces(compiler, resources, stage, out);
   const spvc_specialization_constant* constants = nullptr;
   size_t constant_count = 0;
   spvc_compiler_get_specialization_constants(compiler, &constants, &constant_count);
-  for (size_t i = 0; i < constant_count; ++i) {
-    ReflectedConstant k;
-    k.constant_id = constants[i].constant_id;
-    const char* name = spvc_compiler_get_name(compiler, constants[i].id);
-    k.name = name ? name : "";
-    spvc_constant handle = spvc_compiler_get_constant_handle(compiler, constants[i].id);
-    spvc_type type = spvc_compiler_get_type_handle(compiler, spvc_constant_get_type(handle));
-    using ConstantKind = ReflectedConstant::Kind;
-    switch (spvc_type_get_basetype(type)) {
-      case SPVC_BASETYPE_BOOLEAN:
-        k.kind = ConstantKind::boolean;
-        break;
-      case SPVC_BASETYPE_INT32:
-        k.kind = ConstantKind::int32;
-        break;
-      case SPVC_BASETYPE_UINT32:
-        k.kind = ConstantKind::uint32;
-        break;
-      case SPVC_BASETYPE_FP32:
-        k.kind = ConstantKind::float32;
-        break;
-      case SPVC_BASETYPE_INT64:
-        k.kind = ConstantKind::int64, k.size = 8;
-        break;
-      case SPVC_BASETYPE_UINT64:
-        k.kind = ConstantKind::uint64, k.size = 8;
-        break;
-      case SPVC_BASETYPE_FP64:
-        k.kind = ConstantKind::float64, k.size = 8;
-        break;
-      default:
-        k.kind = ConstantKind::other;
-        break;
-    }
-    out.constants.push_back(std::move(k));
-  }
-  const spvc_reflected_resource* push = nullptr;
-  size_t push_count = 0;
-  spvc_resources_get_resource_list_for_type(resources, SPVC_RESOURCE_TYPE_PUSH_CONSTANT, &push, &push_count);
-  if (push_count > 0) {
-    size_t size = 0;
-    spvc_compiler_get_declared_struct_size(
-        compiler, spvc_compiler_get_type_handle(compiler, push[0].base_type_id), &size);
-    out.push_constant_size = static_cast<uint32_t>(size);
-  }
+  for (size_t i = 0; i < constant_count; ++i)
+    out.constants.push_back(reflect_constant(compiler, constants[i]));
+  out.push_constant_size = push_constant_size(compiler, resources);
   return out;
 }
 

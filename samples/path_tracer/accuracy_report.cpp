@@ -16,6 +16,7 @@
 #include <filesystem>
 #include <fstream>
 #include <numeric>
+#include <optional>
 
 #include "accuracy_markdown.hpp"
 #include "app.hpp"
@@ -103,6 +104,97 @@ std::string load_average() {
   return text;
 }
 
+// The configurations named by --configs, in that order (all when none is named); nullopt when a name is
+// unknown.
+std::optional<std::vector<Config>> choose_configurations(const std::vector<std::string>& only) {
+  std::vector<Config> all = configurations();
+  if (only.empty()) return all;
+  std::vector<Config> chosen;
+  for (const std::string& name : only)
+    for (const Config& c : all)
+      if (c.name == name) chosen.push_back(c);
+  if (chosen.size() != only.size()) return std::nullopt;
+  return chosen;
+}
+
+// The CPU reference at `bounces`; its time, mean and noise go to the report.
+ReferenceImage measure_reference(const Scene& scene, uint32_t bounces, Report& report) {
+  BounceResults& r = report.by_bounces[bounces];
+  std::printf("CPU reference: %ux%u, %u spp, %u bounces (double precision, all cores)...\n", report.width,
+              report.height, report.reference_spp, bounces);
+  RenderSettings reference_settings;
+  reference_settings.bounces = bounces;
+  reference_settings.seed = 0x5EED;
+  const auto start = std::chrono::steady_clock::now();
+  ReferenceImage reference =
+      render_reference(scene, reference_settings, report.width, report.height, report.reference_spp);
+  r.reference_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  r.image_mean =
+      std::accumulate(reference.mean.begin(), reference.mean.end(), 0.0) / double(reference.mean.size());
+  for (double v : reference.variance) r.reference_noise += v / report.reference_spp;
+  r.reference_noise /= double(reference.variance.size());
+  return reference;
+}
+
+// Error against spp: one sample per frame, as the window accumulates. Each run is a row of `runs`.
+Result<void> measure_errors(samples::VulkanContext& vk, Dearchiver& dearchiver, const Scene& scene,
+                            const ReferenceImage& reference, uint32_t bounces, uint32_t max_spp,
+                            std::ostream& runs, Report& report) {
+  BounceResults& r = report.by_bounces[bounces];
+  const uint32_t width = report.width, height = report.height, seeds = report.seeds;
+  for (const Config& config : report.configs) {
+    RenderSettings base = config.settings;
+    base.bounces = bounces, base.samples_per_frame = 1;
+    // Warm up: lavapipe compiles a pipeline's code at its first dispatch.
+    if (auto w = render_offline(vk, dearchiver, scene, base, width, height, 2); !w) return w.error();
+    std::vector<Point>& points = r.points[config.name];
+    for (uint32_t spp = 1; spp <= max_spp; spp *= 2) {
+      Point point;
+      point.spp = spp;
+      for (uint32_t seed = 1; seed <= seeds; ++seed) {
+        RenderSettings s = base;
+        s.seed = seed * 7919u;
+        auto rendered = render_offline(vk, dearchiver, scene, s, width, height, spp);
+        if (!rendered) return rendered.error();
+        auto [mse, rel] = errors(rendered->rgba, reference, r.reference_noise);
+        point.mse += mse / seeds, point.rel_mse += rel / seeds;
+        runs << bounces << ',' << config.name << ',' << spp << ',' << seed << ',' << mse << ',' << rel
+             << '\n';
+      }
+      points.push_back(point);
+    }
+    std::printf("%u bounces, %-20s RMSE at %u spp: %.5f\n", bounces, config.name.c_str(), max_spp,
+                points.back().rmse());
+  }
+  return {};
+}
+
+// Time per sample, interleaved: at the sweep's size (one sample per frame) and at 640x480.
+Result<void> measure_times(samples::VulkanContext& vk, Dearchiver& dearchiver, const Scene& scene,
+                           uint32_t bounces, Report& report) {
+  BounceResults& r = report.by_bounces[bounces];
+  const uint32_t width = report.width, height = report.height;
+  auto small = time_interleaved(vk, dearchiver, scene, report.configs, bounces, width, height, 64, 1,
+                                report.timing_rounds);
+  if (!small) return small.error();
+  auto large =
+      time_interleaved(vk, dearchiver, scene, report.configs, bounces, 640, 480, 8, 4, report.timing_rounds);
+  if (!large) return large.error();
+  for (size_t i = 0; i < report.configs.size(); ++i) {
+    const std::string& name = report.configs[i].name;
+    r.gpu_ms_per_frame[name] = small->gpu_ms[i];
+    r.ms_per_sample_640[name] = large->gpu_ms[i];
+    r.wall_ms_per_sample_640[name] = large->wall_ms[i];
+    // Time of the sweep's image from the cost per pixel at 640x480: those frames are 100 times
+    // larger, so dispatch overhead and load spikes weigh far less than in a 64x48 frame.
+    const double ms_per_sample = large->gpu_ms[i] * (double(width) * height) / (640.0 * 480.0);
+    for (Point& p : r.points[name]) p.time_s = p.spp * ms_per_sample / 1000.0;
+    std::printf("%u bounces, %-20s %.3f ms/frame at %ux%u, %.1f ms/sample at 640x480\n", bounces,
+                name.c_str(), small->gpu_ms[i], width, height, large->gpu_ms[i]);
+  }
+  return {};
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -134,16 +226,9 @@ int main(int argc, char** argv) {
   if (!scene) return std::fprintf(stderr, "%s\n", scene.error().message.c_str()), 1;
   fs::create_directories(out_dir);
   Report report;
-  report.configs = configurations();
-  if (!only.empty()) {
-    std::vector<Config> chosen;
-    for (const std::string& name : only)
-      for (const Config& c : report.configs)
-        if (c.name == name) chosen.push_back(c);
-    if (chosen.size() != only.size())
-      return std::fprintf(stderr, "accuracy_report: unknown configuration\n"), 2;
-    report.configs = chosen;
-  }
+  auto configs = choose_configurations(only);
+  if (!configs) return std::fprintf(stderr, "accuracy_report: unknown configuration\n"), 2;
+  report.configs = std::move(*configs);
   report.width = width, report.height = height, report.seeds = seeds, report.reference_spp = reference_spp;
   report.timing_rounds = timing_rounds;
   report.load_before = load_average();
@@ -159,67 +244,13 @@ int main(int argc, char** argv) {
     auto dearchiver = load_archive(**vk, archive);
     if (!dearchiver) return 1;
     for (uint32_t bounces : bounce_counts) {
-      BounceResults& r = report.by_bounces[bounces];
-      std::printf("CPU reference: %ux%u, %u spp, %u bounces (double precision, all cores)...\n", width,
-                  height, reference_spp, bounces);
-      RenderSettings reference_settings;
-      reference_settings.bounces = bounces;
-      reference_settings.seed = 0x5EED;
-      const auto start = std::chrono::steady_clock::now();
-      const ReferenceImage reference =
-          render_reference(*scene, reference_settings, width, height, reference_spp);
-      r.reference_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      r.image_mean =
-          std::accumulate(reference.mean.begin(), reference.mean.end(), 0.0) / double(reference.mean.size());
-      for (double v : reference.variance) r.reference_noise += v / reference_spp;
-      r.reference_noise /= double(reference.variance.size());
-
-      // Error against spp: one sample per frame, as the window accumulates.
-      for (const Config& config : report.configs) {
-        RenderSettings base = config.settings;
-        base.bounces = bounces, base.samples_per_frame = 1;
-        // Warm up: lavapipe compiles a pipeline's code at its first dispatch.
-        if (auto w = render_offline(**vk, *dearchiver, *scene, base, width, height, 2); !w)
-          return std::fprintf(stderr, "%s\n", w.error().message.c_str()), 1;
-        std::vector<Point>& points = r.points[config.name];
-        for (uint32_t spp = 1; spp <= max_spp; spp *= 2) {
-          Point point;
-          point.spp = spp;
-          for (uint32_t seed = 1; seed <= seeds; ++seed) {
-            RenderSettings s = base;
-            s.seed = seed * 7919u;
-            auto rendered = render_offline(**vk, *dearchiver, *scene, s, width, height, spp);
-            if (!rendered) return std::fprintf(stderr, "%s\n", rendered.error().message.c_str()), 1;
-            auto [mse, rel] = errors(rendered->rgba, reference, r.reference_noise);
-            point.mse += mse / seeds, point.rel_mse += rel / seeds;
-            runs << bounces << ',' << config.name << ',' << spp << ',' << seed << ',' << mse << ',' << rel
-                 << '\n';
-          }
-          points.push_back(point);
-        }
-        std::printf("%u bounces, %-20s RMSE at %u spp: %.5f\n", bounces, config.name.c_str(), max_spp,
-                    points.back().rmse());
-      }
-
-      // Time per sample, interleaved: at the sweep's size (one sample per frame) and at 640x480.
-      auto small = time_interleaved(**vk, *dearchiver, *scene, report.configs, bounces, width, height, 64, 1,
-                                    timing_rounds);
-      if (!small) return std::fprintf(stderr, "%s\n", small.error().message.c_str()), 1;
-      auto large =
-          time_interleaved(**vk, *dearchiver, *scene, report.configs, bounces, 640, 480, 8, 4, timing_rounds);
-      if (!large) return std::fprintf(stderr, "%s\n", large.error().message.c_str()), 1;
-      for (size_t i = 0; i < report.configs.size(); ++i) {
-        const std::string& name = report.configs[i].name;
-        r.gpu_ms_per_frame[name] = small->gpu_ms[i];
-        r.ms_per_sample_640[name] = large->gpu_ms[i];
-        r.wall_ms_per_sample_640[name] = large->wall_ms[i];
-        // Time of the sweep's image from the cost per pixel at 640x480: those frames are 100 times
-        // larger, so dispatch overhead and load spikes weigh far less than in a 64x48 frame.
-        const double ms_per_sample = large->gpu_ms[i] * (double(width) * height) / (640.0 * 480.0);
-        for (Point& p : r.points[name]) p.time_s = p.spp * ms_per_sample / 1000.0;
-        std::printf("%u bounces, %-20s %.3f ms/frame at %ux%u, %.1f ms/sample at 640x480\n", bounces,
-                    name.c_str(), small->gpu_ms[i], width, height, large->gpu_ms[i]);
-      }
+      const ReferenceImage reference = measure_reference(*scene, bounces, report);
+      if (auto measured =
+              measure_errors(**vk, *dearchiver, *scene, reference, bounces, max_spp, runs, report);
+          !measured)
+        return std::fprintf(stderr, "%s\n", measured.error().message.c_str()), 1;
+      if (auto measured = measure_times(**vk, *dearchiver, *scene, bounces, report); !measured)
+        return std::fprintf(stderr, "%s\n", measured.error().message.c_str()), 1;
     }
   }
   (*vk)->destroy_device();
