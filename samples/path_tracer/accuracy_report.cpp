@@ -137,7 +137,7 @@ ReferenceImage measure_reference(const Scene& scene, uint32_t bounces, Report& r
 }
 
 // Error against spp: one sample per frame, as the window accumulates. Each run is a row of `runs`.
-Result<void> measure_errors(samples::VulkanContext& vk, Dearchiver& dearchiver, const Scene& scene,
+Result<void> measure_errors(bootstrap::VulkanContext& vk, Dearchiver& dearchiver, const Scene& scene,
                             const ReferenceImage& reference, uint32_t bounces, uint32_t max_spp,
                             std::ostream& runs, Report& report) {
   BounceResults& r = report.by_bounces[bounces];
@@ -170,7 +170,7 @@ Result<void> measure_errors(samples::VulkanContext& vk, Dearchiver& dearchiver, 
 }
 
 // Time per sample, interleaved: at the sweep's size (one sample per frame) and at 640x480.
-Result<void> measure_times(samples::VulkanContext& vk, Dearchiver& dearchiver, const Scene& scene,
+Result<void> measure_times(bootstrap::VulkanContext& vk, Dearchiver& dearchiver, const Scene& scene,
                            uint32_t bounces, Report& report) {
   BounceResults& r = report.by_bounces[bounces];
   const uint32_t width = report.width, height = report.height;
