@@ -14,6 +14,8 @@
 namespace statepack::testing {
 namespace {
 
+// Each test writes its own copy: ctest -j runs them as concurrent processes, and one truncating the
+// file while the other reads it made the reader see 0 bytes.
 std::string hostile_names_archive() {
   auto slice = Archive::from_file(STATEPACK_TEST_ARCHIVE);
   EXPECT_TRUE(slice) << slice.error().message;
@@ -26,7 +28,8 @@ std::string hostile_names_archive() {
     for (auto& b : l.bindings)
       if (b.name == "Values") b.name = "half\xE2\x82";  // a truncated three-byte sequence
   const auto bytes = format::encode(c);
-  const std::string path = std::string(STATEPACK_TEST_OUTPUT_DIR) + "/hostile_names.spk";
+  const std::string path = std::string(STATEPACK_TEST_OUTPUT_DIR) + "/hostile_names_" +
+                           ::testing::UnitTest::GetInstance()->current_test_info()->name() + ".spk";
   std::filesystem::create_directories(STATEPACK_TEST_OUTPUT_DIR);
   std::ofstream(path, std::ios::binary)
       .write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));

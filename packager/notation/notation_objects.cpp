@@ -217,7 +217,7 @@ std::optional<ShaderDesc> read_shader(ReadContext& ctx, const Json& j, const std
   }
   if (source) shader.source = *source;
   if (file_path && !ctx.defaults_mode) {
-    shader.file = resolve_file(*file_path, ctx.base_dir, ctx.options.shader_dirs);
+    shader.file = resolve_file(*file_path, ctx.base_dir, ctx.options.shader_dirs, ctx.options.memory_files);
     if (shader.file.empty())
       json.error(pointer + "/FilePath", "shader file '" + *file_path + "' not found next to " + json.file() +
                                             " or in any shader directory (-s)");
