@@ -161,9 +161,12 @@ TEST(ArchiveFormat, OpenGlPipelinesAreValidated) {
     edit(f.contents);
     auto bytes = encode(f.contents);
     Aligned aligned(bytes);
-    auto decoded = decode(aligned.span());
-    return decoded ? std::string("accepted") : decoded.error().message;
+    auto decoded = decode(aligned.span());  // the OpenGL records are validate_gl's, not decode's
+    if (!decoded) return decoded.error().message;
+    auto valid = validate_gl(*decoded);
+    return valid ? std::string("accepted") : valid.error().message;
   };
+  EXPECT_EQ(refused([](Contents&) {}), "accepted");
   EXPECT_NE(refused([](Contents& c) { c.backends = kBackendVulkan; }).find("names no OpenGL backend"),
             std::string::npos);
   EXPECT_NE(refused([](Contents& c) { c.gl_pipelines[1].shaders[0].blob = 9; }).find("missing SPIR-V blob"),

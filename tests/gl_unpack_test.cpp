@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "bootstrap/gl_context.hpp"
+#include "forged_archive.hpp"
 #include "format/archive_format.hpp"
 #include "gl/gl_state.hpp"
 #include "gl_test_fixture.hpp"
@@ -173,6 +174,28 @@ TEST_F(GlTest, VulkanOnlyArchiveIsMissingBackend) {
   ASSERT_FALSE(added);
   EXPECT_EQ(added.error().code, ErrorCode::missing_backend);
   EXPECT_NE(added.error().message.find("--opengl"), std::string::npos) << added.error().message;
+}
+
+// The Vulkan runtime loads an archive without reading its OpenGL block; the GL dearchiver checks that
+// block where it is used: a binding table missing the shader's storage buffer is refused at add_archive.
+TEST_F(GlTest, ABrokenOpenGlBlockIsRefusedWhereItIsUsed) {
+  Archive good = load(STATEPACK_GL_ARCHIVE);
+  format::Contents broken = detail::ArchiveAccess::contents(good);
+  for (auto& p : broken.gl_pipelines)
+    if (p.name == "Fill Buffer PSO") p.bindings.clear();
+  ForgedBytes bytes(format::encode(broken));
+  auto archive = Archive::from_memory(bytes.span());
+  ASSERT_TRUE(archive) << archive.error().message;
+  auto dearchiver = gl::Dearchiver::create();
+  ASSERT_TRUE(dearchiver) << dearchiver.error().message;
+  auto added = dearchiver->add_archive(std::move(*archive));
+  ASSERT_FALSE(added);
+  EXPECT_EQ(added.error().code, ErrorCode::corrupt);
+  EXPECT_NE(added.error().message.find("gl::Dearchiver::add_archive: corrupt archive: OpenGL pipeline 'Fill "
+                                       "Buffer PSO', shader 'Fill Buffer CS': the resource at binding 0 has "
+                                       "no binding of its kind"),
+            std::string::npos)
+      << added.error().message;
 }
 
 TEST_F(GlTest, CreateWithoutCurrentContextIsUnsupported) {
@@ -345,7 +368,8 @@ TEST_F(GlTest, DebugCallbackRecordsErrors) {
 }
 
 // A specialization constant the shader does not have never reaches glSpecializeShader (where the driver
-// would raise GL_INVALID_VALUE): the loader checks GL constants against the SPIR-V as it does Vulkan's.
+// would raise GL_INVALID_VALUE): add_archive checks GL constants against the SPIR-V as loading does
+// Vulkan's.
 TEST_F(GlTest, UndeclaredSpecializationConstantIsRefusedAtLoad) {
   auto original = load(STATEPACK_GL_ARCHIVE);
   format::Contents contents = detail::ArchiveAccess::contents(original);
@@ -353,7 +377,11 @@ TEST_F(GlTest, UndeclaredSpecializationConstantIsRefusedAtLoad) {
     if (p.name == "Fill Buffer PSO")
       p.constants.push_back({"missing", VK_SHADER_STAGE_COMPUTE_BIT, 77, 4, 1});
   ArchiveBytes bytes = encode_aligned(contents);
-  auto archive = Archive::from_memory(bytes.bytes());
+  auto loaded = Archive::from_memory(bytes.bytes());
+  ASSERT_TRUE(loaded) << loaded.error().message;  // the Vulkan part is sound
+  auto dearchiver = gl::Dearchiver::create();
+  ASSERT_TRUE(dearchiver) << dearchiver.error().message;
+  auto archive = dearchiver->add_archive(std::move(*loaded));
   ASSERT_FALSE(archive);
   EXPECT_EQ(archive.error().code, ErrorCode::corrupt);
   EXPECT_NE(archive.error().message.find("OpenGL pipeline 'Fill Buffer PSO': specialization constant "

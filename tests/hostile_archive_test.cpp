@@ -506,8 +506,16 @@ TEST_F(HostileUnpack, ModifyCallbackExceptionsBecomeErrors) {
 namespace statepack::testing {
 namespace {
 
-// The OpenGL block is checked against its own SPIR-V at load, as the Vulkan part is: what reaches a GL
-// driver has its entry point, no push constants, and every resource bound in its namespace.
+// The OpenGL block is checked against its own SPIR-V before use, as the Vulkan part is at load: what
+// reaches a GL driver has its entry point, no push constants, and every resource bound in its namespace.
+// The check is format::check_opengl, which statepack_gl's add_archive and the packager's tools run;
+// Archive (the Vulkan runtime) leaves the block it never reads alone.
+Result<void> load_with_opengl(std::span<const uint8_t> bytes) {
+  auto contents = format::load_archive(bytes, std::nullopt, "forged");
+  if (!contents) return contents.error();
+  return format::check_opengl(*contents, "forged");
+}
+
 TEST(HostileArchive, OpenGlBlockIsCheckedAgainstItsSpirv) {
   auto loaded = format::load_archive_file(STATEPACK_GL_SLICE_ARCHIVE);
   ASSERT_TRUE(loaded) << loaded.error().message;
@@ -518,10 +526,20 @@ TEST(HostileArchive, OpenGlBlockIsCheckedAgainstItsSpirv) {
     format::Contents m = c;
     edit(m);
     ForgedBytes bytes(format::encode(m));
-    auto archive = Archive::from_memory(bytes.span());
-    return archive ? "accepted" : archive.error().message;
+    auto checked = load_with_opengl(bytes.span());
+    return checked ? "accepted" : checked.error().message;
   };
   EXPECT_EQ(refused([](format::Contents&) {}), "accepted");
+  {  // The Vulkan runtime loads an archive whose OpenGL block is broken: it never reads that block.
+    format::Contents m = c;
+    m.gl_pipelines[0].shaders[0].blob = 999;
+    ForgedBytes bytes(format::encode(m));
+    EXPECT_TRUE(Archive::from_memory(bytes.span()));
+    auto checked = load_with_opengl(bytes.span());
+    ASSERT_FALSE(checked);
+    EXPECT_NE(checked.error().message.find("refers to a missing SPIR-V blob"), std::string::npos)
+        << checked.error().message;
+  }
   auto expect = [](const std::string& message, const char* part) {
     EXPECT_NE(message.find(part), std::string::npos) << "expected '" << part << "' in: " << message;
   };
@@ -589,7 +607,7 @@ TEST(HostileArchive, OpenGlModulesWithCapabilitiesOutsideOpenGlAreRefused) {
     format::Contents m = c;
     m.spirv[blob] = words;
     ForgedBytes bytes(format::encode(m));
-    auto archive = Archive::from_memory(bytes.span());
+    auto archive = load_with_opengl(bytes.span());
     ASSERT_FALSE(archive) << capability;
     EXPECT_NE(archive.error().message.find("declares SPIR-V capability " + std::to_string(capability) +
                                            ", which OpenGL 4.5 with GL_ARB_gl_spirv does not have"),

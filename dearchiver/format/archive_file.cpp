@@ -19,6 +19,14 @@ Result<Contents> load_archive(std::span<const uint8_t> bytes, std::optional<uint
   return decoded;
 }
 
+Result<void> check_opengl(const Contents& contents, const std::string& origin) {
+  if (auto valid = validate_gl(contents); !valid)
+    return Error{valid.error().code, origin + ": " + valid.error().message};
+  if (auto consistent = check_gl_shader_interfaces(contents); !consistent)
+    return Error{consistent.error().code, origin + ": " + consistent.error().message};
+  return {};
+}
+
 Result<LoadedArchive> load_archive_file(const std::filesystem::path& path, std::optional<uint32_t> required) {
   auto file = read_regular_file(path, uint64_t{0xFFFFFFFFu});
   if (!file) return file.error();

@@ -26,6 +26,12 @@ struct LoadedArchive {
 Result<Contents> load_archive(std::span<const uint8_t> bytes,
                               std::optional<uint32_t> required_content_version, const std::string& origin);
 
+// The OpenGL block checked as load_archive checks the rest: its records (validate_gl), then against its
+// SPIR-V (check_gl_shader_interfaces). The Vulkan runtime leaves it out (it never reads that block, and
+// a Vulkan-only program links none of it); statepack_gl runs it in add_archive, and the packager's
+// tools on every archive they load. `origin` starts the error message.
+Result<void> check_opengl(const Contents& contents, const std::string& origin);
+
 // Reads a regular file (at most 4 GiB: record offsets are 32-bit) and loads it; errors name the file.
 Result<LoadedArchive> load_archive_file(const std::filesystem::path& path,
                                         std::optional<uint32_t> required_content_version = std::nullopt);

@@ -797,10 +797,6 @@ Result<void> validate(const Contents& c) {
     if (p.kind == PipelineKind::graphics)
       if (auto valid = validate_graphics(c, p); !valid) return valid;
   }
-  if (!c.gl_pipelines.empty() && !(c.backends & kBackendOpenGL))
-    return corrupt("OpenGL pipelines in an archive whose header names no OpenGL backend");
-  for (size_t i = 0; i < c.gl_pipelines.size(); ++i)
-    if (auto valid = validate_gl_pipeline(c, i); !valid) return valid;
   return {};
 }
 
@@ -815,6 +811,14 @@ uint64_t archive_checksum(std::span<const uint8_t> file) {
 }
 
 }  // namespace
+
+Result<void> validate_gl(const Contents& c) {
+  if (!c.gl_pipelines.empty() && !(c.backends & kBackendOpenGL))
+    return corrupt("OpenGL pipelines in an archive whose header names no OpenGL backend");
+  for (size_t i = 0; i < c.gl_pipelines.size(); ++i)
+    if (auto valid = validate_gl_pipeline(c, i); !valid) return valid;
+  return {};
+}
 
 template <class T>
 std::string record_key(const T& record) {

@@ -312,6 +312,10 @@ std::vector<uint8_t> encode(const Contents& contents);
 // Validates every offset, size, count and checksum, then decodes. `bytes` must be 4-byte aligned
 // and must outlive the result's `spirv` spans.
 Result<Contents> decode(std::span<const uint8_t> bytes);
+// The OpenGL block's records (names, stages, binding tables, constants, graphics state), which decode
+// leaves unchecked: the Vulkan runtime never reads them, and a program that does not use OpenGL then
+// links none of this (check_opengl in archive_file.hpp runs it with the checks against the SPIR-V).
+Result<void> validate_gl(const Contents& contents);
 
 // XXH3-64 of the bytes; the hash used for blob content and the whole-archive checksum.
 uint64_t hash_bytes(std::span<const uint8_t> bytes);

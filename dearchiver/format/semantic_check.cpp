@@ -228,7 +228,14 @@ Result<void> check_shader_interfaces(const Contents& c) {
   }
   for (const Pipeline& p : c.pipelines)
     if (auto ok = check_pipeline(c, p, modules); !ok) return ok;
-  // OpenGL pipelines: walked separately (their blobs are the GL compilations), bounded the same way.
+  return {};
+}
+
+Result<void> check_gl_shader_interfaces(const Contents& c) {
+  // Walked on their own (their blobs are the GL compilations), bounded as the Vulkan pipelines are.
+  uint64_t work = 0, budget = 64;
+  for (auto blob : c.spirv) budget += blob.size_bytes();
+  budget *= 16;
   std::vector<std::optional<spirv::Module>> gl_modules(c.spirv.size());
   for (const GlPipeline& p : c.gl_pipelines) {
     if (auto ok = check_gl_pipeline(c, p, gl_modules, work, budget); !ok) return ok;

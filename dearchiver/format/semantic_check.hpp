@@ -14,4 +14,9 @@ namespace statepack::format {
 // pipeline or shader, the binding and the reason.
 Result<void> check_shader_interfaces(const Contents& contents);
 
+// The same for the OpenGL block, whose records validate_gl has checked: each stage's entry point, no
+// push constants, only capabilities OpenGL 4.5 with GL_ARB_gl_spirv has, every resource bound in its
+// namespace.
+Result<void> check_gl_shader_interfaces(const Contents& contents);
+
 }  // namespace statepack::format

@@ -8,6 +8,7 @@
 #include <set>
 #include <utility>
 
+#include "format/archive_file.hpp"
 #include "format/archive_format.hpp"
 #include "format/spirv_walk.hpp"
 #include "gl_state.hpp"
@@ -288,6 +289,9 @@ Result<void> Dearchiver::add_archive(Archive archive) {
       return Error{ErrorCode::missing_backend,
                    "gl::Dearchiver::add_archive: the archive holds no OpenGL pipelines (pack it with "
                    "`statepack --opengl`)"};
+    // Archive::from_* checked the Vulkan part only; the OpenGL block is checked here, where it is used.
+    if (auto checked = format::check_opengl(contents, "gl::Dearchiver::add_archive"); !checked)
+      return checked.error();
     state_->archives.push_back(std::move(archive));
     return {};
   });

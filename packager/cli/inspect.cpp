@@ -490,6 +490,10 @@ int run_inspect(const std::string& path, bool as_json, std::ostream& out, std::o
     err << "statepack: error: " << archive.error().message << '\n';
     return archive.error().code == ErrorCode::io_error ? kExitIoError : kExitInputError;
   }
+  if (auto gl = format::check_opengl(archive->contents, path); !gl) {
+    err << "statepack: error: " << gl.error().message << '\n';
+    return kExitInputError;
+  }
   std::error_code ec;
   print_archive(archive->contents, static_cast<size_t>(std::filesystem::file_size(path, ec)), as_json, out);
   return kExitSuccess;

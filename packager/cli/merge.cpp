@@ -111,8 +111,10 @@ int run_merge(const MergeOptions& options, std::ostream& out, std::ostream& err)
   for (const fs::path& path : options.inputs) {
     const std::string file = printable(path.string());
     auto archive = format::load_archive_file(path);
-    if (!archive) {
-      err << "statepack: error: " << printable(archive.error().message) << '\n';
+    Result<void> gl = archive ? format::check_opengl(archive->contents, path.string()) : Result<void>{};
+    if (!archive || !gl) {
+      err << "statepack: error: " << printable(!archive ? archive.error().message : gl.error().message)
+          << '\n';
       return kExitInputError;
     }
     const format::Contents& c = archive->contents;

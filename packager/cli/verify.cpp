@@ -4,10 +4,12 @@
 #include <ostream>
 
 #include "bootstrap/vulkan_context.hpp"
+#include "format/archive_file.hpp"
 #include "layout/format_support.hpp"
 #include "notation/diagnostics.hpp"
 #include "notation/enum_tables.hpp"
 #include "pack/packer.hpp"
+#include "runtime/archive_access.hpp"
 #include "statepack/dearchiver.hpp"
 
 namespace statepack::packager {
@@ -121,6 +123,12 @@ int run_verify(const VerifyOptions& options, std::ostream& out, std::ostream& er
     if (!archive) {
       err << "statepack: error: " << printable(archive.error().message) << '\n';
       exit_code = std::max(exit_code, int(kExitIoError));
+      continue;
+    }
+    // Archive checks what Vulkan uses; the OpenGL block, which verify does not create, is checked too.
+    if (auto gl = format::check_opengl(detail::ArchiveAccess::contents(*archive), path.string()); !gl) {
+      err << "statepack: error: " << printable(gl.error().message) << '\n';
+      exit_code = std::max(exit_code, int(kExitInputError));
       continue;
     }
     std::vector<ObjectInfo> objects = archive->objects();

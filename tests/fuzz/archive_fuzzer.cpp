@@ -19,6 +19,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   auto decoded = statepack::format::decode({reinterpret_cast<const uint8_t*>(aligned.data()), size});
   if (!decoded) return 0;
   (void)statepack::format::check_shader_interfaces(*decoded);
+  // The OpenGL block's checks, as statepack_gl runs them: the SPIR-V ones only on records that passed.
+  if (statepack::format::validate_gl(*decoded)) (void)statepack::format::check_gl_shader_interfaces(*decoded);
   // Whatever the reader accepts must survive a round trip.
   std::vector<uint8_t> again = statepack::format::encode(*decoded);
   std::vector<uint32_t> again_aligned((again.size() + 3) / 4);
