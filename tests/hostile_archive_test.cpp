@@ -98,19 +98,19 @@ TEST(HostileFiles, OutputErrorsCarryTheirKindAsACode) {
   const fs::path dir = scratch_dir() / "output_kinds";
   fs::create_directories(dir / "a_directory");
   const std::vector<uint8_t> bytes = {1, 2, 3};
-  auto onto_directory = write_file_atomically(dir / "a_directory", bytes);
+  auto onto_directory = detail::write_file_atomically(dir / "a_directory", bytes);
   ASSERT_FALSE(onto_directory);
   EXPECT_EQ(onto_directory.error().code, ErrorCode::invalid_argument) << onto_directory.error().message;
   EXPECT_NE(onto_directory.error().message.find("refusing to write"), std::string::npos);
   std::ofstream(dir / "input.json") << "{}";
-  auto onto_input = write_file_atomically(dir / "input.json", bytes, {dir / "input.json"});
+  auto onto_input = detail::write_file_atomically(dir / "input.json", bytes, {dir / "input.json"});
   ASSERT_FALSE(onto_input);
   EXPECT_EQ(onto_input.error().code, ErrorCode::invalid_argument) << onto_input.error().message;
-  auto nowhere = write_file_atomically("/nonexistent/dir/out.spk", bytes);
+  auto nowhere = detail::write_file_atomically("/nonexistent/dir/out.spk", bytes);
   ASSERT_FALSE(nowhere);
   EXPECT_EQ(nowhere.error().code, ErrorCode::io_error) << nowhere.error().message;
   EXPECT_NE(nowhere.error().message.find("/nonexistent/dir/out.spk"), std::string::npos);
-  ASSERT_TRUE(write_file_atomically(dir / "fine.spk", bytes));
+  ASSERT_TRUE(detail::write_file_atomically(dir / "fine.spk", bytes));
 }
 
 TEST(HostileFiles, MissingFileNamesTheOsReason) {

@@ -28,7 +28,7 @@ Result<void> check_opengl(const Contents& contents, const std::string& origin) {
 }
 
 Result<LoadedArchive> load_archive_file(const std::filesystem::path& path, std::optional<uint32_t> required) {
-  auto file = read_regular_file(path, uint64_t{0xFFFFFFFFu});
+  auto file = detail::read_regular_file(path, uint64_t{0xFFFFFFFFu});
   if (!file) return file.error();
   LoadedArchive loaded;
   loaded.owned = std::move(file->words);

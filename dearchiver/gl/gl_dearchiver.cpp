@@ -17,6 +17,8 @@
 #include "support/suggest.hpp"
 
 namespace statepack::gl {
+using statepack::detail::api_guard;  // the runtime's internals this library shares
+using statepack::detail::did_you_mean;
 
 const char* to_string(Binding::Kind kind) {
   return format::gl_namespace_name(uint32_t(kind));  // Binding::Kind has the archive's numbering

@@ -9,7 +9,7 @@
 
 #include "statepack/result.hpp"
 
-namespace statepack {
+namespace statepack::detail {
 
 template <class F>
 auto api_guard(const char* entry_point, F&& body) noexcept -> decltype(body()) {
@@ -30,4 +30,4 @@ auto api_guard(const char* entry_point, F&& body) noexcept -> decltype(body()) {
   }
 }
 
-}  // namespace statepack
+}  // namespace statepack::detail

@@ -6,6 +6,7 @@
 #include "statepack/dearchiver.hpp"
 
 namespace statepack {
+using detail::api_guard;
 
 struct Archive::State {
   format::LoadedArchive loaded;  // `owned` stays empty for borrowed bytes

@@ -21,6 +21,7 @@
 #include "vulkan_functions.hpp"
 
 namespace statepack {
+using namespace detail;  // the runtime's internals: this file defines the public API on top of them
 
 const BindingInfo* UnpackedPipeline::find_binding(std::string_view resource_name) const {
   for (const auto& b : bindings)

@@ -10,7 +10,7 @@
 
 #include "format/spirv_walk.hpp"
 
-namespace statepack {
+namespace statepack::detail {
 
 namespace {
 
@@ -588,4 +588,4 @@ Result<void> check_graphics_state(const format::Contents& c, const format::Pipel
   return check_interface_formats(c, p, t, who, module_of);
 }
 
-}  // namespace statepack
+}  // namespace statepack::detail

@@ -13,7 +13,7 @@
 #include "format/spirv_walk.hpp"
 #include "vulkan_functions.hpp"
 
-namespace statepack {
+namespace statepack::detail {
 
 // The device as the runtime sees it: its entry points (loaded once, from the application's dispatch),
 // limits and formats.
@@ -58,4 +58,4 @@ Result<void> check_graphics_state(const format::Contents& contents, const format
                                   const GraphicsTargets& targets, const DeviceCaps& caps,
                                   const ModuleOf& module_of);
 
-}  // namespace statepack
+}  // namespace statepack::detail

@@ -5,7 +5,7 @@
 #include "archive_access.hpp"
 #include "vk_result_string.hpp"
 
-namespace statepack {
+namespace statepack::detail {
 
 ObjectCache::~ObjectCache() {
   VkDevice device = context_.device;
@@ -210,4 +210,4 @@ const spirv::Module* ObjectCache::walked(size_t archive, uint32_t blob) {
   return it->second ? &*it->second : nullptr;
 }
 
-}  // namespace statepack
+}  // namespace statepack::detail

@@ -17,7 +17,7 @@
 #include "format/spirv_walk.hpp"
 #include "statepack/dearchiver.hpp"
 
-namespace statepack {
+namespace statepack::detail {
 
 class ObjectCache {
  public:
@@ -66,4 +66,4 @@ class ObjectCache {
   std::map<Key, std::optional<spirv::Module>> walked_modules_;  // (archive, blob)
 };
 
-}  // namespace statepack
+}  // namespace statepack::detail

@@ -3,7 +3,7 @@
 #include <string_view>
 #include <unordered_map>
 
-namespace statepack {
+namespace statepack::detail {
 
 // Dynamic states: the archive's bit mask <-> VkDynamicState (archive_format.hpp has the numbering).
 std::optional<uint32_t> dynamic_state_bit(VkDynamicState state) {
@@ -120,4 +120,4 @@ Result<std::vector<SpecializationConstant>> settle_constants(const format::Pipel
   return archived;
 }
 
-}  // namespace statepack
+}  // namespace statepack::detail

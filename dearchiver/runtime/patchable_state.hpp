@@ -9,7 +9,7 @@
 #include "format/archive_format.hpp"
 #include "statepack/dearchiver.hpp"
 
-namespace statepack {
+namespace statepack::detail {
 
 // The archive's bit for a dynamic state statepack supports (archive_format.hpp has the numbering).
 std::optional<uint32_t> dynamic_state_bit(VkDynamicState state);
@@ -23,4 +23,4 @@ std::vector<SpecializationConstant> constants_of(const format::Pipeline& pipelin
 Result<std::vector<SpecializationConstant>> settle_constants(const format::Pipeline& pipeline,
                                                              std::vector<SpecializationConstant> given);
 
-}  // namespace statepack
+}  // namespace statepack::detail

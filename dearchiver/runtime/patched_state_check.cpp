@@ -4,7 +4,7 @@
 #include <cmath>
 #include <string>
 
-namespace statepack {
+namespace statepack::detail {
 namespace {
 
 struct Checker {
@@ -80,4 +80,4 @@ std::optional<Error> check_patched_state(std::string_view pipeline, const Patcha
   return c.error;
 }
 
-}  // namespace statepack
+}  // namespace statepack::detail

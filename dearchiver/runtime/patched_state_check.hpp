@@ -7,7 +7,7 @@
 
 #include "statepack/dearchiver.hpp"
 
-namespace statepack {
+namespace statepack::detail {
 
 // Every enumeration and flag of the graphics state within Vulkan 1.0's core values (the archive holds
 // no others), for the render targets in use: formats, sample count, blend factors, ops and write masks,
@@ -17,4 +17,4 @@ namespace statepack {
 // the field and the value.
 std::optional<Error> check_patched_state(std::string_view pipeline, const PatchableState& state);
 
-}  // namespace statepack
+}  // namespace statepack::detail

@@ -29,6 +29,7 @@
 #include "vulkan_functions.hpp"
 
 namespace statepack {
+using namespace detail;  // the runtime's internals: this file defines the public API on top of them
 namespace {
 
 constexpr uint8_t kMagic[8] = {'S', 'P', 'K', 'C', 'A', 'C', 'H', 'E'};

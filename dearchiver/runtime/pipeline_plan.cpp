@@ -12,7 +12,7 @@
 #include "patched_state_check.hpp"
 #include "vk_result_string.hpp"
 
-namespace statepack {
+namespace statepack::detail {
 namespace {
 
 bool has_stencil(VkFormat format) {
@@ -402,4 +402,4 @@ std::optional<Error> Planner::check_features(const std::string& name, const Patc
   return std::nullopt;
 }
 
-}  // namespace statepack
+}  // namespace statepack::detail

@@ -15,7 +15,7 @@
 #include "object_cache.hpp"
 #include "statepack/dearchiver.hpp"
 
-namespace statepack {
+namespace statepack::detail {
 
 // A pipeline of one of the Dearchiver's archives.
 struct ArchivedPipeline {
@@ -95,4 +95,4 @@ class Planner {
   ObjectCache& cache_;
 };
 
-}  // namespace statepack
+}  // namespace statepack::detail

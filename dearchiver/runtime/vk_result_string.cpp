@@ -2,7 +2,7 @@
 
 #include <vulkan/vulkan.hpp>  // brings vk::to_string
 
-namespace statepack {
+namespace statepack::detail {
 
 // Uses Vulkan-Hpp's generated names ("ErrorOutOfDeviceMemory") so new codes need no upkeep here.
 std::string vk_result_string(VkResult result) {
@@ -16,4 +16,4 @@ Error vulkan_failure(const char* call, VkResult result, std::string_view object)
                result};
 }
 
-}  // namespace statepack
+}  // namespace statepack::detail

@@ -4,7 +4,7 @@
 
 #include <string>
 
-namespace statepack {
+namespace statepack::detail {
 namespace {
 
 // The system loader, opened once for the process and never closed (the functions outlive any caller).
@@ -67,4 +67,4 @@ Result<VulkanFunctions> load_vulkan_functions(const DeviceContext& context, cons
   return f;
 }
 
-}  // namespace statepack
+}  // namespace statepack::detail

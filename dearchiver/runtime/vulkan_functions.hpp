@@ -6,7 +6,7 @@
 
 #include "statepack/dearchiver.hpp"
 
-namespace statepack {
+namespace statepack::detail {
 
 // X(name) for each function, instance-level first: one list for the members and for the loader.
 #define STATEPACK_VK_INSTANCE_FUNCTIONS(X) \
@@ -44,4 +44,4 @@ struct VulkanFunctions {
 // missing function and what to pass instead.
 Result<VulkanFunctions> load_vulkan_functions(const DeviceContext& context, const char* caller);
 
-}  // namespace statepack
+}  // namespace statepack::detail

@@ -9,7 +9,7 @@
 #include <cerrno>
 #include <system_error>
 
-namespace statepack {
+namespace statepack::detail {
 namespace fs = std::filesystem;
 
 namespace {
@@ -93,4 +93,4 @@ Result<FileBytes> read_regular_file(const fs::path& path, uint64_t max_size, con
   return out;
 }
 
-}  // namespace statepack
+}  // namespace statepack::detail

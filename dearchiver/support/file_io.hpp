@@ -11,7 +11,7 @@
 
 #include "statepack/result.hpp"
 
-namespace statepack {
+namespace statepack::detail {
 
 // Writes `bytes` to a temporary beside `path`, then renames it over `path`: a failed write never leaves a
 // half file or destroys the previous one, and no planted link is followed (see output_files.hpp; this is
@@ -49,4 +49,4 @@ std::optional<FileIdentity> file_identity(const std::filesystem::path& path);
 Result<FileBytes> read_regular_file(const std::filesystem::path& path, uint64_t max_size,
                                     const std::string& display = {});
 
-}  // namespace statepack
+}  // namespace statepack::detail

@@ -12,7 +12,7 @@
 #include <string>
 #include <system_error>
 
-namespace statepack {
+namespace statepack::detail {
 namespace fs = std::filesystem;
 namespace {
 
@@ -173,4 +173,4 @@ Result<void> OutputSet::commit() {
   return {};
 }
 
-}  // namespace statepack
+}  // namespace statepack::detail

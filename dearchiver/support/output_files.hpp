@@ -18,7 +18,7 @@
 #include "file_io.hpp"
 #include "statepack/result.hpp"
 
-namespace statepack {
+namespace statepack::detail {
 
 // A file a run read, by path (for messages) and identity (so that no output replaces it).
 struct InputFile {
@@ -57,4 +57,4 @@ class OutputSet {
   std::vector<Staged> staged_;
 };
 
-}  // namespace statepack
+}  // namespace statepack::detail

@@ -10,7 +10,7 @@
 #include <thread>
 #include <vector>
 
-namespace statepack {
+namespace statepack::detail {
 
 template <class Work>
 void parallel_for(size_t count, uint32_t threads, Work&& work) {
@@ -26,4 +26,4 @@ void parallel_for(size_t count, uint32_t threads, Work&& work) {
   for (auto& t : pool) t.join();
 }
 
-}  // namespace statepack
+}  // namespace statepack::detail

@@ -4,7 +4,7 @@
 #include <cctype>
 #include <numeric>
 
-namespace statepack {
+namespace statepack::detail {
 namespace {
 
 // Levenshtein distance, case-insensitive: "rgba8_unorm" should find "RGBA8_UNORM".
@@ -52,4 +52,4 @@ std::string did_you_mean(std::string_view name, std::span<const std::string> can
   return text + "?)";
 }
 
-}  // namespace statepack
+}  // namespace statepack::detail

@@ -6,7 +6,7 @@
 #include <string_view>
 #include <vector>
 
-namespace statepack {
+namespace statepack::detail {
 
 // Candidates within a small edit distance of `name`, closest first (at most `limit`).
 std::vector<std::string> closest_names(std::string_view name, std::span<const std::string> candidates,
@@ -15,4 +15,4 @@ std::vector<std::string> closest_names(std::string_view name, std::span<const st
 // " (did you mean 'a' or 'b'?)" or "" when nothing is close.
 std::string did_you_mean(std::string_view name, std::span<const std::string> candidates);
 
-}  // namespace statepack
+}  // namespace statepack::detail

@@ -99,8 +99,8 @@ int run_merge(const MergeOptions& options, std::ostream& out, std::ostream& err)
   // The output is refused before any work when it cannot be written or is one of the inputs.
   std::vector<InputFile> inputs;
   for (const fs::path& path : options.inputs)
-    if (auto identity = file_identity(path)) inputs.push_back({path, *identity});
-  OutputSet outputs(inputs);
+    if (auto identity = detail::file_identity(path)) inputs.push_back({path, *identity});
+  detail::OutputSet outputs(inputs);
   if (std::string reason = outputs.refuse_reason(options.output); !reason.empty()) {
     err << "statepack: error: " << printable(reason) << '\n';
     return kExitUsage;

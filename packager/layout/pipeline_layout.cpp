@@ -124,7 +124,7 @@ bool layout_from_signatures(const PipelineDesc& p, const std::vector<StageInput>
       if (!found) {
         diag.error(p.where, where_text(p, stages[s]) + ": resource '" + r.name +
                                 "' is in none of the pipeline's resource signatures" +
-                                did_you_mean(r.name, all_names));
+                                detail::did_you_mean(r.name, all_names));
         ok = false;
       }
     }
@@ -196,7 +196,7 @@ bool implicit_layout(const PipelineDesc& p, const std::vector<StageInput>& stage
       if (p.flags & kIgnoreMissingVariables) continue;
       diag.error(sources.at(p.where, v.pointer), "pipeline '" + p.name + "': ResourceLayout variable '" +
                                                      v.name + "' is not used by any of its shaders" +
-                                                     did_you_mean(v.name, names));
+                                                     detail::did_you_mean(v.name, names));
       ok = false;
     } else if (v.stages != 0 && (slots[it->second].binding.stage_flags & v.stages) == 0) {
       diag.error(sources.at(p.where, v.pointer), "pipeline '" + p.name + "': variable '" + v.name +
@@ -214,7 +214,8 @@ bool implicit_layout(const PipelineDesc& p, const std::vector<StageInput>& stage
     diag.error(i < p.immutable_sampler_pointers.size() ? sources.at(p.where, p.immutable_sampler_pointers[i])
                                                        : p.where,
                "pipeline '" + p.name + "': immutable sampler '" + s.name +
-                   "' matches no sampler or combined texture of its shaders" + did_you_mean(s.name, names));
+                   "' matches no sampler or combined texture of its shaders" +
+                   detail::did_you_mean(s.name, names));
     ok = false;
   }
   if (!ok) return false;

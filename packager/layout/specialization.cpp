@@ -112,7 +112,7 @@ bool resolve_constants(const PipelineDesc& p, const std::vector<StageInput>& sta
       if (!declared) {
         if (named)
           fail(k, "shader '" + stage.desc->name + "' (" + stage_text(bit) + ") declares no such constant" +
-                      did_you_mean(k.name, all_names));
+                      detail::did_you_mean(k.name, all_names));
         continue;
       }
       found_any = true;
@@ -137,7 +137,7 @@ bool resolve_constants(const PipelineDesc& p, const std::vector<StageInput>& sta
         if ((k.stages & bit) && !(present & bit))
           fail(k, "'ShaderStages' names " + stage_text(bit) + ", but the pipeline has no such shader");
     } else if (!found_any) {
-      fail(k, "no shader of the pipeline declares it" + did_you_mean(k.name, all_names));
+      fail(k, "no shader of the pipeline declares it" + detail::did_you_mean(k.name, all_names));
     }
   }
   return ok;

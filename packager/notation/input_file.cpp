@@ -4,7 +4,7 @@ namespace statepack::packager {
 
 InputText read_input_file(const std::filesystem::path& path, const std::string& display, uint64_t max_bytes) {
   InputText out;
-  auto file = read_regular_file(path, max_bytes, display);
+  auto file = detail::read_regular_file(path, max_bytes, display);
   if (!file) {
     out.error = file.error().message;
     return out;

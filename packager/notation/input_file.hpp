@@ -13,8 +13,8 @@
 
 namespace statepack::packager {
 
-using statepack::FileIdentity;
-using statepack::InputFile;
+using statepack::detail::FileIdentity;
+using statepack::detail::InputFile;
 
 // Inputs larger than this are refused: no notation file or shader is anywhere near it, and reading one
 // must not exhaust memory.

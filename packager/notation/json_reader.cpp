@@ -55,7 +55,7 @@ void JsonReader::check_keys(const Json& object, const std::string& pointer,
       continue;
     if (diag_.full()) return;  // stop early: a file of a million unknown keys needs no million lines
     diag_.error(at_key(pointer + "/" + key), "unknown " + std::string(what) + " key '" + key + "'" +
-                                                 did_you_mean(key, key_names(allowed)));
+                                                 detail::did_you_mean(key, key_names(allowed)));
   }
 }
 
@@ -104,7 +104,7 @@ std::optional<uint32_t> JsonReader::enum_value(const Json& j, const std::string&
   if (auto vulkan = notation_name_for_vulkan_spelling(table, s))
     hint = " (Vulkan's name; the notation's is '" + std::string(*vulkan) + "')";
   else
-    hint = did_you_mean(s, names);
+    hint = detail::did_you_mean(s, names);
   if (hint.empty()) {  // nothing close: say what is valid (the first 20; docs/notation.md has the rest)
     hint = " (valid: ";
     for (size_t i = 0; i < names.size() && i < 20; ++i) hint += (i ? ", " : "") + names[i];

@@ -630,7 +630,7 @@ void resolve_references(Notation& notation, Diagnostics& diag) {
         found = &notation.inline_shaders[inl->second];
       if (!found) {
         diag.error(shader.where, "pipeline '" + pipeline.name + "' refers to unknown shader '" + shader.name +
-                                     "'" + did_you_mean(shader.name, shader_names));
+                                     "'" + detail::did_you_mean(shader.name, shader_names));
         continue;
       }
       if (found->broken) {  // its errors are reported where it is defined
@@ -649,13 +649,13 @@ void resolve_references(Notation& notation, Diagnostics& diag) {
     for (const auto& name : pipeline.signatures)
       if (!notation.signature_index.count(name))
         diag.error(pipeline.where, "pipeline '" + pipeline.name + "' refers to unknown resource signature '" +
-                                       name + "'" + did_you_mean(name, signature_names));
+                                       name + "'" + detail::did_you_mean(name, signature_names));
     if (!pipeline.render_pass.empty()) {
       auto pass = notation.render_pass_index.find(pipeline.render_pass);
       if (pass == notation.render_pass_index.end())
         diag.error(pipeline.where, "pipeline '" + pipeline.name + "' refers to unknown render pass '" +
                                        pipeline.render_pass + "'" +
-                                       did_you_mean(pipeline.render_pass, pass_names));
+                                       detail::did_you_mean(pipeline.render_pass, pass_names));
       else if (!notation.render_passes[pass->second].broken)
         apply_render_pass(notation.render_passes[pass->second].pass, pipeline, notation.sources, diag);
     }

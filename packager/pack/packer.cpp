@@ -84,8 +84,8 @@ class Finalizer {
     return it->second;
   }
   void run(uint32_t threads) {
-    parallel_for(jobs_.size(), threads,
-                 [&](size_t i) { jobs_[i].error = finalize_spirv(jobs_[i].words, options_); });
+    detail::parallel_for(jobs_.size(), threads,
+                         [&](size_t i) { jobs_[i].error = finalize_spirv(jobs_[i].words, options_); });
   }
   const std::vector<uint32_t>& words(size_t job) const { return jobs_[job].words; }
   const std::string& error(size_t job) const { return jobs_[job].error; }
@@ -115,7 +115,7 @@ class Dumper {
       return;
     }
     std::string text = disassemble_spirv(words, options_);
-    OutputSet files(inputs_);
+    detail::OutputSet files(inputs_);
     Result<void> written = files.stage(fs::path(base) += ".spv",
                                        {reinterpret_cast<const uint8_t*>(words.data()), words.size() * 4});
     if (written)
@@ -171,7 +171,7 @@ CompiledShaders compile_shaders(const Notation& notation, const PackOptions& opt
   if (!pipelines_only)
     for (const auto& s : notation.shaders) out.standalone_units.push_back(unit_for(s));
   ShaderMessages compile_errors;  // an error in a shared #include is reported once
-  parallel_for(out.units.size(), options.threads, [&](size_t i) {
+  detail::parallel_for(out.units.size(), options.threads, [&](size_t i) {
     CompiledUnit& u = out.units[i];
     if (u.desc.broken) return;  // its notation errors are reported; compiling it would guess
     u.compiled = compile_shader(u.desc, options.compile, compile_errors);
@@ -345,7 +345,7 @@ CompiledShaders opengl_units(const CompiledShaders& vulkan, const PackOptions& o
   for (const auto& units : vulkan.pipeline_units)
     for (size_t u : units) used[u] = 1;
   ShaderMessages direct_errors;
-  parallel_for(vulkan.units.size(), options.threads, [&](size_t u) {
+  detail::parallel_for(vulkan.units.size(), options.threads, [&](size_t u) {
     if (used[u] && vulkan.units[u].compiled.ok)
       make_opengl_unit(vulkan.units[u], options, out.units[u], direct_errors, diag);
   });
@@ -469,7 +469,7 @@ void note_unused_objects(const Notation& notation, Diagnostics& diag) {
 // Archive and depfile, all or nothing: both to temporaries, then both renamed. Returns the exit code.
 int write_outputs(const PackOptions& options, const std::vector<InputFile>& inputs,
                   const std::vector<uint8_t>& bytes, std::ostream& err) {
-  OutputSet outputs(inputs);
+  detail::OutputSet outputs(inputs);
   std::string text;
   if (options.depfile) {
     // Make syntax: "<output>: <every JSON and shader file read>".
@@ -503,7 +503,7 @@ int write_outputs(const PackOptions& options, const std::vector<InputFile>& inpu
 int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err) {
   // Outputs that can never be written are refused before any work (inputs are checked once known).
   if (!options.check_only) {
-    OutputSet none({});
+    detail::OutputSet none({});
     for (const auto* path : {&options.output, options.depfile ? &*options.depfile : nullptr}) {
       if (!path) continue;
       if (std::string reason = none.refuse_reason(*path); !reason.empty()) {

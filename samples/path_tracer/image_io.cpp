@@ -39,7 +39,7 @@ std::string write_png_rgb8(const std::filesystem::path& path, const std::vector<
       },
       &file, int(width), int(height), 3, rgb.data(), int(width * 3));
   if (file.empty()) return "PNG encoding failed";
-  auto written = write_file_atomically(path, as_bytes(file), inputs);
+  auto written = detail::write_file_atomically(path, as_bytes(file), inputs);
   return written ? std::string() : written.error().message;
 }
 
@@ -110,7 +110,7 @@ std::string write_image(const std::filesystem::path& path, const std::vector<flo
   } else {
     return "unknown image type '" + ext + "' (use .png, .exr or .pfm)";
   }
-  auto written = write_file_atomically(path, as_bytes(file), inputs);
+  auto written = detail::write_file_atomically(path, as_bytes(file), inputs);
   return written ? std::string() : written.error().message;
 }
 

@@ -215,7 +215,7 @@ ReferenceImage render_reference(const Scene& scene, const RenderSettings& settin
   out.variance.assign(size_t(width) * height * 3, 0.0);
   const Tracer tracer(scene, settings, width, height);
   // Rows on statepack's one thread pool (statepack_support), each row's pixels in order.
-  statepack::parallel_for(height, threads, [&](size_t row) {
+  statepack::detail::parallel_for(height, threads, [&](size_t row) {
     const uint32_t y = uint32_t(row);
     for (uint32_t x = 0; x < width; ++x) {
       double sum[3] = {}, sum2[3] = {};

@@ -58,7 +58,7 @@ struct Reader {
 
 Result<Scene> load_scene(const std::filesystem::path& path) {
   // Bounded and non-blocking: a scene is a few KiB; FIFOs, devices and directories are refused.
-  auto file = read_regular_file(path, 1u << 20);
+  auto file = detail::read_regular_file(path, 1u << 20);
   if (!file) return file.error();
   auto bytes = file->bytes();
   json root;

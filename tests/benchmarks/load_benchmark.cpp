@@ -178,7 +178,7 @@ int main(int argc, char** argv) {
   }
   const std::string archive_path = argv[1];
   const int repeats = argc > 4 ? std::max(1, std::atoi(argv[4])) : 5;
-  auto file = read_regular_file(archive_path, uint64_t{0xFFFFFFFFu});
+  auto file = detail::read_regular_file(archive_path, uint64_t{0xFFFFFFFFu});
   if (!file) return std::fprintf(stderr, "%s\n", file.error().message.c_str()), 1;
   std::span<const uint8_t> bytes = file->bytes();
 
