@@ -10,8 +10,8 @@
 #include <functional>
 #include <span>
 
+#include "common/run_command.hpp"
 #include "gl_test_fixture.hpp"
-#include "run_command.hpp"
 
 namespace statepack::testing {
 namespace {
