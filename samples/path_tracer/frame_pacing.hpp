@@ -1,6 +1,6 @@
 // Keeps the window responsive: plans how many samples per pixel a frame traces so that the frame's
 // path tracing stays near a time target, from the measured GPU time of earlier frames. Pure logic (no
-// Vulkan, no window), so it is unit-tested (tests/frame_pacing_test.cpp).
+// Vulkan, no window), so it is unit-tested (tests/samples/frame_pacing_test.cpp).
 #pragma once
 
 #include <cstdint>

@@ -1,5 +1,5 @@
 // Random numbers for the path tracer: counter-based, so any sample can be reproduced alone and the
-// CPU (samples/path_tracer/random.hpp) computes the same bits (tests/rng_test.cpp checks it).
+// CPU (samples/path_tracer/random.hpp) computes the same bits (tests/samples/rng_test.cpp checks it).
 
 #ifndef PATH_TRACER_RANDOM_GLSL
 #define PATH_TRACER_RANDOM_GLSL

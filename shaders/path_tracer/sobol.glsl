@@ -1,6 +1,6 @@
 // Owen-scrambled 2-D Sobol points with hash-based scrambling (Burley 2020, "Practical Hash-based Owen
 // Scrambling", JCGT 9(4); the hash is Vegdahl's 2021 improvement of Laine and Karras's 2011 one).
-// The CPU computes the same bits (samples/path_tracer/sobol.hpp; tests/rng_test.cpp checks it).
+// The CPU computes the same bits (samples/path_tracer/sobol.hpp; tests/samples/rng_test.cpp checks it).
 #ifndef PATH_TRACER_SOBOL_GLSL
 #define PATH_TRACER_SOBOL_GLSL
 

@@ -12,9 +12,9 @@
 #include <fstream>
 #include <random>
 
-#include "forged_archive.hpp"
+#include "common/forged_archive.hpp"
+#include "common/vulkan_test_fixture.hpp"
 #include "runtime/archive_access.hpp"
-#include "vulkan_test_fixture.hpp"
 
 namespace statepack::testing {
 namespace {

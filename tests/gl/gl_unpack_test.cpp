@@ -9,13 +9,13 @@
 #include <vector>
 
 #include "bootstrap/gl_context.hpp"
-#include "forged_archive.hpp"
+#include "common/forged_archive.hpp"
+#include "common/vulkan_test_fixture.hpp"
 #include "format/archive_format.hpp"
 #include "gl/gl_state.hpp"
 #include "gl_test_fixture.hpp"
 #include "runtime/archive_access.hpp"
 #include "statepack/gl_dearchiver.hpp"
-#include "vulkan_test_fixture.hpp"
 
 namespace statepack::testing {
 namespace {

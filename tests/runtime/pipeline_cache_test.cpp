@@ -3,7 +3,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include "vulkan_test_fixture.hpp"
+#include "common/vulkan_test_fixture.hpp"
 
 namespace statepack::testing {
 namespace {

@@ -5,9 +5,9 @@
 #include <bit>
 #include <sstream>
 
+#include "common/vulkan_test_fixture.hpp"
 #include "format/archive_format.hpp"
 #include "runtime/archive_access.hpp"
-#include "vulkan_test_fixture.hpp"
 
 namespace statepack::testing {
 namespace {

@@ -7,7 +7,7 @@
 #include <new>
 #include <stdexcept>
 
-#include "vulkan_test_fixture.hpp"
+#include "common/vulkan_test_fixture.hpp"
 
 namespace statepack::testing {
 namespace {

@@ -11,11 +11,11 @@
 #include <filesystem>
 #include <fstream>
 
-#include "forged_archive.hpp"
+#include "common/forged_archive.hpp"
+#include "common/vulkan_test_fixture.hpp"
 #include "format/archive_file.hpp"
 #include "runtime/archive_access.hpp"
 #include "support/file_io.hpp"
-#include "vulkan_test_fixture.hpp"
 
 namespace statepack::testing {
 namespace {

@@ -8,9 +8,9 @@
 #include <fstream>
 #include <iterator>
 
-#include "forged_archive.hpp"
-#include "run_command.hpp"
-#include "vulkan_test_fixture.hpp"
+#include "common/forged_archive.hpp"
+#include "common/run_command.hpp"
+#include "common/vulkan_test_fixture.hpp"
 
 namespace statepack::testing {
 namespace {

@@ -13,9 +13,9 @@
 #include <regex>
 #include <sstream>
 
+#include "common/run_command.hpp"
 #include "path_tracer/reference.hpp"
 #include "pfm_image.hpp"
-#include "run_command.hpp"
 #include "seed_renders.hpp"
 
 namespace {

@@ -6,8 +6,8 @@
 #include <filesystem>
 #include <fstream>
 
-#include "forged_archive.hpp"
-#include "run_command.hpp"
+#include "common/forged_archive.hpp"
+#include "common/run_command.hpp"
 #include "runtime/archive_access.hpp"
 #include "statepack/dearchiver.hpp"
 

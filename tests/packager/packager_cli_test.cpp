@@ -7,7 +7,7 @@
 #include <fstream>
 #include <string>
 
-#include "run_command.hpp"
+#include "common/run_command.hpp"
 
 namespace {
 

@@ -10,10 +10,10 @@
 #include <vector>
 
 #include "bootstrap/gl_context.hpp"
+#include "common/vulkan_test_fixture.hpp"
 #include "format/archive_format.hpp"
 #include "runtime/archive_access.hpp"
 #include "statepack/gl_dearchiver.hpp"
-#include "vulkan_test_fixture.hpp"
 
 namespace statepack::testing {
 
@@ -142,7 +142,7 @@ class GlTest : public VulkanTest {
     return out;
   }
 
-  // The same on Vulkan (as tests/slice_test.cpp dispatches it, with push constants).
+  // The same on Vulkan (as tests/runtime/slice_test.cpp dispatches it, with push constants).
   std::vector<uint32_t> fill_buffer_vulkan(uint32_t count, uint32_t multiplier, uint32_t offset) {
     Dearchiver dearchiver = make_vulkan_dearchiver();
     auto pso = dearchiver.unpack_compute("Fill Buffer PSO");

@@ -10,9 +10,9 @@
 #include <functional>
 #include <span>
 
+#include "common/run_command.hpp"
 #include "format/archive_file.hpp"
 #include "gl_test_fixture.hpp"
-#include "run_command.hpp"
 
 namespace statepack::testing {
 namespace {

@@ -11,8 +11,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "common/run_command.hpp"
 #include "pfm_image.hpp"
-#include "run_command.hpp"
 
 #define STB_IMAGE_IMPLEMENTATION
 #define STBI_ONLY_PNG

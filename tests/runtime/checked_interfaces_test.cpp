@@ -5,7 +5,7 @@
 #include <array>
 #include <cstring>
 
-#include "vulkan_test_fixture.hpp"
+#include "common/vulkan_test_fixture.hpp"
 
 namespace statepack::testing {
 namespace {

@@ -11,7 +11,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "run_command.hpp"
+#include "common/run_command.hpp"
 
 namespace {
 

@@ -3,7 +3,7 @@
 // the notation asked for) stencil ops; the pixels show each draw's values.
 #include <array>
 
-#include "vulkan_test_fixture.hpp"
+#include "common/vulkan_test_fixture.hpp"
 
 namespace statepack::testing {
 namespace {

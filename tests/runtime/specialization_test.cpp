@@ -2,9 +2,9 @@
 // two results on lavapipe, and the modify callback overrides a constant by name (sizes checked).
 #include <cstring>
 
+#include "common/vulkan_test_fixture.hpp"
 #include "format/archive_format.hpp"
 #include "runtime/archive_access.hpp"
-#include "vulkan_test_fixture.hpp"
 
 namespace statepack::testing {
 namespace {

@@ -3,8 +3,8 @@
 #include <cmath>
 #include <cstring>
 
+#include "common/vulkan_test_fixture.hpp"
 #include "path_tracer/sampler.hpp"
-#include "vulkan_test_fixture.hpp"
 
 namespace statepack::testing {
 namespace {

@@ -11,7 +11,7 @@
 #include <map>
 #include <string>
 
-#include "run_command.hpp"
+#include "common/run_command.hpp"
 
 namespace {
 
