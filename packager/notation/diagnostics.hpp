@@ -8,6 +8,8 @@
 #include <string_view>
 #include <vector>
 
+#include "support/printable.hpp"
+
 namespace statepack::packager {
 
 struct Location {
@@ -26,9 +28,8 @@ struct Diagnostic {
 std::string format_diagnostic(const Diagnostic& d);
 std::string location_text(const Location& where);  // file:line:col
 
-// Names and paths from input, made safe for a terminal: control characters and bytes that are not
-// UTF-8 become \xNN escapes, so a hostile name cannot move the cursor or change colours.
-std::string printable(std::string_view text);
+// Names and paths from input, made safe for a terminal (support/printable.hpp).
+using detail::printable;
 
 // Collects diagnostics up to a limit of errors (0: no limit); past it, errors are counted but not kept,
 // and `full()` tells readers to stop early instead of producing millions of them.

@@ -5,8 +5,15 @@
 #include <string>
 
 #include "renderer.hpp"
+#include "support/printable.hpp"
 
 namespace statepack::path_tracer {
+
+// Messages and paths carry names from the scene file, the archive and the command line: every one the
+// sample prints goes through this, so no byte of them can drive the terminal.
+inline std::string shown(std::string_view text) {
+  return detail::printable(text);
+}
 
 struct Options {
   bool headless = false;

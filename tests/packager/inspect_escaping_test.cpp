@@ -1,6 +1,7 @@
 // `statepack inspect` on an archive whose names are not valid UTF-8 and hold terminal escapes: JSON
 // output replaces invalid bytes with U+FFFD (instead of aborting on nlohmann's type_error 316), and
-// text output shows control bytes and invalid UTF-8 as \xNN, so a name cannot drive the terminal.
+// text output shows control bytes and invalid UTF-8 as \xNN, so a name cannot drive the terminal; the
+// samples' tools escape what they print as well.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -56,6 +57,21 @@ TEST(InspectEscaping, TextEscapesControlsAndInvalidBytes) {
   EXPECT_NE(result.output.find("binding 0: 'half\\xE2\\x82' "), std::string::npos) << result.output;
   EXPECT_EQ(result.output.find('\x1B'), std::string::npos);  // no raw escape reaches the terminal
 }
+
+#ifdef STATEPACK_UNPACK_DEMO
+// The samples' tools print archive names too, through the same escaping (support/printable.hpp):
+// unpack_demo lists every pipeline and binding it unpacks, and reports the binding it cannot find.
+TEST(InspectEscaping, SampleToolsEscapeWhatTheyPrint) {
+  const std::string path = hostile_names_archive();
+  auto result = run_command(std::string(STATEPACK_UNPACK_DEMO) + " '" + path + "'");
+  EXPECT_NE(result.output.find("unpacked 'bad\\xffname\\x1b[31m' (graphics)"), std::string::npos)
+      << result.output;
+  EXPECT_NE(result.output.find("binding 0: 'half\\xe2\\x82'"), std::string::npos) << result.output;
+  for (char raw : {'\x1B', '\x07', '\xFF'})
+    EXPECT_EQ(result.output.find(raw), std::string::npos)
+        << "a raw byte " << int(raw) << " reached the terminal";
+}
+#endif
 
 }  // namespace
 }  // namespace statepack::testing
