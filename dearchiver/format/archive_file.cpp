@@ -39,4 +39,19 @@ Result<LoadedArchive> load_archive_file(const std::filesystem::path& path, std::
   return loaded;
 }
 
+Result<Contents> load_archive_with_opengl(std::span<const uint8_t> bytes, std::optional<uint32_t> required,
+                                          const std::string& origin) {
+  auto contents = load_archive(bytes, required, origin);
+  if (!contents) return contents.error();
+  if (auto checked = check_opengl(*contents, origin); !checked) return checked.error();
+  return contents;
+}
+
+Result<LoadedArchive> load_archive_file_with_opengl(const std::filesystem::path& path) {
+  auto loaded = load_archive_file(path);
+  if (!loaded) return loaded.error();
+  if (auto checked = check_opengl(loaded->contents, path.string()); !checked) return checked.error();
+  return loaded;
+}
+
 }  // namespace statepack::format

@@ -36,4 +36,11 @@ Result<void> check_opengl(const Contents& contents, const std::string& origin);
 Result<LoadedArchive> load_archive_file(const std::filesystem::path& path,
                                         std::optional<uint32_t> required_content_version = std::nullopt);
 
+// The whole archive, its OpenGL block included (load_archive or load_archive_file, then check_opengl):
+// how statepack's own tools read an archive.
+Result<Contents> load_archive_with_opengl(std::span<const uint8_t> bytes,
+                                          std::optional<uint32_t> required_content_version,
+                                          const std::string& origin);
+Result<LoadedArchive> load_archive_file_with_opengl(const std::filesystem::path& path);
+
 }  // namespace statepack::format

@@ -120,6 +120,13 @@ std::optional<GlNamespace> gl_namespace_of_mask(spirv::DescriptorTypeMask compat
   return std::nullopt;
 }
 
+// The steps the checks of shaders against their pipelines may take: 16 x the archive's SPIR-V size.
+uint64_t interface_check_budget(const Contents& c) {
+  uint64_t budget = 64;
+  for (auto blob : c.spirv) budget += blob.size_bytes();
+  return budget * 16;
+}
+
 // The SPIR-V capabilities of OpenGL 4.5 core with GL_ARB_gl_spirv (its specification's table) and of
 // the GL_ARB extensions glslang's OpenGL client emits for GLSL 4.50 (shader ballot and vote, int64,
 // viewport layer array, shader draw parameters).
@@ -214,9 +221,8 @@ Result<void> check_shader_interfaces(const Contents& c) {
   }
   // Pipelines may share shaders, so the checks below cost pipelines x resources per shader: bounded, like
   // decoding, by the file's own size, so that a small archive cannot make loading take minutes.
-  uint64_t work = 0, budget = 64;
-  for (auto blob : c.spirv) budget += blob.size_bytes();
-  budget *= 16;
+  uint64_t work = 0;
+  const uint64_t budget = interface_check_budget(c);
   for (const Pipeline& p : c.pipelines) {
     for (uint32_t index : p.shaders) {
       const spirv::Module& m = modules[c.shaders[index].blob];
@@ -233,9 +239,8 @@ Result<void> check_shader_interfaces(const Contents& c) {
 
 Result<void> check_gl_shader_interfaces(const Contents& c) {
   // Walked on their own (their blobs are the GL compilations), bounded as the Vulkan pipelines are.
-  uint64_t work = 0, budget = 64;
-  for (auto blob : c.spirv) budget += blob.size_bytes();
-  budget *= 16;
+  uint64_t work = 0;
+  const uint64_t budget = interface_check_budget(c);
   std::vector<std::optional<spirv::Module>> gl_modules(c.spirv.size());
   for (const GlPipeline& p : c.gl_pipelines) {
     if (auto ok = check_gl_pipeline(c, p, gl_modules, work, budget); !ok) return ok;

@@ -27,19 +27,15 @@ Error missing(const char* caller, const char* name, const char* from) {
 Result<VulkanFunctions> load_vulkan_functions(const DeviceContext& context, const char* caller) {
   VulkanFunctions f;
   const char* from = "the application's vkGetInstanceProcAddr";
+  void* loader = nullptr;
   if (context.get_instance_proc_addr) {
     if (context.instance == VK_NULL_HANDLE)
       return Error{ErrorCode::invalid_argument,
                    std::string(caller) +
                        ": DeviceContext::get_instance_proc_addr needs DeviceContext::instance "
                        "(the VkInstance the physical device belongs to)"};
-    const auto gipa = context.get_instance_proc_addr;
-#define STATEPACK_VK_LOAD(name) f.name = reinterpret_cast<PFN_##name>(gipa(context.instance, #name));
-    STATEPACK_VK_INSTANCE_FUNCTIONS(STATEPACK_VK_LOAD)
-    STATEPACK_VK_LOAD(vkGetPhysicalDeviceProperties2)
-#undef STATEPACK_VK_LOAD
   } else {
-    void* loader = system_loader();
+    loader = system_loader();
     if (!loader)
       return Error{
           ErrorCode::not_found,
@@ -47,11 +43,16 @@ Result<VulkanFunctions> load_vulkan_functions(const DeviceContext& context, cons
               ": no Vulkan loader (libvulkan.so.1) could be opened; install it "
               "(Debian: libvulkan1) or pass your own dispatch in DeviceContext::get_instance_proc_addr"};
     from = "the system Vulkan loader (libvulkan.so.1)";
-#define STATEPACK_VK_LOAD(name) f.name = reinterpret_cast<PFN_##name>(dlsym(loader, #name));
-    STATEPACK_VK_INSTANCE_FUNCTIONS(STATEPACK_VK_LOAD)
-    STATEPACK_VK_LOAD(vkGetPhysicalDeviceProperties2)
-#undef STATEPACK_VK_LOAD
   }
+  // Instance-level functions through the application's dispatch, or the loader's exported symbols.
+  auto instance_function = [&](const char* name) {
+    return loader ? reinterpret_cast<PFN_vkVoidFunction>(dlsym(loader, name))
+                  : context.get_instance_proc_addr(context.instance, name);
+  };
+#define STATEPACK_VK_LOAD(name) f.name = reinterpret_cast<PFN_##name>(instance_function(#name));
+  STATEPACK_VK_INSTANCE_FUNCTIONS(STATEPACK_VK_LOAD)
+  STATEPACK_VK_LOAD(vkGetPhysicalDeviceProperties2)
+#undef STATEPACK_VK_LOAD
   if (context.get_device_proc_addr) f.vkGetDeviceProcAddr = context.get_device_proc_addr;
 #define STATEPACK_VK_CHECK(name) \
   if (!f.name) return missing(caller, #name, from);

@@ -485,14 +485,10 @@ void print_text(const Json& j, std::ostream& out) {
 }  // namespace
 
 int run_inspect(const std::string& path, bool as_json, std::ostream& out, std::ostream& err) {
-  auto archive = format::load_archive_file(path);
+  auto archive = format::load_archive_file_with_opengl(path);
   if (!archive) {
     err << "statepack: error: " << archive.error().message << '\n';
     return archive.error().code == ErrorCode::io_error ? kExitIoError : kExitInputError;
-  }
-  if (auto gl = format::check_opengl(archive->contents, path); !gl) {
-    err << "statepack: error: " << gl.error().message << '\n';
-    return kExitInputError;
   }
   std::error_code ec;
   print_archive(archive->contents, static_cast<size_t>(std::filesystem::file_size(path, ec)), as_json, out);

@@ -110,11 +110,9 @@ int run_merge(const MergeOptions& options, std::ostream& out, std::ostream& err)
   Merger merger;
   for (const fs::path& path : options.inputs) {
     const std::string file = printable(path.string());
-    auto archive = format::load_archive_file(path);
-    Result<void> gl = archive ? format::check_opengl(archive->contents, path.string()) : Result<void>{};
-    if (!archive || !gl) {
-      err << "statepack: error: " << printable(!archive ? archive.error().message : gl.error().message)
-          << '\n';
+    auto archive = format::load_archive_file_with_opengl(path);
+    if (!archive) {
+      err << "statepack: error: " << printable(archive.error().message) << '\n';
       return kExitInputError;
     }
     const format::Contents& c = archive->contents;

@@ -570,11 +570,9 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err) {
   std::vector<uint8_t> bytes = format::encode(builder.contents);
   // What pack writes must load: decoded and checked against its SPIR-V as the runtime will, so a build
   // step that says OK means it (a check the pack stages missed surfaces here, not in the application).
-  auto loads = format::load_archive(bytes, std::nullopt, "the packed archive would not load");
-  Result<void> gl_loads =
-      loads ? format::check_opengl(*loads, "the packed archive would not load") : Result<void>{};
-  if (!loads || !gl_loads) {
-    std::string message = !loads ? loads.error().message : gl_loads.error().message;
+  if (auto loads = format::load_archive_with_opengl(bytes, std::nullopt, "the packed archive would not load");
+      !loads) {
+    std::string message = loads.error().message;
     if (auto at = message.find("corrupt archive: "); at != std::string::npos) message.erase(at, 17);
     err << "statepack: error: " << printable(message) << "; no archive written\n";
     return kExitInputError;

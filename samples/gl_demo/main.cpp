@@ -13,12 +13,10 @@
 namespace {
 
 // Names and paths come from the archive or the command line: escaped before they reach the terminal.
-std::string shown(std::string_view text) {
-  return statepack::detail::printable(text);
-}
+using statepack::detail::printable;
 
 int fail(const std::string& what, const statepack::Error& e) {
-  std::fprintf(stderr, "gl_demo: %s: %s (%s)\n", shown(what).c_str(), shown(e.message).c_str(),
+  std::fprintf(stderr, "gl_demo: %s: %s (%s)\n", printable(what).c_str(), printable(e.message).c_str(),
                statepack::to_string(e.code));
   return 1;
 }
@@ -44,7 +42,7 @@ int run_fill_buffer(const statepack::gl::Program& program) {
   glGetNamedBufferSubData(buffers[0], 0, sizeof out, out);
   glUseProgram(0);
   glDeleteBuffers(2, buffers);
-  std::printf("  ran '%s': values =", shown(program.name).c_str());
+  std::printf("  ran '%s': values =", printable(program.name).c_str());
   for (uint32_t v : out) std::printf(" %u", v);
   std::printf("\n");
   return 0;
@@ -61,13 +59,13 @@ int main(int argc, char** argv) {
   }
   auto archive = statepack::Archive::from_file(path);
   if (!archive) return fail("load", archive.error());
-  std::printf("archive %s: format v%u, content version %u\n", shown(path).c_str(), archive->format_version(),
-              archive->content_version());
+  std::printf("archive %s: format v%u, content version %u\n", printable(path).c_str(),
+              archive->format_version(), archive->content_version());
 
   auto gl = statepack::bootstrap::GlContext::create();
   if (!gl) return fail("OpenGL", gl.error());
-  std::printf("OpenGL: %s (%s), debug output on\n", shown((*gl)->renderer).c_str(),
-              shown((*gl)->version).c_str());
+  std::printf("OpenGL: %s (%s), debug output on\n", printable((*gl)->renderer).c_str(),
+              printable((*gl)->version).c_str());
 
   int status = 0;
   {
@@ -81,7 +79,7 @@ int main(int argc, char** argv) {
         program = dearchiver->unpack_graphics(name);
       if (!program) return fail("unpack '" + name + "'", program.error());
       const statepack::gl::Program& p = **program;
-      std::printf("unpacked '%s' (%s): GL program %u", shown(p.name).c_str(),
+      std::printf("unpacked '%s' (%s): GL program %u", printable(p.name).c_str(),
                   p.compute ? "compute" : "graphics", p.program);
       if (!p.compute)
         std::printf(", %u render target(s), cull %s, depth test %s", p.state.color_count,
@@ -89,12 +87,12 @@ int main(int argc, char** argv) {
       std::printf("\n");
       for (const auto& b : p.bindings)
         std::printf("  %s binding %u: '%s' (x%u)\n", statepack::gl::to_string(b.kind), b.binding,
-                    shown(b.name).c_str(), b.count);
+                    printable(b.name).c_str(), b.count);
       if (p.compute && name == "Fill Buffer PSO") status |= run_fill_buffer(p);
     }
   }  // the programs go while the context is current
   auto messages = (*gl)->error_messages();
-  for (const auto& m : messages) std::fprintf(stderr, "%s\n", shown(m).c_str());
+  for (const auto& m : messages) std::fprintf(stderr, "%s\n", printable(m).c_str());
   std::printf("%zu GL error message(s)\n", messages.size());
   return status != 0 || !messages.empty() ? 1 : 0;
 }

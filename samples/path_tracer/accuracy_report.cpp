@@ -163,7 +163,7 @@ Result<void> measure_errors(bootstrap::VulkanContext& vk, Dearchiver& dearchiver
       }
       points.push_back(point);
     }
-    std::printf("%u bounces, %-20s RMSE at %u spp: %.5f\n", bounces, shown(config.name).c_str(), max_spp,
+    std::printf("%u bounces, %-20s RMSE at %u spp: %.5f\n", bounces, printable(config.name).c_str(), max_spp,
                 points.back().rmse());
   }
   return {};
@@ -223,7 +223,7 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
 
   auto scene = load_scene(scene_path);
-  if (!scene) return std::fprintf(stderr, "%s\n", shown(scene.error().message).c_str()), 1;
+  if (!scene) return std::fprintf(stderr, "%s\n", printable(scene.error().message).c_str()), 1;
   fs::create_directories(out_dir);
   Report report;
   auto configs = choose_configurations(only);
@@ -237,7 +237,7 @@ int main(int argc, char** argv) {
   bootstrap::VulkanContextOptions vk_options;
   vk_options.validation = false;  // timing the driver, not the layer
   auto vk = bootstrap::VulkanContext::create(vk_options);
-  if (!vk) return std::fprintf(stderr, "%s\n", shown(vk.error().message).c_str()), 1;
+  if (!vk) return std::fprintf(stderr, "%s\n", printable(vk.error().message).c_str()), 1;
   std::ofstream runs(fs::path(out_dir) / "runs.csv");
   runs << "bounces,config,spp,seed,mse,rel_mse\n";
   {
@@ -248,9 +248,9 @@ int main(int argc, char** argv) {
       if (auto measured =
               measure_errors(**vk, *dearchiver, *scene, reference, bounces, max_spp, runs, report);
           !measured)
-        return std::fprintf(stderr, "%s\n", shown(measured.error().message).c_str()), 1;
+        return std::fprintf(stderr, "%s\n", printable(measured.error().message).c_str()), 1;
       if (auto measured = measure_times(**vk, *dearchiver, *scene, bounces, report); !measured)
-        return std::fprintf(stderr, "%s\n", shown(measured.error().message).c_str()), 1;
+        return std::fprintf(stderr, "%s\n", printable(measured.error().message).c_str()), 1;
     }
   }
   (*vk)->destroy_device();
@@ -260,8 +260,8 @@ int main(int argc, char** argv) {
   const std::string md = markdown(report, plotted);
   if (!doc.empty()) {
     std::ofstream(doc) << md;
-    std::printf("accuracy_report: wrote %s and %s/ (CSVs%s)\n", shown(doc).c_str(), shown(out_dir).c_str(),
-                plotted ? ", plots" : "");
+    std::printf("accuracy_report: wrote %s and %s/ (CSVs%s)\n", printable(doc).c_str(),
+                printable(out_dir).c_str(), plotted ? ", plots" : "");
   } else {
     std::printf("%s", md.c_str());
   }

@@ -11,9 +11,7 @@ namespace statepack::path_tracer {
 
 // Messages and paths carry names from the scene file, the archive and the command line: every one the
 // sample prints goes through this, so no byte of them can drive the terminal.
-inline std::string shown(std::string_view text) {
-  return detail::printable(text);
-}
+using detail::printable;
 
 struct Options {
   bool headless = false;

@@ -29,26 +29,26 @@ int run_headless(const Options& o) {
   const std::string ext = std::filesystem::path(o.out).extension().string();
   if (ext != ".png" && ext != ".exr" && ext != ".pfm")
     return std::fprintf(stderr, "path_tracer: %s: unknown image type '%s' (use .png, .exr or .pfm)\n",
-                        shown(o.out).c_str(), ext.c_str()),
+                        printable(o.out).c_str(), ext.c_str()),
            2;
   auto scene = load_scene(o.scene);
-  if (!scene) return std::fprintf(stderr, "path_tracer: %s\n", shown(scene.error().message).c_str()), 1;
+  if (!scene) return std::fprintf(stderr, "path_tracer: %s\n", printable(scene.error().message).c_str()), 1;
   bootstrap::VulkanContextOptions vk_options;
   vk_options.validation = o.validation;
   auto vk = bootstrap::VulkanContext::create(vk_options);
-  if (!vk) return std::fprintf(stderr, "path_tracer: %s\n", shown(vk.error().message).c_str()), 1;
+  if (!vk) return std::fprintf(stderr, "path_tracer: %s\n", printable(vk.error().message).c_str()), 1;
   int status = 0;
   {
     auto dearchiver = load_archive(**vk, o.archive);
     if (!dearchiver) return 1;
     auto rendered = render_offline(**vk, *dearchiver, *scene, o.settings, o.width, o.height, o.spp, progress);
     if (!rendered) {
-      std::fprintf(stderr, "path_tracer: %s\n", shown(rendered.error().message).c_str());
+      std::fprintf(stderr, "path_tracer: %s\n", printable(rendered.error().message).c_str());
       status = 1;
     } else if (std::string error = write_image(o.out, rendered->rgba, o.width, o.height, o.settings.exposure,
                                                {o.scene, o.archive});
                !error.empty()) {
-      std::fprintf(stderr, "path_tracer: %s: %s\n", shown(o.out).c_str(), shown(error).c_str());
+      std::fprintf(stderr, "path_tracer: %s: %s\n", printable(o.out).c_str(), printable(error).c_str());
       status = 1;
     } else {
       std::printf(

@@ -11,7 +11,7 @@ namespace statepack::path_tracer {
 std::unique_ptr<Dearchiver> load_archive(bootstrap::VulkanContext& vk, const std::string& path) {
   auto archive = Archive::from_file(path);
   if (!archive) {
-    std::fprintf(stderr, "path_tracer: %s\n", shown(archive.error().message).c_str());
+    std::fprintf(stderr, "path_tracer: %s\n", printable(archive.error().message).c_str());
     return nullptr;
   }
   auto dearchiver = Dearchiver::create({vk.physical_device, vk.device});
@@ -21,7 +21,7 @@ std::unique_ptr<Dearchiver> load_archive(bootstrap::VulkanContext& vk, const std
 
 size_t report_validation(const bootstrap::VulkanContext& vk) {
   auto messages = vk.validation_messages();
-  for (const auto& m : messages) std::fprintf(stderr, "path_tracer: %s\n", shown(m).c_str());
+  for (const auto& m : messages) std::fprintf(stderr, "path_tracer: %s\n", printable(m).c_str());
   return messages.size();
 }
 

@@ -109,7 +109,7 @@ class Window {
 
  private:
   int fail(const std::string& message) {
-    std::fprintf(stderr, "path_tracer: %s\n", shown(message).c_str());
+    std::fprintf(stderr, "path_tracer: %s\n", printable(message).c_str());
     return 1;
   }
 

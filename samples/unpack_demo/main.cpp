@@ -14,12 +14,10 @@
 namespace {
 
 // Names and paths come from the archive or the command line: escaped before they reach the terminal.
-std::string shown(std::string_view text) {
-  return statepack::detail::printable(text);
-}
+using statepack::detail::printable;
 
 int fail(const std::string& what, const statepack::Error& e) {
-  std::fprintf(stderr, "unpack_demo: %s: %s (%s)\n", shown(what).c_str(), shown(e.message).c_str(),
+  std::fprintf(stderr, "unpack_demo: %s: %s (%s)\n", printable(what).c_str(), printable(e.message).c_str(),
                statepack::to_string(e.code));
   return 1;
 }
@@ -44,7 +42,7 @@ int run_fill_buffer(statepack::bootstrap::VulkanContext& vk, const statepack::Un
     vkCmdDispatch(cmd, 1, 1, 1);
   });
   if (!done) return fail("dispatch", done.error());
-  std::printf("  ran '%s': values =", shown(pso.name).c_str());
+  std::printf("  ran '%s': values =", printable(pso.name).c_str());
   for (uint32_t i = 0; i < kCount; ++i)
     std::printf(" %u", static_cast<const uint32_t*>((*buffer)->mapped)[i]);
   std::printf("\n");
@@ -62,15 +60,15 @@ int main(int argc, char** argv) {
   auto archive = statepack::Archive::from_file(path);
   if (!archive) return fail("load", archive.error());
   const std::vector<statepack::ObjectInfo> objects = archive->objects();
-  std::printf("archive %s: format v%u, content version %u, %zu named object(s)\n", shown(path).c_str(),
+  std::printf("archive %s: format v%u, content version %u, %zu named object(s)\n", printable(path).c_str(),
               archive->format_version(), archive->content_version(), objects.size());
 
   statepack::bootstrap::VulkanContextOptions options;
   options.validation = true;
   auto vk = statepack::bootstrap::VulkanContext::create(options);
   if (!vk) return fail("Vulkan", vk.error());
-  std::printf("device: %s (%s), validation layer on\n", shown((*vk)->device_name).c_str(),
-              shown((*vk)->driver_name).c_str());
+  std::printf("device: %s (%s), validation layer on\n", printable((*vk)->device_name).c_str(),
+              printable((*vk)->driver_name).c_str());
 
   auto dearchiver = statepack::Dearchiver::create({(*vk)->physical_device, (*vk)->device});
   if (!dearchiver) return fail("dearchiver", dearchiver.error());
@@ -87,17 +85,17 @@ int main(int argc, char** argv) {
     const statepack::UnpackedPipeline& p = **pso;
     std::printf(
         "unpacked '%s' (%s): VkPipeline 0x%" PRIx64 ", VkPipelineLayout 0x%" PRIx64 ", %zu set layout(s)",
-        shown(p.name).c_str(), compute ? "compute" : "graphics", reinterpret_cast<uint64_t>(p.pipeline),
+        printable(p.name).c_str(), compute ? "compute" : "graphics", reinterpret_cast<uint64_t>(p.pipeline),
         reinterpret_cast<uint64_t>(p.layout), p.set_layouts.size());
     if (p.push_constant_size) std::printf(", %u bytes of push constants", p.push_constant_size);
     std::printf("\n");
     for (const auto& b : p.bindings)
-      std::printf("  set %u binding %u: '%s' (%s x%u)\n", b.set, b.binding, shown(b.name).c_str(),
+      std::printf("  set %u binding %u: '%s' (%s x%u)\n", b.set, b.binding, printable(b.name).c_str(),
                   vk::to_string(vk::DescriptorType(b.type)).c_str(), b.count);
     if (compute && name == "Fill Buffer PSO") status |= run_fill_buffer(**vk, p);
   }
   auto messages = (*vk)->validation_messages();
-  for (const auto& m : messages) std::fprintf(stderr, "%s\n", shown(m).c_str());
+  for (const auto& m : messages) std::fprintf(stderr, "%s\n", printable(m).c_str());
   std::printf("%zu validation message(s)\n", messages.size());
   return status != 0 || !messages.empty() ? 1 : 0;
 }

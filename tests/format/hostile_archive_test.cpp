@@ -510,10 +510,8 @@ namespace {
 // reaches a GL driver has its entry point, no push constants, and every resource bound in its namespace.
 // The check is format::check_opengl, which statepack_gl's add_archive and the packager's tools run;
 // Archive (the Vulkan runtime) leaves the block it never reads alone.
-Result<void> load_with_opengl(std::span<const uint8_t> bytes) {
-  auto contents = format::load_archive(bytes, std::nullopt, "forged");
-  if (!contents) return contents.error();
-  return format::check_opengl(*contents, "forged");
+Result<format::Contents> load_with_opengl(std::span<const uint8_t> bytes) {
+  return format::load_archive_with_opengl(bytes, std::nullopt, "forged");
 }
 
 TEST(HostileArchive, OpenGlBlockIsCheckedAgainstItsSpirv) {

@@ -568,10 +568,8 @@ TEST_F(TutorialLike, TessellationDrawsAlikeOnOpenGl) {
     // (format::check_opengl, which gl::Dearchiver::add_archive runs).
     auto opengl_refusal = [](const format::Contents& m) -> std::string {
       ArchiveBytes forged = encode_aligned(m);
-      auto loaded = format::load_archive(forged.bytes(), std::nullopt, "forged");
-      if (!loaded) return loaded.error().message;
-      auto checked = format::check_opengl(*loaded, "forged");
-      return checked ? "" : checked.error().message;
+      auto loaded = format::load_archive_with_opengl(forged.bytes(), std::nullopt, "forged");
+      return loaded ? "" : loaded.error().message;
     };
     for (uint32_t points : {0u, 33u}) {
       format::Contents m = contents;
