@@ -1,6 +1,6 @@
 # `cmake --install`: the packager, the dearchiver and the OpenGL runtime with their public headers, a
 # CMake package (find_package(statepack CONFIG): statepack::dearchiver, statepack::gl,
-# statepack::statepack and statepack_add_archive) and a pkg-config file for the library. Every path is relative to the prefix,
+# statepack::statepack, statepack::bootstrap(_gl) and statepack_add_archive) and a pkg-config file for the library. Every path is relative to the prefix,
 # so `cmake --install build --prefix DIR` works for any DIR.
 include(CMakePackageConfigHelpers)
 set(statepack_config_dir ${CMAKE_INSTALL_LIBDIR}/cmake/statepack)
@@ -10,7 +10,12 @@ if(STATEPACK_BUILD_GL)
   list(APPEND statepack_installed_targets statepack_gl)
 endif()
 if(STATEPACK_BUILD_PACKAGER)
-  list(APPEND statepack_installed_targets statepack)
+  # The packager, and the bootstrap (device, GL context, host tools) that the samples build against.
+  list(APPEND statepack_installed_targets statepack statepack_bootstrap_vulkan)
+  if(STATEPACK_BUILD_GL)
+    list(APPEND statepack_installed_targets statepack_bootstrap_gl)
+  endif()
+  install(DIRECTORY dearchiver/bootstrap/include/statepack DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 endif()
 install(TARGETS ${statepack_installed_targets} EXPORT statepackTargets
   RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR}

@@ -1,5 +1,5 @@
 // Headless EGL (surfaceless platform) OpenGL 4.5 core context with a recording debug callback.
-#include "gl_context.hpp"
+#include "statepack/bootstrap/gl_context.hpp"
 
 #include <cstdio>
 

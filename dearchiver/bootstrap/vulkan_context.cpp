@@ -1,4 +1,4 @@
-#include "vulkan_context.hpp"
+#include "statepack/bootstrap/vulkan_context.hpp"
 
 #include <cstring>
 

@@ -3,13 +3,13 @@
 #include <bit>
 #include <ostream>
 
-#include "bootstrap/vulkan_context.hpp"
 #include "format/archive_file.hpp"
 #include "layout/format_support.hpp"
 #include "notation/diagnostics.hpp"
 #include "notation/enum_tables.hpp"
 #include "pack/packer.hpp"
 #include "runtime/archive_access.hpp"
+#include "statepack/bootstrap/vulkan_context.hpp"
 #include "statepack/dearchiver.hpp"
 
 namespace statepack::packager {

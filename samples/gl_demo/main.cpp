@@ -6,14 +6,14 @@
 #include <string>
 #include <vector>
 
-#include "bootstrap/gl_context.hpp"
+#include "statepack/bootstrap/gl_context.hpp"
+#include "statepack/bootstrap/host_tools.hpp"
 #include "statepack/gl_dearchiver.hpp"
-#include "support/printable.hpp"
 
 namespace {
 
 // Names and paths come from the archive or the command line: escaped before they reach the terminal.
-using statepack::detail::printable;
+using statepack::bootstrap::printable;
 
 int fail(const std::string& what, const statepack::Error& e) {
   std::fprintf(stderr, "gl_demo: %s: %s (%s)\n", printable(what).c_str(), printable(e.message).c_str(),

@@ -5,13 +5,13 @@
 #include <string>
 
 #include "renderer.hpp"
-#include "support/printable.hpp"
+#include "statepack/bootstrap/host_tools.hpp"
 
 namespace statepack::path_tracer {
 
 // Messages and paths carry names from the scene file, the archive and the command line: every one the
 // sample prints goes through this, so no byte of them can drive the terminal.
-using detail::printable;
+using bootstrap::printable;
 
 struct Options {
   bool headless = false;

@@ -7,7 +7,7 @@
 #include <cstdlib>
 #include <cstring>
 
-#include "support/file_io.hpp"
+#include "statepack/bootstrap/host_tools.hpp"
 
 #define STB_IMAGE_WRITE_IMPLEMENTATION
 #define STBI_WRITE_NO_STDIO
@@ -39,7 +39,7 @@ std::string write_png_rgb8(const std::filesystem::path& path, const std::vector<
       },
       &file, int(width), int(height), 3, rgb.data(), int(width * 3));
   if (file.empty()) return "PNG encoding failed";
-  auto written = detail::write_file_atomically(path, as_bytes(file), inputs);
+  auto written = bootstrap::write_file_atomically(path, as_bytes(file), inputs);
   return written ? std::string() : written.error().message;
 }
 
@@ -48,10 +48,14 @@ std::string write_image(const std::filesystem::path& path, const std::vector<flo
   const std::string ext = path.extension().string();
   const size_t pixels = size_t(width) * height;
   if (rgba.size() < pixels * 4) return "the image has fewer pixels than its size says";
-  for (size_t i = 0; i < pixels * 4; ++i)
-    if (!std::isfinite(rgba[i]))
-      return "the render holds a non-finite value (NaN or infinity) at pixel (" +
-             std::to_string(i / 4 % width) + ", " + std::to_string(i / 4 / width) + "): no image written";
+  for (size_t i = 0; i < pixels * 4; ++i) {
+    const bool finite = std::isfinite(rgba[i]), negative = i % 4 != 3 && rgba[i] < 0;  // alpha is no radiance
+    if (finite && !negative) continue;
+    return std::string(finite ? "the render holds a negative radiance"
+                              : "the render holds a non-finite value (NaN or infinity)") +
+           " at pixel (" + std::to_string(i / 4 % width) + ", " + std::to_string(i / 4 / width) +
+           "): no image written";
+  }
   std::vector<uint8_t> file;
   if (ext == ".png") {
     std::vector<uint8_t> rgb(pixels * 3);
@@ -110,7 +114,7 @@ std::string write_image(const std::filesystem::path& path, const std::vector<flo
   } else {
     return "unknown image type '" + ext + "' (use .png, .exr or .pfm)";
   }
-  auto written = detail::write_file_atomically(path, as_bytes(file), inputs);
+  auto written = bootstrap::write_file_atomically(path, as_bytes(file), inputs);
   return written ? std::string() : written.error().message;
 }
 

@@ -4,6 +4,7 @@
 #include <unistd.h>
 #include <CLI/CLI.hpp>
 
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <string>
@@ -28,6 +29,20 @@ Enum parse_choice(const std::string& value, const ChoiceNames (&names)[N]) {
   for (size_t i = 0; i < N; ++i)
     if (value == names[i].option) return Enum(i);
   return Enum(0);
+}
+
+// A finite number in (low, high], which `range` spells. CLI::Range would let NaN through (every
+// comparison with it is false), and "nan" and "inf" parse as floats.
+CLI::Validator finite_in(double low, double high, const std::string& range) {
+  return CLI::Validator(
+      [=](std::string& text) -> std::string {
+        char* end = nullptr;
+        const double value = std::strtod(text.c_str(), &end);
+        if (end == text.c_str() || *end != '\0' || !std::isfinite(value) || !(value > low && value <= high))
+          return "'" + text + "' is not a number in " + range;
+        return {};
+      },
+      "NUMBER in " + range);
 }
 
 }  // namespace
@@ -69,7 +84,8 @@ int main(int argc, char** argv) {
   app.add_option("--seed", o.settings.seed, "Random seed: the same seed gives the same image, bit for bit")
       ->capture_default_str();
   app.add_option("--exposure", o.settings.exposure, "Scale applied before tone mapping (PNG and window)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(finite_in(0, 1e6, "(0, 1e6]"));
   bool no_nee = false;
   std::string estimator = "nee";
   app.add_option("--estimator", estimator,

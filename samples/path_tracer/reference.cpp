@@ -5,7 +5,7 @@
 #include <cmath>
 
 #include "random.hpp"
-#include "support/parallel_for.hpp"
+#include "statepack/bootstrap/host_tools.hpp"
 
 namespace statepack::path_tracer {
 namespace {
@@ -214,8 +214,8 @@ ReferenceImage render_reference(const Scene& scene, const RenderSettings& settin
   out.mean.assign(size_t(width) * height * 3, 0.0);
   out.variance.assign(size_t(width) * height * 3, 0.0);
   const Tracer tracer(scene, settings, width, height);
-  // Rows on statepack's one thread pool (statepack_support), each row's pixels in order.
-  statepack::detail::parallel_for(height, threads, [&](size_t row) {
+  // Rows on statepack's one thread pool (bootstrap::parallel_for), each row's pixels in order.
+  statepack::bootstrap::parallel_for(height, threads, [&](size_t row) {
     const uint32_t y = uint32_t(row);
     for (uint32_t x = 0; x < width; ++x) {
       double sum[3] = {}, sum2[3] = {};

@@ -6,9 +6,9 @@
 #include <memory>
 #include <vector>
 
-#include "bootstrap/vulkan_context.hpp"
 #include "sampler.hpp"
 #include "scene.hpp"
+#include "statepack/bootstrap/vulkan_context.hpp"
 #include "statepack/dearchiver.hpp"
 
 namespace statepack::path_tracer {

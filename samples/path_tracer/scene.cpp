@@ -1,9 +1,10 @@
 #include "scene.hpp"
 
 #include <cmath>
+#include <cstdio>
 #include <nlohmann/json.hpp>
 
-#include "support/file_io.hpp"
+#include "statepack/bootstrap/host_tools.hpp"
 
 namespace statepack::path_tracer {
 namespace {
@@ -13,6 +14,8 @@ using nlohmann::json;
 constexpr float kMaxCoordinate = 1e6f;
 // Radiance far above any light keeps every sum of path contributions finite in float.
 constexpr float kMaxRadiance = 1e6f;
+// Angles in degrees: many turns either way, well within float's exact steps of a degree.
+constexpr float kMaxAngle = 36000.0f;
 
 struct Reader {
   std::string file;
@@ -41,12 +44,22 @@ struct Reader {
                     positive ? "must be a positive number up to 1e6" : "must be a number from -1e6 to 1e6");
     }
   }
-  void number(const json& j, const char* key, const std::string& pointer, float& out) {
+  // A number within [low, high] (finite: NaN and infinities cannot be written in JSON, but a double
+  // beyond float's range becomes one).
+  void number(const json& j, const char* key, const std::string& pointer, float& out, float low, float high) {
     auto it = j.find(key);
     if (it == j.end()) return;
-    if (!it->is_number() || !std::isfinite(it->get<float>()))
-      return fail(pointer + "/" + key, "must be a number");
+    if (!it->is_number() || !std::isfinite(it->get<float>()) || it->get<float>() < low ||
+        it->get<float>() > high)
+      return fail(pointer + "/" + key, "must be a number from " + shortest(low) + " to " + shortest(high));
     out = it->get<float>();
+  }
+  static std::string shortest(float v) {  // 1e6, not 1e+06
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", double(v));
+    std::string s = text;
+    if (auto e = s.find("e+0"); e != std::string::npos) s.replace(e, 3, "e");
+    return s;
   }
   void albedo(const std::string& pointer, const Vec3& a) {
     for (float c : a)
@@ -58,12 +71,11 @@ struct Reader {
 
 Result<Scene> load_scene(const std::filesystem::path& path) {
   // Bounded and non-blocking: a scene is a few KiB; FIFOs, devices and directories are refused.
-  auto file = detail::read_regular_file(path, 1u << 20);
+  auto file = bootstrap::read_file(path, 1u << 20);
   if (!file) return file.error();
-  auto bytes = file->bytes();
   json root;
   try {
-    root = json::parse(bytes.begin(), bytes.end());
+    root = json::parse(file->begin(), file->end());
   } catch (const json::exception& e) {  // syntax errors, and numbers beyond a double (out_of_range)
     return Error{ErrorCode::invalid_argument, path.string() + ": invalid JSON: " + e.what()};
   }
@@ -75,9 +87,9 @@ Result<Scene> load_scene(const std::filesystem::path& path) {
   if (auto c = root.find("camera"); c != root.end()) {
     r.keys(*c, "/camera", {"position", "yaw_degrees", "pitch_degrees", "fov_degrees"});
     r.vec3(*c, "position", "/camera", scene.camera.position);
-    r.number(*c, "yaw_degrees", "/camera", scene.camera.yaw_degrees);
-    r.number(*c, "pitch_degrees", "/camera", scene.camera.pitch_degrees);
-    r.number(*c, "fov_degrees", "/camera", scene.camera.fov_degrees);
+    r.number(*c, "yaw_degrees", "/camera", scene.camera.yaw_degrees, -kMaxAngle, kMaxAngle);
+    r.number(*c, "pitch_degrees", "/camera", scene.camera.pitch_degrees, -90, 90);
+    r.number(*c, "fov_degrees", "/camera", scene.camera.fov_degrees, -kMaxAngle, kMaxAngle);
     if (scene.camera.fov_degrees <= 1 || scene.camera.fov_degrees >= 179)
       r.fail("/camera/fov_degrees", "must be in (1, 179)");
   }
@@ -104,7 +116,7 @@ Result<Scene> load_scene(const std::filesystem::path& path) {
       r.vec3(b, "emittance", p, box.emittance);
       for (float e : box.emittance)
         if (e < 0 || e > kMaxRadiance) r.fail(p + "/emittance", "emittance must be from 0 to 1e6");
-      r.number(b, "rotation_degrees", p, box.rotation_degrees);
+      r.number(b, "rotation_degrees", p, box.rotation_degrees, -kMaxAngle, kMaxAngle);
       scene.boxes.push_back(box);
     }
   }
@@ -115,9 +127,12 @@ Result<Scene> load_scene(const std::filesystem::path& path) {
     r.vec3(*l, "albedo", "/light", scene.light.albedo);
     r.albedo("/light", scene.light.albedo);
     r.vec3(*l, "color", "/light", scene.light.color);
-    r.number(*l, "intensity", "/light", scene.light.intensity);
-    if (scene.light.intensity < 0 || scene.light.intensity > kMaxRadiance)
-      r.fail("/light/intensity", "must be from 0 to 1e6");
+    r.number(*l, "intensity", "/light", scene.light.intensity, 0, kMaxRadiance);
+    // Negative light would write negative pixels; the emitted radiance is colour x intensity.
+    for (size_t i = 0; i < 3; ++i)
+      if (scene.light.color[i] < 0 || double(scene.light.color[i]) * scene.light.intensity > kMaxRadiance)
+        r.fail("/light/color/" + std::to_string(i),
+               "must be from 0 to 1e6 / intensity (the light's radiance is colour x intensity, at most 1e6)");
   } else {
     r.fail("/light", "the scene needs a 'light'");
   }

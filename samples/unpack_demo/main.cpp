@@ -7,14 +7,14 @@
 
 #include <vulkan/vulkan.hpp>  // vk::to_string: Vulkan-Hpp names every enum
 
-#include "bootstrap/vulkan_context.hpp"
+#include "statepack/bootstrap/host_tools.hpp"
+#include "statepack/bootstrap/vulkan_context.hpp"
 #include "statepack/dearchiver.hpp"
-#include "support/printable.hpp"
 
 namespace {
 
 // Names and paths come from the archive or the command line: escaped before they reach the terminal.
-using statepack::detail::printable;
+using statepack::bootstrap::printable;
 
 int fail(const std::string& what, const statepack::Error& e) {
   std::fprintf(stderr, "unpack_demo: %s: %s (%s)\n", printable(what).c_str(), printable(e.message).c_str(),

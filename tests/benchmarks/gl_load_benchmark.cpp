@@ -17,7 +17,7 @@
 #include <string>
 #include <vector>
 
-#include "bootstrap/gl_context.hpp"
+#include "statepack/bootstrap/gl_context.hpp"
 #include "statepack/gl_dearchiver.hpp"
 
 namespace {

@@ -16,10 +16,10 @@
 #include <thread>
 #include <vector>
 
-#include "bootstrap/vulkan_context.hpp"
 #include "format/archive_format.hpp"
 #include "notation/notation.hpp"
 #include "shaders/shader_compiler.hpp"
+#include "statepack/bootstrap/vulkan_context.hpp"
 #include "statepack/dearchiver.hpp"
 #include "support/file_io.hpp"
 

@@ -2,9 +2,9 @@
 // Compared in size with min_glslang.cpp by tests/benchmarks/load_benchmark.sh.
 #include <cstdio>
 
-#include "bootstrap/vulkan_context.hpp"
+#include "statepack/bootstrap/host_tools.hpp"  // printable(): the name and the message may hold terminal escapes
+#include "statepack/bootstrap/vulkan_context.hpp"
 #include "statepack/dearchiver.hpp"
-#include "support/printable.hpp"  // the name and the message may hold terminal escapes
 
 int main(int argc, char** argv) {
   if (argc < 3) return std::fprintf(stderr, "usage: min_dearchiver <archive> <compute pipeline>\n"), 2;
@@ -14,7 +14,8 @@ int main(int argc, char** argv) {
   auto dearchiver = statepack::Dearchiver::create((*vk)->device_context());
   if (!dearchiver || !dearchiver->add_archive(std::move(*archive))) return 1;
   auto pso = dearchiver->unpack_compute(argv[2]);
-  if (!pso) return std::fprintf(stderr, "%s\n", statepack::detail::printable(pso.error().message).c_str()), 1;
-  std::printf("created '%s'\n", statepack::detail::printable(argv[2]).c_str());
+  if (!pso)
+    return std::fprintf(stderr, "%s\n", statepack::bootstrap::printable(pso.error().message).c_str()), 1;
+  std::printf("created '%s'\n", statepack::bootstrap::printable(argv[2]).c_str());
   return 0;
 }

@@ -8,7 +8,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "bootstrap/vulkan_context.hpp"
+#include "statepack/bootstrap/vulkan_context.hpp"
 
 int main(int argc, char** argv) {
   if (argc < 2) return std::fprintf(stderr, "usage: min_glslang <shader.comp>\n"), 2;

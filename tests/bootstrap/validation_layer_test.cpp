@@ -2,7 +2,7 @@
 // messenger records what it reports. Without this, a silent harness would pass every Vulkan test.
 #include <gtest/gtest.h>
 
-#include "bootstrap/vulkan_context.hpp"
+#include "statepack/bootstrap/vulkan_context.hpp"
 
 namespace {
 

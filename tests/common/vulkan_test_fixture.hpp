@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "bootstrap/vulkan_context.hpp"
+#include "statepack/bootstrap/vulkan_context.hpp"
 #include "statepack/dearchiver.hpp"
 
 namespace statepack::testing {

@@ -24,9 +24,9 @@ for f in "$prefix/bin/statepack" "$libdir/libstatepack_dearchiver.a" "$libdir/li
   "$prefix/include/statepack/dearchiver.hpp" "$prefix/include/statepack/result.hpp"; do
   [[ -f "$f" ]] || fail "not installed: ${f#"$prefix/"}"
 done
-# Only the public headers: the library's internal ones stay private.
+# Only the public headers (the libraries' and the bootstrap's): the internal ones stay private.
 headers=$(cd "$prefix/include" && find . -type f | sort | tr '\n' ' ')
-[[ "$headers" == "./statepack/dearchiver.hpp ./statepack/export.hpp ./statepack/gl_dearchiver.hpp ./statepack/result.hpp " ]] ||
+[[ "$headers" == "./statepack/bootstrap/gl_context.hpp ./statepack/bootstrap/host_tools.hpp ./statepack/bootstrap/vulkan_context.hpp ./statepack/dearchiver.hpp ./statepack/export.hpp ./statepack/gl_dearchiver.hpp ./statepack/result.hpp " ]] ||
   fail "installed headers: $headers"
 grep -rq "$build_dir" "$config_dir" "$libdir/pkgconfig" && fail "an installed CMake or pkg-config file names the build tree"
 

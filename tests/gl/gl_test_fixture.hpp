@@ -9,10 +9,10 @@
 #include <cstring>
 #include <vector>
 
-#include "bootstrap/gl_context.hpp"
 #include "common/vulkan_test_fixture.hpp"
 #include "format/archive_format.hpp"
 #include "runtime/archive_access.hpp"
+#include "statepack/bootstrap/gl_context.hpp"
 #include "statepack/gl_dearchiver.hpp"
 
 namespace statepack::testing {

@@ -8,13 +8,13 @@
 #include <cstring>
 #include <vector>
 
-#include "bootstrap/gl_context.hpp"
 #include "common/forged_archive.hpp"
 #include "common/vulkan_test_fixture.hpp"
 #include "format/archive_format.hpp"
 #include "gl/gl_state.hpp"
 #include "gl_test_fixture.hpp"
 #include "runtime/archive_access.hpp"
+#include "statepack/bootstrap/gl_context.hpp"
 #include "statepack/gl_dearchiver.hpp"
 
 namespace statepack::testing {

@@ -1,4 +1,5 @@
-// The sample writes finite images or fails: write_image refuses NaN and infinity with the pixel named,
+// The sample writes finite images or fails: write_image refuses NaN, infinity and negative radiance with
+// the pixel named,
 // writes nothing then, and every image output is atomic and never follows a link.
 #include <gtest/gtest.h>
 
@@ -28,6 +29,14 @@ TEST(ImageOutput, NonFiniteImagesAreRefusedForEveryFormat) {
           << name;
       EXPECT_FALSE(fs::exists(dir / name)) << name;
     }
+  }
+  // Negative radiance (which no light of a checked scene gives) is refused the same way.
+  rgba[(1 * 3 + 2) * 4 + 1] = -0.25f;
+  for (const char* name : {"a.png", "a.exr", "a.pfm"}) {
+    EXPECT_EQ(statepack::path_tracer::write_image(dir / name, rgba, 3, 2, 1.0f),
+              "the render holds a negative radiance at pixel (2, 1): no image written")
+        << name;
+    EXPECT_FALSE(fs::exists(dir / name)) << name;
   }
   rgba[(1 * 3 + 2) * 4 + 1] = 0.25f;
   for (const char* name : {"a.png", "a.exr", "a.pfm"}) {

@@ -209,9 +209,46 @@ TEST(PathTracer, HostileScenesAndOutputsAreErrorsNotCrashesOrBadImages) {
       run("--scene '" + (dir / "bright.json").string() + "' --out '" + (dir / "bright.pfm").string() + "'",
           output),
       1);
-  EXPECT_NE(output.find("bright.json: must be from 0 to 1e6 [/light/intensity]"), std::string::npos)
+  EXPECT_NE(output.find("bright.json: must be a number from 0 to 1e6 [/light/intensity]"), std::string::npos)
       << output;
   EXPECT_FALSE(fs::exists(dir / "bright.pfm"));
+  // Every other number of the scene and of the command line is range-checked too: a negative light
+  // colour, a pitch beyond straight up, a rotation of 1e30 degrees, an exposure of NaN, infinity, zero
+  // or below (CLI11's own Range would let NaN through).
+  const std::string scene = read_text(STATEPACK_DEFAULT_SCENE_FILE);
+  struct Bad {
+    const char* file;
+    const char* key;
+    const char* value;
+    const char* message;
+  };
+  for (const Bad& bad : {Bad{"dark.json", "\"color\": [1", "\"color\": [-1",
+                             "dark.json: must be from 0 to 1e6 / intensity (the light's radiance is colour x "
+                             "intensity, at most 1e6) [/light/color/0]"},
+                         Bad{"pitch.json", "\"pitch_degrees\": 0", "\"pitch_degrees\": 91",
+                             "pitch.json: must be a number from -90 to 90 [/camera/pitch_degrees]"},
+                         Bad{"spin.json", "\"yaw_degrees\": 0", "\"yaw_degrees\": 1e30",
+                             "spin.json: must be a number from -36000 to 36000 [/camera/yaw_degrees]"}}) {
+    std::string text = scene;
+    ASSERT_NE(text.find(bad.key), std::string::npos) << bad.key;
+    text.replace(text.find(bad.key), std::string(bad.key).size(), bad.value);
+    std::ofstream(dir / bad.file) << text;
+    EXPECT_EQ(
+        run("--scene '" + (dir / bad.file).string() + "' --out '" + (dir / "bad.pfm").string() + "'", output),
+        1)
+        << bad.file;
+    EXPECT_NE(output.find(bad.message), std::string::npos) << output;
+    EXPECT_FALSE(fs::exists(dir / "bad.pfm")) << bad.file;
+  }
+  for (const char* exposure : {"nan", "inf", "-inf", "0", "-1", "1e7", "x"}) {
+    EXPECT_NE(
+        run(std::string("--exposure ") + exposure + " --out '" + (dir / "bad.pfm").string() + "'", output), 0)
+        << exposure;
+    EXPECT_NE(output.find("--exposure: '" + std::string(exposure) + "' is not a number in (0, 1e6]"),
+              std::string::npos)
+        << output;
+    EXPECT_FALSE(fs::exists(dir / "bad.pfm")) << exposure;
+  }
   // The output may not replace the scene it read, nor follow a link.
   fs::copy_file(STATEPACK_DEFAULT_SCENE_FILE, dir / "scene.png");
   const std::string before = read_text(dir / "scene.png");
