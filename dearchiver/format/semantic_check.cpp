@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <iterator>
+#include <map>
 #include <optional>
+#include <unordered_set>
 
 #include "spirv_walk.hpp"
 
@@ -42,70 +44,168 @@ Result<void> check_constants(const spirv::Module& module, const std::vector<Spec
   return {};
 }
 
-Result<void> check_pipeline(const Contents& c, const Pipeline& p, const std::vector<spirv::Module>& modules) {
-  const std::string pipeline = "pipeline '" + p.name + "'";
-  for (uint32_t index : p.shaders) {
-    const Shader& shader = c.shaders[index];
-    const spirv::Module& module = modules[shader.blob];
-    const spirv::EntryPoint* entry =
-        module.find(*spirv::execution_model_of_stage(shader.stage), shader.entry_point);
-    const std::string who = "shader '" + shader.name + "'";
-    for (const spirv::Resource& r : module.resources) {
-      if (!module.uses(*entry, r.variable)) continue;
-      const std::string slot = "set " + std::to_string(r.set) + ", binding " + std::to_string(r.binding);
-      const SetLayout* layout = nullptr;
-      if (r.set < p.set_layouts.size() && p.set_layouts[r.set] != kNone)
-        layout = &c.set_layouts[p.set_layouts[r.set]];
+// A key of 32-bit words, for the sets of checks already made.
+using Key = std::vector<uint32_t>;
+struct KeyHash {
+  size_t operator()(const Key& key) const {
+    uint64_t h = 14695981039346656037ull;  // FNV-1a over the words
+    for (uint32_t w : key) h = (h ^ w) * 1099511628211ull;
+    return size_t(h);
+  }
+};
+using KeySet = std::unordered_set<Key, KeyHash>;
+
+// What one entry point of a module uses: its descriptors by set number (in module order within a set)
+// and (for a vertex shader) its inputs.
+struct EntryUse {
+  std::map<uint32_t, std::vector<const spirv::Resource*>> resources;
+  std::vector<const spirv::Input*> inputs;
+};
+
+// The steps the shader checks may take: 16 x what the archive holds (its SPIR-V, its layouts'
+// bindings, its pipelines' records). Each distinct check is made once (InterfaceChecks), so a valid
+// archive needs far less than this however many pipelines share a shader or a layout; the budget stops
+// only a small archive that would make loading take minutes.
+uint64_t interface_check_budget(const Contents& c) {
+  uint64_t size = 64;
+  for (auto blob : c.spirv) size += blob.size_bytes();
+  for (const SetLayout& l : c.set_layouts) size += 1 + l.bindings.size();
+  for (const Pipeline& p : c.pipelines)
+    size += 1 + p.shaders.size() + p.set_layouts.size() + p.constants.size() +
+            p.graphics.vertex_attributes.size();
+  for (const GlPipeline& p : c.gl_pipelines)
+    size += 1 + p.shaders.size() + p.bindings.size() + p.constants.size();
+  return size * 16;
+}
+
+// The Vulkan pipelines' checks against their shaders, each distinct one made once: pipelines that share
+// a shader and what it is checked against (one set's layout, the vertex attributes) pass or fail alike,
+// so 100,000 pipelines over one shader and one layout cost one check, and layouts combined in many ways
+// cost one check per (shader, set, layout). Push constants and
+// specialization constants are checked for every pipeline (their cost is the pipeline's own record).
+class InterfaceChecks {
+ public:
+  InterfaceChecks(const Contents& c, const std::vector<spirv::Module>& modules)
+      : c_(c), modules_(modules), budget_(interface_check_budget(c)) {}
+
+  Result<void> check(const Pipeline& p) {
+    const std::string pipeline = "pipeline '" + p.name + "'";
+    for (uint32_t index : p.shaders) {
+      const Shader& shader = c_.shaders[index];
+      const spirv::Module& module = modules_[shader.blob];
+      const spirv::EntryPoint* entry =
+          module.find(*spirv::execution_model_of_stage(shader.stage), shader.entry_point);
+      const std::string who = "shader '" + shader.name + "'";
+      const EntryUse* use = uses(shader.blob, module, *entry);
+      if (!use) return over_budget(p);
+      for (const auto& [set, resources] : use->resources) {
+        const uint32_t layout = set < p.set_layouts.size() ? p.set_layouts[set] : kNone;
+        Key key = {index, set, layout};
+        if (resources_checked_.count(key)) continue;
+        if (!charge(resources.size())) return over_budget(p);
+        if (auto ok = check_resources(shader, layout, resources, pipeline, who); !ok) return ok;
+        resources_checked_.insert(std::move(key));
+      }
+      if (module.push_constants && module.uses(*entry, module.push_constants->variable)) {
+        if (p.push_constant_size == 0 || !(p.push_constant_stages & shader.stage))
+          return corrupt(pipeline + ": " + who +
+                         " uses push constants, which the pipeline's layout lacks for the " +
+                         spirv::stage_name(shader.stage) + " stage");
+        if (p.push_constant_size < module.push_constants->size)
+          return corrupt(pipeline + ": push constants are " + std::to_string(p.push_constant_size) +
+                         " bytes, but " + who + " uses " + std::to_string(module.push_constants->size));
+      }
+      if (auto ok = check_constants(module, p.constants, shader.stage, pipeline, who); !ok) return ok;
+      if (shader.stage == 0x1 && p.kind == PipelineKind::graphics)
+        if (auto ok = check_vertex_inputs(p, index, *use, pipeline, who); !ok) return ok;
+    }
+    return {};
+  }
+
+ private:
+  bool charge(uint64_t steps) {
+    work_ += 1 + steps;
+    return work_ <= budget_;
+  }
+  Error over_budget(const Pipeline& p) const {
+    return corrupt("checking pipeline '" + p.name + "' against its shaders expands beyond " +
+                   std::to_string(budget_) +
+                   " steps (16 x the archive's size): pipelines share huge shaders");
+  }
+
+  // What the entry point uses, found once per (module, entry point); null when the budget is spent.
+  const EntryUse* uses(uint32_t blob, const spirv::Module& module, const spirv::EntryPoint& entry) {
+    auto [it, fresh] = uses_.try_emplace({blob, entry.function});
+    if (!fresh) return &it->second;
+    if (!charge(module.resources.size() + module.inputs.size())) return nullptr;
+    for (const spirv::Resource& r : module.resources)
+      if (module.uses(entry, r.variable)) it->second.resources[r.set].push_back(&r);
+    for (const spirv::Input& in : module.inputs)
+      if (module.uses(entry, in.variable)) it->second.inputs.push_back(&in);
+    return &it->second;
+  }
+
+  // The resources a shader uses in one set against the set's layout (`layout_index`: kNone for none).
+  Result<void> check_resources(const Shader& shader, uint32_t layout_index,
+                               const std::vector<const spirv::Resource*>& resources,
+                               const std::string& pipeline, const std::string& who) const {
+    const SetLayout* layout = layout_index != kNone ? &c_.set_layouts[layout_index] : nullptr;
+    for (const spirv::Resource* r : resources) {
+      const std::string slot = "set " + std::to_string(r->set) + ", binding " + std::to_string(r->binding);
       // Bindings are sorted by number (checked by decode).
-      auto b = layout ? std::lower_bound(layout->bindings.begin(), layout->bindings.end(), r.binding,
+      auto b = layout ? std::lower_bound(layout->bindings.begin(), layout->bindings.end(), r->binding,
                                          [](const Binding& x, uint32_t n) { return x.binding < n; })
                       : std::vector<Binding>::const_iterator{};
-      if (layout && b != layout->bindings.end() && b->binding != r.binding) b = layout->bindings.end();
+      if (layout && b != layout->bindings.end() && b->binding != r->binding) b = layout->bindings.end();
       if (!layout || b == layout->bindings.end())
         return corrupt(pipeline + ": " + who + " uses " + slot + ", which the pipeline's layout lacks");
       const std::string binding = pipeline + ": binding '" + b->name + "' (" + slot + ")";
-      if (r.compatible == 0)
+      if (r->compatible == 0)
         return corrupt(pipeline + ": " + who + " uses " + slot +
                        " as a resource no core descriptor type holds");
-      if (!(r.compatible & (1u << b->descriptor_type)))
+      if (!(r->compatible & (1u << b->descriptor_type)))
         return corrupt(binding + " is a " + descriptor_type_name(b->descriptor_type) + " descriptor, but " +
-                       who + " declares a " + type_names(r.compatible));
+                       who + " declares a " + type_names(r->compatible));
       if (!(b->stage_flags & shader.stage))
         return corrupt(binding + " is not visible to the " + spirv::stage_name(shader.stage) +
                        " stage, which " + who + " uses it from");
-      if (r.array_size > b->count)
+      if (r->array_size > b->count)
         return corrupt(binding + " holds " + std::to_string(b->count) + " descriptor(s), but " + who +
-                       " declares an array of " + std::to_string(r.array_size));
+                       " declares an array of " + std::to_string(r->array_size));
     }
-    if (module.push_constants && module.uses(*entry, module.push_constants->variable)) {
-      if (p.push_constant_size == 0 || !(p.push_constant_stages & shader.stage))
-        return corrupt(pipeline + ": " + who +
-                       " uses push constants, which the pipeline's layout lacks for the " +
-                       spirv::stage_name(shader.stage) + " stage");
-      if (p.push_constant_size < module.push_constants->size)
-        return corrupt(pipeline + ": push constants are " + std::to_string(p.push_constant_size) +
-                       " bytes, but " + who + " uses " + std::to_string(module.push_constants->size));
-    }
-    if (auto ok = check_constants(module, p.constants, shader.stage, pipeline, who); !ok) return ok;
-    if (shader.stage == 0x1 && p.kind == PipelineKind::graphics) {
-      std::vector<uint32_t> provided;  // attribute locations, sorted for lookups
-      for (const auto& a : p.graphics.vertex_attributes) provided.push_back(a.location);
-      std::sort(provided.begin(), provided.end());
-      for (const spirv::Input& in : module.inputs) {
-        if (!module.uses(*entry, in.variable)) continue;
-        if (in.locations > kMaxVertexLocations)
-          return corrupt(pipeline + ": vertex " + who + " reads " + std::to_string(in.locations) +
-                         " locations from one input");
-        for (uint64_t location = in.location; location < uint64_t(in.location) + in.locations; ++location) {
-          if (!std::binary_search(provided.begin(), provided.end(), location))
-            return corrupt(pipeline + ": vertex " + who + " reads input location " +
-                           std::to_string(location) + ", which has no vertex attribute");
-        }
-      }
-    }
+    return {};
   }
-  return {};
-}
+
+  Result<void> check_vertex_inputs(const Pipeline& p, uint32_t shader_index, const EntryUse& use,
+                                   const std::string& pipeline, const std::string& who) {
+    Key provided;  // attribute locations, sorted for lookups
+    for (const auto& a : p.graphics.vertex_attributes) provided.push_back(a.location);
+    std::sort(provided.begin(), provided.end());
+    Key key = provided;
+    key.push_back(shader_index);
+    if (inputs_checked_.count(key)) return {};
+    if (!charge(use.inputs.size())) return over_budget(p);
+    for (const spirv::Input* in : use.inputs) {
+      if (in->locations > kMaxVertexLocations)
+        return corrupt(pipeline + ": vertex " + who + " reads " + std::to_string(in->locations) +
+                       " locations from one input");
+      for (uint64_t location = in->location; location < uint64_t(in->location) + in->locations; ++location)
+        if (!std::binary_search(provided.begin(), provided.end(), location))
+          return corrupt(pipeline + ": vertex " + who + " reads input location " + std::to_string(location) +
+                         ", which has no vertex attribute");
+    }
+    inputs_checked_.insert(std::move(key));
+    return {};
+  }
+
+  const Contents& c_;
+  const std::vector<spirv::Module>& modules_;
+  const uint64_t budget_;
+  uint64_t work_ = 0;
+  std::map<std::pair<uint32_t, uint32_t>, EntryUse> uses_;  // by (blob, entry point's function id)
+  KeySet resources_checked_;                                // (shader index, set, layout) that passed
+  KeySet inputs_checked_;                                   // (attribute locations, shader index) that passed
+};
 
 // The namespace a resource binds in from the descriptor types it fits, or nullopt for what OpenGL has no
 // binding for. A variable that fits a separate sampler, a separate sampled image or an input attachment
@@ -118,13 +218,6 @@ std::optional<GlNamespace> gl_namespace_of_mask(spirv::DescriptorTypeMask compat
     if ((compatible >> type) & 1u)
       if (auto kind = gl_namespace_of(type)) return kind;
   return std::nullopt;
-}
-
-// The steps the checks of shaders against their pipelines may take: 16 x the archive's SPIR-V size.
-uint64_t interface_check_budget(const Contents& c) {
-  uint64_t budget = 64;
-  for (auto blob : c.spirv) budget += blob.size_bytes();
-  return budget * 16;
 }
 
 // The SPIR-V capabilities of OpenGL 4.5 core with GL_ARB_gl_spirv (its specification's table) and of
@@ -141,11 +234,17 @@ bool gl_capability(uint32_t capability) {
 
 // A GL pipeline's shaders against its binding table: each stage's entry point exists, every resource it
 // uses has a binding of its kind at its number, and there are no push constants (OpenGL has none).
-// `work` counts resources checked against `budget` (the pipelines x resources bound, as for Vulkan).
+// `work` counts steps against `budget` (interface_check_budget). As for Vulkan, each distinct check is
+// made once: `checked` holds the (module, stage, entry point, binding table) of every shader that passed;
+// only the specialization constants, the pipeline's own record, are checked for every pipeline.
 Result<void> check_gl_pipeline(const Contents& c, const GlPipeline& p,
                                std::vector<std::optional<spirv::Module>>& modules, uint64_t& work,
-                               uint64_t budget) {
+                               uint64_t budget, std::unordered_set<std::string>& checked) {
   work += 1 + p.bindings.size();
+  std::string table;  // the binding table as words, the part of the key all stages share
+  for (const GlBinding& b : p.bindings)
+    for (uint32_t w : {b.kind, b.binding, b.count, b.stages})
+      table.append(reinterpret_cast<const char*>(&w), 4);
   for (const GlShader& shader : p.shaders) {
     const std::string who = "OpenGL pipeline '" + p.name + "', shader '" + shader.name + "'";
     if (!modules[shader.blob]) {
@@ -154,10 +253,19 @@ Result<void> check_gl_pipeline(const Contents& c, const GlPipeline& p,
       modules[shader.blob] = std::move(module.value());
     }
     const spirv::Module& module = *modules[shader.blob];
-    work += 1 + module.resources.size() + p.constants.size();
+    if (auto ok = check_constants(module, p.constants, shader.stage, "OpenGL pipeline '" + p.name + "'",
+                                  "shader '" + shader.name + "'");
+        !ok)
+      return ok;
+    std::string key = table;  // (binding table, module, stage, entry point)
+    for (uint32_t w : {shader.blob, shader.stage}) key.append(reinterpret_cast<const char*>(&w), 4);
+    key += shader.entry_point;
+    if (checked.count(key)) continue;
+    work += 1 + module.entry_points.size() + module.capabilities.size() + module.resources.size();
     if (work > budget)
       return corrupt("checking OpenGL pipeline '" + p.name + "' against its shaders expands beyond " +
-                     std::to_string(budget) + " steps (16 x the SPIR-V size): pipelines share huge shaders");
+                     std::to_string(budget) +
+                     " steps (16 x the archive's size): pipelines share huge shaders");
     const auto model = spirv::execution_model_of_stage(shader.stage);
     const spirv::EntryPoint* entry = model ? module.find(*model, shader.entry_point) : nullptr;
     if (!entry)
@@ -171,10 +279,6 @@ Result<void> check_gl_pipeline(const Contents& c, const GlPipeline& p,
       if (!gl_capability(capability))
         return corrupt(who + " declares SPIR-V capability " + std::to_string(capability) +
                        ", which OpenGL 4.5 with GL_ARB_gl_spirv does not have");
-    if (auto ok = check_constants(module, p.constants, shader.stage, "OpenGL pipeline '" + p.name + "'",
-                                  "shader '" + shader.name + "'");
-        !ok)
-      return ok;
     for (const spirv::Resource& r : module.resources) {
       if (!module.uses(*entry, r.variable)) continue;
       const auto kind = gl_namespace_of_mask(r.compatible);
@@ -187,8 +291,8 @@ Result<void> check_gl_pipeline(const Contents& c, const GlPipeline& p,
       // starting at or before r.binding is the only one that can hold it.
       auto after =
           std::upper_bound(p.bindings.begin(), p.bindings.end(), std::pair{uint32_t(*kind), r.binding},
-                           [](const std::pair<uint32_t, uint32_t>& key, const GlBinding& b) {
-                             return key < std::pair{b.kind, b.binding};
+                           [](const std::pair<uint32_t, uint32_t>& wanted, const GlBinding& b) {
+                             return wanted < std::pair{b.kind, b.binding};
                            });
       const GlBinding* bound = after == p.bindings.begin() ? nullptr : &*(after - 1);
       if (!bound || bound->kind != uint32_t(*kind) || r.binding - bound->binding >= bound->count ||
@@ -197,6 +301,7 @@ Result<void> check_gl_pipeline(const Contents& c, const GlPipeline& p,
       if (r.array_size > bound->count - (r.binding - bound->binding))
         return corrupt(resource() + " is an array larger than its binding '" + bound->name + "'");
     }
+    checked.insert(std::move(key));
   }
   return {};
 }
@@ -219,21 +324,9 @@ Result<void> check_shader_interfaces(const Contents& c) {
       return corrupt(who + " has no " + spirv::stage_name(shader.stage) + " entry point named '" +
                      shader.entry_point + "' in its SPIR-V");
   }
-  // Pipelines may share shaders, so the checks below cost pipelines x resources per shader: bounded, like
-  // decoding, by the file's own size, so that a small archive cannot make loading take minutes.
-  uint64_t work = 0;
-  const uint64_t budget = interface_check_budget(c);
-  for (const Pipeline& p : c.pipelines) {
-    for (uint32_t index : p.shaders) {
-      const spirv::Module& m = modules[c.shaders[index].blob];
-      work += 1 + m.resources.size() + m.inputs.size() + p.constants.size();
-    }
-    if (work > budget)
-      return corrupt("checking pipeline '" + p.name + "' against its shaders expands beyond " +
-                     std::to_string(budget) + " steps (16 x the SPIR-V size): pipelines share huge shaders");
-  }
+  InterfaceChecks checks(c, modules);
   for (const Pipeline& p : c.pipelines)
-    if (auto ok = check_pipeline(c, p, modules); !ok) return ok;
+    if (auto ok = checks.check(p); !ok) return ok;
   return {};
 }
 
@@ -242,8 +335,9 @@ Result<void> check_gl_shader_interfaces(const Contents& c) {
   uint64_t work = 0;
   const uint64_t budget = interface_check_budget(c);
   std::vector<std::optional<spirv::Module>> gl_modules(c.spirv.size());
+  std::unordered_set<std::string> checked;
   for (const GlPipeline& p : c.gl_pipelines) {
-    if (auto ok = check_gl_pipeline(c, p, gl_modules, work, budget); !ok) return ok;
+    if (auto ok = check_gl_pipeline(c, p, gl_modules, work, budget, checked); !ok) return ok;
   }
   return {};
 }

@@ -258,13 +258,20 @@ size_t JsonPositions::locate(std::string_view pointer) const {
       }
     }
     if (!found) return at;  // the nearest ancestor
-    if (offsets_.size() < 100'000) offsets_[child] = at;
+    remember(child, at);
     prefix = std::move(child);
     start = end;
   }
   size_t result = want_key ? key_at : at;
-  if (offsets_.size() < 100'000) offsets_[std::string(pointer) + (want_key ? "#key" : "")] = result;
+  remember(std::string(pointer) + (want_key ? "#key" : ""), result);
   return result;
+}
+
+void JsonPositions::remember(const std::string& pointer, size_t offset) const {
+  // Bounded memory: a full cache starts over rather than refusing new entries, so the objects looked up
+  // now ("/Pipelines" after 200,000 shaders) are found again without rescanning the text before them.
+  if (offsets_.size() >= kMaxRemembered) offsets_.clear();
+  offsets_[pointer] = offset;
 }
 
 }  // namespace statepack::packager

@@ -45,10 +45,12 @@ class JsonPositions {
 
  private:
   size_t locate(std::string_view pointer) const;
+  void remember(const std::string& pointer, size_t offset) const;
 
   size_t code_points_before(size_t offset) const;
 
   static constexpr size_t kBlockSize = 4096;
+  static constexpr size_t kMaxRemembered = 100'000;  // entries of offsets_
   std::string_view text_;
   mutable std::vector<size_t> line_starts_;                  // built on first use
   mutable std::vector<size_t> code_points_before_block_;     // per kBlockSize bytes, built with line_starts_

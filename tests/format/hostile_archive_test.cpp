@@ -213,6 +213,25 @@ TEST(HostileArchive, SharedListsCannotAmplifyTheDecodedSize) {
 
 // --- shader interfaces against stored layouts (at load, no Vulkan) ------------------------------------
 
+// The shader checks' budget scales with the work the archive really asks for: 100,000 pipelines over
+// one shader and one layout are one check, and load (they once failed with "expands beyond N steps").
+TEST(HostileArchive, ManyPipelinesSharingAShaderAndLayoutLoad) {
+  Slice slice;
+  format::Contents c = slice.contents;
+  format::Pipeline compute = slice.pipeline("Fill Buffer PSO");
+  c.pipelines.clear();
+  for (int i = 0; i < 100000; ++i) {
+    compute.name = "P" + std::to_string(i);
+    c.pipelines.push_back(compute);
+  }
+  EXPECT_EQ(load_error(c), "loaded");
+  // Still checked: the last one's layout without its set is found, by name.
+  c.pipelines.back().set_layouts.clear();
+  EXPECT_EQ(load_error(c),
+            "archive in memory: corrupt archive: pipeline 'P99999': shader 'Fill Buffer CS' uses set 0, "
+            "binding 0, which the pipeline's layout lacks");
+}
+
 TEST(HostileArchive, PipelineLayoutLackingASetTheShaderUses) {
   Slice slice;
   slice.pipeline("Fill Buffer PSO").set_layouts.clear();

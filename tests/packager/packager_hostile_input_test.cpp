@@ -190,6 +190,46 @@ TEST_F(HostileInput, MillionsOfErrorsStopAtTheLimit) {
   EXPECT_EQ(count_lines_with(all.output, ": error: "), 3u);
 }
 
+// "Did you mean" over 200,000 candidate names, for 50,000 unknown references with no error limit, and
+// for a name of 100 kB: every message still comes (the work is bounded, tests/support/suggest_test.cpp),
+// the early ones with their suggestion; the run takes seconds (it once took minutes).
+TEST_F(HostileInput, SuggestionsOverHugeNameSetsStayBounded) {
+  std::string text = "{\"Shaders\": [";
+  for (int i = 0; i < 200000; ++i)
+    text += std::string(i ? "," : "") + R"({"Desc": {"Name": "Shader )" + std::to_string(100000 + i) +
+            R"(", "ShaderType": "COMPUTE"}, "FilePath": "a.comp"})";
+  text += "], \"Pipelines\": [";
+  for (int i = 0; i < 50000; ++i)
+    text += std::string(i ? "," : "") + R"({"PSODesc": {"Name": "P)" + std::to_string(i) +
+            R"("}, "pCS": "Shader 1000)" + std::to_string(i % 10) + R"(x"})";
+  text += R"(, {"PSODesc": {"Name": "Long"}, "pCS": ")" + std::string(100000, 'S') + R"("}]})";
+  write_file(dir_ / "a.json", text);
+  write_file(dir_ / "a.comp", kComputeShader);
+  CliRun run = statepack("pack -i a.json --vulkan -o out.spk --max-errors 0", 120);
+  EXPECT_EQ(run.exit_code, 1) << run.output.substr(0, 2000);
+  EXPECT_EQ(count_lines_with(run.output, "refers to unknown shader"), 50001u);
+  EXPECT_NE(
+      run.output.find("pipeline 'P0' refers to unknown shader 'Shader 10000x' (did you mean 'Shader 100000'"),
+      std::string::npos)
+      << run.output.substr(0, 2000);
+}
+
+// A budget against abuse never refuses a large legitimate archive: 100,000 pipelines sharing one
+// shader pack, and pack's load-back check (each distinct shader check made once) accepts them.
+TEST_F(HostileInput, HundredThousandPipelinesSharingOneShaderPack) {
+  std::string text = "{\"Pipelines\": [";
+  for (int i = 0; i < 100000; ++i)
+    text += std::string(i ? "," : "") + R"({"PSODesc": {"Name": "Compute )" + std::to_string(i) +
+            R"("}, "pCS": {"Desc": {"Name": "CS"}, "FilePath": "a.comp"}})";
+  write_file(dir_ / "a.json", text + "]}");
+  write_file(dir_ / "a.comp", kComputeShader);
+  CliRun run = statepack("pack -i a.json --vulkan -o out.spk", 120);
+  ASSERT_EQ(run.exit_code, 0) << run.output.substr(0, 2000);
+  CliRun inspect = statepack("inspect out.spk --json", 120);
+  ASSERT_EQ(inspect.exit_code, 0) << inspect.output.substr(0, 2000);
+  EXPECT_NE(inspect.output.find("\"Compute 99999\""), std::string::npos);
+}
+
 // --- shaders and includes ---------------------------------------------------------------------------
 
 TEST_F(HostileInput, IncludeCyclesAreReportedWithTheirChain) {
