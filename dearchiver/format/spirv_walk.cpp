@@ -22,6 +22,7 @@ constexpr uint64_t kMaxSizeSteps = 1 << 16;  // type visits spent sizing push co
 enum Op : uint32_t {
   kOpName = 5,
   kOpEntryPoint = 15,
+  kOpExecutionMode = 16,
   kOpCapability = 17,
   kOpTypeBool = 20,
   kOpTypeInt = 21,
@@ -36,9 +37,11 @@ enum Op : uint32_t {
   kOpTypeStruct = 30,
   kOpTypePointer = 32,
   kOpConstant = 43,
+  kOpConstantComposite = 44,
   kOpSpecConstantTrue = 48,
   kOpSpecConstantFalse = 49,
   kOpSpecConstant = 50,
+  kOpSpecConstantComposite = 51,
   kOpVariable = 59,
   kOpDecorate = 71,
   kOpMemberDecorate = 72,
@@ -49,7 +52,10 @@ enum Op : uint32_t {
   kOpInBoundsAccessChain = 66,
   kOpStore = 62,
   kOpLabel = 248,
+  kOpExecutionModeId = 331,
 };
+constexpr uint32_t kExecutionModeLocalSize = 17, kExecutionModeLocalSizeId = 38;
+constexpr uint32_t kExecutionModelGLCompute = 5;
 
 // Instructions that end a block.
 bool is_terminator(uint32_t op) {
@@ -70,7 +76,7 @@ enum Decoration : uint32_t {
   kDescriptorSet = 34,
   kOffset = 35,
 };
-constexpr uint32_t kBuiltInPointSize = 1;
+constexpr uint32_t kBuiltInPointSize = 1, kBuiltInWorkgroupSize = 25;
 enum StorageClass : uint32_t {
   kUniformConstant = 0,
   kInput = 1,
@@ -109,7 +115,12 @@ struct Walker {
     uint32_t id, pointer_type, storage;
   };
   std::vector<Variable> variables;
-  std::vector<std::pair<uint32_t, uint32_t>> spec_constants;  // (result id, result type)
+  std::vector<std::pair<uint32_t, uint32_t>> spec_constants;           // (result id, result type)
+  std::unordered_map<uint32_t, uint32_t> spec_defaults;                // OpSpecConstant id -> its (low) word
+  std::unordered_map<uint32_t, std::span<const uint32_t>> composites;  // (spec) constant composites
+  // Work-group sizes: LocalSize literals and LocalSizeId ids by entry function, the WorkgroupSize id.
+  std::unordered_map<uint32_t, std::array<uint32_t, 3>> local_size, local_size_id;
+  std::optional<uint32_t> workgroup_size_builtin;
   // Hash containers keep every lookup below constant-time: a hostile module of a million words
   // must not turn the walk quadratic.
   std::unordered_set<uint32_t> stores;                                             // pointers stored to
@@ -143,6 +154,16 @@ struct Walker {
         module.entry_points.push_back(std::move(entry));
         return {};
       }
+      case kOpExecutionMode:
+      case kOpExecutionModeId:
+        if (need(5) && (operands[1] == kExecutionModeLocalSize || operands[1] == kExecutionModeLocalSizeId))
+          (operands[1] == kExecutionModeLocalSize ? local_size : local_size_id)[operands[0]] = {
+              operands[2], operands[3], operands[4]};
+        return {};
+      case kOpConstantComposite:
+      case kOpSpecConstantComposite:
+        if (need(2) && id_ok(operands[1])) composites[operands[1]] = operands.subspan(2);
+        return {};
       case kOpTypeBool:
       case kOpTypeInt:
       case kOpTypeFloat:
@@ -181,6 +202,7 @@ struct Walker {
       case kOpSpecConstant:
         if (!need(2) || !id_ok(operands[1])) return fail(at, "OpSpecConstant is too short or has a bad id");
         spec_constants.emplace_back(operands[1], operands[0]);  // (id, type)
+        if (op == kOpSpecConstant && need(3)) spec_defaults[operands[1]] = operands[2];
         return {};
       case kOpVariable:
         if (!need(3) || !id_ok(operands[1])) return fail(at, "OpVariable is too short or has a bad id");
@@ -194,6 +216,8 @@ struct Walker {
         if (kind == kBlock) d.block = true;
         if (kind == kBufferBlock) d.buffer_block = true;
         if (kind == kBuiltIn) d.builtin = true, d.point_size = has_value && operands[2] == kBuiltInPointSize;
+        if (kind == kBuiltIn && has_value && operands[2] == kBuiltInWorkgroupSize)
+          workgroup_size_builtin = operands[0];
         if (kind == kDescriptorSet || kind == kBinding || kind == kLocation || kind == kArrayStride ||
             kind == kSpecId) {
           if (!has_value) return fail(at, "OpDecorate lacks its value");
@@ -345,7 +369,42 @@ struct Walker {
     return false;
   }
 
+  // A work-group dimension from a constant's id: an OpConstant, or a specialization constant's default
+  // with its SpecId (one without a SpecId cannot be overridden: its default is the value).
+  std::optional<WorkgroupDim> dimension(uint32_t id) const {
+    if (auto c = constants.find(id); c != constants.end()) return WorkgroupDim{c->second, std::nullopt};
+    auto s = spec_defaults.find(id);
+    if (s == spec_defaults.end()) return std::nullopt;
+    auto d = decorations.find(id);
+    return WorkgroupDim{s->second, d != decorations.end() ? d->second.spec_id : std::nullopt};
+  }
+  std::optional<std::array<WorkgroupDim, 3>> dimensions(std::span<const uint32_t> ids) const {
+    if (ids.size() != 3) return std::nullopt;
+    std::array<WorkgroupDim, 3> out;
+    for (size_t i = 0; i < 3; ++i) {
+      auto dim = dimension(ids[i]);
+      if (!dim) return std::nullopt;
+      out[i] = *dim;
+    }
+    return out;
+  }
+  std::optional<std::array<WorkgroupDim, 3>> workgroup_size_of(uint32_t function) const {
+    if (workgroup_size_builtin) {
+      auto composite = composites.find(*workgroup_size_builtin);
+      return composite == composites.end() ? std::nullopt : dimensions(composite->second);
+    }
+    if (auto ids = local_size_id.find(function); ids != local_size_id.end()) return dimensions(ids->second);
+    if (auto sizes = local_size.find(function); sizes != local_size.end())
+      return std::array<WorkgroupDim, 3>{WorkgroupDim{sizes->second[0], {}},
+                                         WorkgroupDim{sizes->second[1], {}},
+                                         WorkgroupDim{sizes->second[2], {}}};
+    return std::nullopt;
+  }
+
   Result<void> resolve() {
+    for (EntryPoint& entry : module.entry_points)
+      if (entry.execution_model == kExecutionModelGLCompute)
+        entry.workgroup_size = workgroup_size_of(entry.function);
     for (auto [id, type_id] : spec_constants) {
       auto d = decorations.find(id);
       if (d == decorations.end() || !d->second.spec_id) continue;  // not specializable

@@ -3,6 +3,7 @@
 // a validator and links no SPIR-V library: the dearchiver stays free of shader compilers.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <span>
@@ -45,11 +46,22 @@ struct PushConstantBlock {
   uint32_t size = 0;  // bytes the block spans; 0 when its layout is not computed here
 };
 
+// One dimension of a compute shader's work-group size: a number, or a specialization constant's
+// default that a pipeline may override.
+struct WorkgroupDim {
+  uint32_t value = 1;
+  std::optional<uint32_t> spec_id;  // SpecId of the constant that sets it, when specializable
+};
+
 struct EntryPoint {
   uint32_t execution_model = 0;  // SpvExecutionModel
   uint32_t function = 0;         // id of its OpFunction
   std::string name;
   std::vector<uint32_t> interface;  // ids listed by OpEntryPoint, sorted
+  // A GLCompute entry point's work-group size: the WorkgroupSize built-in when the module decorates one
+  // (it overrides the execution modes), else LocalSizeId, else LocalSize; none when it is none of these
+  // or names an id this walker cannot evaluate (a computed constant).
+  std::optional<std::array<WorkgroupDim, 3>> workgroup_size;
 };
 
 // A specialization constant the module declares: its SpecId and the byte size Vulkan's map entry for it

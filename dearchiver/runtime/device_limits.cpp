@@ -373,6 +373,39 @@ Result<void> check_sampler(const format::Sampler& s, const DeviceCaps& caps, std
   return {};
 }
 
+Result<void> check_workgroup_size(const std::string& pipeline, const spirv::EntryPoint& entry,
+                                  const std::function<std::optional<uint32_t>(uint32_t)>& specialized,
+                                  const VkPhysicalDeviceLimits& limits) {
+  if (!entry.workgroup_size) return {};  // none, or computed from constants: left to the driver
+  std::array<uint64_t, 3> size{};
+  for (size_t i = 0; i < 3; ++i) {
+    const spirv::WorkgroupDim& dim = (*entry.workgroup_size)[i];
+    const auto value = dim.spec_id ? specialized(*dim.spec_id) : std::nullopt;
+    size[i] = value ? *value : dim.value;
+  }
+  const std::string who = "pipeline '" + pipeline + "'";
+  const std::string text =
+      std::to_string(size[0]) + " x " + std::to_string(size[1]) + " x " + std::to_string(size[2]);
+  const auto& max = limits.maxComputeWorkGroupSize;
+  for (size_t i = 0; i < 3; ++i) {
+    if (size[i] == 0)
+      return Error{ErrorCode::invalid_argument,
+                   who + ": the work-group size is " + text + "; each dimension must be at least 1"};
+    if (size[i] > max[i])
+      return Error{ErrorCode::unsupported, who + ": the work-group size " + text +
+                                               " is beyond the device's maxComputeWorkGroupSize of (" +
+                                               std::to_string(max[0]) + ", " + std::to_string(max[1]) + ", " +
+                                               std::to_string(max[2]) + ")"};
+  }
+  const uint64_t invocations = size[0] * size[1] * size[2];
+  if (invocations > limits.maxComputeWorkGroupInvocations)
+    return Error{ErrorCode::unsupported,
+                 who + ": a work group of " + text + " is " + std::to_string(invocations) +
+                     " invocations, beyond the device's maxComputeWorkGroupInvocations of " +
+                     std::to_string(limits.maxComputeWorkGroupInvocations)};
+  return {};
+}
+
 Result<void> check_pipeline_layout(const format::Contents& c, const format::Pipeline& p,
                                    const DeviceCaps& caps) {
   const VkPhysicalDeviceLimits& l = caps.properties.limits;

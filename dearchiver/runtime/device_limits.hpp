@@ -7,6 +7,8 @@
 #include <vulkan/vulkan.h>
 
 #include <functional>
+#include <optional>
+#include <string>
 #include <string_view>
 
 #include "format/archive_format.hpp"
@@ -42,6 +44,14 @@ Result<void> check_sampler(const format::Sampler& sampler, const DeviceCaps& cap
 // push constants).
 Result<void> check_pipeline_layout(const format::Contents& contents, const format::Pipeline& pipeline,
                                    const DeviceCaps& caps);
+
+// A compute shader's work-group size, with the values the pipeline's specialization constants give it
+// (`specialized(spec_id)`: the value set for that SpecId, if any), against the device's
+// maxComputeWorkGroupSize and maxComputeWorkGroupInvocations (VUID-RuntimeSpirv-x-06429 to -06432).
+// `unsupported` beyond them; `invalid_argument` for a dimension of 0 (only a specialization can set it).
+Result<void> check_workgroup_size(const std::string& pipeline, const spirv::EntryPoint& entry,
+                                  const std::function<std::optional<uint32_t>(uint32_t)>& specialized,
+                                  const VkPhysicalDeviceLimits& limits);
 
 // A graphics pipeline's fixed-function state after the modify callback: vertex input, attachments,
 // samples, blending.

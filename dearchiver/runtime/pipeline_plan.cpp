@@ -107,6 +107,28 @@ std::optional<Error> Planner::run_modify(const std::string& pipeline, const Modi
   }
 }
 
+Result<void> Planner::check_compute_size(const ArchivedPipeline& found,
+                                         const std::vector<SpecializationConstant>& constants) {
+  const format::Pipeline& p = *found.pipeline;
+  const auto& contents = cache_.contents(found.archive);
+  if (p.shaders.empty()) return {};
+  const format::Shader& shader = contents.shaders[p.shaders[0]];
+  const spirv::Module* module = cache_.walked(found.archive, shader.blob);
+  const spirv::EntryPoint* entry = module ? module->find(5 /* GLCompute */, shader.entry_point) : nullptr;
+  if (!entry) return {};  // checked at load
+  // The value the pipeline gives a SpecId: its constant of the compute stage with that id, as settled
+  // (after the modify callback).
+  auto specialized = [&](uint32_t spec_id) -> std::optional<uint32_t> {
+    for (const auto& k : p.constants) {
+      if (k.stage != VK_SHADER_STAGE_COMPUTE_BIT || k.constant_id != spec_id || k.size != 4) continue;
+      for (const auto& v : constants)
+        if (v.name == k.name) return v.get<uint32_t>();
+    }
+    return std::nullopt;
+  };
+  return check_workgroup_size(p.name, *entry, specialized, caps_.properties.limits);
+}
+
 Result<std::unique_ptr<Plan>> Planner::plan_compute(const ArchivedPipeline& found,
                                                     const ModifyCallback& modify) {
   PatchableState settled = to_patchable(*found.pipeline);
@@ -114,6 +136,7 @@ Result<std::unique_ptr<Plan>> Planner::plan_compute(const ArchivedPipeline& foun
     if (auto thrown = run_modify(found.pipeline->name, modify, settled)) return *thrown;
   auto constants = settle_constants(*found.pipeline, std::move(settled.constants));
   if (!constants) return constants.error();
+  if (auto ok = check_compute_size(found, *constants); !ok) return ok.error();
   auto plan = plan_common(found, *constants);
   if (!plan) return plan.error();
   Plan& pl = **plan;

@@ -68,6 +68,9 @@ class Planner {
   Result<std::unique_ptr<Plan>> plan_graphics(const ArchivedPipeline& found, const ModifyCallback& modify);
   // Only the constants of a compute pipeline's state apply.
   Result<std::unique_ptr<Plan>> plan_compute(const ArchivedPipeline& found, const ModifyCallback& modify);
+  // The compute shader's work-group size with the settled constants, against the device's limits.
+  Result<void> check_compute_size(const ArchivedPipeline& found,
+                                  const std::vector<SpecializationConstant>& constants);
 
  private:
   // Layout, set layouts, binding table and shader stages: what both kinds of pipeline need.

@@ -5,9 +5,12 @@
 // error at the notation element involved, naming both sides.
 #pragma once
 
+#include <optional>
+#include <unordered_map>
 #include <vector>
 
 #include "format/archive_format.hpp"
+#include "format/spirv_walk.hpp"
 #include "notation/diagnostics.hpp"
 #include "notation/notation.hpp"
 #include "pipeline_layout.hpp"
@@ -20,6 +23,16 @@ namespace statepack::packager {
 bool check_graphics_interfaces(const PipelineDesc& p, const format::GraphicsState& g,
                                const std::vector<StageInput>& stages, const SourceTexts& sources,
                                Diagnostics& diag);
+
+// Walked modules by their SPIR-V, so that pipelines sharing a shader walk it once.
+using WalkedModules = std::unordered_map<const std::vector<uint32_t>*, std::optional<spirv::Module>>;
+
+// Warns when a compute pipeline's work-group size (with the pipeline's specialization constants) is
+// beyond what Vulkan guarantees every device (maxComputeWorkGroupSize 128 x 128 x 64, 128 invocations):
+// devices with lower limits refuse it, and the dearchiver checks the device's own limits at unpack.
+void warn_compute_work_group(const PipelineDesc& p, const StageInput& stage,
+                             const std::vector<format::SpecConstant>& constants, WalkedModules& walked,
+                             Diagnostics& diag);
 
 // Warns about color attachments of a render pass whose format Vulkan does not require devices to support
 // as a color attachment (once per attachment, at its pAttachments entry).

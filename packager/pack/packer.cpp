@@ -217,6 +217,7 @@ Plan plan_archive(const Notation& notation, const CompiledShaders& compiled, Con
     warn_render_pass_formats(rp, notation.sources, diag);
   }
 
+  WalkedModules walked;  // compute shaders, for their work-group size
   const auto& units = compiled.units;
   for (size_t u : compiled.standalone_units)
     plan.standalone_jobs.push_back(units[u].compiled.ok ? finalizer.request(units[u].compiled.spirv)
@@ -247,6 +248,8 @@ Plan plan_archive(const Notation& notation, const CompiledShaders& compiled, Con
     if (p.kind == format::PipelineKind::graphics &&
         !check_graphics_interfaces(p, out_pipeline.graphics, stages, notation.sources, diag))
       continue;
+    if (p.kind == format::PipelineKind::compute && !stages.empty())
+      warn_compute_work_group(p, stages.front(), out_pipeline.constants, walked, diag);
     for (size_t s = 0; s < stages.size(); ++s) {
       pp.stages.push_back(stages[s].desc);
       pp.jobs.push_back(finalizer.request(std::move(layout.patched_spirv[s])));

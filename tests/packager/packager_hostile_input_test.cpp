@@ -230,6 +230,40 @@ TEST_F(HostileInput, HundredThousandPipelinesSharingOneShaderPack) {
   EXPECT_NE(inspect.output.find("\"Compute 99999\""), std::string::npos);
 }
 
+// Work-group sizes beyond what Vulkan guarantees every device pack with a warning at the shader slot
+// (the dearchiver checks the device's own limits; tests/runtime/workgroup_size_test.cpp), with the
+// size a specialization constant of the pipeline gives.
+TEST_F(HostileInput, WorkGroupSizesBeyondVulkansGuaranteesWarn) {
+  write_file(dir_ / "wide.comp",
+             "#version 450\nlayout(local_size_x = 256) in;\n"
+             "layout(set = 0, binding = 0) buffer Data { uint values[]; } data;\n"
+             "void main() { data.values[gl_LocalInvocationIndex] = 1u; }\n");
+  write_file(dir_ / "sized.comp",
+             "#version 450\nlayout(local_size_x_id = 0, local_size_y = 2) in;\n"
+             "layout(constant_id = 0) const uint kX = 1u;\n"
+             "layout(set = 0, binding = 0) buffer Data { uint values[]; } data;\n"
+             "void main() { data.values[gl_LocalInvocationIndex] = kX; }\n");
+  write_file(dir_ / "a.json", "{\"Pipelines\": [" + compute_pipeline("Wide", "wide.comp") + ", " +
+                                  compute_pipeline("Small", "sized.comp") + R"(, {"PSODesc": {"Name": "Big"},
+      "pCS": {"Desc": {"Name": "Big CS"}, "FilePath": "sized.comp"},
+      "pSpecializationConstants": [{"Name": "kX", "Value": 100}]}]})");
+  CliRun run = pack("a.json");
+  EXPECT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_NE(
+      run.output.find(
+          "a.json:1:53: warning: pipeline 'Wide': shader 'Wide CS' has a work-group size of 256 x 1 x 1, "
+          "beyond the maxComputeWorkGroupSize Vulkan guarantees (128, 128, 64): devices with lower "
+          "limits refuse the pipeline [/Pipelines/0/pCS]"),
+      std::string::npos)
+      << run.output;
+  EXPECT_NE(run.output.find(
+                "warning: pipeline 'Big': shader 'Big CS' has work groups of 100 x 2 x 1 = 200 invocations, "
+                "beyond the 128 maxComputeWorkGroupInvocations Vulkan guarantees"),
+            std::string::npos)
+      << run.output;
+  EXPECT_EQ(run.output.find("'Small'"), std::string::npos) << run.output;  // 1 x 2 x 1
+}
+
 // --- shaders and includes ---------------------------------------------------------------------------
 
 TEST_F(HostileInput, IncludeCyclesAreReportedWithTheirChain) {
