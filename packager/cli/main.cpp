@@ -61,6 +61,7 @@ struct PackCommand {
   std::vector<std::string> inputs, render_state_dirs, shader_dirs, defines;
   std::string output, vulkan_version = "1.0", depfile, dump_dir, optimize = "none";
   bool strip_debug = false;
+  uint64_t max_input_size = kMaxInputBytes;
   bool vulkan = false, opengl = false, opengles = false, dx11 = false, dx12 = false, metal_macos = false,
        metal_ios = false, webgpu = false;
 
@@ -79,6 +80,14 @@ struct PackCommand {
                   "Pack and validate everything, but write no archive or depfile (-o not needed)");
     app->add_option("--max-errors", options.max_errors, "Stop after this many errors; 0: no limit")
         ->capture_default_str();
+    // One limit for every file read (notation files, shaders, includes) and for a shader's includes in
+    // all: a bound on memory, not on what a project may hold.
+    app->add_option("--max-input-size", max_input_size,
+                    "Largest notation file, shader or #include expansion to read, in bytes (suffixes K, M, G "
+                    "for KiB, MiB, GiB)")
+        ->capture_default_str()
+        ->transform(CLI::AsSizeValue(false))
+        ->check(CLI::Range(uint64_t{1}, uint64_t{1} << 40));
     app->add_option("-t,--thread", options.threads, "Compiler threads (0: all cores)")->capture_default_str();
     app->add_option("-v,--content_version", options.content_version,
                     "User content version stored in the header")
@@ -152,6 +161,7 @@ struct PackCommand {
       options.compile.include_dirs.emplace_back(d);
     }
     for (auto& d : defines) options.compile.global_macros.push_back(parse_define(d));
+    options.notation.max_input_bytes = options.compile.max_input_bytes = max_input_size;
     options.output = output;
     if (!dump_dir.empty()) options.dump_dir = dump_dir;
     options.compile.strip_debug_info = strip_debug;

@@ -7,6 +7,8 @@ InputText read_input_file(const std::filesystem::path& path, const std::string& 
   auto file = detail::read_regular_file(path, max_bytes, display);
   if (!file) {
     out.error = file.error().message;
+    // The size limit is the packager's option, so its message says how to raise it.
+    if (out.error.ends_with(" bytes allowed")) out.error += " (--max-input-size sets the limit)";
     return out;
   }
   auto bytes = file->bytes();

@@ -16,8 +16,8 @@ namespace statepack::packager {
 using statepack::detail::FileIdentity;
 using statepack::detail::InputFile;
 
-// Inputs larger than this are refused: no notation file or shader is anywhere near it, and reading one
-// must not exhaust memory.
+// Inputs larger than this are refused unless --max-input-size raises it: no notation file or shader is
+// anywhere near it, and reading one must not exhaust memory.
 inline constexpr uint64_t kMaxInputBytes = 64ull << 20;
 
 struct InputText {

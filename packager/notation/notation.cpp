@@ -528,7 +528,7 @@ class FileReader {
       else
         input.error = "cannot open '" + path.string() + "': not among the in-memory files";
     } else {
-      input = read_input_file(path, display);
+      input = read_input_file(path, display, options.max_input_bytes);
     }
     // The message names the file; a location adds only where it was imported from.
     if (!input.error.empty()) return diag.error(imported_at.line > 0 ? imported_at : Location{}, input.error);

@@ -12,6 +12,8 @@
 #include <utility>
 #include <vector>
 
+#include "input_file.hpp"
+
 #include "diagnostics.hpp"
 #include "format/archive_format.hpp"
 #include "input_file.hpp"
@@ -161,6 +163,7 @@ struct NotationOptions {
   // For tests and the notation fuzzer: when set, notation files (inputs and imports) and shader files
   // are looked up in this map of path -> contents instead of on disk.
   const std::map<std::string, std::string>* memory_files = nullptr;
+  uint64_t max_input_bytes = kMaxInputBytes;  // --max-input-size: each notation file at most this
 };
 
 // Reads `input` (and what it imports) and adds its objects to `notation`.

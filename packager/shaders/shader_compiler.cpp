@@ -38,9 +38,14 @@ EShLanguage to_glslang_stage(uint32_t stage) {
   }
 }
 
-// Expanded #include text per shader beyond this is refused: includes without guards can otherwise
-// double the source with every level (a includes b twice, b includes c twice, ...).
-constexpr uint64_t kMaxIncludedBytes = 64ull << 20;
+// "64 MiB", or the bytes when not whole mebibytes.
+std::string size_text(uint64_t bytes) {
+  return bytes % (1u << 20) == 0 ? std::to_string(bytes >> 20) + " MiB" : std::to_string(bytes) + " bytes";
+}
+
+// Expanded #include text per shader beyond --max-input-size (64 MiB by default) is refused: includes
+// without guards can otherwise double the source with every level (a includes b twice, b includes c
+// twice, ...).
 
 // Resolves #include "x" next to the including file first, then in the -s directories, and records
 // every file it opens so the depfile can list it. statepack resolves includes itself, so it also
@@ -48,8 +53,9 @@ constexpr uint64_t kMaxIncludedBytes = 64ull << 20;
 // follow until memory runs out.
 class Includer final : public glslang::TShader::Includer {
  public:
-  Includer(const std::vector<fs::path>& dirs, std::vector<InputFile>& files_read, fs::path root_file)
-      : dirs_(dirs), files_read_(files_read) {
+  Includer(const std::vector<fs::path>& dirs, std::vector<InputFile>& files_read, fs::path root_file,
+           uint64_t max_bytes)
+      : dirs_(dirs), files_read_(files_read), max_bytes_(max_bytes) {
     chain_.push_back(std::move(root_file));
   }
 
@@ -88,17 +94,16 @@ class Includer final : public glslang::TShader::Includer {
       problem_ += display_path(canonical);
       return nullptr;
     }
-    InputText input = read_input_file(path, display_path(path));
+    InputText input = read_input_file(path, display_path(path), max_bytes_);
     if (!input.error.empty()) {
       problem_ = "#include \"" + header + "\": " + input.error;
       return nullptr;
     }
     included_bytes_ += input.text.size();
-    if (included_bytes_ > kMaxIncludedBytes) {
-      problem_ = "#include \"" + header + "\": the includes expand to more than " +
-                 std::to_string(kMaxIncludedBytes >> 20) +
-                 " MiB of source (files included repeatedly "
-                 "without include guards?)";
+    if (included_bytes_ > max_bytes_) {
+      problem_ =
+          "#include \"" + header + "\": the includes expand to more than " + size_text(max_bytes_) +
+          " of source (files included repeatedly without include guards?; --max-input-size sets the limit)";
       return nullptr;
     }
     files_read_.push_back({fs::absolute(path, ec).lexically_normal(), input.identity});
@@ -113,6 +118,7 @@ class Includer final : public glslang::TShader::Includer {
   const std::vector<fs::path>& dirs_;
   std::vector<InputFile>& files_read_;
   std::vector<fs::path> chain_;  // canonical paths: the shader, then each open #include
+  uint64_t max_bytes_;
   uint64_t included_bytes_ = 0;
   std::string problem_;
   bool backend_specific_ = false;
@@ -252,7 +258,7 @@ CompiledShader compile_shader(const ShaderDesc& original, const CompileOptions& 
   std::string source = shader.source;
   std::string file_name = "<inline source of '" + shader.name + "'>";
   if (!shader.file.empty()) {
-    InputText input = read_input_file(shader.file, display_path(shader.file));
+    InputText input = read_input_file(shader.file, display_path(shader.file), options.max_input_bytes);
     if (!input.error.empty()) {
       errors.error(shader.where, shader.name, input.error);
       return result;
@@ -309,7 +315,8 @@ CompiledShader compile_shader(const ShaderDesc& original, const CompileOptions& 
                                            EShMsgEnhanced | (hlsl ? int(EShMsgReadHlsl) : 0));
   std::error_code ec;
   Includer includer(options.include_dirs, result.files_read,
-                    shader.file.empty() ? fs::path() : fs::weakly_canonical(shader.file, ec));
+                    shader.file.empty() ? fs::path() : fs::weakly_canonical(shader.file, ec),
+                    options.max_input_bytes);
   if (!ts.parse(GetDefaultResources(), 450, false, messages, includer)) {
     if (!includer.problem().empty())
       errors.error(shader.where, shader.name, includer.problem());

@@ -26,6 +26,8 @@ struct CompileOptions {
   // for OpenGL 4.5): GL_SPIRV is defined and VULKAN is not. Used for GLSL that tests those macros;
   // every other shader reaches OpenGL translated from its Vulkan SPIR-V (gl_translate.hpp).
   bool opengl = false;
+  // --max-input-size: each shader file and #include at most this, and a shader's includes in all.
+  uint64_t max_input_bytes = kMaxInputBytes;
 };
 
 struct CompiledShader {

@@ -264,6 +264,47 @@ TEST_F(HostileInput, WorkGroupSizesBeyondVulkansGuaranteesWarn) {
   EXPECT_EQ(run.output.find("'Small'"), std::string::npos) << run.output;  // 1 x 2 x 1
 }
 
+// The input size limit is an option: each notation file, shader and include, and a shader's includes in
+// all, at most --max-input-size bytes (64 MiB by default; suffixes K, M, G). A file over it is an error
+// saying how to raise it; raised, the same files pack.
+TEST_F(HostileInput, InputSizeLimitIsAnOption) {
+  write_file(dir_ / "a.comp", std::string(3000, ' ') + kComputeShader);
+  write_file(dir_ / "inc.glsl", std::string(3000, ' ') + "\n");
+  write_file(dir_ / "b.comp",
+             "#version 450\n#extension GL_GOOGLE_include_directive : require\n#include "
+             "\"inc.glsl\"\n#include \"inc.glsl\"\n" +
+                 std::string(kComputeShader).substr(13));
+  write_file(dir_ / "a.json", "{\"Pipelines\": [" + compute_pipeline("A", "a.comp") + "]}");
+  write_file(dir_ / "b.json", "{\"Pipelines\": [" + compute_pipeline("B", "b.comp") + "]}");
+  CliRun shader = pack("a.json", "--check --max-input-size 2K");
+  EXPECT_EQ(shader.exit_code, 1);
+  EXPECT_NE(
+      shader.output.find("a.comp: cannot read: " + std::to_string(3000 + std::string(kComputeShader).size()) +
+                         " bytes is more than the 2048 bytes allowed (--max-input-size sets the limit)"),
+      std::string::npos)
+      << shader.output;
+  CliRun notation = pack("a.json", "--check --max-input-size 100");
+  EXPECT_EQ(notation.exit_code, 1);
+  EXPECT_NE(notation.output.find("a.json: cannot read: "), std::string::npos) << notation.output;
+  EXPECT_NE(
+      notation.output.find(" bytes is more than the 100 bytes allowed (--max-input-size sets the limit)"),
+      std::string::npos)
+      << notation.output;
+  // Each include fits, the two together do not.
+  CliRun includes = pack("b.json", "--check --max-input-size 5000");
+  EXPECT_EQ(includes.exit_code, 1);
+  EXPECT_NE(
+      includes.output.find("the includes expand to more than 5000 bytes of source (files included repeatedly "
+                           "without include guards?; --max-input-size sets the limit)"),
+      std::string::npos)
+      << includes.output;
+  EXPECT_EQ(pack("a.json", "--check --max-input-size 1M").exit_code, 0);
+  EXPECT_EQ(pack("b.json", "--check --max-input-size 1M").exit_code, 0);
+  CliRun bad = pack("a.json", "--check --max-input-size 0");
+  EXPECT_NE(bad.exit_code, 0);
+  EXPECT_NE(bad.output.find("--max-input-size: Value 0 not in range"), std::string::npos) << bad.output;
+}
+
 // --- shaders and includes ---------------------------------------------------------------------------
 
 TEST_F(HostileInput, IncludeCyclesAreReportedWithTheirChain) {
@@ -301,7 +342,7 @@ TEST_F(HostileInput, IncludesThatExpandExponentiallyAreStopped) {
   EXPECT_NE(run.output.find("error: shader 'Boom CS': #include \"l"), std::string::npos) << run.output;
   EXPECT_NE(
       run.output.find("the includes expand to more than 64 MiB of source (files included repeatedly without "
-                      "include guards?)"),
+                      "include guards?; --max-input-size sets the limit)"),
       std::string::npos)
       << run.output;
   EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(50));
