@@ -455,9 +455,7 @@ void warn_compute_work_group(const PipelineDesc& p, const StageInput& stage,
   static constexpr uint64_t kGuaranteedSize[3] = {128, 128, 64}, kGuaranteedInvocations = 128;
   const std::string text =
       std::to_string(size[0]) + " x " + std::to_string(size[1]) + " x " + std::to_string(size[2]);
-  // The pipeline's own shader slot (stage.desc may be another pipeline's, when they share the compiled
-  // shader).
-  const ShaderDesc& slot = p.shaders.empty() ? *stage.desc : p.shaders.front();
+  const ShaderDesc& slot = *stage.desc;  // the pipeline's own shader slot
   const std::string who = "pipeline '" + p.name + "': shader '" + slot.name + "'";
   if (size[0] > kGuaranteedSize[0] || size[1] > kGuaranteedSize[1] || size[2] > kGuaranteedSize[2])
     diag.warning(stage.desc->where,

@@ -138,14 +138,21 @@ class Dumper {
 struct CompiledShaders {
   std::vector<CompiledUnit> units;
   std::vector<std::vector<size_t>> pipeline_units;  // per pipeline: the units of its stages
-  std::vector<size_t> standalone_units;             // per Shaders entry
+  // Per pipeline: its own description of each of those stages. Pipelines that share a compiled unit
+  // still have their own shader names and notation places, which their messages and records use.
+  // Empty for the OpenGL units, whose descriptions differ from the notation's (a translated shader's
+  // entry point is "main"): there each stage is the unit's own description.
+  std::vector<std::vector<const ShaderDesc*>> pipeline_descs;
+  std::vector<size_t> standalone_units;  // per Shaders entry
 
   // The stages of pipeline `i` for layout and checks; nullopt when one did not compile.
   std::optional<std::vector<StageInput>> stages_of(size_t i) const {
     std::vector<StageInput> stages;
-    for (size_t u : pipeline_units[i]) {
-      if (!units[u].compiled.ok) return std::nullopt;
-      stages.push_back({&units[u].desc, &units[u].compiled.spirv, &units[u].reflection});
+    for (size_t k = 0; k < pipeline_units[i].size(); ++k) {
+      const CompiledUnit& unit = units[pipeline_units[i][k]];
+      if (!unit.compiled.ok) return std::nullopt;
+      stages.push_back({pipeline_descs.empty() ? &unit.desc : pipeline_descs[i][k], &unit.compiled.spirv,
+                        &unit.reflection});
     }
     return stages;
   }
@@ -165,8 +172,10 @@ CompiledShaders compile_shaders(const Notation& notation, const PackOptions& opt
   };
   for (const auto& p : notation.pipelines) {
     out.pipeline_units.emplace_back();
+    out.pipeline_descs.emplace_back();
     for (const auto& s : p.shaders)
-      if (!s.is_reference) out.pipeline_units.back().push_back(unit_for(s));
+      if (!s.is_reference)
+        out.pipeline_units.back().push_back(unit_for(s)), out.pipeline_descs.back().push_back(&s);
   }
   if (!pipelines_only)
     for (const auto& s : notation.shaders) out.standalone_units.push_back(unit_for(s));

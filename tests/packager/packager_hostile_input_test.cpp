@@ -305,6 +305,35 @@ TEST_F(HostileInput, InputSizeLimitIsAnOption) {
   EXPECT_NE(bad.output.find("--max-input-size: Value 0 not in range"), std::string::npos) << bad.output;
 }
 
+// Pipelines that share a compiled shader (the same file and macros) keep their own shader names and
+// places: an interface mismatch in each is reported at that pipeline's own slot, naming its shaders.
+TEST_F(HostileInput, PipelinesSharingACompiledShaderAreReportedAtTheirOwnSlots) {
+  write_file(dir_ / "a.vert",
+             "#version 450\nlayout(location = 0) out vec4 color;\n"
+             "void main() { color = vec4(1); gl_Position = vec4(0); }\n");
+  write_file(dir_ / "a.frag",
+             "#version 450\nlayout(location = 0) flat in ivec4 color;\nlayout(location = 0) out vec4 outc;\n"
+             "void main() { outc = vec4(color); }\n");
+  std::string pipelines;
+  for (const char* n : {"1", "2"})
+    pipelines +=
+        std::string(*n == '1' ? "" : ",\n") + R"({"PSODesc": {"Name": "P)" + n +
+        R"("}, "GraphicsPipeline": {"RTVFormats": {"0": "RGBA8_UNORM"}}, "pVS": {"Desc": {"Name": "VS)" + n +
+        R"("}, "FilePath": "a.vert"}, "pPS": {"Desc": {"Name": "PS)" + n + R"("}, "FilePath": "a.frag"}})";
+  write_file(dir_ / "a.json", "{\"Pipelines\": [\n" + pipelines + "]}");
+  CliRun run = pack("a.json", "--check");
+  EXPECT_EQ(run.exit_code, 1);
+  for (const char* n : {"1", "2"}) {
+    const std::string line = std::string(n) == "1" ? "2" : "3", index = std::string(n) == "1" ? "0" : "1";
+    EXPECT_NE(
+        run.output.find("a.json:" + line + ":150: error: pipeline 'P" + n + "': pixel shader 'PS" + n +
+                        "' reads 'flat ivec4 color' at location 0 as signed integer, but vertex shader 'VS" +
+                        n + "' writes 'vec4 color' there as float [/Pipelines/" + index + "/pPS]"),
+        std::string::npos)
+        << run.output;
+  }
+}
+
 // --- shaders and includes ---------------------------------------------------------------------------
 
 TEST_F(HostileInput, IncludeCyclesAreReportedWithTheirChain) {
