@@ -31,6 +31,14 @@ std::string vulkan_name(EnumTable table, uint32_t value) {
   if (is(kLoadOps)) return vk::to_string(vk::AttachmentLoadOp(value));
   if (is(kStoreOps)) return vk::to_string(vk::AttachmentStoreOp(value));
   if (is(kAddressModes)) return vk::to_string(vk::SamplerAddressMode(value));
+  // FILTER_TYPE: POINT and LINEAR are VkFilter values; the comparison, anisotropic and minimum
+  // variants have no single Vulkan spelling.
+  if (is(kFilterTypes)) return value <= VK_FILTER_LINEAR ? vk::to_string(vk::Filter(value)) : std::string();
+  // Dynamic states are stored as statepack's bits, but named as Vulkan names them (VIEWPORT is
+  // VK_DYNAMIC_STATE_VIEWPORT).
+  if (is(kDynamicStates))
+    for (const auto& [name, bit] : table)
+      if (bit == value) return std::string(name);
   return {};
 }
 
@@ -47,7 +55,7 @@ std::optional<std::string_view> notation_name_for_vulkan_spelling(EnumTable tabl
     for (const auto& [name, value] : table) {
       if (value == kUnsupportedValue) continue;
       std::string vulkan = normalized(vulkan_name(table, value));
-      if (vulkan.empty()) return std::nullopt;
+      if (vulkan.empty()) continue;  // a table, or a value, with no Vulkan name
       if (wanted.size() > vulkan.size() + 2 && wanted.ends_with(vulkan) && vulkan.size() > best_length)
         best = name, best_length = vulkan.size();
     }
@@ -56,7 +64,7 @@ std::optional<std::string_view> notation_name_for_vulkan_spelling(EnumTable tabl
   for (const auto& [name, value] : table) {
     if (value == kUnsupportedValue) continue;
     std::string vulkan = normalized(vulkan_name(table, value));
-    if (vulkan.empty()) return std::nullopt;
+    if (vulkan.empty()) continue;
     if (vulkan == wanted) return name;
   }
   return std::nullopt;

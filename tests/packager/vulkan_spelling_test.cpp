@@ -17,6 +17,13 @@ TEST(VulkanSpelling, TheIssuesExamples) {
   EXPECT_EQ(notation_name_for_vulkan_spelling(kShaderTypes, "FRAGMENT"), "PIXEL");
   EXPECT_EQ(notation_name_for_vulkan_spelling(kComparisonFuncs, "VK_COMPARE_OP_LESS_OR_EQUAL"), "LESS_EQUAL");
   EXPECT_EQ(notation_name_for_vulkan_spelling(kCullModes, "VK_CULL_MODE_FRONT_BIT"), "FRONT");
+  // Issue 24: filters and dynamic states by Vulkan's names (POINT is VK_FILTER_NEAREST).
+  EXPECT_EQ(notation_name_for_vulkan_spelling(kFilterTypes, "VK_FILTER_NEAREST"), "POINT");
+  EXPECT_EQ(notation_name_for_vulkan_spelling(kFilterTypes, "VK_FILTER_LINEAR"), "LINEAR");
+  EXPECT_EQ(notation_name_for_vulkan_spelling(kDynamicStates, "VK_DYNAMIC_STATE_VIEWPORT"), "VIEWPORT");
+  EXPECT_EQ(notation_name_for_vulkan_spelling(kDynamicStates, "VK_DYNAMIC_STATE_STENCIL_REFERENCE"),
+            "STENCIL_REFERENCE");
+  EXPECT_FALSE(notation_name_for_vulkan_spelling(kFilterTypes, "VK_FILTER_CUBIC_EXT"));
   // Not Vulkan's name of anything in the table, or a table that is not a Vulkan enum: no suggestion.
   EXPECT_FALSE(notation_name_for_vulkan_spelling(kTextureFormats, "FRAGMENT"));
   EXPECT_FALSE(notation_name_for_vulkan_spelling(kVariableTypes, "STATIC"));
