@@ -544,6 +544,21 @@ Result<Module> walk(std::span<const uint32_t> words) {
   return std::move(w.module);
 }
 
+WorkgroupSize specialized_workgroup_size(
+    const std::array<WorkgroupDim, 3>& dims,
+    const std::function<std::optional<uint32_t>(uint32_t)>& specialized) {
+  WorkgroupSize size{};
+  for (size_t i = 0; i < 3; ++i) {
+    const auto value = dims[i].spec_id ? specialized(*dims[i].spec_id) : std::nullopt;
+    size[i] = value ? *value : dims[i].value;
+  }
+  return size;
+}
+
+std::string workgroup_size_text(const WorkgroupSize& size) {
+  return std::to_string(size[0]) + " x " + std::to_string(size[1]) + " x " + std::to_string(size[2]);
+}
+
 std::optional<uint32_t> execution_model_of_stage(uint32_t stage) {
   switch (stage) {
     case 0x01:

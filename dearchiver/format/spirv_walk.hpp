@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <span>
 #include <string>
@@ -52,6 +53,14 @@ struct WorkgroupDim {
   uint32_t value = 1;
   std::optional<uint32_t> spec_id;  // SpecId of the constant that sets it, when specializable
 };
+
+// `dims` with the values a pipeline gives its specializable dimensions (`specialized(spec_id)`; nullopt
+// where it gives none, and the module's default stands). Pack and unpack size a work group alike.
+using WorkgroupSize = std::array<uint64_t, 3>;
+WorkgroupSize specialized_workgroup_size(const std::array<WorkgroupDim, 3>& dims,
+                                         const std::function<std::optional<uint32_t>(uint32_t)>& specialized);
+// "32 x 32 x 2", for messages.
+std::string workgroup_size_text(const WorkgroupSize& size);
 
 struct EntryPoint {
   uint32_t execution_model = 0;  // SpvExecutionModel

@@ -377,15 +377,9 @@ Result<void> check_workgroup_size(const std::string& pipeline, const spirv::Entr
                                   const std::function<std::optional<uint32_t>(uint32_t)>& specialized,
                                   const VkPhysicalDeviceLimits& limits) {
   if (!entry.workgroup_size) return {};  // none, or computed from constants: left to the driver
-  std::array<uint64_t, 3> size{};
-  for (size_t i = 0; i < 3; ++i) {
-    const spirv::WorkgroupDim& dim = (*entry.workgroup_size)[i];
-    const auto value = dim.spec_id ? specialized(*dim.spec_id) : std::nullopt;
-    size[i] = value ? *value : dim.value;
-  }
+  const spirv::WorkgroupSize size = spirv::specialized_workgroup_size(*entry.workgroup_size, specialized);
   const std::string who = "pipeline '" + pipeline + "'";
-  const std::string text =
-      std::to_string(size[0]) + " x " + std::to_string(size[1]) + " x " + std::to_string(size[2]);
+  const std::string text = spirv::workgroup_size_text(size);
   const auto& max = limits.maxComputeWorkGroupSize;
   for (size_t i = 0; i < 3; ++i) {
     if (size[i] == 0)

@@ -114,7 +114,9 @@ Result<void> Planner::check_compute_size(const ArchivedPipeline& found,
   if (p.shaders.empty()) return {};
   const format::Shader& shader = contents.shaders[p.shaders[0]];
   const spirv::Module* module = cache_.walked(found.archive, shader.blob);
-  const spirv::EntryPoint* entry = module ? module->find(5 /* GLCompute */, shader.entry_point) : nullptr;
+  const spirv::EntryPoint* entry =
+      module ? module->find(*spirv::execution_model_of_stage(VK_SHADER_STAGE_COMPUTE_BIT), shader.entry_point)
+             : nullptr;
   if (!entry) return {};  // checked at load
   // The value the pipeline gives a SpecId: its constant of the compute stage with that id, as settled
   // (after the modify callback).

@@ -57,7 +57,8 @@ Result<void> write_file_atomically(const fs::path& path, std::span<const uint8_t
   return output.commit();
 }
 
-Result<FileBytes> read_regular_file(const fs::path& path, uint64_t max_size, const std::string& display) {
+Result<FileBytes> read_regular_file(const fs::path& path, uint64_t max_size, const std::string& display,
+                                    std::string_view size_hint) {
   const std::string name = display.empty() ? path.string() : display;
   // O_NONBLOCK: opening a FIFO for reading would otherwise wait for a writer forever.
   Descriptor file{::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY)};
@@ -72,7 +73,7 @@ Result<FileBytes> read_regular_file(const fs::path& path, uint64_t max_size, con
   if (size > max_size)
     return Error{ErrorCode::io_error, name + ": cannot read: " + std::to_string(size) +
                                           " bytes is more than the " + std::to_string(max_size) +
-                                          " bytes allowed"};
+                                          " bytes allowed" + std::string(size_hint)};
   FileBytes out;
   out.identity = {uint64_t(info.st_dev), uint64_t(info.st_ino)};
   out.size = static_cast<size_t>(size);

@@ -7,6 +7,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "statepack/result.hpp"
@@ -45,8 +46,9 @@ const char* file_kind(unsigned mode);
 // The identity of the file `path` reaches (following links), if it exists.
 std::optional<FileIdentity> file_identity(const std::filesystem::path& path);
 
-// Messages name the file `display` (default: the path).
+// Messages name the file `display` (default: the path); `size_hint` follows the message for a file
+// over `max_size` (the packager says how to raise its limit).
 Result<FileBytes> read_regular_file(const std::filesystem::path& path, uint64_t max_size,
-                                    const std::string& display = {});
+                                    const std::string& display = {}, std::string_view size_hint = {});
 
 }  // namespace statepack::detail

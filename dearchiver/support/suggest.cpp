@@ -3,8 +3,6 @@
 #include <algorithm>
 #include <atomic>
 #include <cstdint>
-#include <limits>
-#include <numeric>
 
 namespace statepack::detail {
 namespace {

@@ -3,7 +3,6 @@
 #include <vulkan/vulkan_core.h>
 
 #include <algorithm>
-#include <array>
 #include <map>
 #include <set>
 #include <string>
@@ -441,32 +440,31 @@ void warn_compute_work_group(const PipelineDesc& p, const StageInput& stage,
   if (fresh)
     if (auto module = spirv::walk(*stage.spirv)) it->second = std::move(*module);
   if (!it->second) return;
-  const spirv::EntryPoint* entry = it->second->find(5 /* GLCompute */, stage.desc->entry_point);
+  const spirv::EntryPoint* entry = it->second->find(
+      *spirv::execution_model_of_stage(VK_SHADER_STAGE_COMPUTE_BIT), stage.desc->entry_point);
   if (!entry || !entry->workgroup_size) return;
-  std::array<uint64_t, 3> size{};
-  for (size_t i = 0; i < 3; ++i) {
-    const spirv::WorkgroupDim& dim = (*entry->workgroup_size)[i];
-    size[i] = dim.value;
+  // The pipeline's 4-byte compute constant with that SpecId, as the dearchiver applies it.
+  auto specialized = [&](uint32_t spec_id) -> std::optional<uint32_t> {
     for (const auto& k : constants)
-      if (dim.spec_id && k.constant_id == *dim.spec_id && k.stage == VK_SHADER_STAGE_COMPUTE_BIT &&
-          k.size == 4)
-        size[i] = uint32_t(k.value);
-  }
+      if (k.constant_id == spec_id && k.stage == VK_SHADER_STAGE_COMPUTE_BIT && k.size == 4)
+        return uint32_t(k.value);
+    return std::nullopt;
+  };
+  const spirv::WorkgroupSize size = spirv::specialized_workgroup_size(*entry->workgroup_size, specialized);
   static constexpr uint64_t kGuaranteedSize[3] = {128, 128, 64}, kGuaranteedInvocations = 128;
-  const std::string text =
-      std::to_string(size[0]) + " x " + std::to_string(size[1]) + " x " + std::to_string(size[2]);
-  const ShaderDesc& slot = *stage.desc;  // the pipeline's own shader slot
-  const std::string who = "pipeline '" + p.name + "': shader '" + slot.name + "'";
+  const std::string text = spirv::workgroup_size_text(size);
+  // stage.desc is the pipeline's own shader slot (its name and place in the notation).
+  const std::string who = "pipeline '" + p.name + "': shader '" + stage.desc->name + "'";
   if (size[0] > kGuaranteedSize[0] || size[1] > kGuaranteedSize[1] || size[2] > kGuaranteedSize[2])
     diag.warning(stage.desc->where,
                  who + " has a work-group size of " + text +
                      ", beyond the maxComputeWorkGroupSize Vulkan guarantees (128, 128, 64): "
                      "devices with lower limits refuse the pipeline");
   else if (size[0] * size[1] * size[2] > kGuaranteedInvocations)
-    diag.warning(slot.where, who + " has work groups of " + text + " = " +
-                                 std::to_string(size[0] * size[1] * size[2]) +
-                                 " invocations, beyond the 128 maxComputeWorkGroupInvocations Vulkan "
-                                 "guarantees: devices with lower limits refuse the pipeline");
+    diag.warning(stage.desc->where, who + " has work groups of " + text + " = " +
+                                        std::to_string(size[0] * size[1] * size[2]) +
+                                        " invocations, beyond the 128 maxComputeWorkGroupInvocations Vulkan "
+                                        "guarantees: devices with lower limits refuse the pipeline");
 }
 
 void warn_render_pass_formats(const RenderPassDesc& pass, const SourceTexts& sources, Diagnostics& diag) {

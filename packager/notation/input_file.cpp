@@ -4,11 +4,10 @@ namespace statepack::packager {
 
 InputText read_input_file(const std::filesystem::path& path, const std::string& display, uint64_t max_bytes) {
   InputText out;
-  auto file = detail::read_regular_file(path, max_bytes, display);
+  // The size limit is the packager's option, so its message says how to raise it.
+  auto file = detail::read_regular_file(path, max_bytes, display, " (--max-input-size sets the limit)");
   if (!file) {
     out.error = file.error().message;
-    // The size limit is the packager's option, so its message says how to raise it.
-    if (out.error.ends_with(" bytes allowed")) out.error += " (--max-input-size sets the limit)";
     return out;
   }
   auto bytes = file->bytes();

@@ -174,8 +174,10 @@ CompiledShaders compile_shaders(const Notation& notation, const PackOptions& opt
     out.pipeline_units.emplace_back();
     out.pipeline_descs.emplace_back();
     for (const auto& s : p.shaders)
-      if (!s.is_reference)
-        out.pipeline_units.back().push_back(unit_for(s)), out.pipeline_descs.back().push_back(&s);
+      if (!s.is_reference) {
+        out.pipeline_units.back().push_back(unit_for(s));
+        out.pipeline_descs.back().push_back(&s);
+      }
   }
   if (!pipelines_only)
     for (const auto& s : notation.shaders) out.standalone_units.push_back(unit_for(s));

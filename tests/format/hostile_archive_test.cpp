@@ -36,6 +36,18 @@ struct Slice {
     return *std::find_if(contents.pipelines.begin(), contents.pipelines.end(),
                          [&](const format::Pipeline& p) { return p.name == name; });
   }
+  // The contents with `count` copies of the compute pipeline in place of every pipeline, named
+  // "P<first>", "P<first + 1>", ...
+  format::Contents with_compute_copies(int count, int first) {
+    format::Contents c = contents;
+    format::Pipeline compute = pipeline("Fill Buffer PSO");
+    c.pipelines.clear();
+    for (int i = 0; i < count; ++i) {
+      compute.name = "P" + std::to_string(first + i);
+      c.pipelines.push_back(compute);
+    }
+    return c;
+  }
 };
 
 // The contents of a corpus archive by name fragment, kept alive the same way.
@@ -174,13 +186,7 @@ TEST(HostileFiles, EmptyFileIsTruncated) {
 // that would decode into 400 MB of indices.
 TEST(HostileArchive, SharedListsCannotAmplifyTheDecodedSize) {
   Slice slice;
-  format::Contents c = slice.contents;
-  format::Pipeline compute = slice.pipeline("Fill Buffer PSO");
-  c.pipelines.clear();
-  for (int i = 0; i < 2000; ++i) {
-    compute.name = "P" + std::to_string(10000 + i);
-    c.pipelines.push_back(compute);
-  }
+  format::Contents c = slice.with_compute_copies(2000, 10000);
   c.pipelines[0].set_layouts.assign(50000, format::kNone);
   std::vector<uint8_t> bytes = format::encode(c);
   // Every PIPE record's set layout list {first, count} (bytes 20-27) now names the long one.
@@ -217,13 +223,7 @@ TEST(HostileArchive, SharedListsCannotAmplifyTheDecodedSize) {
 // one shader and one layout are one check, and load (they once failed with "expands beyond N steps").
 TEST(HostileArchive, ManyPipelinesSharingAShaderAndLayoutLoad) {
   Slice slice;
-  format::Contents c = slice.contents;
-  format::Pipeline compute = slice.pipeline("Fill Buffer PSO");
-  c.pipelines.clear();
-  for (int i = 0; i < 100000; ++i) {
-    compute.name = "P" + std::to_string(i);
-    c.pipelines.push_back(compute);
-  }
+  format::Contents c = slice.with_compute_copies(100000, 0);
   EXPECT_EQ(load_error(c), "loaded");
   // Still checked: the last one's layout without its set is found, by name.
   c.pipelines.back().set_layouts.clear();
