@@ -3,6 +3,8 @@
 // header's bound, and type recursion by a depth limit, so hostile words yield errors, not crashes.
 #include "spirv_walk.hpp"
 
+#include "spirv_structure.hpp"
+
 #include <vulkan/vulkan_core.h>
 
 #include <algorithm>
@@ -496,6 +498,7 @@ Result<Module> walk(std::span<const uint32_t> words) {
   if (words[3] == 0 || words[3] > kMaxBound)
     return Error{ErrorCode::corrupt, "SPIR-V module has an invalid id bound " + std::to_string(words[3])};
   if (words[4] != 0) return Error{ErrorCode::corrupt, "SPIR-V module has a non-zero schema word"};
+  if (auto ok = check_structure(words); !ok) return ok.error();
   Walker w;
   w.words = words;
   w.module.version = version;

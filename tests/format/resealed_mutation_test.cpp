@@ -2,8 +2,9 @@
 // checksums pass, then loaded and unpacked on lavapipe with the validation layer on. Every outcome must
 // be a Result (an error or objects), never a crash and never a validation message: what reaches Vulkan
 // has been checked first. Structural edits change decoded fields (indices, counts, enums, limits);
-// byte edits change the encoded records and tables (not the SPIR-V code, which is not validated here:
-// see docs/api.md).
+// byte edits change the encoded records and tables; SPIR-V edits change declarations (and must then
+// pass our checks against the records) or name ids nothing defines (and must be refused at load; the
+// SPIR-V code is not otherwise validated: see docs/api.md).
 #include <malloc.h>
 
 #include <algorithm>
@@ -200,19 +201,41 @@ std::string mutate_structure(format::Contents& c, format::Pipeline& p, Rng& rng)
 // records stand in the way. Block member offsets are not edited: a bad one makes invalid SPIR-V (layout
 // rules), which only a full validator catches (see docs/api.md). The edited copy lives in `storage`,
 // which must outlive the encoding.
-std::string mutate_spirv(format::Contents& c, std::vector<uint32_t>& storage, Rng& rng) {
-  if (c.spirv.empty()) return "none";
-  const uint32_t blob = pick(rng, uint32_t(c.spirv.size()));
+//
+// Or, with `undefined` set, a structural edit the reader must refuse (format/spirv_structure.cpp): a
+// type, pointer or value operand made to name an id below the (raised) bound that nothing defines, the
+// module that crashed the validation layer inside vkCreateComputePipelines.
+std::string mutate_spirv(format::Contents& c, std::vector<uint32_t>& storage, Rng& rng, bool& undefined) {
+  if (c.spirv.empty() || c.shaders.empty()) return "none";
+  undefined = pick(rng, 3) == 0;
+  // A blob a Vulkan shader record uses, which loading walks (the OpenGL block's are the GL runtime's).
+  const uint32_t blob =
+      undefined ? c.shaders[pick(rng, uint32_t(c.shaders.size()))].blob : pick(rng, uint32_t(c.spirv.size()));
   storage.assign(c.spirv[blob].begin(), c.spirv[blob].end());
   std::vector<size_t> targets;  // word positions worth editing
   for (size_t at = 5; at < storage.size() && (storage[at] >> 16) > 0; at += storage[at] >> 16) {
     const uint32_t count = storage[at] >> 16, op = storage[at] & 0xFFFF;
+    if (undefined) {
+      // Element and component types, a pointer's pointee, a variable's type, what a load reads.
+      if ((op == 23 || op == 28 || op == 29) && count >= 3) targets.push_back(at + 2);
+      if (op == 32 && count == 4) targets.push_back(at + 3);
+      if ((op == 59 || op == 61) && count >= 4) targets.push_back(op == 59 ? at + 1 : at + 3);
+      continue;
+    }
     if (op == 71 && count == 4 && (storage[at + 2] == 33 || storage[at + 2] == 34)) targets.push_back(at + 3);
     if (op == 15) targets.push_back(at + 1);
   }
-  if (targets.empty()) return "none";
+  if (targets.empty()) {
+    undefined = false;
+    return "none";
+  }
   const size_t at = targets[pick(rng, uint32_t(targets.size()))];
-  storage[at] = pick(rng, 2) ? pick(rng, 6) : any_u32(rng) & 0xFFFF;
+  if (undefined) {
+    storage[3] += 16;  // the bound: ids up to it may be used, and the new ones are defined by nothing
+    storage[at] = storage[3] - 1 - pick(rng, 16);
+  } else {
+    storage[at] = pick(rng, 2) ? pick(rng, 6) : any_u32(rng) & 0xFFFF;
+  }
   c.spirv[blob] = storage;
   return "SPIR-V blob " + std::to_string(blob) + " word " + std::to_string(at) + " = " +
          std::to_string(storage[at]);
@@ -228,7 +251,7 @@ TEST_F(ResealedMutations, NeverCrashOrReachVulkanUnchecked) {
   // A fixed count keeps the run reproducible; STATEPACK_MUTATIONS changes it for longer runs.
   const char* env = std::getenv("STATEPACK_MUTATIONS");
   const uint32_t total = env ? static_cast<uint32_t>(std::strtoul(env, nullptr, 10)) : 50000;
-  size_t loaded = 0, unpacked = 0, rejected_at_load = 0, rejected_at_unpack = 0;
+  size_t loaded = 0, unpacked = 0, rejected_at_load = 0, rejected_at_unpack = 0, refused_undefined = 0;
   size_t messages_before = 0;
   std::vector<std::string> noisy;
   const auto start = std::chrono::steady_clock::now();
@@ -250,8 +273,9 @@ TEST_F(ResealedMutations, NeverCrashOrReachVulkanUnchecked) {
     std::string what;
     std::vector<uint8_t> bytes;
     std::vector<uint32_t> spirv_storage;
+    bool undefined_id = false;
     if (pick(rng, 6) == 0) {
-      what = mutate_spirv(c, spirv_storage, rng) + "; ";
+      what = mutate_spirv(c, spirv_storage, rng, undefined_id) + "; ";
       bytes = format::encode(c);  // with the blob's content hash recomputed
     } else if (pick(rng, 3) != 0 && !c.pipelines.empty()) {
       for (uint32_t n = 1 + pick(rng, 2); n > 0; --n) what += mutate_structure(c, c.pipelines[0], rng) + "; ";
@@ -280,8 +304,17 @@ TEST_F(ResealedMutations, NeverCrashOrReachVulkanUnchecked) {
     if (!archive) {
       ++rejected_at_load;
       EXPECT_FALSE(archive.error().message.empty());
+      if (undefined_id) {
+        ++refused_undefined;
+        // Outside functions a use must follow its definition; inside, the definition may come later.
+        const std::string& m = archive.error().message;
+        EXPECT_TRUE(m.find(" is not defined before its use") != std::string::npos ||
+                    m.find(" is never defined") != std::string::npos)
+            << "mutant " << i << ": " << what << m;
+      }
       continue;
     }
+    EXPECT_FALSE(undefined_id) << "mutant " << i << " (" << what << ") names an undefined id, and loads";
     ++loaded;
     {
       // The fixture's device enables no optional feature; say so, as applications must.
@@ -323,14 +356,16 @@ TEST_F(ResealedMutations, NeverCrashOrReachVulkanUnchecked) {
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::printf(
-      "%u mutants in %.1f s: %zu rejected at load, %zu loaded (%zu unpacked, %zu rejected at unpack)\n",
-      total, seconds, rejected_at_load, loaded, unpacked, rejected_at_unpack);
+      "%u mutants in %.1f s: %zu rejected at load (%zu naming an undefined id), %zu loaded (%zu unpacked, "
+      "%zu rejected at unpack)\n",
+      total, seconds, rejected_at_load, refused_undefined, loaded, unpacked, rejected_at_unpack);
   for (const auto& n : noisy) ADD_FAILURE() << n;
   // The mutations must exercise both outcomes, or they test nothing.
   if (!only) {
     EXPECT_GT(rejected_at_load, total / 10);
     EXPECT_GT(unpacked, total / 20);
     EXPECT_GT(rejected_at_unpack, total / 20);
+    EXPECT_GT(refused_undefined, total / 100);
   }
 }
 
