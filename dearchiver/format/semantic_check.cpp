@@ -60,6 +60,7 @@ using KeySet = std::unordered_set<Key, KeyHash>;
 struct EntryUse {
   std::map<uint32_t, std::vector<const spirv::Resource*>> resources;
   std::vector<const spirv::Input*> inputs;
+  const spirv::Resource* input_attachment = nullptr;  // the first subpass input it reads, if any
 };
 
 // The steps the shader checks may take: 16 x what the archive holds (its SPIR-V, its layouts'
@@ -106,6 +107,13 @@ class InterfaceChecks {
         if (auto ok = check_resources(shader, layout, resources, pipeline, who); !ok) return ok;
         resources_checked_.insert(std::move(key));
       }
+      // Dynamic rendering has no input attachments (VUID-VkGraphicsPipelineCreateInfo-renderPass-06061).
+      if (use->input_attachment && p.kind == PipelineKind::graphics && p.render_pass == kNone)
+        return corrupt(
+            pipeline + ": " + who + " reads an input attachment (set " +
+            std::to_string(use->input_attachment->set) + ", binding " +
+            std::to_string(use->input_attachment->binding) +
+            "), but the pipeline has no render pass, and dynamic rendering has no input attachments");
       if (module.push_constants && module.uses(*entry, module.push_constants->variable)) {
         if (p.push_constant_size == 0 || !(p.push_constant_stages & shader.stage))
           return corrupt(pipeline + ": " + who +
@@ -139,7 +147,12 @@ class InterfaceChecks {
     if (!fresh) return &it->second;
     if (!charge(module.resources.size() + module.inputs.size())) return nullptr;
     for (const spirv::Resource& r : module.resources)
-      if (module.uses(entry, r.variable)) it->second.resources[r.set].push_back(&r);
+      if (module.uses(entry, r.variable)) {
+        it->second.resources[r.set].push_back(&r);
+        if (r.compatible == 1u << 10 /* VK_DESCRIPTOR_TYPE_INPUT_ATTACHMENT */ &&
+            !it->second.input_attachment)
+          it->second.input_attachment = &r;
+      }
     for (const spirv::Input& in : module.inputs)
       if (module.uses(entry, in.variable)) it->second.inputs.push_back(&in);
     return &it->second;

@@ -412,6 +412,20 @@ bool check_graphics_interfaces(const PipelineDesc& p, const format::GraphicsStat
                              ? ordered.back()
                              : nullptr;
   ok &= check_render_targets(p, g, ps, sources, diag);
+  // Input attachments are read from the subpass's attachments: without a render pass (dynamic
+  // rendering) there are none (VUID-VkGraphicsPipelineCreateInfo-renderPass-06061), and no run-time patch
+  // gives a pipeline a render pass.
+  if (p.render_pass.empty())
+    for (const StageInput& s : stages)
+      for (const ReflectedBinding& b : s.reflection->bindings)
+        if (b.descriptor_type == VK_DESCRIPTOR_TYPE_INPUT_ATTACHMENT) {
+          diag.error(s.desc->where, "pipeline '" + p.name + "': " + shader_text(s) +
+                                        " reads input attachment '" + b.name + "' (set " +
+                                        std::to_string(b.set) + ", binding " + std::to_string(b.binding) +
+                                        "), which needs a render pass: give the pipeline a pRenderPass whose "
+                                        "subpass lists its input attachments (dynamic rendering has none)");
+          ok = false;
+        }
   // Points take their size from the last stage before rasterization; when that is the vertex shader, it
   // must write PointSize (VUID-VkGraphicsPipelineCreateInfo-topology-08773). The dearchiver's own SPIR-V
   // walker decides "writes", so pack and unpack cannot disagree.
