@@ -192,6 +192,9 @@ CompiledShaders compile_shaders(const Notation& notation, const PackOptions& opt
       u.compiled.ok = false;
       diag.error(u.desc.where,
                  "shader '" + u.desc.name + "': SPIR-V reflection failed: " + u.reflection.error);
+    } else if (!u.reflection.unsupported.empty()) {
+      u.compiled.ok = false;
+      diag.error(u.desc.where, "shader '" + u.desc.name + "' " + u.reflection.unsupported);
     }
   });
   compile_errors.report(diag);

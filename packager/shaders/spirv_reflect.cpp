@@ -267,6 +267,19 @@ Reflection reflect_spirv(std::span<const uint32_t> spirv, uint32_t stage) {
     return out;
   }
   add_bindings(compiler, resources, stage, out.bindings);
+  // Ray queries' and ray tracing's acceleration structures are a descriptor type (and device features)
+  // the archive does not hold: said at the shader, not found missing from the layout later.
+  const spvc_reflected_resource* structures = nullptr;
+  size_t structure_count = 0;
+  spvc_resources_get_resource_list_for_type(resources, SPVC_RESOURCE_TYPE_ACCELERATION_STRUCTURE, &structures,
+                                            &structure_count);
+  if (structure_count > 0)
+    out.unsupported =
+        "declares acceleration structure '" + std::string(structures[0].name) + "' (set " +
+        std::to_string(spvc_compiler_get_decoration(compiler, structures[0].id, SpvDecorationDescriptorSet)) +
+        ", binding " +
+        std::to_string(spvc_compiler_get_decoration(compiler, structures[0].id, SpvDecorationBinding)) +
+        "): statepack does not pack ray-query or ray-tracing resources (VK_KHR_acceleration_structure)";
   add_stage_interfaces(compiler, resources, stage, out);
   const spvc_specialization_constant* constants = nullptr;
   size_t constant_count = 0;

@@ -53,6 +53,9 @@ struct Reflection {
   std::vector<ReflectedConstant> constants;
   uint32_t push_constant_size = 0;
   std::string error;  // non-empty when reflection failed
+  // Non-empty when the module declares a resource of a kind statepack does not pack (an acceleration
+  // structure): what it is, by name, set and binding.
+  std::string unsupported;
 };
 
 Reflection reflect_spirv(std::span<const uint32_t> spirv, uint32_t stage);
