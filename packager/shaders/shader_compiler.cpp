@@ -61,10 +61,10 @@ class Includer final : public glslang::TShader::Includer {
 
   IncludeResult* includeLocal(const char* header, const char* includer, size_t depth) override {
     fs::path base = fs::path(includer).parent_path();
-    return open(header, resolve_file(header, base, dirs_), depth);
+    return open(header, resolve_file(header, base, dirs_), depth, includer);
   }
-  IncludeResult* includeSystem(const char* header, const char*, size_t depth) override {
-    return open(header, resolve_file(header, fs::path(), dirs_), depth);
+  IncludeResult* includeSystem(const char* header, const char* includer, size_t depth) override {
+    return open(header, resolve_file(header, fs::path(), dirs_), depth, includer);
   }
   void releaseInclude(IncludeResult* result) override {
     if (!result) return;
@@ -78,9 +78,16 @@ class Includer final : public glslang::TShader::Includer {
   bool backend_specific() const { return backend_specific_; }
 
  private:
-  IncludeResult* open(const std::string& header, const fs::path& path, size_t depth) {
+  IncludeResult* open(const std::string& header, const fs::path& path, size_t depth, const char* includer) {
     if (!problem_.empty()) return nullptr;  // one cause, one message
-    if (path.empty()) return nullptr;       // glslang reports "cannot find include file"
+    if (path.empty()) {  // glslang's own message ("Could not process include directive") says less
+      const std::string from = includer && *includer ? std::string(includer) : std::string("the shader");
+      problem_ = "#include \"" + header + "\": no such file next to " + from +
+                 (dirs_.empty() ? std::string(" (no -s directory given)")
+                                : " or in the " + std::to_string(dirs_.size()) + " -s director" +
+                                      (dirs_.size() == 1 ? "y" : "ies"));
+      return nullptr;
+    }
     // `depth` is the nesting of this #include (1 inside the shader itself): the files still open are
     // the first `depth` of the chain.
     chain_.resize(std::min(chain_.size(), std::max<size_t>(depth, 1)));
@@ -124,41 +131,68 @@ class Includer final : public glslang::TShader::Includer {
   bool backend_specific_ = false;
 };
 
-// glslang logs "ERROR: file:line: message"; turn each into a diagnostic at that file and line. Parsed
-// by hand: std::regex recurses per character and a long log line would exhaust the stack.
+// One line of glslang's log, "ERROR: file:line: message" (or WARNING): where and what, or nullopt for
+// other lines. Parsed by hand: std::regex recurses per character and a long log line would exhaust the
+// stack. A number instead of a file name is a source-string number: glslang's when `#line N S` (GLSL's
+// form) renumbered the source; every string statepack gives glslang is the shader's own file.
+struct LogEntry {
+  Location where;
+  std::string message;
+  bool warning = false;
+};
+std::optional<LogEntry> parse_log_line(std::string_view rest, const std::string& fallback_file) {
+  const bool warning = rest.starts_with("WARNING: ");
+  if (!warning && !rest.starts_with("ERROR: ")) return std::nullopt;
+  rest.remove_prefix(warning ? 9 : 7);
+  // "file:line: message": the first ":digits:" after the file name (which may hold colons).
+  size_t colon = 0, number_end = 0;
+  int line_number = 0;
+  for (size_t i = rest.find(':'); i != std::string_view::npos; i = rest.find(':', i + 1)) {
+    size_t k = i + 1;
+    long value = 0;
+    while (k < rest.size() && rest[k] >= '0' && rest[k] <= '9' && k - i < 10)
+      value = value * 10 + (rest[k++] - '0');
+    if (k > i + 1 && k < rest.size() && rest[k] == ':') {
+      colon = i, number_end = k, line_number = int(value);
+      break;
+    }
+  }
+  if (number_end == 0) return std::nullopt;
+  LogEntry e{{std::string(rest.substr(0, colon)), line_number, 0, ""},
+             std::string(rest.substr(std::min(number_end + 1, rest.size()))),
+             warning};
+  while (!e.message.empty() && e.message.front() == ' ') e.message.erase(e.message.begin());
+  while (!e.message.empty() && e.message.back() == ' ') e.message.pop_back();
+  if (e.where.file.find_first_not_of("0123456789") == std::string::npos) e.where.file = fallback_file;
+  return e;
+}
+
+// Turns each error of glslang's log into a diagnostic at its file and line.
 void report_log(const std::string& log, const ShaderDesc& shader, ShaderMessages& messages,
                 const std::string& fallback_file) {
+  std::vector<LogEntry> errors;
   std::istringstream lines(log);
-  std::string line;
+  for (std::string line; std::getline(lines, line);)
+    if (auto e = parse_log_line(line, fallback_file);
+        e && !e->warning && e->message.find("compilation terminated") == std::string::npos)
+      errors.push_back(std::move(*e));
+  // glslang stops parsing at an error inside #if, then finds the #if unclosed: "missing #endif" follows
+  // every such error. Said alone it is the mistake; beside another error, a consequence.
+  const bool other_errors = std::any_of(errors.begin(), errors.end(), [](const LogEntry& e) {
+    return e.message.find("missing #endif") == std::string::npos;
+  });
   bool any = false;
-  while (std::getline(lines, line)) {
-    std::string_view rest = line;
-    bool warning = rest.starts_with("WARNING: ");
-    if (!warning && !rest.starts_with("ERROR: ")) continue;
-    rest.remove_prefix(warning ? 9 : 7);
-    // "file:line: message": the first ":digits: " after the file name (which may hold colons).
-    size_t colon = 0, number_end = 0;
-    int line_number = 0;
-    for (size_t i = rest.find(':'); i != std::string_view::npos; i = rest.find(':', i + 1)) {
-      size_t k = i + 1;
-      long value = 0;
-      while (k < rest.size() && rest[k] >= '0' && rest[k] <= '9' && k - i < 10)
-        value = value * 10 + (rest[k++] - '0');
-      if (k > i + 1 && k + 1 < rest.size() + 1 && k < rest.size() && rest[k] == ':') {
-        colon = i, number_end = k, line_number = int(value);
-        break;
-      }
-    }
-    if (number_end == 0) continue;
-    std::string message(rest.substr(std::min(number_end + 1, rest.size())));
-    while (!message.empty() && message.front() == ' ') message.erase(message.begin());
-    if (warning || message.find("compilation terminated") != std::string::npos) continue;
-    Location where{std::string(rest.substr(0, colon)), line_number, 0, ""};
-    // A number instead of a name is a source-string number: glslang's when `#line N S` (GLSL's form)
-    // renumbered the source. Every string statepack gives glslang is the shader's own file.
-    if (where.file.find_first_not_of("0123456789") == std::string::npos) where.file = fallback_file;
-    while (!message.empty() && message.back() == ' ') message.pop_back();
-    messages.error(where, shader.name, message);
+  Location last_extension;  // where glslang last refused an #extension
+  size_t order = 0;
+  for (const LogEntry& e : errors) {
+    // glslang follows an unknown #extension with "extra tokens" on the same line: its parser stops at
+    // the name, so the rest of the directive looks like junk. One mistake, one error.
+    if (e.message.starts_with("'#extension' : extra tokens") && e.where.file == last_extension.file &&
+        e.where.line == last_extension.line)
+      continue;
+    if (e.message.starts_with("'#extension' : extension not supported")) last_extension = e.where;
+    if (other_errors && e.message.find("missing #endif") != std::string::npos) continue;
+    messages.error(e.where, shader.name, e.message, order++);
     any = true;
   }
   if (!any) {
@@ -252,11 +286,11 @@ CompiledShader compile_shader(const ShaderDesc& original, const CompileOptions& 
   ShaderDesc renamed;
   if (options.opengl) {
     renamed = original;
-    renamed.name += " (OpenGL)";
+    renamed.name += kOpenGlCompile;
   }
   const ShaderDesc& shader = options.opengl ? renamed : original;
   std::string source = shader.source;
-  std::string file_name = "<inline source of '" + shader.name + "'>";
+  std::string file_name = "<inline source of '" + original.name + "'>";
   if (!shader.file.empty()) {
     InputText input = read_input_file(shader.file, display_path(shader.file), options.max_input_bytes);
     if (!input.error.empty()) {
@@ -318,9 +352,17 @@ CompiledShader compile_shader(const ShaderDesc& original, const CompileOptions& 
                     shader.file.empty() ? fs::path() : fs::weakly_canonical(shader.file, ec),
                     options.max_input_bytes);
   if (!ts.parse(GetDefaultResources(), 450, false, messages, includer)) {
-    if (!includer.problem().empty())
-      errors.error(shader.where, shader.name, includer.problem());
-    else
+    if (!includer.problem().empty()) {
+      // The cause, at the #include glslang stopped at (its first error), and nothing that followed.
+      Location where = shader.where;
+      std::istringstream lines(ts.getInfoLog());
+      for (std::string line; std::getline(lines, line);)
+        if (auto e = parse_log_line(line, file_name); e && !e->warning) {
+          where = e->where;
+          break;
+        }
+      errors.error(where, shader.name, includer.problem());
+    } else
       report_log(ts.getInfoLog(), shader, errors, file_name);
     return result;
   }

@@ -1,5 +1,8 @@
 #include "shader_messages.hpp"
 
+#include <algorithm>
+#include <vector>
+
 namespace statepack::packager {
 
 namespace {
@@ -16,7 +19,11 @@ std::string shader_list(const std::set<std::string>& names) {
       break;
     }
     if (i > 0) text += (i + 1 == names.size() ? " and " : ", ");
-    text += "'" + name + "'";
+    const bool opengl =
+        name.size() >= sizeof(kOpenGlCompile) - 1 &&
+        name.compare(name.size() - (sizeof(kOpenGlCompile) - 1), std::string::npos, kOpenGlCompile) == 0;
+    text += opengl ? "'" + name.substr(0, name.size() - (sizeof(kOpenGlCompile) - 1)) + "'" + kOpenGlCompile
+                   : "'" + name + "'";
     ++i;
   }
   return text;
@@ -24,9 +31,12 @@ std::string shader_list(const std::set<std::string>& names) {
 
 }  // namespace
 
-void ShaderMessages::error(const Location& where, const std::string& shader, const std::string& message) {
+void ShaderMessages::error(const Location& where, const std::string& shader, const std::string& message,
+                           size_t order) {
   std::lock_guard lock(mutex_);
-  shaders_by_message_[{where.file, where.line, where.column, where.pointer, message}].insert(shader);
+  Shaders& entry = shaders_by_message_[{where.file, where.line, where.column, where.pointer, message}];
+  entry.names.insert(shader);
+  entry.order = std::min(entry.order, order);
 }
 
 bool ShaderMessages::empty() const {
@@ -36,9 +46,17 @@ bool ShaderMessages::empty() const {
 
 void ShaderMessages::report(Diagnostics& diag) const {
   std::lock_guard lock(mutex_);
-  for (const auto& [key, shaders] : shaders_by_message_) {
-    const auto& [file, line, column, pointer, message] = key;
-    diag.error({file, line, column, pointer}, shader_list(shaders) + ": " + message);
+  std::vector<std::pair<const Key*, const Shaders*>> entries;
+  for (const auto& [key, shaders] : shaders_by_message_) entries.push_back({&key, &shaders});
+  // By place, then by log order; the map's order (the message text) breaks ties.
+  std::stable_sort(entries.begin(), entries.end(), [](const auto& a, const auto& b) {
+    const auto& [fa, la, ca, pa, ma] = *a.first;
+    const auto& [fb, lb, cb, pb, mb] = *b.first;
+    return std::tie(fa, la, ca, pa, a.second->order) < std::tie(fb, lb, cb, pb, b.second->order);
+  });
+  for (const auto& [key, shaders] : entries) {
+    const auto& [file, line, column, pointer, message] = *key;
+    diag.error({file, line, column, pointer}, shader_list(shaders->names) + ": " + message);
   }
 }
 

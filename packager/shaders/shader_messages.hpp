@@ -3,6 +3,7 @@
 // naming those shaders says more than a copy per shader.
 #pragma once
 
+#include <cstdint>
 #include <map>
 #include <mutex>
 #include <set>
@@ -13,10 +14,16 @@
 
 namespace statepack::packager {
 
+// Appended to a shader's name by its OpenGL compile: messages then say "shader 'X' (OpenGL)", as every
+// other OpenGL message of the packager does.
+inline constexpr char kOpenGlCompile[] = " (OpenGL)";
+
 class ShaderMessages {
  public:
   // Thread-safe: shaders compile in parallel.
-  void error(const Location& where, const std::string& shader, const std::string& message);
+  // `order`: the message's place in its compiler log. Messages at one place are reported in log order
+  // (glslang names a cause before its consequences), whatever thread reported them first.
+  void error(const Location& where, const std::string& shader, const std::string& message, size_t order = 0);
   bool empty() const;
   // Adds one error per distinct (location, message), naming every shader that produced it.
   void report(Diagnostics& diag) const;
@@ -24,7 +31,11 @@ class ShaderMessages {
  private:
   using Key = std::tuple<std::string, int, int, std::string, std::string>;  // file, line, col, pointer, text
   mutable std::mutex mutex_;
-  std::map<Key, std::set<std::string>> shaders_by_message_;  // ordered: the output does not depend on threads
+  struct Shaders {
+    std::set<std::string> names;
+    size_t order = SIZE_MAX;  // the least order it was reported with
+  };
+  std::map<Key, Shaders> shaders_by_message_;  // ordered: the output does not depend on threads
 };
 
 }  // namespace statepack::packager

@@ -347,11 +347,54 @@ TEST_F(HostileInput, IncludeCyclesAreReportedWithTheirChain) {
                                   compute_pipeline("Self", "self.comp") + "]}");
   CliRun run = pack("a.json");
   EXPECT_EQ(run.exit_code, 1);
+  EXPECT_EQ(run.output,
+            // At the #include that closes the cycle.
+            "b.glsl:1: error: shader 'Cycle CS': #include cycle: a.glsl -> b.glsl -> a.glsl\n"
+            "self.comp:3: error: shader 'Self CS': #include cycle: self.comp -> self.comp\n"
+            "statepack: 2 error(s); no archive written\n");
+}
+
+// One mistake, one error, said first: glslang's follow-on messages (an unknown #extension's "extra
+// tokens", an error inside #if leaving "missing #endif", "Could not process include directive") give way
+// to the cause; an #endif really missing is still said.
+TEST_F(HostileInput, ShaderMistakesGiveOneErrorEachWithTheCause) {
+  write_file(dir_ / "extension.comp",
+             "#version 450\n#extension GL_FOO_bar : require\nlayout(local_size_x = 1) in;\nvoid main() {}\n");
+  write_file(dir_ / "inside_if.comp",
+             "#version 450\nlayout(local_size_x = 1) in;\nvoid main() {\n#if 1\n  undefined_thing = "
+             "1;\n#endif\n}\n");
+  write_file(dir_ / "no_endif.comp", "#version 450\nlayout(local_size_x = 1) in;\n#if 1\nvoid main() {}\n");
+  write_file(dir_ / "missing.comp",
+             "#version 450\n#extension GL_GOOGLE_include_directive : require\n"
+             "#include \"nowhere.glsl\"\nlayout(local_size_x = 1) in;\nvoid main() {}\n");
+  write_file(dir_ / "a.json", "{\"Pipelines\": [\n" + compute_pipeline("Extension", "extension.comp") +
+                                  ",\n" + compute_pipeline("Inside If", "inside_if.comp") + ",\n" +
+                                  compute_pipeline("No Endif", "no_endif.comp") + ",\n" +
+                                  compute_pipeline("Missing", "missing.comp") + "]}");
+  CliRun run = pack("a.json");
+  EXPECT_EQ(run.exit_code, 1);
   EXPECT_EQ(
       run.output,
-      "a.json:2:39: error: shader 'Cycle CS': #include cycle: a.glsl -> b.glsl -> a.glsl [/Pipelines/0/pCS]\n"
-      "a.json:3:38: error: shader 'Self CS': #include cycle: self.comp -> self.comp [/Pipelines/1/pCS]\n"
-      "statepack: 2 error(s); no archive written\n");
+      "extension.comp:2: error: shader 'Extension CS': '#extension' : extension not supported: GL_FOO_bar\n"
+      "inside_if.comp:5: error: shader 'Inside If CS': 'undefined_thing' : undeclared identifier\n"
+      "missing.comp:3: error: shader 'Missing CS': #include \"nowhere.glsl\": no such file next to "
+      "missing.comp (no -s directory given)\n"
+      "no_endif.comp:5: error: shader 'No Endif CS': '' : missing #endif\n"
+      "statepack: 4 error(s); no archive written\n");
+}
+
+// The OpenGL compile of a source is named as every OpenGL message names it: 'X' (OpenGL).
+TEST_F(HostileInput, OpenGlCompileErrorsNameTheShaderAsOtherOpenGlMessages) {
+  write_file(
+      dir_ / "guarded.comp",
+      "#version 450\nlayout(local_size_x = 1) in;\nlayout(set = 0, binding = 0) buffer B { uint v[]; };\n"
+      "void main() {\n#ifdef VULKAN\n  v[0] = 1u;\n#else\n  v[0] = undefined_thing;\n#endif\n}\n");
+  write_file(dir_ / "a.json", "{\"Pipelines\": [" + compute_pipeline("Guarded", "guarded.comp") + "]}");
+  CliRun run = pack("a.json", "--opengl -o out.spk");
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_EQ(run.output,
+            "guarded.comp:8: error: shader 'Guarded CS' (OpenGL): 'undefined_thing' : undeclared identifier\n"
+            "statepack: 1 error(s); no archive written\n");
 }
 
 TEST_F(HostileInput, IncludesThatExpandExponentiallyAreStopped) {
