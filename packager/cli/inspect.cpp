@@ -409,6 +409,9 @@ void print_pipeline_text(const Json& p, std::ostream& out) {
     for (const auto& b : set["bindings"])
       out << "    binding " << b["binding"].get<uint32_t>() << ": '" << text(b["name"]) << "' "
           << b["type"].get<std::string>() << " x" << b["count"].get<uint32_t>() << " " << b["stages"].dump()
+          << (b.contains("immutable_sampler")
+                  ? ", immutable sampler " + std::to_string(b["immutable_sampler"].get<uint32_t>())
+                  : std::string())
           << "\n";
   }
   if (p.contains("push_constants"))
@@ -472,6 +475,13 @@ void print_text(const Json& j, std::ostream& out) {
   for (size_t i = 0; i < j["spirv_blobs"].size(); ++i)
     out << "  SPIR-V blob " << i << ": " << j["spirv_blobs"][i]["size"].get<size_t>() << " bytes, XXH3 "
         << j["spirv_blobs"][i]["xxh3"].get<std::string>() << "\n";
+  // The samplers immutable bindings name by index ("immutable sampler 0").
+  for (size_t i = 0; i < j["samplers"].size(); ++i) {
+    const Json& s = j["samplers"][i];
+    out << "  sampler " << i << ": filter " << s["filter"].get<std::string>() << ", address "
+        << s["address"].get<std::string>() << ", anisotropy " << s["anisotropy"].get<float>() << ", compare "
+        << s["compare"].get<std::string>() << "\n";
+  }
   for (const auto& p : j["pipelines"]) print_pipeline_text(p, out);
   for (const auto& s : j["resource_signatures"])
     out << "resource signature '" << text(s["name"]) << "' (set " << s["set"].get<uint32_t>() << ", "

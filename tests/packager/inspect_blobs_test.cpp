@@ -69,3 +69,26 @@ TEST(InspectBlobs, TextOutputPrintsTheStoredSizeAndHashOfEveryBlob) {
 
 }  // namespace
 }  // namespace statepack::testing
+
+namespace statepack::testing {
+namespace {
+
+// Text inspect shows what an immutable sampler binding bakes in: the binding names its sampler, and the
+// sampler's state is listed (the notation's Nearest filter and Repeat/Repeat/ClampToEdge addressing).
+TEST(InspectText, ImmutableSamplersAreShownWithTheirBinding) {
+  auto inspect =
+      run_command(std::string(STATEPACK_EXE) + " inspect '" + STATEPACK_IMMUTABLE_SAMPLER_ARCHIVE + "'");
+  ASSERT_EQ(inspect.exit_code, 0) << inspect.output;
+  EXPECT_NE(
+      inspect.output.find("  sampler 0: filter Nearest/Nearest/Nearest, address Repeat/Repeat/ClampToEdge, "
+                          "anisotropy 0, compare none\n"),
+      std::string::npos)
+      << inspect.output;
+  EXPECT_NE(inspect.output.find(
+                "binding 0: 'checker' CombinedImageSampler x1 [\"Fragment\"], immutable sampler 0\n"),
+            std::string::npos)
+      << inspect.output;
+}
+
+}  // namespace
+}  // namespace statepack::testing
