@@ -22,12 +22,15 @@ bool has_layer(const char* name) {
 }  // namespace
 
 VKAPI_ATTR VkBool32 VKAPI_CALL VulkanContext::on_message(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
-                                                         VkDebugUtilsMessageTypeFlagsEXT,
+                                                         VkDebugUtilsMessageTypeFlagsEXT types,
                                                          const VkDebugUtilsMessengerCallbackDataEXT* data,
                                                          void* self) {
   auto* ctx = static_cast<VulkanContext*>(self);
-  std::string text = (severity & VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT) ? "validation error: "
-                                                                                : "validation warning: ";
+  // kPerformanceWarning marks advice about speed (an output no stage reads), not about validity.
+  const bool error = severity & VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
+  std::string text = error                                                       ? "validation error: "
+                     : (types & VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT) ? kPerformanceWarning
+                                                                                 : "validation warning: ";
   text += data->pMessage ? data->pMessage : "(no message)";
   std::lock_guard lock(ctx->mutex_);
   ctx->messages_.push_back(std::move(text));
@@ -138,13 +141,21 @@ Result<void> VulkanContext::choose_physical_device(const VulkanContextOptions& o
 
 Result<void> VulkanContext::create_device(const VulkanContextOptions& options) {
   VkPhysicalDeviceVulkan13Features features13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
-  features13.dynamicRendering = VK_TRUE;
+  VkPhysicalDeviceVulkan12Features features12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES,
+                                              &features13};
+  VkPhysicalDeviceVulkan11Features features11{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_FEATURES,
+                                              &features12};
   VkPhysicalDeviceFeatures2 features{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &features13};
   if (options.enable_supported_features) {
-    vkGetPhysicalDeviceFeatures(physical_device, &features.features);
-    // Robust buffer access changes behaviour and costs speed; nothing archived needs it.
+    // Every core feature of Vulkan 1.0 to 1.3 the device has (multiview, buffer device addresses,
+    // 8- and 16-bit storage, ...): what an archive's pipelines need, a verifying device must have on.
+    features.pNext = &features11;
+    vkGetPhysicalDeviceFeatures2(physical_device, &features);
+    // Robust access changes behaviour and costs speed; nothing archived needs it.
     features.features.robustBufferAccess = VK_FALSE;
+    features13.robustImageAccess = VK_FALSE;
   }
+  features13.dynamicRendering = VK_TRUE;
   enabled_features = features.features;
   const float priority = 1.0f;
   VkDeviceQueueCreateInfo queue_info{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};

@@ -1,5 +1,6 @@
 #include "verify.hpp"
 
+#include <algorithm>
 #include <bit>
 #include <ostream>
 
@@ -151,8 +152,13 @@ int run_verify(const VerifyOptions& options, std::ostream& out, std::ostream& er
             what += (i ? ", " : patched_slots.size() > 1 ? "s " : " ") + std::to_string(patched_slots[i]);
           what += ", set at run time: verified as " + format_name(options.color_format) + ")";
         }
-        if (unpacked && messages.empty()) {
+        // Performance warnings are advice: the object is valid, and is reported ok with them.
+        const bool only_advice = std::all_of(messages.begin(), messages.end(), [](const std::string& m) {
+          return m.starts_with(bootstrap::kPerformanceWarning);
+        });
+        if (unpacked && only_advice) {
           out << "ok     " << what << '\n';
+          for (const auto& m : messages) out << "         warning: " << printable(m) << '\n';
           ++ok;
           continue;
         }

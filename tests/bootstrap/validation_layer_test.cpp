@@ -49,3 +49,32 @@ TEST(ValidationLayer, ObjectsLeftAliveAreReportedAtDeviceDestruction) {
 }
 
 }  // namespace
+
+namespace {
+
+// The messenger tells the layer's performance advice from its validity reports: `statepack verify`
+// reports an object with only performance warnings as ok (every test still fails on any message).
+TEST(ValidationLayer, PerformanceWarningsAreMarkedAsSuch) {
+  statepack::bootstrap::VulkanContextOptions options;
+  options.require_lavapipe = true;
+  auto vk = statepack::bootstrap::VulkanContext::create(options);
+  ASSERT_TRUE(vk) << vk.error().message;
+  auto submit = reinterpret_cast<PFN_vkSubmitDebugUtilsMessageEXT>(
+      vkGetInstanceProcAddr((*vk)->instance, "vkSubmitDebugUtilsMessageEXT"));
+  ASSERT_NE(submit, nullptr);
+  VkDebugUtilsMessengerCallbackDataEXT data{VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CALLBACK_DATA_EXT};
+  data.pMessage = "an output no stage reads";
+  submit((*vk)->instance, VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT,
+         VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT, &data);
+  submit((*vk)->instance, VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT,
+         VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT, &data);
+  submit((*vk)->instance, VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT,
+         VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT, &data);
+  EXPECT_EQ(
+      (*vk)->validation_messages(),
+      (std::vector<std::string>{
+          std::string(statepack::bootstrap::kPerformanceWarning) + "an output no stage reads",
+          "validation warning: an output no stage reads", "validation error: an output no stage reads"}));
+}
+
+}  // namespace

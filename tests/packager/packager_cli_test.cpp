@@ -273,6 +273,28 @@ TEST_F(Verify, RunTimeFormatsAreVerifiedWithTheFormatGiven) {
   EXPECT_EQ(statepack("verify --format NOT_A_FORMAT '" + out.string() + "'").exit_code, 2);
 }
 
+// verify's device has every core feature of Vulkan 1.0 to 1.3 the device supports on: a multiview
+// pipeline (the MultiView capability) and one reading through buffer device addresses
+// (PhysicalStorageBufferAddresses) are valid, and verify says so rather than blame the archive.
+TEST_F(Verify, PipelinesNeedingVulkan11To13FeaturesAreVerified) {
+  fs::path json = dir_ / "features.json", out = dir_ / "features.spk";
+  std::ofstream(json) << R"({"Pipelines": [
+    {"PSODesc": {"Name": "Per View PSO"}, "GraphicsPipeline": {"RTVFormats": {"0": "RGBA8_UNORM"}},
+     "pVS": {"Desc": {"Name": "Per View VS", "ShaderType": "VERTEX"}, "SourceLanguage": "GLSL",
+             "Source": "#version 450\n#extension GL_EXT_multiview : require\nlayout(location = 0) out vec4 color;\nvoid main() { color = vec4(float(gl_ViewIndex), 0.0, 0.0, 1.0); gl_Position = vec4(0.0, 0.0, 0.0, 1.0); }\n"},
+     "pPS": {"Desc": {"Name": "Color PS", "ShaderType": "PIXEL"}, "SourceLanguage": "GLSL",
+             "Source": "#version 450\nlayout(location = 0) in vec4 color;\nlayout(location = 0) out vec4 target;\nvoid main() { target = color; }\n"}},
+    {"PSODesc": {"Name": "Pointer Chase PSO"},
+     "pCS": {"Desc": {"Name": "Pointer Chase CS", "ShaderType": "COMPUTE"}, "SourceLanguage": "GLSL",
+             "Source": "#version 450\n#extension GL_EXT_buffer_reference : require\nlayout(local_size_x = 64) in;\nlayout(buffer_reference, std430) buffer Values { uint v[]; };\nlayout(push_constant) uniform Args { Values values; } args;\nvoid main() { args.values.v[gl_GlobalInvocationID.x] = gl_GlobalInvocationID.x; }\n"}}]})";
+  ASSERT_EQ(statepack(pack_args(json.string(), out)).exit_code, 0);
+  CliRun run = statepack("verify '" + out.string() + "'");
+  EXPECT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_NE(run.output.find("ok     graphics pipeline 'Per View PSO'\n"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("ok     compute pipeline 'Pointer Chase PSO'\n"), std::string::npos)
+      << run.output;
+}
+
 TEST_F(Verify, DamagedArchivesAndMissingDevicesAreErrors) {
   fs::path out = dir_ / "slice.spk";
   ASSERT_EQ(statepack(pack_args(std::string(STATEPACK_STATES_DIR) + "/slice.json", out)).exit_code, 0);

@@ -15,12 +15,16 @@
 
 namespace statepack::bootstrap {
 
+// How validation_messages() begins a performance warning of the layer (advice about speed, such as an
+// output no later stage reads). Every other message begins "validation error: " or "validation warning: ".
+inline constexpr char kPerformanceWarning[] = "validation performance warning: ";
+
 struct VulkanContextOptions {
   bool validation = true;              // enable VK_LAYER_KHRONOS_validation (an error when it is missing)
   bool validation_if_present = false;  // with validation: enable it only when installed, no error
   bool require_lavapipe = false;       // only accept Mesa's CPU driver (tests: same results everywhere)
   int device_index = -1;  // >= 0: that entry of vkEnumeratePhysicalDevices, else the first 1.3 one
-  bool enable_supported_features = false;        // enable every core feature the device supports
+  bool enable_supported_features = false;        // enable every core 1.0-1.3 feature the device supports
   std::vector<const char*> instance_extensions;  // e.g. what GLFW needs
 };
 
