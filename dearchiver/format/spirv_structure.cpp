@@ -337,8 +337,9 @@ Result<void> check_structure(std::span<const uint32_t> words) {
   for (size_t at = 5; at < words.size();) {
     const uint32_t count = words[at] >> 16;
     if (count == 0 || count > words.size() - at)
-      return Error{ErrorCode::corrupt,
-                   "SPIR-V word " + std::to_string(at) + ": instruction word count runs past the module"};
+      return Error{ErrorCode::corrupt, "SPIR-V word " + std::to_string(at) +
+                                           (count == 0 ? ": instruction with a word count of zero"
+                                                       : ": instruction runs past the end of the module")};
     if (auto ok = c.step(at); !ok) return ok;
     at += count;
   }

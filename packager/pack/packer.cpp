@@ -451,7 +451,8 @@ void assemble_archive(const Notation& notation, const CompiledShaders& compiled,
     for (size_t s = 0; s < pp.stages.size(); ++s) {
       size_t job = pp.jobs[s];
       if (!finalizer.error(job).empty()) {
-        diag.error(p.where,
+        // At the pipeline's own shader slot: the module is the one this pipeline's layout patched.
+        diag.error(pp.stages[s]->where,
                    "pipeline '" + p.name + "', shader '" + pp.stages[s]->name + "': " + finalizer.error(job));
         ok = false;
         continue;

@@ -11,6 +11,7 @@
 #include <vulkan/vulkan_core.h>
 
 #include "hlsl_push_constants.hpp"
+#include "hlsl_system_values.hpp"
 
 #include <algorithm>
 #include <mutex>
@@ -277,6 +278,46 @@ std::string remove_unused_globals(std::vector<uint32_t>& spirv, const CompileOpt
 
 }  // namespace
 
+// What glslang's HLSL parse tree shows and its messages do not: [[vk::push_constant]] globals it made
+// uniforms, system values it made varyings. Returns whether it reported any.
+bool report_hlsl_tree_problems(const glslang::TShader& ts, const ShaderDesc& shader, ShaderMessages& errors,
+                               const std::string& file_name, const std::string& source) {
+  bool any = false;
+  for (const auto& pc : find_misplaced_push_constants(ts)) {
+    const std::string type = pc.type.empty() ? "S" : pc.type;
+    errors.error({pc.file.empty() ? file_name : pc.file, pc.line, 0, ""}, shader.name,
+                 "[[vk::push_constant]] on the global variable '" + pc.variable +
+                     "' is not a push constant for glslang (it would become a member of the $Global "
+                     "uniform buffer); declare it as '[[vk::push_constant]] ConstantBuffer<" +
+                     type + "> " + pc.variable + ";' or as a '[[vk::push_constant]] cbuffer'");
+    any = true;
+  }
+  for (auto sv : find_unknown_system_values(ts)) {
+    // An entry point's parameters become variables glslang places nowhere, and it upper-cases the
+    // semantic: the first place the shader's own text spells it gives the line and the spelling.
+    if (sv.line == 0) {
+      std::string upper = source;
+      for (char& c : upper) c = char(std::toupper(static_cast<unsigned char>(c)));
+      if (size_t at = upper.find(sv.semantic); at != std::string::npos) {
+        sv.file = file_name;
+        sv.line = 1 + int(std::count(source.begin(), source.begin() + std::ptrdiff_t(at), '\n'));
+        sv.semantic = source.substr(at, sv.semantic.size());
+      }
+    }
+    const std::string direction = sv.output ? "output" : "input";
+    errors.error({sv.file.empty() ? file_name : sv.file, sv.line, 0, ""}, shader.name,
+                 "'" + sv.variable + "' has the system value " + sv.semantic +
+                     ", which glslang (the HLSL compiler statepack uses) does not know: it would become an "
+                     "ordinary " +
+                     direction + " with a location, which " +
+                     (sv.output ? "no later stage reads as that value"
+                                : "no InputLayout or earlier stage can provide") +
+                     "; compute the value another way (DXC knows more system values than glslang)");
+    any = true;
+  }
+  return any;
+}
+
 CompiledShader compile_shader(const ShaderDesc& original, const CompileOptions& options,
                               ShaderMessages& errors) {
   initialize_glslang();
@@ -366,19 +407,7 @@ CompiledShader compile_shader(const ShaderDesc& original, const CompileOptions& 
       report_log(ts.getInfoLog(), shader, errors, file_name);
     return result;
   }
-  if (hlsl) {
-    bool misplaced = false;
-    for (const auto& pc : find_misplaced_push_constants(ts)) {
-      const std::string type = pc.type.empty() ? "S" : pc.type;
-      errors.error({pc.file.empty() ? file_name : pc.file, pc.line, 0, ""}, shader.name,
-                   "[[vk::push_constant]] on the global variable '" + pc.variable +
-                       "' is not a push constant for glslang (it would become a member of the $Global "
-                       "uniform buffer); declare it as '[[vk::push_constant]] ConstantBuffer<" +
-                       type + "> " + pc.variable + ";' or as a '[[vk::push_constant]] cbuffer'");
-      misplaced = true;
-    }
-    if (misplaced) return result;
-  }
+  if (hlsl && report_hlsl_tree_problems(ts, shader, errors, file_name, source)) return result;
   LinkedSpirv linked = link_to_spirv(ts, stage, messages);
   if (!linked.link_log.empty()) {
     report_log(linked.link_log, shader, errors, file_name);
