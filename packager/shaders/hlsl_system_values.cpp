@@ -2,10 +2,7 @@
 
 #include <cctype>
 
-// glslang's parse tree (internal headers Debian installs; same defines as shader_compiler.cpp).
-#define ENABLE_HLSL 1
-#include <glslang/MachineIndependent/localintermediate.h>
-#include <glslang/Public/ShaderLang.h>
+#include "glslang_tree.hpp"
 
 namespace statepack::packager {
 namespace {
@@ -27,31 +24,20 @@ bool unknown_system_value(const glslang::TQualifier& q) {
 
 std::vector<UnknownSystemValue> find_unknown_system_values(const glslang::TShader& shader) {
   std::vector<UnknownSystemValue> found;
-  const glslang::TIntermediate* intermediate = shader.getIntermediate();
-  if (!intermediate || !intermediate->getTreeRoot()) return found;
-  const glslang::TIntermAggregate* root = intermediate->getTreeRoot()->getAsAggregate();
-  if (!root) return found;
-  for (const TIntermNode* node : root->getSequence()) {
-    const glslang::TIntermAggregate* objects = node->getAsAggregate();
-    if (!objects || objects->getOp() != glslang::EOpLinkerObjects) continue;
-    for (const TIntermNode* object : objects->getSequence()) {
-      const glslang::TIntermSymbol* symbol = object->getAsSymbolNode();
-      if (!symbol) continue;
-      const glslang::TType& type = symbol->getType();
-      const glslang::TStorageQualifier storage = type.getQualifier().storage;
-      if (storage != glslang::EvqVaryingIn && storage != glslang::EvqVaryingOut) continue;
-      const bool output = storage == glslang::EvqVaryingOut;
-      if (unknown_system_value(type.getQualifier()))
-        found.push_back({symbol->getLoc().getFilenameStr(), symbol->getLoc().line, symbol->getName().c_str(),
-                         type.getQualifier().semanticName, output});
-      if (type.isStruct())
-        for (const glslang::TTypeLoc& member : *type.getStruct())
-          if (unknown_system_value(member.type->getQualifier()))
-            found.push_back({member.loc.getFilenameStr(), member.loc.line,
-                             member.type->getFieldName().c_str(), member.type->getQualifier().semanticName,
-                             output});
-    }
-  }
+  for_each_global(shader, [&](const glslang::TIntermSymbol& symbol) {
+    const glslang::TType& type = symbol.getType();
+    const glslang::TStorageQualifier storage = type.getQualifier().storage;
+    if (storage != glslang::EvqVaryingIn && storage != glslang::EvqVaryingOut) return;
+    const bool output = storage == glslang::EvqVaryingOut;
+    if (unknown_system_value(type.getQualifier()))
+      found.push_back({symbol.getLoc().getFilenameStr(), symbol.getLoc().line, symbol.getName().c_str(),
+                       type.getQualifier().semanticName, output});
+    if (type.isStruct())
+      for (const glslang::TTypeLoc& member : *type.getStruct())
+        if (unknown_system_value(member.type->getQualifier()))
+          found.push_back({member.loc.getFilenameStr(), member.loc.line, member.type->getFieldName().c_str(),
+                           member.type->getQualifier().semanticName, output});
+  });
   return found;
 }
 
