@@ -133,6 +133,7 @@ class FileReader {
       if (path.empty()) {
         json_.error(pointer, "imported file '" + name + "' not found next to " + json_.file() +
                                  " or in any render-state directory (-r)");
+        out_.failed_imports.push_back(name);
         continue;
       }
       read_file(path, display_path(path), out_, options_, json_.diagnostics(), json_.at(pointer));
@@ -614,6 +615,12 @@ void apply_render_pass(const format::RenderPass& rp, PipelineDesc& p, const Sour
 }  // namespace
 
 void resolve_references(Notation& notation, Diagnostics& diag) {
+  // With an import missing, the name may well be defined there: say so instead of suggesting a
+  // similar name that is fine (a shader 'Common VS' for the imported 'Common CS').
+  auto hint = [&](const std::string& name, const std::vector<std::string>& names) {
+    if (notation.failed_imports.empty()) return detail::did_you_mean(name, names);
+    return " (perhaps defined in '" + notation.failed_imports.front() + "', which was not found)";
+  };
   std::vector<std::string> shader_names, signature_names, pass_names;
   for (const auto& s : notation.shaders) shader_names.push_back(s.name);
   for (const auto& s : notation.inline_shaders) shader_names.push_back(s.name);
@@ -630,7 +637,7 @@ void resolve_references(Notation& notation, Diagnostics& diag) {
         found = &notation.inline_shaders[inl->second];
       if (!found) {
         diag.error(shader.where, "pipeline '" + pipeline.name + "' refers to unknown shader '" + shader.name +
-                                     "'" + detail::did_you_mean(shader.name, shader_names));
+                                     "'" + hint(shader.name, shader_names));
         continue;
       }
       if (found->broken) {  // its errors are reported where it is defined
@@ -649,13 +656,12 @@ void resolve_references(Notation& notation, Diagnostics& diag) {
     for (const auto& name : pipeline.signatures)
       if (!notation.signature_index.count(name))
         diag.error(pipeline.where, "pipeline '" + pipeline.name + "' refers to unknown resource signature '" +
-                                       name + "'" + detail::did_you_mean(name, signature_names));
+                                       name + "'" + hint(name, signature_names));
     if (!pipeline.render_pass.empty()) {
       auto pass = notation.render_pass_index.find(pipeline.render_pass);
       if (pass == notation.render_pass_index.end())
         diag.error(pipeline.where, "pipeline '" + pipeline.name + "' refers to unknown render pass '" +
-                                       pipeline.render_pass + "'" +
-                                       detail::did_you_mean(pipeline.render_pass, pass_names));
+                                       pipeline.render_pass + "'" + hint(pipeline.render_pass, pass_names));
       else if (!notation.render_passes[pass->second].broken)
         apply_render_pass(notation.render_passes[pass->second].pass, pipeline, notation.sources, diag);
     }

@@ -150,7 +150,9 @@ struct Notation {
   // name -> index in the lists above
   std::unordered_map<std::string, size_t> shader_index, inline_shader_index, signature_index,
       render_pass_index, pipeline_index;
-  std::set<std::string> ignored_signatures;         // Ignore.Signatures
+  std::set<std::string> ignored_signatures;  // Ignore.Signatures
+  // Imports that were not found: what they define is unknown, so an unknown name gets no suggestion.
+  std::vector<std::string> failed_imports;
   std::vector<InputFile> files_read;                // every JSON file, for the depfile and output checks
   std::set<std::filesystem::path> files_done;       // canonical paths already read (imports once)
   std::vector<std::filesystem::path> import_stack;  // canonical paths being read (cycle detection)
