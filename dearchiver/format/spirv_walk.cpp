@@ -63,7 +63,7 @@ constexpr uint32_t kExecutionModelGLCompute = 5;
 bool is_terminator(uint32_t op) {
   return (op >= 249 && op <= 255) || op == 4416 /* OpTerminateInvocation */ ||
          op == 4448 /* OpIgnoreIntersectionKHR */ || op == 4449 /* OpTerminateRayKHR */ ||
-         op == 5380 /* OpEmitMeshTasksEXT */;
+         op == 5294 /* OpEmitMeshTasksEXT */;
 }
 enum Decoration : uint32_t {
   kSpecId = 1,

@@ -240,3 +240,40 @@ TEST(SpirvStructure, AHugeBoundCostsNoHugeTable) {
 
 }  // namespace
 }  // namespace statepack::testing
+
+namespace statepack::testing {
+namespace {
+
+// A block's terminators, as the walker closes blocks: OpDemoteToHelperInvocation (5380) continues the
+// block, OpEmitMeshTasksEXT (5294) ends it. (The walker once had the two numbers swapped, refusing every
+// module that demotes and every task shader.)
+std::vector<uint32_t> module_with_body(
+    std::initializer_list<std::pair<uint32_t, std::vector<uint32_t>>> body) {
+  Assembler a;
+  a.op(17, {1});
+  a.op(14, {0, 1});
+  std::vector<uint32_t> entry{5, kMain};
+  for (uint32_t w : Assembler::text("main")) entry.push_back(w);
+  a.op(15, entry);
+  a.op(19, {kVoid});
+  a.op(33, {kFunctionType, kVoid});
+  a.op(54, {kVoid, kMain, 0, kFunctionType});
+  a.op(248, {kLabel});
+  for (const auto& [opcode, operands] : body) a.op(opcode, operands);
+  a.op(56, {});
+  return a.finish(64);
+}
+
+TEST(SpirvWalk, DemoteContinuesItsBlockAndEmitMeshTasksEndsIt) {
+  auto demote = spirv::walk(module_with_body({{5380, {}}, {253, {}}}));  // demote, then OpReturn
+  EXPECT_TRUE(demote) << demote.error().message;
+  auto tasks = spirv::walk(module_with_body({{5294, {kLabel, kLabel, kLabel}}}));  // the block's last
+  EXPECT_TRUE(tasks) << tasks.error().message;
+  auto unterminated = spirv::walk(module_with_body({{5380, {}}}));
+  ASSERT_FALSE(unterminated);
+  EXPECT_EQ(unterminated.error().message,
+            "SPIR-V word 28: OpFunctionEnd outside a function or inside a block");
+}
+
+}  // namespace
+}  // namespace statepack::testing
