@@ -58,12 +58,14 @@ extern "C" size_t LLVMFuzzerCustomMutator(uint8_t* data, size_t size, size_t max
       words[at + 1 + pick(count - 1)] = values[pick(std::size(values))];
       break;
     }
-    case 2:  // a decoration's or capability's number, or an execution mode's
-      if ((opcode == 71 && count >= 3) || opcode == 17 || opcode == 16)
-        words[at + (opcode == 71 || opcode == 16 ? 2 : 1)] = uint32_t(pick(64));
+    case 2: {  // a decoration's or capability's number, or an execution mode's (the word count may lie)
+      const size_t word = opcode == 71 || opcode == 16 ? 2 : 1;
+      if ((opcode == 71 || opcode == 17 || opcode == 16) && count > word)
+        words[at + word] = uint32_t(pick(64));
       else if (count >= 2)
         words[at + 1] ^= 1u << pick(32);
       break;
+    }
     case 3:  // drop the instruction
       words.erase(words.begin() + long(at), words.begin() + long(at + count));
       break;
