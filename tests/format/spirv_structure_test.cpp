@@ -72,6 +72,13 @@ std::string error_of(const std::vector<uint32_t>& words) {
   return ok ? "" : ok.error().message;
 }
 
+// The error for the minimal module with `declarations` (opcode, operands) among its types.
+std::string error_declaring(std::initializer_list<std::pair<uint32_t, std::vector<uint32_t>>> declarations) {
+  return error_of(compute_module([&](Assembler& a) {
+    for (const auto& [opcode, operands] : declarations) a.op(opcode, operands);
+  }));
+}
+
 TEST(SpirvStructure, EveryModuleOfTheTestArchivesPasses) {
   std::vector<std::string> paths = corpus_archives();
   paths.push_back(STATEPACK_TEST_ARCHIVE);
@@ -113,116 +120,73 @@ TEST(SpirvStructure, AnElementTypeThatIsNotATypeIsRefused) {
 }
 
 TEST(SpirvStructure, ResultTypesMustBeTypesDefinedBefore) {
-  EXPECT_EQ(error_of(compute_module([](Assembler& a) {
-              a.op(43, {30, kFirstFree, 7});
-            })),
+  EXPECT_EQ(error_declaring({{43, {30, kFirstFree, 7}}}),
             "SPIR-V OpConstant at word 30: result type %30 is not defined before its use");
-  EXPECT_EQ(error_of(compute_module([](Assembler& a) {
-              a.op(43, {kUint, kFirstFree, 7});
-              a.op(43, {kFirstFree, kFirstFree + 1, 7});
-            })),
+  EXPECT_EQ(error_declaring({{43, {kUint, kFirstFree, 7}}, {43, {kFirstFree, kFirstFree + 1, 7}}}),
             "SPIR-V OpConstant at word 34: result type %6 is not a type");
 }
 
 TEST(SpirvStructure, IdsOutsideTheBoundAndTwiceDefinedResultsAreRefused) {
-  EXPECT_EQ(error_of(compute_module([](Assembler& a) {
-              a.op(29, {kFirstFree, 64});
-            })),
+  EXPECT_EQ(error_declaring({{29, {kFirstFree, 64}}}),
             "SPIR-V OpTypeRuntimeArray at word 30: operand %64 is outside the module's id bound 64");
-  EXPECT_EQ(error_of(compute_module([](Assembler& a) {
-              a.op(29, {kFirstFree, 0});
-            })),
+  EXPECT_EQ(error_declaring({{29, {kFirstFree, 0}}}),
             "SPIR-V OpTypeRuntimeArray at word 30: operand %0 is outside the module's id bound 64");
-  EXPECT_EQ(error_of(compute_module([](Assembler& a) {
-              a.op(29, {kUint, kUint});
-            })),
+  EXPECT_EQ(error_declaring({{29, {kUint, kUint}}}),
             "SPIR-V OpTypeRuntimeArray at word 30: result %5 is defined twice");
 }
 
 TEST(SpirvStructure, OperandCountsFollowTheGrammar) {
-  EXPECT_EQ(error_of(compute_module([](Assembler& a) {
-              a.op(21, {kFirstFree, 32});
-            })),
+  EXPECT_EQ(error_declaring({{21, {kFirstFree, 32}}}),
             "SPIR-V OpTypeInt at word 30: has fewer operands than its grammar requires");
-  EXPECT_EQ(error_of(compute_module([](Assembler& a) {
-              a.op(29, {kFirstFree, kUint, 9});
-            })),
+  EXPECT_EQ(error_declaring({{29, {kFirstFree, kUint, 9}}}),
             "SPIR-V OpTypeRuntimeArray at word 30: has 1 words more than its operands");
   // A 64-bit constant takes two words; one is too few.
-  EXPECT_EQ(error_of(compute_module([](Assembler& a) {
-              a.op(21, {kFirstFree, 64, 0});
-              a.op(43, {kFirstFree, kFirstFree + 1, 7});
-            })),
+  EXPECT_EQ(error_declaring({{21, {kFirstFree, 64, 0}}, {43, {kFirstFree, kFirstFree + 1, 7}}}),
             "SPIR-V OpConstant at word 34: has a constant narrower than its type");
-  EXPECT_EQ(error_of(compute_module([](Assembler& a) {
-              a.op(21, {kFirstFree, 64, 0});
-              a.op(43, {kFirstFree, kFirstFree + 1, 7, 0});
-            })),
-            "");
+  EXPECT_EQ(error_declaring({{21, {kFirstFree, 64, 0}}, {43, {kFirstFree, kFirstFree + 1, 7, 0}}}), "");
 }
 
 TEST(SpirvStructure, StringsMustEndAndOpcodesMustExist) {
-  EXPECT_EQ(error_of(compute_module([](Assembler& a) {
-              a.op(5, {kMain, 0x6e69616d});
-            })),  // "main", no nul
+  EXPECT_EQ(error_declaring({{5, {kMain, 0x6e69616d}}}),  // "main", no nul
             "SPIR-V OpName at word 30: has a literal string without its terminating nul");
-  EXPECT_EQ(error_of(compute_module([](Assembler& a) {
-              a.op(5, std::vector<uint32_t>{kMain, 0x6e69616d, 0});
-            })),
-            "");
-  EXPECT_EQ(error_of(compute_module([](Assembler& a) { a.op(9999, {1}); })),
+  EXPECT_EQ(error_declaring({{5, {kMain, 0x6e69616d, 0}}}), "");
+  EXPECT_EQ(error_declaring({{9999, {1}}}),
             std::string("SPIR-V instruction at word 30: opcode 9999 is not one of SPIR-V ") +
                 spirv::grammar_version() + "'s");
 }
 
 TEST(SpirvStructure, KindsSpirvRequiresOfParticularOperands) {
-  EXPECT_EQ(error_of(compute_module([](Assembler& a) {
-              a.op(59, {kUint, kFirstFree, 6});
-            })),
+  EXPECT_EQ(error_declaring({{59, {kUint, kFirstFree, 6}}}),
             "SPIR-V OpVariable at word 30: variable %6 has type %5, not a pointer");
-  EXPECT_EQ(error_of(compute_module([](Assembler& a) {
-              a.op(43, {kVoid, kFirstFree, 1});
-            })),
+  EXPECT_EQ(error_declaring({{43, {kVoid, kFirstFree, 1}}}),
             "SPIR-V OpConstant at word 30: constant %6 has type %1, not an integer or float type");
   // An array's length is an integer constant, not a type.
-  EXPECT_EQ(error_of(compute_module([](Assembler& a) {
-              a.op(28, {kFirstFree, kUint, kUint});
-            })),
+  EXPECT_EQ(error_declaring({{28, {kFirstFree, kUint, kUint}}}),
             "SPIR-V OpTypeArray at word 30: array length %5 is not an integer constant");
 }
 
 TEST(SpirvStructure, ForwardReferencesOnlyWhereSpirvAllowsThem) {
-  // A decoration names what comes after it; a constant composite may not.
-  EXPECT_EQ(error_of(compute_module([](Assembler& a) {
-              a.op(71, {kFirstFree, 6, 16});  // OpDecorate %6 ArrayStride 16 (before %6)
-              a.op(43, {kUint, kFirstFree + 1, 4});
-              a.op(28, {kFirstFree, kUint, kFirstFree + 1});
-            })),
+  // A decoration names what comes after it (OpDecorate %6 ArrayStride 16, then %6 = an array); a
+  // constant composite may not (a uvec2 of %20, defined after it).
+  EXPECT_EQ(error_declaring({{71, {kFirstFree, 6, 16}},
+                             {43, {kUint, kFirstFree + 1, 4}},
+                             {28, {kFirstFree, kUint, kFirstFree + 1}}}),
             "");
-  EXPECT_EQ(error_of(compute_module([](Assembler& a) {
-              a.op(23, {kFirstFree, kUint, 2});                // %6 = uvec2
-              a.op(44, {kFirstFree, kFirstFree + 1, 20, 20});  // OpConstantComposite of %20, later
-              a.op(43, {kUint, 20, 4});
-            })),
-            "SPIR-V OpConstantComposite at word 34: operand %20 is not defined before its use "
-            "(outside functions, SPIR-V defines before it uses)");
+  EXPECT_EQ(
+      error_declaring(
+          {{23, {kFirstFree, kUint, 2}}, {44, {kFirstFree, kFirstFree + 1, 20, 20}}, {43, {kUint, 20, 4}}}),
+      "SPIR-V OpConstantComposite at word 34: operand %20 is not defined before its use "
+      "(outside functions, SPIR-V defines before it uses)");
   // A name for nothing the module ever defines.
-  EXPECT_EQ(error_of(compute_module([](Assembler& a) {
-              a.op(5, std::vector<uint32_t>{40, 0});
-            })),
-            "SPIR-V OpName at word 30: operand %40 is never defined");
+  EXPECT_EQ(error_declaring({{5, {40, 0}}}), "SPIR-V OpName at word 30: operand %40 is never defined");
 }
 
 TEST(SpirvStructure, ADecorationsOperandsAreReadByItsKind) {
   // OpDecorate %uint SpecId: one literal more; BuiltIn: its value; without: none.
-  EXPECT_EQ(error_of(compute_module([](Assembler& a) { a.op(71, {kUint, 1, 3}); })), "");
-  EXPECT_EQ(error_of(compute_module([](Assembler& a) {
-              a.op(71, {kUint, 1});
-            })),
+  EXPECT_EQ(error_declaring({{71, {kUint, 1, 3}}}), "");
+  EXPECT_EQ(error_declaring({{71, {kUint, 1}}}),
             "SPIR-V OpDecorate at word 30: has fewer operands than its grammar requires");
-  EXPECT_EQ(error_of(compute_module([](Assembler& a) {
-              a.op(71, {kUint, 2, 3});
-            })),
+  EXPECT_EQ(error_declaring({{71, {kUint, 2, 3}}}),
             "SPIR-V OpDecorate at word 30: has 1 words more than its operands");
 }
 
