@@ -44,14 +44,20 @@ enum : uint32_t { kVoid = 1, kFunctionType = 2, kMain = 3, kLabel = 4, kUint = 5
 // OpCapability Shader, OpMemoryModel Logical GLSL450, OpEntryPoint GLCompute %main "main",
 // OpExecutionMode LocalSize 1 1 1, %void, %fn = OpTypeFunction %void, %uint = OpTypeInt 32 0,
 // then `declare`'s instructions, then %main with one block that returns.
-template <typename Declare>
-std::vector<uint32_t> compute_module(Declare declare, uint32_t bound = 64) {
-  Assembler a;
+// OpCapability Shader, OpMemoryModel Logical GLSL450, OpEntryPoint GLCompute %main "main": how every
+// module of these tests begins.
+void begin_module(Assembler& a) {
   a.op(17, {1});
   a.op(14, {0, 1});
   std::vector<uint32_t> entry{5, kMain};
   for (uint32_t w : Assembler::text("main")) entry.push_back(w);
   a.op(15, entry);
+}
+
+template <typename Declare>
+std::vector<uint32_t> compute_module(Declare declare, uint32_t bound = 64) {
+  Assembler a;
+  begin_module(a);
   a.op(16, {kMain, 17, 1, 1, 1});
   a.op(19, {kVoid});
   a.op(33, {kFunctionType, kVoid});
@@ -214,11 +220,7 @@ namespace {
 std::vector<uint32_t> module_with_body(
     std::initializer_list<std::pair<uint32_t, std::vector<uint32_t>>> body) {
   Assembler a;
-  a.op(17, {1});
-  a.op(14, {0, 1});
-  std::vector<uint32_t> entry{5, kMain};
-  for (uint32_t w : Assembler::text("main")) entry.push_back(w);
-  a.op(15, entry);
+  begin_module(a);
   a.op(19, {kVoid});
   a.op(33, {kFunctionType, kVoid});
   a.op(54, {kVoid, kMain, 0, kFunctionType});
