@@ -10,6 +10,7 @@
 
 #include <vulkan/vulkan_core.h>
 
+#include "allocation_budget.hpp"
 #include "hlsl_push_constants.hpp"
 #include "hlsl_system_values.hpp"
 
@@ -44,6 +45,14 @@ std::string size_text(uint64_t bytes) {
   return bytes % (1u << 20) == 0 ? std::to_string(bytes >> 20) + " MiB" : std::to_string(bytes) + " bytes";
 }
 
+// What glslang may allocate to parse one shader (allocation_budget.hpp): a floor that holds its
+// built-in symbol tables (about 30 MB for the first shader of a stage) and any hand-written shader,
+// and a share per byte of source far above what real shaders need (the path tracer's compute shader
+// allocates 70 bytes per byte of its source and includes). An exponential macro passes it within
+// seconds, at a few hundred MB.
+constexpr uint64_t kCompileAllocationFloor = uint64_t(512) << 20;
+constexpr uint64_t kCompileAllocationPerByte = 512;
+
 // Expanded #include text per shader beyond --max-input-size (64 MiB by default) is refused: includes
 // without guards can otherwise double the source with every level (a includes b twice, b includes c
 // twice, ...).
@@ -72,6 +81,9 @@ class Includer final : public glslang::TShader::Includer {
     delete static_cast<std::string*>(result->userData);
     delete result;
   }
+
+  // Each included file raises the compile's allocation budget by its share.
+  void set_budget(AllocationBudget* budget) { budget_ = budget; }
 
   // The first problem that stopped an include, if any; it explains glslang's error better.
   const std::string& problem() const { return problem_; }
@@ -114,6 +126,7 @@ class Includer final : public glslang::TShader::Includer {
           " of source (files included repeatedly without include guards?; --max-input-size sets the limit)";
       return nullptr;
     }
+    if (budget_) budget_->raise(kCompileAllocationPerByte * input.text.size());
     files_read_.push_back({fs::absolute(path, ec).lexically_normal(), input.identity});
     backend_specific_ = backend_specific_ || tests_backend_macros(input.text);
     chain_.push_back(canonical);
@@ -128,6 +141,7 @@ class Includer final : public glslang::TShader::Includer {
   std::vector<fs::path> chain_;  // canonical paths: the shader, then each open #include
   uint64_t max_bytes_;
   uint64_t included_bytes_ = 0;
+  AllocationBudget* budget_ = nullptr;
   std::string problem_;
   bool backend_specific_ = false;
 };
@@ -392,7 +406,26 @@ CompiledShader compile_shader(const ShaderDesc& original, const CompileOptions& 
   Includer includer(options.include_dirs, result.files_read,
                     shader.file.empty() ? fs::path() : fs::weakly_canonical(shader.file, ec),
                     options.max_input_bytes);
-  if (!ts.parse(GetDefaultResources(), 450, false, messages, includer)) {
+  AllocationBudget budget(kCompileAllocationFloor +
+                          kCompileAllocationPerByte * (source.size() + preamble.size()));
+  includer.set_budget(&budget);
+  bool parsed = false;
+  try {
+    parsed = ts.parse(GetDefaultResources(), 450, false, messages, includer);
+  } catch (const std::bad_alloc&) {
+    if (!budget.exhausted()) throw;
+  }
+  if (budget.exhausted()) {
+    errors.error(shader.where, shader.name,
+                 "compiling it allocated more than " + std::to_string(budget.limit() >> 20) + " MiB (" +
+                     std::to_string(kCompileAllocationFloor >> 20) + " MiB and " +
+                     std::to_string(kCompileAllocationPerByte) +
+                     " bytes per byte of source and includes): does a macro expand exponentially, such as "
+                     "one used twice in the next one's definition, or F(F(F(...))) with F using its "
+                     "argument twice?");
+    return result;
+  }
+  if (!parsed) {
     if (!includer.problem().empty()) {
       // The cause, at the #include glslang stopped at (its first error), and nothing that followed.
       Location where = shader.where;
