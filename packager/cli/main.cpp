@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <iostream>
 #include <set>
+#include <sstream>
 
 #include "format/archive_format.hpp"
 #include "inspect.hpp"
@@ -204,7 +205,7 @@ struct VerifyCommand {
   CLI::App* app = nullptr;
   VerifyOptions options;
   std::vector<std::string> paths;
-  std::string format = "RGBA8_UNORM", cache;
+  std::string format = "RGBA8_UNORM", cache, worker_start;
   bool no_validation = false;
 
   void add_to(CLI::App& parent) {
@@ -225,6 +226,12 @@ struct VerifyCommand {
         "--cache", cache,
         "Pipeline cache file: loaded when present and valid for this device, saved after (warming)");
     app->add_flag("--no-validation", no_validation, "Do not enable the validation layer");
+    app->add_option("--timeout", options.timeout_seconds,
+                    "Seconds an object may take to create: objects are created in worker processes, so a "
+                    "driver crash or hang fails only that object (0: in this process, no limit)")
+        ->capture_default_str();
+    // Internal: a worker of the above, started by verify itself (verify_supervisor.cpp).
+    app->add_option("--worker-start", worker_start)->group("");
   }
   int run() {
     for (const auto& p : paths) options.archives.emplace_back(p);
@@ -237,6 +244,16 @@ struct VerifyCommand {
     options.color_format = *color_format;
     options.validation = !no_validation;
     if (!cache.empty()) options.cache = cache;
+    if (!worker_start.empty()) {
+      VerifyOptions::Position start;
+      char colon = 0;
+      std::istringstream in(worker_start);
+      if (!(in >> start.archive >> colon >> start.object) || colon != ':') {
+        std::cerr << "statepack: error: --worker-start: expected ARCHIVE:OBJECT\n";
+        return kExitUsage;
+      }
+      options.worker_start = start;
+    }
     return run_verify(options, std::cout, std::cerr);
   }
 };

@@ -1,7 +1,10 @@
 #include "verify.hpp"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <bit>
+#include <cerrno>
 #include <ostream>
 
 #include "format/archive_file.hpp"
@@ -79,7 +82,124 @@ std::optional<VkFormat> parse_vk_format(const std::string& name) {
   return std::nullopt;
 }
 
+namespace {
+
+// What a worker tells its supervisor (verify_supervisor.cpp), a line per event; nothing in-process.
+class Progress {
+ public:
+  explicit Progress(bool worker) : fd_(worker ? kVerifyControlFd : -1) {}
+  bool worker() const { return fd_ >= 0; }
+  void send(const std::string& line) const {
+    if (fd_ < 0) return;
+    const std::string text = line + '\n';
+    for (size_t done = 0; done < text.size();) {
+      const ssize_t n = ::write(fd_, text.data() + done, text.size() - done);
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0) return;  // the supervisor is gone: the output still goes to stdout
+      done += size_t(n);
+    }
+  }
+
+ private:
+  int fd_;
+};
+
+// The validation messages since the last call.
+class MessageCursor {
+ public:
+  explicit MessageCursor(const bootstrap::VulkanContext& vk) : vk_(vk) {}
+  std::vector<std::string> fresh() {
+    auto all = vk_.validation_messages();
+    std::vector<std::string> result(all.begin() + std::ptrdiff_t(std::min(seen_, all.size())), all.end());
+    seen_ = all.size();
+    return result;
+  }
+
+ private:
+  const bootstrap::VulkanContext& vk_;
+  size_t seen_ = 0;
+};
+
+std::string describe(const ObjectInfo& object, const std::vector<uint32_t>& patched_slots, VkFormat format) {
+  std::string what = std::string(kind_name(object.kind)) + " '" + printable(object.name) + "'";
+  if (!patched_slots.empty()) {
+    what += " (render target";
+    for (size_t i = 0; i < patched_slots.size(); ++i)
+      what += (i ? ", " : patched_slots.size() > 1 ? "s " : " ") + std::to_string(patched_slots[i]);
+    what += ", set at run time: verified as " + format_name(format) + ")";
+  }
+  return what;
+}
+
+// Unpacks the objects of one archive from `first_object` on; returns the exit code it earned.
+int verify_archive(size_t index, const std::filesystem::path& path, size_t first_object,
+                   const DeviceContext& context, const VerifyOptions& options, MessageCursor& messages,
+                   const Progress& progress, std::ostream& out, std::ostream& err) {
+  auto archive = Archive::from_file(path);
+  if (!archive) {
+    err << "statepack: error: " << printable(archive.error().message) << '\n';
+    return kExitIoError;
+  }
+  // Archive checks what Vulkan uses; the OpenGL block, which verify does not create, is checked too.
+  if (auto gl = format::check_opengl(detail::ArchiveAccess::contents(*archive), path.string()); !gl) {
+    err << "statepack: error: " << printable(gl.error().message) << '\n';
+    return kExitInputError;
+  }
+  std::vector<ObjectInfo> objects = archive->objects();
+  progress.send("archive " + std::to_string(index) + " " + std::to_string(objects.size()));
+  int exit_code = kExitSuccess;
+  size_t ok = 0;
+  {
+    auto dearchiver = Dearchiver::create(context);
+    if (!dearchiver || !dearchiver->add_archive(std::move(*archive))) {
+      err << "statepack: error: " << printable(path.string()) << ": cannot create the dearchiver\n";
+      return kExitInputError;
+    }
+    for (size_t i = first_object; i < objects.size(); ++i) {
+      const ObjectInfo& object = objects[i];
+      const std::string place = std::to_string(index) + " " + std::to_string(i);
+      progress.send("begin " + place + " " + describe(object, {}, options.color_format));
+      std::vector<uint32_t> patched_slots;
+      auto unpacked = unpack_one(*dearchiver, object, options.color_format, patched_slots);
+      auto fresh = messages.fresh();
+      const std::string what = describe(object, patched_slots, options.color_format);
+      // Performance warnings are advice: the object is valid, and is reported ok with them.
+      const bool only_advice = std::all_of(fresh.begin(), fresh.end(), [](const std::string& m) {
+        return m.starts_with(bootstrap::kPerformanceWarning);
+      });
+      if (unpacked && only_advice) {
+        out << "ok     " << what << '\n';
+        for (const auto& m : fresh) out << "         warning: " << printable(m) << '\n';
+        ++ok;
+      } else {
+        exit_code = kExitInputError;
+        out << "FAILED " << what << ": "
+            << (unpacked ? "validation messages" : printable(unpacked.error().message)) << '\n';
+        for (const auto& m : fresh) out << "         " << printable(m) << '\n';
+      }
+      out.flush();  // before the supervisor hears of it: its own lines come after
+      progress.send("end " + place + (unpacked && only_advice ? " ok" : " failed"));
+    }
+  }  // the dearchiver destroys its objects here; the layer reports anything left behind
+  if (auto leaks = messages.fresh(); !leaks.empty()) {
+    exit_code = kExitInputError;
+    for (const auto& m : leaks) out << "FAILED " << printable(path.string()) << ": " << printable(m) << '\n';
+  }
+  out.flush();
+  if (progress.worker())
+    progress.send("done " + std::to_string(index));  // the supervisor counts and prints the summary
+  else
+    out << printable(path.string()) << ": " << ok << " of " << objects.size() << " objects ok\n";
+  return exit_code;
+}
+
+}  // namespace
+
 int run_verify(const VerifyOptions& options, std::ostream& out, std::ostream& err) {
+  if (!options.worker_start && options.timeout_seconds > 0) return supervise_verify(options, out, err);
+  const Progress progress(options.worker_start.has_value());
+  const VerifyOptions::Position start = options.worker_start.value_or(VerifyOptions::Position{});
+  const bool first = start.archive == 0 && start.object == 0;  // a restarted worker says nothing twice
   bootstrap::VulkanContextOptions vk_options;
   vk_options.validation = options.validation;
   vk_options.validation_if_present = true;
@@ -90,9 +210,10 @@ int run_verify(const VerifyOptions& options, std::ostream& out, std::ostream& er
     err << "statepack: error: cannot create a Vulkan device: " << printable(vk.error().message) << '\n';
     return kExitIoError;
   }
-  out << "device: " << printable((*vk)->device_name) << " (" << printable((*vk)->driver_name) << ")"
-      << ((*vk)->validation_enabled ? ", validation layer on" : "") << '\n';
-  if (options.validation && !(*vk)->validation_enabled)
+  if (first)
+    out << "device: " << printable((*vk)->device_name) << " (" << printable((*vk)->driver_name) << ")"
+        << ((*vk)->validation_enabled ? ", validation layer on" : "") << '\n';
+  if (first && options.validation && !(*vk)->validation_enabled)
     err << "statepack: note: the Vulkan validation layer is not installed; objects are only created "
            "(apt-get install vulkan-validationlayers)\n";
 
@@ -106,74 +227,17 @@ int run_verify(const VerifyOptions& options, std::ostream& out, std::ostream& er
     }
     cache = *loaded;
     context.pipeline_cache = cache->cache;
-    if (!cache->reused && !cache->reason.empty())
+    if (first && !cache->reused && !cache->reason.empty())
       out << "pipeline cache: starting empty (" << printable(cache->reason) << ")\n";
   }
+  progress.send("ready");
 
   int exit_code = kExitSuccess;
-  size_t messages_seen = 0;
-  auto new_messages = [&] {
-    auto all = (*vk)->validation_messages();
-    std::vector<std::string> fresh(all.begin() + std::ptrdiff_t(std::min(messages_seen, all.size())),
-                                   all.end());
-    messages_seen = all.size();
-    return fresh;
-  };
-  for (const auto& path : options.archives) {
-    auto archive = Archive::from_file(path);
-    if (!archive) {
-      err << "statepack: error: " << printable(archive.error().message) << '\n';
-      exit_code = std::max(exit_code, int(kExitIoError));
-      continue;
-    }
-    // Archive checks what Vulkan uses; the OpenGL block, which verify does not create, is checked too.
-    if (auto gl = format::check_opengl(detail::ArchiveAccess::contents(*archive), path.string()); !gl) {
-      err << "statepack: error: " << printable(gl.error().message) << '\n';
-      exit_code = std::max(exit_code, int(kExitInputError));
-      continue;
-    }
-    std::vector<ObjectInfo> objects = archive->objects();
-    size_t ok = 0;
-    {
-      auto dearchiver = Dearchiver::create(context);
-      if (!dearchiver || !dearchiver->add_archive(std::move(*archive))) {
-        err << "statepack: error: " << printable(path.string()) << ": cannot create the dearchiver\n";
-        exit_code = std::max(exit_code, int(kExitInputError));
-        continue;
-      }
-      for (const ObjectInfo& object : objects) {
-        std::vector<uint32_t> patched_slots;
-        auto unpacked = unpack_one(*dearchiver, object, options.color_format, patched_slots);
-        auto messages = new_messages();
-        std::string what = std::string(kind_name(object.kind)) + " '" + printable(object.name) + "'";
-        if (!patched_slots.empty()) {
-          what += " (render target";
-          for (size_t i = 0; i < patched_slots.size(); ++i)
-            what += (i ? ", " : patched_slots.size() > 1 ? "s " : " ") + std::to_string(patched_slots[i]);
-          what += ", set at run time: verified as " + format_name(options.color_format) + ")";
-        }
-        // Performance warnings are advice: the object is valid, and is reported ok with them.
-        const bool only_advice = std::all_of(messages.begin(), messages.end(), [](const std::string& m) {
-          return m.starts_with(bootstrap::kPerformanceWarning);
-        });
-        if (unpacked && only_advice) {
-          out << "ok     " << what << '\n';
-          for (const auto& m : messages) out << "         warning: " << printable(m) << '\n';
-          ++ok;
-          continue;
-        }
-        exit_code = std::max(exit_code, int(kExitInputError));
-        out << "FAILED " << what << ": "
-            << (unpacked ? "validation messages" : printable(unpacked.error().message)) << '\n';
-        for (const auto& m : messages) out << "         " << printable(m) << '\n';
-      }
-    }  // the dearchiver destroys its objects here; the layer reports anything left behind
-    if (auto leaks = new_messages(); !leaks.empty()) {
-      exit_code = std::max(exit_code, int(kExitInputError));
-      for (const auto& m : leaks)
-        out << "FAILED " << printable(path.string()) << ": " << printable(m) << '\n';
-    }
-    out << printable(path.string()) << ": " << ok << " of " << objects.size() << " objects ok\n";
+  MessageCursor messages(**vk);
+  for (size_t i = start.archive; i < options.archives.size(); ++i) {
+    const size_t first_object = i == start.archive ? start.object : 0;
+    exit_code = std::max(exit_code, verify_archive(i, options.archives[i], first_object, context, options,
+                                                   messages, progress, out, err));
   }
   if (cache) {
     if (auto saved = save_pipeline_cache(context, cache->cache, *options.cache); !saved) {
@@ -185,7 +249,7 @@ int run_verify(const VerifyOptions& options, std::ostream& out, std::ostream& er
     vkDestroyPipelineCache((*vk)->device, cache->cache, nullptr);
   }
   (*vk)->destroy_device();
-  if (auto last = new_messages(); !last.empty()) {
+  if (auto last = messages.fresh(); !last.empty()) {
     exit_code = std::max(exit_code, int(kExitInputError));
     for (const auto& m : last) out << "FAILED device teardown: " << printable(m) << '\n';
   }

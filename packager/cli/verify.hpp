@@ -20,11 +20,25 @@ struct VerifyOptions {
   // Render targets the archive leaves UNKNOWN (patched at run time) are verified with these formats.
   VkFormat color_format = VK_FORMAT_R8G8B8A8_UNORM;
   std::optional<std::filesystem::path> cache;  // pipeline cache to load (if present) and save
+  // Objects are created in worker processes (this program again, with --worker-start) so that a driver
+  // that crashes or hangs fails only the object it was creating; a worker that reports nothing for
+  // this long is killed. 0: create everything in this process, with no time limit.
+  unsigned timeout_seconds = 60;
+  // Set in a worker: where to start (archive and object index), and its channel to the supervisor.
+  struct Position {
+    size_t archive = 0, object = 0;
+  };
+  std::optional<Position> worker_start;
 };
+
+// The file descriptor a worker reports its progress on (verify_supervisor.cpp has the protocol).
+inline constexpr int kVerifyControlFd = 3;
 
 // Returns an ExitCode: 0 every object unpacked without a validation message, 1 an object failed or the
 // layer spoke, 2 usage, 3 an archive could not be read or no device could be created.
 int run_verify(const VerifyOptions& options, std::ostream& out, std::ostream& err);
+// The same in worker processes (run_verify calls it unless timeout_seconds is 0 or this is a worker).
+int supervise_verify(const VerifyOptions& options, std::ostream& out, std::ostream& err);
 
 // Vulkan's name for a format ("R8G8B8A8_UNORM", as VK_FORMAT_ spells it) and back.
 std::optional<VkFormat> parse_vk_format(const std::string& name);

@@ -237,6 +237,26 @@ struct LinkedSpirv {
   std::vector<uint32_t> spirv;
   std::string link_log, generation_error;
 };
+// Parses (preprocesses) `ts` under an allocation budget for `source_bytes` of source (each #include
+// adds its own share). Returns the error when the budget ran out, else "" with `parsed` set.
+std::string parse_within_budget(glslang::TShader& ts, EShMessages messages, Includer& includer,
+                                size_t source_bytes, bool& parsed) {
+  AllocationBudget budget(kCompileAllocationFloor + kCompileAllocationPerByte * source_bytes);
+  includer.set_budget(&budget);
+  try {
+    parsed = ts.parse(GetDefaultResources(), 450, false, messages, includer);
+  } catch (const std::bad_alloc&) {
+    if (!budget.exhausted()) throw;
+  }
+  includer.set_budget(nullptr);
+  if (!budget.exhausted()) return "";
+  return "compiling it allocated more than " + std::to_string(budget.limit() >> 20) + " MiB (" +
+         std::to_string(kCompileAllocationFloor >> 20) + " MiB and " +
+         std::to_string(kCompileAllocationPerByte) +
+         " bytes per byte of source and includes): does a macro expand exponentially, such as one used twice "
+         "in the next one's definition, or F(F(F(...))) with F using its argument twice?";
+}
+
 LinkedSpirv link_to_spirv(glslang::TShader& ts, EShLanguage stage, EShMessages messages) {
   LinkedSpirv out;
   glslang::TProgram program;
@@ -406,23 +426,11 @@ CompiledShader compile_shader(const ShaderDesc& original, const CompileOptions& 
   Includer includer(options.include_dirs, result.files_read,
                     shader.file.empty() ? fs::path() : fs::weakly_canonical(shader.file, ec),
                     options.max_input_bytes);
-  AllocationBudget budget(kCompileAllocationFloor +
-                          kCompileAllocationPerByte * (source.size() + preamble.size()));
-  includer.set_budget(&budget);
   bool parsed = false;
-  try {
-    parsed = ts.parse(GetDefaultResources(), 450, false, messages, includer);
-  } catch (const std::bad_alloc&) {
-    if (!budget.exhausted()) throw;
-  }
-  if (budget.exhausted()) {
-    errors.error(shader.where, shader.name,
-                 "compiling it allocated more than " + std::to_string(budget.limit() >> 20) + " MiB (" +
-                     std::to_string(kCompileAllocationFloor >> 20) + " MiB and " +
-                     std::to_string(kCompileAllocationPerByte) +
-                     " bytes per byte of source and includes): does a macro expand exponentially, such as "
-                     "one used twice in the next one's definition, or F(F(F(...))) with F using its "
-                     "argument twice?");
+  if (std::string exhausted =
+          parse_within_budget(ts, messages, includer, source.size() + preamble.size(), parsed);
+      !exhausted.empty()) {
+    errors.error(shader.where, shader.name, exhausted);
     return result;
   }
   if (!parsed) {

@@ -295,6 +295,51 @@ TEST_F(Verify, PipelinesNeedingVulkan11To13FeaturesAreVerified) {
       << run.output;
 }
 
+// Objects are created in worker processes: a driver that crashes or hangs inside pipeline creation
+// (the test layer tests/fault_layer/ does either for an entry point so named) fails that object only,
+// with the reason, and verify goes on with the next object and the next archive.
+TEST_F(Verify, DriverCrashesAndHangsFailTheirObjectAndVerifyGoesOn) {
+  fs::path json = dir_ / "faults.json", out = dir_ / "faults.spk", slice = dir_ / "slice.spk";
+  auto pipeline = [](const std::string& name, const std::string& entry) {
+    return R"({"PSODesc": {"Name": ")" + name + R"("}, "pCS": {"Desc": {"Name": ")" + name +
+           R"( CS", "ShaderType": "COMPUTE"}, "SourceLanguage": "HLSL", "EntryPoint": ")" + entry +
+           R"(", "Source": "RWStructuredBuffer<uint> data;\n[numthreads(1, 1, 1)] void )" + entry +
+           R"(() { data[0] = 1; }\n"}})";
+  };
+  std::ofstream(json) << "{\"Pipelines\": [" << pipeline("A First", "Fill") << ","
+                      << pipeline("B Crashes", "CrashTheDriver") << "," << pipeline("C Between", "Fill")
+                      << "," << pipeline("D Hangs", "HangTheDriver") << ","
+                      << pipeline("E Crashes Last", "CrashTheDriver") << "]}";
+  ASSERT_EQ(statepack(pack_args(json.string(), out)).exit_code, 0);
+  ASSERT_EQ(statepack(pack_args(std::string(STATEPACK_STATES_DIR) + "/slice.json", slice)).exit_code, 0);
+  const std::string faults = std::string("XDG_DATA_DIRS='") + STATEPACK_FAULT_LAYER_DIR +
+                             ":/usr/local/share:/usr/share' STATEPACK_TEST_FAULTS=1 ";
+  CliRun run = statepack::testing::run_command(faults + "'" + STATEPACK_EXE + "' verify --timeout 2 '" +
+                                               out.string() + "' '" + slice.string() + "'");
+  EXPECT_EQ(run.exit_code, 1) << run.output;
+  const std::string expected =
+      "ok     compute pipeline 'A First'\n"
+      "FAILED compute pipeline 'B Crashes': the driver crashed (SIGSEGV: Segmentation fault) while creating "
+      "it; verify went on in a new process\n"
+      "ok     compute pipeline 'C Between'\n"
+      "FAILED compute pipeline 'D Hangs': no answer within 2 s (--timeout): the driver hung while creating "
+      "it; verify went on in a new process\n"
+      "FAILED compute pipeline 'E Crashes Last': the driver crashed (SIGSEGV: Segmentation fault) while "
+      "creating it; verify went on in a new process\n" +
+      out.string() + ": 2 of 5 objects ok\n" +
+      "ok     compute pipeline 'Fill Buffer PSO'\n"
+      "ok     graphics pipeline 'Gradient PSO'\n" +
+      slice.string() + ": 2 of 2 objects ok\n";
+  const size_t device_line = run.output.find('\n');
+  EXPECT_EQ(run.output.substr(0, run.output.find(' ')), "device:") << run.output;
+  EXPECT_EQ(run.output.substr(device_line + 1), expected);
+  // Without the faults, the same archive's good objects verify, also in-process (--timeout 0).
+  CliRun in_process = statepack("verify --timeout 0 '" + slice.string() + "'");
+  EXPECT_EQ(in_process.exit_code, 0) << in_process.output;
+  EXPECT_NE(in_process.output.find(slice.string() + ": 2 of 2 objects ok\n"), std::string::npos)
+      << in_process.output;
+}
+
 TEST_F(Verify, DamagedArchivesAndMissingDevicesAreErrors) {
   fs::path out = dir_ / "slice.spk";
   ASSERT_EQ(statepack(pack_args(std::string(STATEPACK_STATES_DIR) + "/slice.json", out)).exit_code, 0);
