@@ -39,6 +39,8 @@ bool takes_sampler(uint32_t type) {
 struct Slot {
   format::Binding binding;
   uint32_t set = 0;
+  bool combined_attribute = false;  // [[vk::combinedImageSampler]] on its variable
+  std::string sampler_name;         // the sampler paired into this combined binding, if any
 };
 
 void patch(std::vector<uint32_t>& words, const ReflectedBinding& r, uint32_t set, uint32_t binding) {
@@ -52,7 +54,9 @@ bool attach_sampler(std::vector<Slot*>& candidates, const ImmutableSamplerDesc& 
                     ContentsBuilder& builder) {
   for (Slot* slot : candidates) {
     if (!takes_sampler(slot->binding.descriptor_type)) continue;
-    if (slot->binding.name != s.name && (suffix.empty() || slot->binding.name != s.name + suffix)) continue;
+    if (slot->binding.name != s.name && slot->sampler_name != s.name &&
+        (suffix.empty() || slot->binding.name != s.name + suffix))
+      continue;
     slot->binding.immutable_sampler = builder.add_sampler(s.sampler);
     return true;
   }
@@ -140,6 +144,44 @@ Location variable_location(const PipelineDesc& p, const std::string& name, const
   return fallback;
 }
 
+// [[vk::combinedImageSampler]] on a texture and a sampler at the same set and binding: one combined
+// image sampler descriptor, named after the texture, that both variables read (Vulkan allows a
+// separate image and a sampler variable on a combined descriptor). Without the attribute, or without
+// a partner, they stay apart and the collision moves one of them, as for HLSL's t0 and s0.
+void pair_combined_image_samplers(std::vector<Slot>& slots, std::map<std::string, size_t>& by_name) {
+  std::vector<bool> absorbed(slots.size(), false);
+  for (size_t i = 0; i < slots.size(); ++i) {
+    Slot& texture = slots[i];
+    if (!texture.combined_attribute || texture.binding.descriptor_type != VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE)
+      continue;
+    for (size_t j = 0; j < slots.size(); ++j) {
+      const Slot& sampler = slots[j];
+      if (absorbed[j] || !sampler.combined_attribute ||
+          sampler.binding.descriptor_type != VK_DESCRIPTOR_TYPE_SAMPLER || sampler.set != texture.set ||
+          sampler.binding.binding != texture.binding.binding ||
+          sampler.binding.count != texture.binding.count)
+        continue;
+      texture.binding.descriptor_type = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
+      texture.binding.stage_flags |= sampler.binding.stage_flags;
+      texture.sampler_name = sampler.binding.name;
+      absorbed[j] = true;
+      break;
+    }
+  }
+  std::vector<Slot> kept;
+  std::vector<size_t> new_index(slots.size());
+  for (size_t i = 0; i < slots.size(); ++i)
+    if (!absorbed[i]) new_index[i] = kept.size(), kept.push_back(std::move(slots[i]));
+  for (auto& [name, index] : by_name)
+    if (absorbed[index]) {
+      for (size_t k = 0; k < kept.size(); ++k)
+        if (kept[k].sampler_name == name) index = k;
+    } else {
+      index = new_index[index];
+    }
+  slots = std::move(kept);
+}
+
 bool implicit_layout(const PipelineDesc& p, const std::vector<StageInput>& stages, ContentsBuilder& builder,
                      const SourceTexts& sources, PipelineLayout& out, Diagnostics& diag) {
   // Merge uses by name across stages; the first use decides type and wished-for slot.
@@ -150,10 +192,12 @@ bool implicit_layout(const PipelineDesc& p, const std::vector<StageInput>& stage
     for (const ReflectedBinding& r : stage.reflection->bindings) {
       auto [it, inserted] = by_name.emplace(r.name, slots.size());
       if (inserted) {
-        slots.push_back({format::Binding{r.name, r.binding, r.descriptor_type, r.count, r.stage}, r.set});
+        slots.push_back({format::Binding{r.name, r.binding, r.descriptor_type, r.count, r.stage}, r.set,
+                         r.combined_attribute});
         continue;
       }
       Slot& slot = slots[it->second];
+      slot.combined_attribute = slot.combined_attribute || r.combined_attribute;
       if (slot.binding.descriptor_type != r.descriptor_type || slot.binding.count != r.count) {
         diag.error(variable_location(p, r.name, sources, stage.desc->where),
                    where_text(p, stage) + ": resource '" + r.name + "' is declared as a " +
@@ -166,6 +210,7 @@ bool implicit_layout(const PipelineDesc& p, const std::vector<StageInput>& stage
       slot.binding.stage_flags |= r.stage;
     }
   }
+  pair_combined_image_samplers(slots, by_name);
   // Keep each resource's own set and binding where free; move the rest (e.g. HLSL b0 and t0, which
   // glslang both maps to binding 0) to the next free binding of the set.
   std::set<std::pair<uint32_t, uint32_t>> taken;

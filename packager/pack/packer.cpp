@@ -188,6 +188,10 @@ CompiledShaders compile_shaders(const Notation& notation, const PackOptions& opt
     u.compiled = compile_shader(u.desc, options.compile, compile_errors);
     if (!u.compiled.ok) return;
     u.reflection = reflect_spirv(u.compiled.spirv, u.desc.stage);
+    for (ReflectedBinding& b : u.reflection.bindings)
+      b.combined_attribute =
+          std::find(u.compiled.combined_image_samplers.begin(), u.compiled.combined_image_samplers.end(),
+                    b.name) != u.compiled.combined_image_samplers.end();
     if (!u.reflection.error.empty()) {
       u.compiled.ok = false;
       diag.error(u.desc.where,

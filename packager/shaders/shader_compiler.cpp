@@ -11,10 +11,12 @@
 #include <vulkan/vulkan_core.h>
 
 #include "allocation_budget.hpp"
+#include "hlsl_combined_image_samplers.hpp"
 #include "hlsl_push_constants.hpp"
 #include "hlsl_system_values.hpp"
 
 #include <algorithm>
+#include <map>
 #include <mutex>
 #include <optional>
 #include <sstream>
@@ -82,6 +84,12 @@ class Includer final : public glslang::TShader::Includer {
     delete result;
   }
 
+  // An included file's text by glslang's name for it, kept only for files that spell
+  // combinedImageSampler (hlsl_combined_image_samplers.hpp reads the declarations after it).
+  const std::string* attribute_text(const std::string& name) const {
+    auto it = attribute_texts_.find(name);
+    return it == attribute_texts_.end() ? nullptr : &it->second;
+  }
   // Each included file raises the compile's allocation budget by its share.
   void set_budget(AllocationBudget* budget) { budget_ = budget; }
 
@@ -130,6 +138,8 @@ class Includer final : public glslang::TShader::Includer {
     files_read_.push_back({fs::absolute(path, ec).lexically_normal(), input.identity});
     backend_specific_ = backend_specific_ || tests_backend_macros(input.text);
     chain_.push_back(canonical);
+    if (input.text.find("combinedImageSampler") != std::string::npos)
+      attribute_texts_[display_path(path)] = input.text;
     auto* owned = new std::string(std::move(input.text));
     // The name glslang puts in its messages (and resolves nested includes against): relative to the
     // working directory when below it, as every other file name in statepack's messages.
@@ -142,6 +152,7 @@ class Includer final : public glslang::TShader::Includer {
   uint64_t max_bytes_;
   uint64_t included_bytes_ = 0;
   AllocationBudget* budget_ = nullptr;
+  std::map<std::string, std::string> attribute_texts_;
   std::string problem_;
   bool backend_specific_ = false;
 };
@@ -180,6 +191,22 @@ std::optional<LogEntry> parse_log_line(std::string_view rest, const std::string&
   while (!e.message.empty() && e.message.back() == ' ') e.message.pop_back();
   if (e.where.file.find_first_not_of("0123456789") == std::string::npos) e.where.file = fallback_file;
   return e;
+}
+
+// The variables written with [[vk::combinedImageSampler]], from glslang's warnings that it ignored the
+// attribute (hlsl_combined_image_samplers.hpp).
+std::vector<std::string> combined_image_samplers_of(glslang::TShader& ts, const std::string& file_name,
+                                                    const std::string& source, const Includer& includer) {
+  std::vector<AttributeSite> sites;
+  std::istringstream lines(ts.getInfoLog());
+  for (std::string line; std::getline(lines, line);)
+    if (auto e = parse_log_line(line, file_name);
+        e && e->warning && e->message == "'combinedImageSampler' : unrecognized attribute")
+      sites.push_back({e->where.file, e->where.line});
+  if (sites.empty()) return {};
+  return combined_image_sampler_variables(ts, sites, [&](const std::string& file) {
+    return file == file_name ? &source : includer.attribute_text(file);
+  });
 }
 
 // Turns each error of glslang's log into a diagnostic at its file and line.
@@ -449,6 +476,7 @@ CompiledShader compile_shader(const ShaderDesc& original, const CompileOptions& 
     return result;
   }
   if (hlsl && report_hlsl_tree_problems(ts, shader, errors, file_name, source)) return result;
+  if (hlsl) result.combined_image_samplers = combined_image_samplers_of(ts, file_name, source, includer);
   LinkedSpirv linked = link_to_spirv(ts, stage, messages);
   if (!linked.link_log.empty()) {
     report_log(linked.link_log, shader, errors, file_name);

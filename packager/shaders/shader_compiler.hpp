@@ -34,6 +34,8 @@ struct CompiledShader {
   std::vector<uint32_t> spirv;
   std::vector<InputFile> files_read;  // the source and every #include, for the depfile and output checks
   bool backend_specific = false;      // GLSL whose text (or an #include's) tests_backend_macros
+  // HLSL textures and samplers declared [[vk::combinedImageSampler]] (hlsl_combined_image_samplers.hpp)
+  std::vector<std::string> combined_image_samplers;
   bool ok = false;
 };
 

@@ -20,6 +20,9 @@ struct ReflectedBinding {
   // Uniform and storage blocks: their members (names, types, offsets, strides) as text, equal exactly
   // when two stages declare the same block; OpenGL links one definition per block (empty otherwise).
   std::string block_layout;
+  // A texture or sampler declared [[vk::combinedImageSampler]] (HLSL): paired with the sampler or
+  // texture at the same set and binding into one combined image sampler descriptor.
+  bool combined_attribute = false;
 };
 
 // A specialization constant the module declares (SpecId), by the name the source gave it.
