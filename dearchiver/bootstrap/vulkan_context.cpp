@@ -140,12 +140,14 @@ Result<void> VulkanContext::choose_physical_device(const VulkanContextOptions& o
 }
 
 Result<void> VulkanContext::create_device(const VulkanContextOptions& options) {
-  VkPhysicalDeviceVulkan13Features features13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
-  VkPhysicalDeviceVulkan12Features features12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES,
-                                              &features13};
-  VkPhysicalDeviceVulkan11Features features11{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_FEATURES,
-                                              &features12};
-  VkPhysicalDeviceFeatures2 features{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &features13};
+  // Members, not locals: device_context() hands the chain to the Dearchiver.
+  VkPhysicalDeviceVulkan13Features& features13 = enabled_features13;
+  VkPhysicalDeviceVulkan12Features& features12 = enabled_features12;
+  VkPhysicalDeviceVulkan11Features& features11 = enabled_features11;
+  VkPhysicalDeviceFeatures2& features = enabled_features2;
+  features12.pNext = &features13;
+  features11.pNext = &features12;
+  features.pNext = &features13;
   if (options.enable_supported_features) {
     // Every core feature of Vulkan 1.0 to 1.3 the device has (multiview, buffer device addresses,
     // 8- and 16-bit storage, ...): what an archive's pipelines need, a verifying device must have on.
@@ -162,7 +164,7 @@ Result<void> VulkanContext::create_device(const VulkanContextOptions& options) {
   queue_info.queueFamilyIndex = queue_family;
   queue_info.queueCount = 1;
   queue_info.pQueuePriorities = &priority;
-  std::vector<const char*> device_extensions;
+  std::vector<const char*>& device_extensions = enabled_extensions;
   if (!options.instance_extensions.empty()) device_extensions.push_back(VK_KHR_SWAPCHAIN_EXTENSION_NAME);
   VkDeviceCreateInfo device_info{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
   device_info.pNext = &features;
@@ -184,6 +186,9 @@ Result<void> VulkanContext::create_device(const VulkanContextOptions& options) {
 DeviceContext VulkanContext::device_context() const {
   DeviceContext context{physical_device, device};
   context.enabled_features = &enabled_features;
+  context.enabled_feature_chain = &enabled_features2;
+  context.enabled_extensions = enabled_extensions.data();
+  context.enabled_extension_count = static_cast<uint32_t>(enabled_extensions.size());
   context.instance = instance;
   context.get_instance_proc_addr = vkGetInstanceProcAddr;
   return context;

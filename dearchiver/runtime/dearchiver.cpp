@@ -33,8 +33,9 @@ struct Dearchiver::State {
   DeviceContext context;
   DeviceCaps caps;                      // limits and formats, checked before any vkCreate*
   VkPhysicalDeviceFeatures features{};  // enabled (as the caller says) or supported ones
+  EnabledFeatures enabled;              // the same, every structure, for SPIR-V capabilities
   std::vector<Archive> archives;
-  ObjectCache cache{context, caps, features, archives};  // what pipelines share
+  ObjectCache cache{context, caps, features, enabled, archives};  // what pipelines share
   Planner planner{context, caps, features, cache};
   std::deque<UnpackedSignature> signatures;
   std::map<std::pair<size_t, uint32_t>, const UnpackedSignature*> signature_by_layout;
@@ -148,10 +149,10 @@ Result<Dearchiver> Dearchiver::create(const DeviceContext& context) {
     state->caps.physical_device = context.physical_device;
     state->caps.vk = *functions;
     state->caps.vk.vkGetPhysicalDeviceProperties(context.physical_device, &state->caps.properties);
-    if (context.enabled_features)
-      state->features = *context.enabled_features;
-    else
-      state->caps.vk.vkGetPhysicalDeviceFeatures(context.physical_device, &state->features);
+    state->enabled = EnabledFeatures::gather(context, state->caps);
+    state->features = state->enabled.core();
+    state->context.enabled_feature_chain = nullptr;  // read: the application may free it now
+    state->context.enabled_extensions = nullptr;
     return Dearchiver(std::move(state));
   });
 }

@@ -34,6 +34,9 @@ Result<Handle> ObjectCache::find_or_create(std::map<Key, Handle>& cache, Key key
 Result<VkShaderModule> ObjectCache::module(size_t archive, uint32_t blob, std::string_view owner) {
   return find_or_create(modules_, {archive, blob}, [&]() -> Result<VkShaderModule> {
     auto words = contents(archive).spirv[blob];
+    if (const spirv::Module* declared = walked(archive, blob))
+      if (std::string why = enabled_.check_capabilities(declared->capabilities); !why.empty())
+        return Error{ErrorCode::unsupported, "shader '" + std::string(owner) + "' " + why};
     VkShaderModuleCreateInfo info{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
     info.codeSize = words.size_bytes();
     info.pCode = words.data();  // straight from the archive bytes: no copy

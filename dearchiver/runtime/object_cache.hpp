@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "device_limits.hpp"
+#include "enabled_features.hpp"
 #include "format/archive_format.hpp"
 #include "format/spirv_walk.hpp"
 #include "statepack/dearchiver.hpp"
@@ -23,8 +24,8 @@ class ObjectCache {
  public:
   // `archives` is the Dearchiver's list: objects are keyed by (archive index, record index).
   ObjectCache(const DeviceContext& context, const DeviceCaps& caps, const VkPhysicalDeviceFeatures& features,
-              const std::vector<Archive>& archives)
-      : context_(context), caps_(caps), features_(features), archives_(archives) {}
+              const EnabledFeatures& enabled, const std::vector<Archive>& archives)
+      : context_(context), caps_(caps), features_(features), enabled_(enabled), archives_(archives) {}
   ObjectCache(const ObjectCache&) = delete;
   ObjectCache& operator=(const ObjectCache&) = delete;
   ~ObjectCache();
@@ -55,6 +56,7 @@ class ObjectCache {
   const DeviceContext& context_;
   const DeviceCaps& caps_;
   const VkPhysicalDeviceFeatures& features_;
+  const EnabledFeatures& enabled_;  // SPIR-V capabilities are checked against it
   const std::vector<Archive>& archives_;
   std::map<Key, VkShaderModule> modules_;
   std::map<Key, VkDescriptorSetLayout> set_layouts_;

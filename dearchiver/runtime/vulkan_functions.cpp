@@ -52,6 +52,7 @@ Result<VulkanFunctions> load_vulkan_functions(const DeviceContext& context, cons
 #define STATEPACK_VK_LOAD(name) f.name = reinterpret_cast<PFN_##name>(instance_function(#name));
   STATEPACK_VK_INSTANCE_FUNCTIONS(STATEPACK_VK_LOAD)
   STATEPACK_VK_LOAD(vkGetPhysicalDeviceProperties2)
+  STATEPACK_VK_LOAD(vkGetPhysicalDeviceFeatures2)
 #undef STATEPACK_VK_LOAD
   if (context.get_device_proc_addr) f.vkGetDeviceProcAddr = context.get_device_proc_addr;
 #define STATEPACK_VK_CHECK(name) \

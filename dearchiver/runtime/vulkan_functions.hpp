@@ -38,6 +38,7 @@ struct VulkanFunctions {
 #undef STATEPACK_VK_MEMBER
   // Vulkan 1.1: null on an older instance (the pipeline cache's identity then omits the driver fields).
   PFN_vkGetPhysicalDeviceProperties2 vkGetPhysicalDeviceProperties2 = nullptr;
+  PFN_vkGetPhysicalDeviceFeatures2 vkGetPhysicalDeviceFeatures2 = nullptr;  // the same
 };
 
 // Every function of the lists above, or an invalid_argument / not_found error naming `caller`, the

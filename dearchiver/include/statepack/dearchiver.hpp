@@ -229,6 +229,18 @@ struct DeviceContext {
   // tessellation shaders, depth clamp, wireframe, dual-source or independent blending, anisotropy)
   // as errors. Null: assume every feature the device supports is enabled.
   const VkPhysicalDeviceFeatures* enabled_features = nullptr;
+  // The pNext chain of features the device was created with (VkDeviceCreateInfo::pNext): a
+  // VkPhysicalDeviceFeatures2 and/or VkPhysicalDeviceVulkan11/12/13Features and extension feature
+  // structures. A shader declaring a SPIR-V capability that nothing in it enables (Int8 without
+  // shaderInt8, MultiView without multiview, ...) is an `unsupported` error naming the features that
+  // would allow it, before any Vulkan call. A structure missing from a given chain counts as all off.
+  // Null: Vulkan 1.1-1.3 features are taken as the device supports them, extension structures as on.
+  // Read during Dearchiver::create only.
+  const void* enabled_feature_chain = nullptr;
+  // The device extensions the device was created with, for capabilities an extension allows
+  // (VK_KHR_shader_draw_parameters, ...). Null: taken as enabled.
+  const char* const* enabled_extensions = nullptr;
+  uint32_t enabled_extension_count = 0;
   // Where the Vulkan entry points come from: the application owns dispatch. Give the loader you use
   // (volk: `ctx.instance = instance; ctx.get_instance_proc_addr = vkGetInstanceProcAddr;` after
   // volkLoadInstance) and every function is looked up through it once, in Dearchiver::create, and

@@ -45,6 +45,12 @@ class VulkanContext {
   std::string driver_name;
   bool validation_enabled = false;
   VkPhysicalDeviceFeatures enabled_features{};  // what the device was created with
+  // ... every structure of it, chained as given to vkCreateDevice (enabled_features2 heads the chain)
+  VkPhysicalDeviceFeatures2 enabled_features2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
+  VkPhysicalDeviceVulkan11Features enabled_features11{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_FEATURES};
+  VkPhysicalDeviceVulkan12Features enabled_features12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
+  VkPhysicalDeviceVulkan13Features enabled_features13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
+  std::vector<const char*> enabled_extensions;  // device extensions
 
   // The Dearchiver's view of this device: its handles, the features it was created with, and this
   // context's loader as the dispatch (as an engine hands over its own).

@@ -1,0 +1,157 @@
+#include "enabled_features.hpp"
+
+#include <cstddef>
+#include <cstring>
+
+namespace statepack::detail {
+namespace {
+
+enum class EnableKind : unsigned char { version, feature, extension, property };
+struct StructSize {
+  VkStructureType s_type;
+  size_t size;
+};
+// One way to allow a capability (vk.xml's <enable>): any one of a capability's rows allows it.
+struct CapabilityEnable {
+  uint32_t capability;
+  const char* name;
+  EnableKind kind;
+  uint32_t version;        // version: the core version that allows it
+  VkStructureType s_type;  // feature, property: the structure
+  uint32_t offset;         // ... and the VkBool32 / flags member's offset in it
+  const char* what;        // "VkPhysicalDeviceVulkan12Features::shaderInt8"
+  const char* extension;   // extension: the device extension that allows it
+  uint32_t bits;           // property: the bits the member must have (1: VK_TRUE)
+};
+
+#include "spirv_capability_table.inc"
+
+size_t struct_size(uint32_t s_type) {
+  for (const StructSize& s : kCapabilityStructs)
+    if (uint32_t(s.s_type) == s_type) return s.size;
+  return 0;
+}
+
+uint32_t word_at(const std::vector<unsigned char>& bytes, uint32_t offset) {
+  uint32_t word = 0;
+  if (offset + sizeof word <= bytes.size()) std::memcpy(&word, bytes.data() + offset, sizeof word);
+  return word;
+}
+
+// Copies every structure of a pNext chain this table reads (the others are not ours to size).
+void copy_chain(const void* chain, std::map<uint32_t, std::vector<unsigned char>>& into) {
+  size_t guard = 0;  // a chain that loops back on itself ends here
+  for (auto* s = static_cast<const VkBaseInStructure*>(chain); s && guard < 256; s = s->pNext, ++guard)
+    if (size_t size = struct_size(uint32_t(s->sType))) {
+      const auto* bytes = reinterpret_cast<const unsigned char*>(s);
+      into[uint32_t(s->sType)].assign(bytes, bytes + size);
+    }
+}
+
+// The Vulkan 1.1-1.3 structures this device supports (queried when the application gives no chain).
+void query_supported(const DeviceCaps& caps, uint32_t api_version,
+                     std::map<uint32_t, std::vector<unsigned char>>& into, bool properties) {
+  VkPhysicalDeviceVulkan13Features f13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
+  VkPhysicalDeviceVulkan12Features f12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
+  VkPhysicalDeviceVulkan11Features f11{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_FEATURES, &f12};
+  if (api_version >= VK_API_VERSION_1_3) f12.pNext = &f13;
+  VkPhysicalDeviceVulkan12Properties p12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_PROPERTIES};
+  VkPhysicalDeviceVulkan11Properties p11{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_PROPERTIES, &p12};
+  if (properties) {
+    VkPhysicalDeviceProperties2 p{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &p11};
+    caps.vk.vkGetPhysicalDeviceProperties2(caps.physical_device, &p);
+    copy_chain(&p11, into);
+  } else {
+    VkPhysicalDeviceFeatures2 f{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &f11};
+    caps.vk.vkGetPhysicalDeviceFeatures2(caps.physical_device, &f);
+    copy_chain(&f, into);
+  }
+}
+
+}  // namespace
+
+EnabledFeatures EnabledFeatures::gather(const DeviceContext& context, const DeviceCaps& caps) {
+  EnabledFeatures out;
+  out.api_version_ = caps.properties.apiVersion;
+  const bool queryable = out.api_version_ >= VK_API_VERSION_1_2;  // the Vulkan11/12 structures exist
+  if (context.enabled_feature_chain) {
+    copy_chain(context.enabled_feature_chain, out.features_);
+    out.features_known_ = true;
+  } else if (queryable && caps.vk.vkGetPhysicalDeviceFeatures2) {
+    query_supported(caps, out.api_version_, out.features_, false);
+    out.features_.erase(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2);  // enabled_features decides, below
+    // Extension structures stay unknown: nothing tells what the application enabled of them.
+  }
+  // VkPhysicalDeviceFeatures: the chain's VkPhysicalDeviceFeatures2, else enabled_features, else (no
+  // word from the application at all) what the device supports.
+  if (auto it = out.features_.find(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2); it != out.features_.end())
+    std::memcpy(&out.core_, it->second.data() + offsetof(VkPhysicalDeviceFeatures2, features),
+                sizeof out.core_);
+  else if (context.enabled_features)
+    out.core_ = *context.enabled_features;
+  else if (!context.enabled_feature_chain)
+    caps.vk.vkGetPhysicalDeviceFeatures(caps.physical_device, &out.core_);
+  VkPhysicalDeviceFeatures2 core2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, nullptr, out.core_};
+  copy_chain(&core2, out.features_);  // the 1.0 rows read it there, whichever way it came
+  if (queryable && caps.vk.vkGetPhysicalDeviceProperties2) {
+    query_supported(caps, out.api_version_, out.properties_, true);
+    out.properties_known_ = true;
+  }
+  if (context.enabled_extensions) {
+    out.extensions_known_ = true;
+    for (uint32_t i = 0; i < context.enabled_extension_count; ++i)
+      if (context.enabled_extensions[i]) out.extensions_.insert(context.enabled_extensions[i]);
+  }
+  return out;
+}
+
+std::string EnabledFeatures::check_capabilities(const std::vector<uint32_t>& capabilities) const {
+  for (uint32_t capability : capabilities) {
+    bool listed = false, allowed = false;
+    std::string needs;
+    const char* name = nullptr;
+    for (const CapabilityEnable& e : kCapabilityEnables) {
+      if (e.capability != capability) continue;
+      listed = true;
+      name = e.name;
+      switch (e.kind) {
+        case EnableKind::version:
+          allowed = api_version_ >= e.version;
+          needs += std::string(needs.empty() ? "" : ", ") + "Vulkan " +
+                   std::to_string(VK_API_VERSION_MAJOR(e.version)) + "." +
+                   std::to_string(VK_API_VERSION_MINOR(e.version));
+          break;
+        case EnableKind::feature: {
+          auto it = features_.find(uint32_t(e.s_type));
+          // A structure the application's chain lacks is off; without a chain, unknown (allowed).
+          allowed = it != features_.end() ? word_at(it->second, e.offset) != 0 : !features_known_;
+          needs += std::string(needs.empty() ? "" : ", ") + e.what;
+          break;
+        }
+        case EnableKind::extension:
+          allowed = !extensions_known_ || extensions_.count(e.extension) != 0;
+          needs += std::string(needs.empty() ? "" : ", ") + "the extension " + e.extension;
+          break;
+        case EnableKind::property: {
+          auto it = properties_.find(uint32_t(e.s_type));
+          allowed = it == properties_.end() ? !properties_known_
+                                            : (word_at(it->second, e.offset) & e.bits) == e.bits;
+          needs += std::string(needs.empty() ? "" : ", ") + e.what;
+          break;
+        }
+      }
+      if (allowed) break;
+    }
+    if (!listed)
+      return "declares the SPIR-V capability " + std::to_string(capability) +
+             ", which Vulkan does not allow in shaders (it is not in Vulkan's table of SPIR-V capabilities)";
+    if (!allowed)
+      return "declares the SPIR-V capability " + std::string(name) + ", which needs one of: " + needs +
+             "; none is enabled on this device (DeviceContext::enabled_feature_chain says what the device "
+             "was "
+             "created with)";
+  }
+  return "";
+}
+
+}  // namespace statepack::detail

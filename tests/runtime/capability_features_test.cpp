@@ -1,0 +1,99 @@
+// A shader's SPIR-V capabilities against the features the application created its device with
+// (DeviceContext::enabled_feature_chain): one that nothing enables is an `unsupported` error naming the
+// features that would allow it, before vkCreateShaderModule (the fixture fails on any validation
+// message); with the features on, the same pipelines unpack.
+#include "common/vulkan_test_fixture.hpp"
+
+namespace statepack::testing {
+namespace {
+
+class CapabilityFeaturesTest : public VulkanTest {
+ protected:
+  // The device's own chain, copied, so that a test can say a feature is off.
+  struct Chain {
+    VkPhysicalDeviceFeatures2 f2;
+    VkPhysicalDeviceVulkan11Features f11;
+    VkPhysicalDeviceVulkan12Features f12;
+    VkPhysicalDeviceVulkan13Features f13;
+  };
+  static void link(Chain& c) {
+    c.f2.pNext = &c.f11;
+    c.f11.pNext = &c.f12;
+    c.f12.pNext = &c.f13;
+    c.f13.pNext = nullptr;
+  }
+  Chain device_chain() const {
+    Chain c{vk_->enabled_features2, vk_->enabled_features11, vk_->enabled_features12,
+            vk_->enabled_features13};
+    link(c);
+    return c;
+  }
+  Result<Dearchiver> dearchiver_with(const DeviceContext& context) const {
+    auto archive = Archive::from_file(STATEPACK_CAPABILITIES_ARCHIVE);
+    if (!archive) return archive.error();
+    auto dearchiver = Dearchiver::create(context);
+    if (!dearchiver) return dearchiver.error();
+    if (auto added = dearchiver->add_archive(std::move(*archive)); !added) return added.error();
+    return dearchiver;
+  }
+};
+
+TEST_F(CapabilityFeaturesTest, AFeatureLeftOutOfTheChainIsNamedBeforeAnyVulkanCall) {
+  ASSERT_TRUE(vk_->enabled_features12.shaderInt8 && vk_->enabled_features2.features.shaderFloat64)
+      << "lavapipe has both; the test needs them on to say they are off";
+  Chain chain = device_chain();
+  chain.f12.shaderInt8 = VK_FALSE;
+  chain.f2.features.shaderFloat64 = VK_FALSE;
+  DeviceContext context = vk_->device_context();
+  context.enabled_feature_chain = &chain.f2;
+  context.enabled_features = nullptr;  // the chain's VkPhysicalDeviceFeatures2 says it
+  auto dearchiver = dearchiver_with(context);
+  ASSERT_TRUE(dearchiver) << dearchiver.error().message;
+  auto int8 = dearchiver->unpack_compute("Int8 PSO");
+  ASSERT_FALSE(int8);
+  EXPECT_EQ(int8.error().code, ErrorCode::unsupported);
+  EXPECT_EQ(
+      int8.error().message,
+      "shader 'Int8 CS' declares the SPIR-V capability Int8, which needs one of: "
+      "VkPhysicalDeviceVulkan12Features::shaderInt8, VkPhysicalDeviceShaderFloat16Int8Features::shaderInt8; "
+      "none is enabled on this device (DeviceContext::enabled_feature_chain says what the device was "
+      "created with)");
+  auto float64 = dearchiver->unpack_compute("Float64 PSO");
+  ASSERT_FALSE(float64);
+  EXPECT_EQ(float64.error().code, ErrorCode::unsupported);
+  EXPECT_NE(float64.error().message.find("declares the SPIR-V capability Float64, which needs one of: "
+                                         "VkPhysicalDeviceFeatures::shaderFloat64;"),
+            std::string::npos)
+      << float64.error().message;
+}
+
+TEST_F(CapabilityFeaturesTest, AStructureMissingFromTheChainCountsAsOff) {
+  Chain chain = device_chain();
+  chain.f11.pNext = nullptr;  // no Vulkan12Features: shaderInt8 off, even though the device has it
+  DeviceContext context = vk_->device_context();
+  context.enabled_feature_chain = &chain.f2;
+  auto dearchiver = dearchiver_with(context);
+  ASSERT_TRUE(dearchiver) << dearchiver.error().message;
+  auto int8 = dearchiver->unpack_compute("Int8 PSO");
+  ASSERT_FALSE(int8);
+  EXPECT_EQ(int8.error().code, ErrorCode::unsupported);
+  EXPECT_TRUE(dearchiver->unpack_compute("Float64 PSO"));  // VkPhysicalDeviceFeatures2 is still there
+}
+
+TEST_F(CapabilityFeaturesTest, TheFeaturesTheDeviceWasCreatedWithLetThemUnpack) {
+  auto dearchiver = dearchiver_with(vk_->device_context());
+  ASSERT_TRUE(dearchiver) << dearchiver.error().message;
+  EXPECT_TRUE(dearchiver->unpack_compute("Int8 PSO"));
+  EXPECT_TRUE(dearchiver->unpack_compute("Float64 PSO"));
+}
+
+TEST_F(CapabilityFeaturesTest, WithoutAChainTheDevicesSupportedFeaturesCount) {
+  DeviceContext context{vk_->physical_device, vk_->device};
+  auto dearchiver = dearchiver_with(context);
+  ASSERT_TRUE(dearchiver) << dearchiver.error().message;
+  auto int8 = dearchiver->unpack_compute("Int8 PSO");
+  EXPECT_TRUE(int8) << int8.error().message;
+}
+
+}  // namespace
+}  // namespace statepack::testing
