@@ -1,6 +1,10 @@
 #include "statepack/bootstrap/vulkan_context.hpp"
 
+#include <algorithm>
 #include <cstring>
+#include <set>
+
+#include "runtime/spirv_capability_table.hpp"
 
 namespace statepack::bootstrap {
 namespace {
@@ -139,6 +143,40 @@ Result<void> VulkanContext::choose_physical_device(const VulkanContextOptions& o
   return Error{ErrorCode::unsupported, "no queue family with graphics and compute"};
 }
 
+// The device extensions that allow SPIR-V capabilities (vk.xml's table), those this device has and
+// whose required extensions it has too, with their feature structures chained for vkGetPhysicalDevice-
+// Features2 to fill; returns the chain's head. Their names go to enabled_extensions.
+void* VulkanContext::chain_capability_extensions() {
+  using namespace detail::capability_table;
+  uint32_t count = 0;
+  vkEnumerateDeviceExtensionProperties(physical_device, nullptr, &count, nullptr);
+  std::vector<VkExtensionProperties> available(count);
+  vkEnumerateDeviceExtensionProperties(physical_device, nullptr, &count, available.data());
+  std::set<std::string> chosen;
+  for (const ExtensionStruct& e : kCapabilityExtensions)
+    for (const VkExtensionProperties& a : available)
+      if (std::strcmp(a.extensionName, e.extension) == 0) chosen.insert(e.extension);
+  for (bool dropped = true; dropped;) {  // without what it requires, an extension cannot be enabled
+    dropped = false;
+    for (const ExtensionDependency& d : kCapabilityExtensionDependencies)
+      if (chosen.count(d.extension) && !chosen.count(d.needs)) dropped = chosen.erase(d.extension) > 0;
+  }
+  void* head = nullptr;
+  for (const ExtensionStruct& e : kCapabilityExtensions) {
+    if (!chosen.count(e.extension)) continue;
+    if (std::find(capability_extension_names_.begin(), capability_extension_names_.end(), e.extension) ==
+        capability_extension_names_.end())
+      capability_extension_names_.push_back(e.extension);
+    if (e.size == 0) continue;
+    auto& bytes = capability_extension_features_.emplace_back(e.size, static_cast<unsigned char>(0));
+    auto* s = reinterpret_cast<VkBaseOutStructure*>(bytes.data());
+    s->sType = e.s_type;
+    s->pNext = static_cast<VkBaseOutStructure*>(head);
+    head = s;
+  }
+  return head;
+}
+
 Result<void> VulkanContext::create_device(const VulkanContextOptions& options) {
   // Members, not locals: device_context() hands the chain to the Dearchiver.
   VkPhysicalDeviceVulkan13Features& features13 = enabled_features13;
@@ -152,6 +190,7 @@ Result<void> VulkanContext::create_device(const VulkanContextOptions& options) {
     // Every core feature of Vulkan 1.0 to 1.3 the device has (multiview, buffer device addresses,
     // 8- and 16-bit storage, ...): what an archive's pipelines need, a verifying device must have on.
     features.pNext = &features11;
+    features13.pNext = chain_capability_extensions();
     vkGetPhysicalDeviceFeatures2(physical_device, &features);
     // Robust access changes behaviour and costs speed; nothing archived needs it.
     features.features.robustBufferAccess = VK_FALSE;
@@ -166,6 +205,7 @@ Result<void> VulkanContext::create_device(const VulkanContextOptions& options) {
   queue_info.pQueuePriorities = &priority;
   std::vector<const char*>& device_extensions = enabled_extensions;
   if (!options.instance_extensions.empty()) device_extensions.push_back(VK_KHR_SWAPCHAIN_EXTENSION_NAME);
+  for (const char* name : capability_extension_names_) device_extensions.push_back(name);
   VkDeviceCreateInfo device_info{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
   device_info.pNext = &features;
   device_info.queueCreateInfoCount = 1;
@@ -187,7 +227,8 @@ DeviceContext VulkanContext::device_context() const {
   DeviceContext context{physical_device, device};
   context.enabled_features = &enabled_features;
   context.enabled_feature_chain = &enabled_features2;
-  context.enabled_extensions = enabled_extensions.data();
+  static const char* const kNoExtensions[1] = {nullptr};  // non-null: "none", not "not told"
+  context.enabled_extensions = enabled_extensions.empty() ? kNoExtensions : enabled_extensions.data();
   context.enabled_extension_count = static_cast<uint32_t>(enabled_extensions.size());
   context.instance = instance;
   context.get_instance_proc_addr = vkGetInstanceProcAddr;

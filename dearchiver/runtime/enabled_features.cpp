@@ -3,28 +3,12 @@
 #include <cstddef>
 #include <cstring>
 
+#include "spirv_capability_table.hpp"
+
 namespace statepack::detail {
 namespace {
 
-enum class EnableKind : unsigned char { version, feature, extension, property };
-struct StructSize {
-  VkStructureType s_type;
-  size_t size;
-};
-// One way to allow a capability (vk.xml's <enable>): any one of a capability's rows allows it.
-struct CapabilityEnable {
-  uint32_t capability;
-  const char* name;
-  EnableKind kind;
-  uint32_t version;        // version: the core version that allows it
-  VkStructureType s_type;  // feature, property: the structure
-  uint32_t offset;         // ... and the VkBool32 / flags member's offset in it
-  const char* what;        // "VkPhysicalDeviceVulkan12Features::shaderInt8"
-  const char* extension;   // extension: the device extension that allows it
-  uint32_t bits;           // property: the bits the member must have (1: VK_TRUE)
-};
-
-#include "spirv_capability_table.inc"
+using namespace capability_table;
 
 size_t struct_size(uint32_t s_type) {
   for (const StructSize& s : kCapabilityStructs)

@@ -87,6 +87,41 @@ TEST_F(CapabilityFeaturesTest, TheFeaturesTheDeviceWasCreatedWithLetThemUnpack) 
   EXPECT_TRUE(dearchiver->unpack_compute("Float64 PSO"));
 }
 
+// The fixture's device has the extensions that allow capabilities (the bootstrap enables those it
+// has, as verify's device does); an application that did not enable one is told which.
+TEST_F(CapabilityFeaturesTest, CapabilitiesThatNeedAnExtensionNameIt) {
+  auto dearchiver = dearchiver_with(vk_->device_context());
+  ASSERT_TRUE(dearchiver) << dearchiver.error().message;
+  auto clock = dearchiver->unpack_compute("Clock PSO");
+  EXPECT_TRUE(clock) << clock.error().message;
+  auto atomic = dearchiver->unpack_compute("Atomic Float PSO");
+  EXPECT_TRUE(atomic) << atomic.error().message;
+
+  const char* none[1] = {nullptr};
+  DeviceContext without = vk_->device_context();
+  without.enabled_extensions = none;
+  without.enabled_extension_count = 0;
+  Chain chain = device_chain();  // the atomic-float structure is not in this copy: off
+  without.enabled_feature_chain = &chain.f2;
+  auto bare = dearchiver_with(without);
+  ASSERT_TRUE(bare) << bare.error().message;
+  auto unclocked = bare->unpack_compute("Clock PSO");
+  ASSERT_FALSE(unclocked);
+  EXPECT_EQ(unclocked.error().code, ErrorCode::unsupported);
+  EXPECT_EQ(
+      unclocked.error().message,
+      "shader 'Clock CS' declares the SPIR-V capability ShaderClockKHR, which needs one of: the extension "
+      "VK_KHR_shader_clock; none is enabled on this device (DeviceContext::enabled_feature_chain says what "
+      "the device was created with)");
+  auto no_atomic = bare->unpack_compute("Atomic Float PSO");
+  ASSERT_FALSE(no_atomic);
+  EXPECT_NE(no_atomic.error().message.find(
+                "AtomicFloat32AddEXT, which needs one of: "
+                "VkPhysicalDeviceShaderAtomicFloatFeaturesEXT::shaderBufferFloat32AtomicAdd"),
+            std::string::npos)
+      << no_atomic.error().message;
+}
+
 TEST_F(CapabilityFeaturesTest, WithoutAChainTheDevicesSupportedFeaturesCount) {
   DeviceContext context{vk_->physical_device, vk_->device};
   auto dearchiver = dearchiver_with(context);

@@ -75,6 +75,10 @@ class VulkanContext {
   Result<void> create_instance(const VulkanContextOptions& options);
   Result<void> choose_physical_device(const VulkanContextOptions& options);
   Result<void> create_device(const VulkanContextOptions& options);
+  void* chain_capability_extensions();
+  // With enable_supported_features: the extensions that allow SPIR-V capabilities and their features.
+  std::vector<const char*> capability_extension_names_;
+  std::vector<std::vector<unsigned char>> capability_extension_features_;
   static VKAPI_ATTR VkBool32 VKAPI_CALL on_message(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
                                                    VkDebugUtilsMessageTypeFlagsEXT types,
                                                    const VkDebugUtilsMessengerCallbackDataEXT* data,
