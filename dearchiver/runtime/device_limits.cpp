@@ -1,5 +1,7 @@
 #include "device_limits.hpp"
 
+#include "vk_enum_names.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -185,7 +187,7 @@ Result<void> check_numeric(const std::vector<spirv::Input>& variables, uint32_t 
                                            std::to_string(location) + " is there"};
     const spirv::Numeric wanted = spirv::numeric_of_format(format);
     if (v.numeric != spirv::Numeric::other && wanted != spirv::Numeric::other && v.numeric != wanted)
-      return Error{ErrorCode::corrupt, what + " has format " + std::to_string(format) +
+      return Error{ErrorCode::corrupt, what + " has format " + vk_name(VkFormat(format)) +
                                            ", whose numeric type differs from the shader's variable"};
   }
   return {};
@@ -275,7 +277,7 @@ Result<void> check_render_pass(const format::RenderPass& pass, const DeviceCaps&
         depth ? VK_FORMAT_FEATURE_DEPTH_STENCIL_ATTACHMENT_BIT : VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BIT;
     if (!supports(caps.format(a.format), needed))
       return Error{ErrorCode::unsupported,
-                   attachment + ": the device cannot render to format " + std::to_string(a.format)};
+                   attachment + ": the device cannot render to format " + vk_name(VkFormat(a.format))};
     const VkSampleCountFlags counts = depth ? l.framebufferDepthSampleCounts : l.framebufferColorSampleCounts;
     if (!(counts & a.samples))
       return Error{ErrorCode::unsupported, attachment + " has " + std::to_string(a.samples) +
@@ -479,7 +481,7 @@ Result<void> check_vertex_input(const format::GraphicsState& g, const std::strin
         return Error{ErrorCode::corrupt, who + " declares the " + attribute + " twice"};
     if (!(caps.format(a.format).bufferFeatures & VK_FORMAT_FEATURE_VERTEX_BUFFER_BIT))
       return Error{ErrorCode::unsupported, who + ": the " + attribute + " has format " +
-                                               std::to_string(a.format) +
+                                               vk_name(VkFormat(a.format)) +
                                                ", which the device cannot read vertices from"};
   }
   return {};
@@ -494,17 +496,17 @@ Result<void> check_dynamic_rendering_targets(const GraphicsTargets& t, const std
     const VkFormatProperties f = caps.format(t.color_formats[i]);
     if (!supports(f, VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BIT))
       return Error{ErrorCode::unsupported, who + ": render target " + std::to_string(i) + " has format " +
-                                               std::to_string(t.color_formats[i]) +
+                                               vk_name(VkFormat(t.color_formats[i])) +
                                                ", which the device cannot render to"};
     if (t.blend_enabled[i] && !supports(f, VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BLEND_BIT))
       return Error{ErrorCode::unsupported, who + ": render target " + std::to_string(i) + " blends format " +
-                                               std::to_string(t.color_formats[i]) +
+                                               vk_name(VkFormat(t.color_formats[i])) +
                                                ", which the device cannot blend"};
   }
   if (t.depth_stencil_format != VK_FORMAT_UNDEFINED &&
       !supports(caps.format(t.depth_stencil_format), VK_FORMAT_FEATURE_DEPTH_STENCIL_ATTACHMENT_BIT))
     return Error{ErrorCode::unsupported, who + ": depth-stencil format " +
-                                             std::to_string(t.depth_stencil_format) +
+                                             vk_name(VkFormat(t.depth_stencil_format)) +
                                              " cannot be rendered to on this device"};
   if (t.depth_stencil_format != VK_FORMAT_UNDEFINED && !(l.framebufferDepthSampleCounts & t.samples))
     return Error{ErrorCode::unsupported, who + " renders depth with " + std::to_string(t.samples) +

@@ -1,5 +1,7 @@
 #include "patchable_state.hpp"
 
+#include "vk_enum_names.hpp"
+
 #include <string_view>
 #include <unordered_map>
 
@@ -20,20 +22,7 @@ VkDynamicState dynamic_state_of_bit(uint32_t index) {
              : VkDynamicState(VK_DYNAMIC_STATE_CULL_MODE + (index - format::kDynamicExtendedFirstBit));
 }
 std::string dynamic_state_name(VkDynamicState state) {
-  static constexpr const char* kCore[] = {
-      "VIEWPORT",         "SCISSOR",      "LINE_WIDTH",           "DEPTH_BIAS",
-      "BLEND_CONSTANTS",  "DEPTH_BOUNDS", "STENCIL_COMPARE_MASK", "STENCIL_WRITE_MASK",
-      "STENCIL_REFERENCE"};
-  static constexpr const char* kExtended[] = {"CULL_MODE",           "FRONT_FACE",
-                                              "PRIMITIVE_TOPOLOGY",  "VIEWPORT_WITH_COUNT",
-                                              "SCISSOR_WITH_COUNT",  "VERTEX_INPUT_BINDING_STRIDE",
-                                              "DEPTH_TEST_ENABLE",   "DEPTH_WRITE_ENABLE",
-                                              "DEPTH_COMPARE_OP",    "DEPTH_BOUNDS_TEST_ENABLE",
-                                              "STENCIL_TEST_ENABLE", "STENCIL_OP"};
-  if (state >= 0 && size_t(state) < std::size(kCore)) return kCore[state];
-  if (state >= VK_DYNAMIC_STATE_CULL_MODE && state <= VK_DYNAMIC_STATE_STENCIL_OP)
-    return kExtended[state - VK_DYNAMIC_STATE_CULL_MODE];
-  return std::to_string(int64_t(state));
+  return vk_name(state);
 }
 
 // What the callback sees of a pipeline's constants: one entry per name, stages merged.

@@ -14,7 +14,7 @@ namespace statepack::detail {
 // The archive's bit for a dynamic state statepack supports (archive_format.hpp has the numbering).
 std::optional<uint32_t> dynamic_state_bit(VkDynamicState state);
 VkDynamicState dynamic_state_of_bit(uint32_t index);
-std::string dynamic_state_name(VkDynamicState state);  // "VIEWPORT", ..., or the number
+std::string dynamic_state_name(VkDynamicState state);  // "VK_DYNAMIC_STATE_VIEWPORT", ... (vk_enum_names.hpp)
 
 // A pipeline's archived state; constants one entry per name, stages merged.
 PatchableState to_patchable(const format::Pipeline& pipeline);

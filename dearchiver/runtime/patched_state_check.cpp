@@ -1,5 +1,7 @@
 #include "patched_state_check.hpp"
 
+#include "vk_enum_names.hpp"
+
 #include <bit>
 #include <cmath>
 #include <string>
@@ -34,6 +36,24 @@ struct Checker {
   void format(const std::string& field, VkFormat value) {
     range(field, value, VK_FORMAT_ASTC_12x12_SRGB_BLOCK, "a Vulkan 1.0 format");
   }
+  // A valid format in the wrong kind of slot: Vulkan forbids it on every device, so it is the
+  // caller's mistake (invalid_argument), not the device's limitation.
+  void color_format(const std::string& field, VkFormat value) {
+    format(field, value);
+    if (error || !is_depth_stencil_format(value)) return;
+    error = Error{ErrorCode::invalid_argument,
+                  "pipeline '" + std::string(pipeline) +
+                      "': the modify callback set PatchableState::" + field + " to " + vk_name(value) +
+                      ", a depth-stencil format, which cannot be a colour render target"};
+  }
+  void depth_format(const std::string& field, VkFormat value) {
+    format(field, value);
+    if (error || value == VK_FORMAT_UNDEFINED || is_depth_stencil_format(value)) return;
+    error =
+        Error{ErrorCode::invalid_argument,
+              "pipeline '" + std::string(pipeline) + "': the modify callback set PatchableState::" + field +
+                  " to " + vk_name(value) + ", which has no depth or stencil component"};
+  }
   void compare(const std::string& field, VkCompareOp value) {
     range(field, value, VK_COMPARE_OP_ALWAYS, "a VkCompareOp");
   }
@@ -54,7 +74,7 @@ std::optional<Error> check_patched_state(std::string_view pipeline, const Patcha
   if (c.error) return c.error;
   for (uint32_t i = 0; i < s.color_count; ++i) {
     const std::string target = "[" + std::to_string(i) + "]";
-    c.format("color_formats" + target, s.color_formats[i]);
+    c.color_format("color_formats" + target, s.color_formats[i]);
     const BlendAttachmentState& b = s.blend[i];
     constexpr int64_t kLastFactor = VK_BLEND_FACTOR_ONE_MINUS_SRC1_ALPHA;
     c.range("blend" + target + ".src_color", b.src_color, kLastFactor, "a VkBlendFactor");
@@ -65,7 +85,7 @@ std::optional<Error> check_patched_state(std::string_view pipeline, const Patcha
     c.range("blend" + target + ".alpha_op", b.alpha_op, VK_BLEND_OP_MAX, "a Vulkan 1.0 VkBlendOp");
     c.range("blend" + target + ".write_mask", b.write_mask, 0xF, "a mask of R, G, B and A");
   }
-  c.format("depth_stencil_format", s.depth_stencil_format);
+  c.depth_format("depth_stencil_format", s.depth_stencil_format);
   if (!std::has_single_bit(uint32_t(s.samples)) || s.samples > VK_SAMPLE_COUNT_64_BIT)
     c.fail("samples", s.samples, "one VkSampleCountFlagBits");
   c.range("rasterizer.polygon_mode", s.rasterizer.polygon_mode, VK_POLYGON_MODE_POINT, "a VkPolygonMode");

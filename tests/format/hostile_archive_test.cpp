@@ -456,7 +456,7 @@ TEST_F(HostileUnpack, VertexInputBeyondTheDevice) {
     if (p.name == "Instanced Mesh PSO")
       p.graphics.vertex_attributes[0].format = VK_FORMAT_BC1_RGB_UNORM_BLOCK;
   EXPECT_NE(unpack_error(format.contents, "Instanced Mesh PSO")
-                .find("has format 131, which the device cannot read vertices from"),
+                .find("has format VK_FORMAT_BC1_RGB_UNORM_BLOCK, which the device cannot read vertices from"),
             std::string::npos);
 }
 
@@ -468,7 +468,7 @@ TEST_F(HostileUnpack, RenderTargetsBeyondTheDevice) {
   Slice format;
   format.pipeline("Gradient PSO").graphics.color_formats[0] = VK_FORMAT_BC1_RGB_UNORM_BLOCK;
   EXPECT_EQ(unpack_error(format.contents, "Gradient PSO"),
-            "pipeline 'Gradient PSO': render target 0 has format 131, which the device cannot render to");
+            "pipeline 'Gradient PSO': render target 0 has format VK_FORMAT_BC1_RGB_UNORM_BLOCK, which the device cannot render to");
 }
 
 TEST_F(HostileUnpack, SignatureBeyondTheDevice) {

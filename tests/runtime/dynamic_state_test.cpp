@@ -121,7 +121,7 @@ TEST_F(DynamicStateTest, UnsupportedDynamicStatesAreErrorsNamingThem) {
   ASSERT_FALSE(with_count);
   EXPECT_EQ(
       with_count.error().message,
-      "pipeline 'Constant Color PSO': dynamic state VIEWPORT_WITH_COUNT is not supported by the dearchiver");
+      "pipeline 'Constant Color PSO': dynamic state VK_DYNAMIC_STATE_VIEWPORT_WITH_COUNT is not supported by the dearchiver");
   auto no_scissor = dearchiver->unpack_graphics(
       "Constant Color PSO", [](PatchableState& s) { s.dynamic_states.erase(s.dynamic_states.begin() + 1); });
   ASSERT_FALSE(no_scissor);

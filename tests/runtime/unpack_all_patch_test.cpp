@@ -133,6 +133,27 @@ TEST_F(UnpackAllPatch, AFormatLeftUnknownIsAnErrorNamingThePipelineAndSlot) {
             "PatchableState::color_formats[0] in the modify callback");
 }
 
+// A value Vulkan forbids on every device is the caller's mistake, in Vulkan's words; one this device
+// cannot do is `unsupported`.
+TEST_F(UnpackAllPatch, FormatsInTheWrongSlotAreTheCallersMistakeInVulkansWords) {
+  Dearchiver dearchiver = make_run_time_formats_dearchiver();
+  auto depth_as_colour = dearchiver.unpack_graphics(
+      kOffscreen, [](PatchableState& s) { s.color_formats[0] = VK_FORMAT_D32_SFLOAT; });
+  ASSERT_FALSE(depth_as_colour);
+  EXPECT_EQ(depth_as_colour.error().code, ErrorCode::invalid_argument);
+  EXPECT_EQ(depth_as_colour.error().message,
+            "pipeline 'Offscreen Gradient PSO': the modify callback set PatchableState::color_formats[0] to "
+            "VK_FORMAT_D32_SFLOAT, a depth-stencil format, which cannot be a colour render target");
+  auto compressed = dearchiver.unpack_graphics(
+      kOffscreen, [](PatchableState& s) { s.color_formats[0] = VK_FORMAT_BC1_RGB_UNORM_BLOCK; });
+  ASSERT_FALSE(compressed);
+  EXPECT_EQ(compressed.error().code, ErrorCode::unsupported);
+  EXPECT_EQ(
+      compressed.error().message,
+      "pipeline 'Offscreen Gradient PSO': render target 0 has format VK_FORMAT_BC1_RGB_UNORM_BLOCK, which "
+      "the device cannot render to");
+}
+
 // Each bad patch fails unpack_all with the error unpack_graphics/unpack_compute give for the same modify
 // callback: the values are checked by the same code before they reach Vulkan (the fixture fails the test
 // on any validation message).
@@ -147,7 +168,15 @@ TEST_F(UnpackAllPatch, PatchedValuesPassTheSingleObjectChecks) {
       {kSwapchain, [](PatchableState& s) { s.color_formats[0] = VkFormat(0x7FFF0000); },
        "color_formats[0] to 2147418112, which is not a Vulkan 1.0 format"},
       {kOffscreen, [](PatchableState& s) { s.color_formats[0] = VK_FORMAT_D32_SFLOAT; },
-       "render target 0 has format 126, which the device cannot render to"},
+       "the modify callback set PatchableState::color_formats[0] to VK_FORMAT_D32_SFLOAT, a depth-stencil "
+       "format, "
+       "which cannot be a colour render target"},
+      {kOffscreen, [](PatchableState& s) { s.depth_stencil_format = VK_FORMAT_R8G8B8A8_UNORM; },
+       "the modify callback set PatchableState::depth_stencil_format to VK_FORMAT_R8G8B8A8_UNORM, which has "
+       "no "
+       "depth or stencil component"},
+      {kOffscreen, [](PatchableState& s) { s.color_formats[0] = VK_FORMAT_BC1_RGB_UNORM_BLOCK; },
+       "render target 0 has format VK_FORMAT_BC1_RGB_UNORM_BLOCK, which the device cannot render to"},
       {kOffscreen, [](PatchableState& s) { s.blend[0].src_color = VkBlendFactor(99); },
        "blend[0].src_color to 99, which is not a VkBlendFactor"},
       {kOverlay, [](PatchableState& s) { s.samples = VkSampleCountFlagBits(3); },

@@ -1,0 +1,28 @@
+// Vulkan's own names for the enum values runtime messages show ("VK_FORMAT_D32_SFLOAT", not 126),
+// from tables generated at build time from vk.xml (vk_enum_names_gen.py). A value Vulkan does not
+// define is shown as its type and number ("VkFormat 2147418112").
+#pragma once
+
+#include <vulkan/vulkan_core.h>
+
+#include <string>
+
+namespace statepack::detail {
+
+std::string vk_name(VkFormat value);
+std::string vk_name(VkDynamicState value);
+std::string vk_name(VkBlendFactor value);
+std::string vk_name(VkBlendOp value);
+std::string vk_name(VkCompareOp value);
+std::string vk_name(VkStencilOp value);
+std::string vk_name(VkPolygonMode value);
+std::string vk_name(VkFrontFace value);
+std::string vk_name(VkPrimitiveTopology value);
+std::string vk_name(VkSampleCountFlagBits value);
+std::string vk_name(VkDescriptorType value);
+std::string vk_name(VkLogicOp value);
+
+// Depth, stencil or both: a format that can only be a depth-stencil attachment.
+bool is_depth_stencil_format(VkFormat format);
+
+}  // namespace statepack::detail
