@@ -8,6 +8,7 @@
 #include <mutex>
 #include <optional>
 #include <set>
+#include <unordered_map>
 
 #include "api_guard.hpp"
 #include "archive_access.hpp"
@@ -17,6 +18,7 @@
 #include "pipeline_plan.hpp"
 #include "support/parallel_for.hpp"
 #include "support/suggest.hpp"
+#include "variant_key.hpp"
 #include "vk_result_string.hpp"
 #include "vulkan_functions.hpp"
 
@@ -41,6 +43,9 @@ struct Dearchiver::State {
   std::map<std::pair<size_t, uint32_t>, const UnpackedSignature*> signature_by_layout;
   std::deque<UnpackedPipeline> pipelines;                                  // stable addresses
   std::map<std::string, const UnpackedPipeline*, std::less<>> unmodified;  // cache by name
+  std::map<std::string, const UnpackedPipeline*> variants;                 // patched, by variant_key
+  std::unordered_map<const UnpackedPipeline*, size_t> slot_of;             // live pipelines' places
+  std::vector<size_t> free_slots;                                          // places of released ones
   std::mutex mutex;
 
   ~State() {  // the pipelines go before the objects they were made from (the cache, a member)
@@ -107,11 +112,43 @@ struct Dearchiver::State {
     return {};
   }
 
-  const UnpackedPipeline* keep(Plan& plan) {
-    pipelines.push_back(std::move(plan.out));
-    const UnpackedPipeline* kept = &pipelines.back();
+  // Keeps a created pipeline (in a released one's place when there is one); `key`: its variant key.
+  const UnpackedPipeline* keep(Plan& plan, std::string key = {}) {
+    size_t slot = pipelines.size();
+    if (!free_slots.empty()) {
+      slot = free_slots.back();
+      free_slots.pop_back();
+      pipelines[slot] = std::move(plan.out);
+    } else {
+      pipelines.push_back(std::move(plan.out));
+    }
+    const UnpackedPipeline* kept = &pipelines[slot];
+    slot_of.emplace(kept, slot);
     if (plan.cacheable) unmodified.emplace(kept->name, kept);
+    if (!key.empty()) variants.emplace(std::move(key), kept);
     return kept;
+  }
+
+  // The variant made before with the same settled state, if any.
+  const UnpackedPipeline* earlier_variant(const std::string& key) const {
+    auto it = variants.find(key);
+    return it == variants.end() ? nullptr : it->second;
+  }
+
+  Result<void> release(const UnpackedPipeline* pipeline) {
+    auto it = slot_of.find(pipeline);
+    if (it == slot_of.end())
+      return Error{ErrorCode::invalid_argument,
+                   "Dearchiver::release: the pipeline is not one this Dearchiver holds (released already, or "
+                   "from another Dearchiver)"};
+    const size_t slot = it->second;
+    slot_of.erase(it);
+    std::erase_if(unmodified, [&](const auto& entry) { return entry.second == pipeline; });
+    std::erase_if(variants, [&](const auto& entry) { return entry.second == pipeline; });
+    caps.vk.vkDestroyPipeline(context.device, pipelines[slot].pipeline, context.allocator);
+    pipelines[slot] = UnpackedPipeline{};  // VK_NULL_HANDLE: the destructor skips it
+    free_slots.push_back(slot);
+    return {};
   }
 
   // Cached, or planned, created and kept.
@@ -128,8 +165,12 @@ struct Dearchiver::State {
     auto plan = kind == format::PipelineKind::compute ? planner.plan_compute(*found, modify)
                                                       : planner.plan_graphics(*found, modify);
     if (!plan) return plan.error();
+    // A patched pipeline whose settled state equals an earlier one's is that pipeline.
+    std::string key = modify ? variant_key(name, **plan) : std::string();
+    if (!key.empty())
+      if (const UnpackedPipeline* earlier = earlier_variant(key)) return earlier;
     if (auto created = create(**plan); !created) return created.error();
-    return keep(**plan);
+    return keep(**plan, std::move(key));
   }
 };
 
@@ -162,6 +203,13 @@ Result<void> Dearchiver::add_archive(Archive archive) {
     std::lock_guard lock(state_->mutex);
     state_->archives.push_back(std::move(archive));
     return {};
+  });
+}
+
+Result<void> Dearchiver::release(const UnpackedPipeline* pipeline) {
+  return api_guard("Dearchiver::release", [&]() -> Result<void> {
+    std::lock_guard lock(state_->mutex);
+    return state_->release(pipeline);
   });
 }
 
@@ -225,6 +273,7 @@ Result<std::vector<const UnpackedPipeline*>> Dearchiver::unpack_all_pipelines(ui
   // Plan every pipeline not yet unpacked (serially: shared objects are created once), then create the
   // pipelines on `threads` threads: the driver's compile is the expensive part.
   std::vector<std::unique_ptr<Plan>> plans;
+  std::vector<std::string> keys;  // each plan's variant key (patched), else empty
   std::vector<const UnpackedPipeline*> done;
   std::set<std::string, std::less<>> seen;
   for (size_t a = 0; a < state_->archives.size(); ++a) {
@@ -248,6 +297,16 @@ Result<std::vector<const UnpackedPipeline*>> Dearchiver::unpack_all_pipelines(ui
       auto plan = compute ? state_->planner.plan_compute(found, modify)
                           : state_->planner.plan_graphics(found, modify);
       if (!plan) return plan.error();
+      if (patch) {
+        std::string key = variant_key(p.name, **plan);
+        if (const UnpackedPipeline* earlier = state_->earlier_variant(key)) {
+          done.push_back(earlier);
+          continue;
+        }
+        keys.push_back(std::move(key));
+      } else {
+        keys.emplace_back();
+      }
       plans.push_back(std::move(plan.value()));
     }
   }
@@ -261,7 +320,8 @@ Result<std::vector<const UnpackedPipeline*>> Dearchiver::unpack_all_pipelines(ui
       if (!first_failure) first_failure = failures[i];
       continue;
     }
-    done.push_back(state_->keep(*plans[i]));  // kept, so destroyed with the dearchiver even on failure
+    done.push_back(
+        state_->keep(*plans[i], std::move(keys[i])));  // destroyed with the dearchiver even on failure
   }
   if (first_failure) return *first_failure;
   return done;

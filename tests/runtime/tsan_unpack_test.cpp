@@ -64,5 +64,50 @@ TEST_F(TsanUnpack, ConcurrentUnpackAllAndSingleUnpacksAgree) {
   for (const UnpackedPipeline* p : all[0]) EXPECT_NE(p->pipeline, VK_NULL_HANDLE) << p->name;
 }
 
+// Patched variants from several threads at once (each alternating between two specialization values,
+// so the threads meet on the same variants), then released while other threads keep unpacking: the
+// variant table and the released places are shared state.
+TEST_F(TsanUnpack, ConcurrentVariantsAndReleasesAgree) {
+  auto dearchiver = Dearchiver::create({vk_->physical_device, vk_->device});
+  ASSERT_TRUE(dearchiver);
+  std::string compute;
+  for (const auto& path : corpus_archives_without_run_time_state()) {
+    auto archive = Archive::from_file(path);
+    ASSERT_TRUE(archive) << archive.error().message;
+    for (const auto& p : detail::ArchiveAccess::contents(*archive).pipelines)
+      if (compute.empty() && p.kind == format::PipelineKind::compute) compute = p.name;
+    ASSERT_TRUE(dearchiver->add_archive(std::move(*archive)));
+  }
+  ASSERT_FALSE(compute.empty());
+  // Two settled states that differ (the first constant's value, when there is one; else identical).
+  auto variant = [](int which) {
+    return [which](PatchableState& s) {
+      if (!s.constants.empty() && s.constants[0].size == 4) s.constants[0].value[0] = uint8_t(which + 1);
+    };
+  };
+  std::vector<std::string> errors(4);
+  std::vector<std::thread> threads;
+  for (size_t t = 0; t < 4; ++t)
+    threads.emplace_back([&, t] {
+      for (int i = 0; i < 40; ++i) {
+        auto pso = dearchiver->unpack_compute(compute, variant(i % 2));
+        if (!pso) {
+          errors[t] = pso.error().message;
+          return;
+        }
+        // Threads 2 and 3 release what they got every tenth time.
+        if (t >= 2 && i % 10 == 9) (void)dearchiver->release(*pso);  // may have gone already: refused
+      }
+    });
+  for (auto& t : threads) t.join();
+  for (const auto& e : errors) EXPECT_EQ(e, "");
+  // Afterwards the table still answers: the same state twice is one live pipeline.
+  auto a = dearchiver->unpack_compute(compute, variant(0));
+  auto b = dearchiver->unpack_compute(compute, variant(0));
+  ASSERT_TRUE(a && b);
+  EXPECT_EQ(*a, *b);
+  EXPECT_NE((*a)->pipeline, VkPipeline(VK_NULL_HANDLE));
+}
+
 }  // namespace
 }  // namespace statepack::testing

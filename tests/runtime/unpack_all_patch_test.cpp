@@ -5,6 +5,7 @@
 #include <cmath>
 #include <map>
 #include <new>
+#include <set>
 #include <stdexcept>
 
 #include "common/vulkan_test_fixture.hpp"
@@ -101,8 +102,8 @@ TEST_F(UnpackAllPatch, OneCallbackSetsTheSwapchainFormatOfEveryPipelineThatLeftI
   ASSERT_NE(compute, nullptr);
   EXPECT_EQ(compute->bind_point, VK_PIPELINE_BIND_POINT_COMPUTE);
 
-  // Patched pipelines are new objects each time, as with a modify callback: a second call sees every
-  // pipeline again and creates each anew.
+  // A second call sees every pipeline again; the same patch settles the same states, so it returns
+  // the same pipelines (variants are keyed by the settled state) rather than creating them anew.
   calls.clear();
   auto again = dearchiver.unpack_all([&](const ObjectInfo& pipeline, PatchableState& s) {
     ++calls[pipeline.name];
@@ -110,7 +111,7 @@ TEST_F(UnpackAllPatch, OneCallbackSetsTheSwapchainFormatOfEveryPipelineThatLeftI
   });
   ASSERT_TRUE(again) << again.error().message;
   EXPECT_EQ(calls.size(), 4u);
-  for (const UnpackedPipeline* p : *again) EXPECT_NE(named(*all, p->name)->pipeline, p->pipeline) << p->name;
+  for (const UnpackedPipeline* p : *again) EXPECT_EQ(named(*all, p->name)->pipeline, p->pipeline) << p->name;
 }
 
 TEST_F(UnpackAllPatch, AFormatLeftUnknownIsAnErrorNamingThePipelineAndSlot) {
@@ -131,6 +132,61 @@ TEST_F(UnpackAllPatch, AFormatLeftUnknownIsAnErrorNamingThePipelineAndSlot) {
   EXPECT_EQ(half.error().message,
             "pipeline 'Swapchain Gradient PSO': render target 0 is UNKNOWN (a format set at run time); set "
             "PatchableState::color_formats[0] in the modify callback");
+}
+
+// Variants: a patched unpack is keyed by the state the callback settled, not by the callback, so a
+// swapchain recreated a thousand times, or toggled between two formats, makes one pipeline per format.
+TEST_F(UnpackAllPatch, TheSameSettledStateIsTheSamePipelineWhateverTheCallback) {
+  Dearchiver dearchiver = make_run_time_formats_dearchiver();
+  auto first = dearchiver.unpack_graphics(kSwapchain, set_swapchain_format);
+  ASSERT_TRUE(first) << first.error().message;
+  auto again = dearchiver.unpack_graphics(kSwapchain, [](PatchableState& s) {
+    s.color_formats[0] = VK_FORMAT_B8G8R8A8_UNORM;  // another callback, the same result
+    s.dynamic_states = {s.dynamic_states.rbegin(), s.dynamic_states.rend()};  // order means nothing
+  });
+  ASSERT_TRUE(again) << again.error().message;
+  EXPECT_EQ(*again, *first);
+  EXPECT_EQ((*again)->pipeline, (*first)->pipeline);
+  auto other = dearchiver.unpack_graphics(
+      kSwapchain, [](PatchableState& s) { s.color_formats[0] = VK_FORMAT_R8G8B8A8_UNORM; });
+  ASSERT_TRUE(other) << other.error().message;
+  EXPECT_NE(*other, *first);
+  EXPECT_NE((*other)->pipeline, (*first)->pipeline);
+  // unpack_all with the same patch reuses the variants made one by one.
+  auto all = dearchiver.unpack_all([](const ObjectInfo&, PatchableState& s) { set_swapchain_format(s); });
+  ASSERT_TRUE(all) << all.error().message;
+  EXPECT_EQ(named(*all, kSwapchain), *first);
+}
+
+TEST_F(UnpackAllPatch, AlternatingPatchesKeepOnePipelinePerStateAndReleaseFreesThem) {
+  Dearchiver dearchiver = make_run_time_formats_dearchiver();
+  std::set<const UnpackedPipeline*> objects;
+  std::set<VkPipeline> handles;
+  for (int i = 0; i < 1000; ++i) {
+    const VkFormat format = i % 2 ? VK_FORMAT_B8G8R8A8_UNORM : VK_FORMAT_R8G8B8A8_SRGB;
+    auto p = dearchiver.unpack_graphics(kSwapchain, [&](PatchableState& s) { s.color_formats[0] = format; });
+    ASSERT_TRUE(p) << p.error().message;
+    objects.insert(*p);
+    handles.insert((*p)->pipeline);
+  }
+  EXPECT_EQ(objects.size(), 2u);
+  EXPECT_EQ(handles.size(), 2u);
+  // Released: destroyed now (the layer would report a double destroy at the Dearchiver's end, or a
+  // leak at the device's), refused a second time, and made anew by the next unpack of that state.
+  for (const UnpackedPipeline* p : objects) EXPECT_TRUE(dearchiver.release(p));
+  auto twice = dearchiver.release(*objects.begin());
+  ASSERT_FALSE(twice);
+  EXPECT_EQ(twice.error().code, ErrorCode::invalid_argument);
+  auto remade = dearchiver.unpack_graphics(kSwapchain, set_swapchain_format);
+  ASSERT_TRUE(remade) << remade.error().message;
+  EXPECT_NE((*remade)->pipeline, VkPipeline(VK_NULL_HANDLE));
+  // An unpatched pipeline can be released too; unpacking it again creates it again.
+  auto plain = dearchiver.unpack_graphics(kOffscreen);
+  ASSERT_TRUE(plain) << plain.error().message;
+  EXPECT_TRUE(dearchiver.release(*plain));
+  auto plain_again = dearchiver.unpack_graphics(kOffscreen);
+  ASSERT_TRUE(plain_again) << plain_again.error().message;
+  EXPECT_NE((*plain_again)->pipeline, VkPipeline(VK_NULL_HANDLE));
 }
 
 // A value Vulkan forbids on every device is the caller's mistake, in Vulkan's words; one this device

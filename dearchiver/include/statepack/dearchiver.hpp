@@ -263,8 +263,12 @@ class STATEPACK_API Dearchiver {
   // Adds an archive; names resolve across all added archives, the earliest added winning.
   Result<void> add_archive(Archive archive);
 
-  // Unpacks a pipeline by name. The pointer stays valid for the Dearchiver's lifetime. Unpacking the
-  // same name twice without a callback returns the same pipeline.
+  // Unpacks a pipeline by name. The pointer stays valid until release() or the Dearchiver's end.
+  // Unpacking the same name twice without a callback returns the same pipeline; with a callback, a
+  // variant whose settled state (what the callback left: formats, blending, rasterizer, depth-stencil,
+  // samples, dynamic states, constants) equals an earlier one's returns that one, whichever callback
+  // made it, so repeated or alternating patches (swapchain recreation, MSAA toggles) make one
+  // pipeline per distinct state.
   Result<const UnpackedPipeline*> unpack_graphics(std::string_view name, const ModifyCallback& modify = {});
   // For compute pipelines the callback may change `constants` only (the rest does not apply).
   Result<const UnpackedPipeline*> unpack_compute(std::string_view name, const ModifyCallback& modify = {});
@@ -274,8 +278,9 @@ class STATEPACK_API Dearchiver {
   // shader. Returns the pipelines.
   Result<std::vector<const UnpackedPipeline*>> unpack_all(uint32_t threads = 0);
   // The same, with every pipeline's state first given to `patch` (once per pipeline, on the calling
-  // thread, one after another, before any pipeline is created). Patched pipelines are new objects, as
-  // with unpack_graphics(name, modify): none is reused from an earlier unpack or cached for a later one.
+  // thread, one after another, before any pipeline is created). A patched pipeline is reused when an
+  // earlier patched unpack settled the same state (as with unpack_graphics(name, modify)), never
+  // taken from the unpatched ones.
   // An empty `patch` is the call above.
   Result<std::vector<const UnpackedPipeline*>> unpack_all(const PatchCallback& patch, uint32_t threads = 0);
 
@@ -285,6 +290,13 @@ class STATEPACK_API Dearchiver {
   Result<UnpackedShader> unpack_shader(std::string_view name);
 
   std::vector<std::string> pipeline_names() const;
+
+  // Destroys a pipeline (a variant or not) this Dearchiver unpacked: vkDestroyPipeline now, so the GPU
+  // must be done with it, as for any VkPipeline. Its pointer, and every pointer to it that unpack
+  // calls returned, is invalid after; a later unpack of the same name and state creates it again. The
+  // layouts, set layouts and shader modules it used stay (shared, owned by the Dearchiver).
+  // invalid_argument for a pointer this Dearchiver does not hold (released already, or not its own).
+  Result<void> release(const UnpackedPipeline* pipeline);
 
  private:
   struct State;
