@@ -468,7 +468,8 @@ TEST_F(HostileUnpack, RenderTargetsBeyondTheDevice) {
   Slice format;
   format.pipeline("Gradient PSO").graphics.color_formats[0] = VK_FORMAT_BC1_RGB_UNORM_BLOCK;
   EXPECT_EQ(unpack_error(format.contents, "Gradient PSO"),
-            "pipeline 'Gradient PSO': render target 0 has format VK_FORMAT_BC1_RGB_UNORM_BLOCK, which the device cannot render to");
+            "pipeline 'Gradient PSO': render target 0 has format VK_FORMAT_BC1_RGB_UNORM_BLOCK, which the "
+            "device cannot render to");
 }
 
 TEST_F(HostileUnpack, SignatureBeyondTheDevice) {

@@ -119,9 +119,9 @@ TEST_F(DynamicStateTest, UnsupportedDynamicStatesAreErrorsNamingThem) {
     s.dynamic_states.push_back(VK_DYNAMIC_STATE_VIEWPORT_WITH_COUNT);
   });
   ASSERT_FALSE(with_count);
-  EXPECT_EQ(
-      with_count.error().message,
-      "pipeline 'Constant Color PSO': dynamic state VK_DYNAMIC_STATE_VIEWPORT_WITH_COUNT is not supported by the dearchiver");
+  EXPECT_EQ(with_count.error().message,
+            "pipeline 'Constant Color PSO': dynamic state VK_DYNAMIC_STATE_VIEWPORT_WITH_COUNT is not "
+            "supported by the dearchiver");
   auto no_scissor = dearchiver->unpack_graphics(
       "Constant Color PSO", [](PatchableState& s) { s.dynamic_states.erase(s.dynamic_states.begin() + 1); });
   ASSERT_FALSE(no_scissor);
