@@ -1,8 +1,8 @@
 #include "statepack/bootstrap/vulkan_context.hpp"
 
-#include <algorithm>
 #include <cstring>
 #include <set>
+#include <string_view>
 
 #include "runtime/spirv_capability_table.hpp"
 
@@ -152,7 +152,7 @@ void* VulkanContext::chain_capability_extensions() {
   vkEnumerateDeviceExtensionProperties(physical_device, nullptr, &count, nullptr);
   std::vector<VkExtensionProperties> available(count);
   vkEnumerateDeviceExtensionProperties(physical_device, nullptr, &count, available.data());
-  std::set<std::string> chosen;
+  std::set<std::string_view> chosen;  // views of the table's literals, so .data() is a C string
   for (const ExtensionStruct& e : kCapabilityExtensions)
     for (const VkExtensionProperties& a : available)
       if (std::strcmp(a.extensionName, e.extension) == 0) chosen.insert(e.extension);
@@ -161,13 +161,10 @@ void* VulkanContext::chain_capability_extensions() {
     for (const ExtensionDependency& d : kCapabilityExtensionDependencies)
       if (chosen.count(d.extension) && !chosen.count(d.needs)) dropped = chosen.erase(d.extension) > 0;
   }
+  for (std::string_view name : chosen) capability_extension_names_.push_back(name.data());
   void* head = nullptr;
   for (const ExtensionStruct& e : kCapabilityExtensions) {
-    if (!chosen.count(e.extension)) continue;
-    if (std::find(capability_extension_names_.begin(), capability_extension_names_.end(), e.extension) ==
-        capability_extension_names_.end())
-      capability_extension_names_.push_back(e.extension);
-    if (e.size == 0) continue;
+    if (!chosen.count(e.extension) || e.size == 0) continue;
     auto& bytes = capability_extension_features_.emplace_back(e.size, static_cast<unsigned char>(0));
     auto* s = reinterpret_cast<VkBaseOutStructure*>(bytes.data());
     s->sType = e.s_type;

@@ -33,19 +33,24 @@ const BindingInfo* UnpackedPipeline::find_binding(std::string_view resource_name
 
 struct Dearchiver::State {
   DeviceContext context;
-  DeviceCaps caps;                      // limits and formats, checked before any vkCreate*
-  VkPhysicalDeviceFeatures features{};  // enabled (as the caller says) or supported ones
-  EnabledFeatures enabled;              // the same, every structure, for SPIR-V capabilities
+  DeviceCaps caps;  // limits and formats, checked before any vkCreate*
+  // Enabled (as the caller says) or supported features, every structure; assigned in create(), so the
+  // references below stay bound to it.
+  EnabledFeatures enabled;
   std::vector<Archive> archives;
-  ObjectCache cache{context, caps, features, enabled, archives};  // what pipelines share
-  Planner planner{context, caps, features, cache};
+  ObjectCache cache{context, caps, enabled, archives};  // what pipelines share
+  Planner planner{context, caps, enabled.core(), cache};
   std::deque<UnpackedSignature> signatures;
   std::map<std::pair<size_t, uint32_t>, const UnpackedSignature*> signature_by_layout;
   std::deque<UnpackedPipeline> pipelines;                                  // stable addresses
   std::map<std::string, const UnpackedPipeline*, std::less<>> unmodified;  // cache by name
   std::map<std::string, const UnpackedPipeline*> variants;                 // patched, by variant_key
-  std::unordered_map<const UnpackedPipeline*, size_t> slot_of;             // live pipelines' places
-  std::vector<size_t> free_slots;                                          // places of released ones
+  struct Place {
+    size_t slot;                                                       // in `pipelines`
+    std::map<std::string, const UnpackedPipeline*>::iterator variant;  // variants.end(): not a variant
+  };
+  std::unordered_map<const UnpackedPipeline*, Place> place_of;  // live pipelines, for release()
+  std::vector<size_t> free_slots;                               // places of released ones
   std::mutex mutex;
 
   ~State() {  // the pipelines go before the objects they were made from (the cache, a member)
@@ -123,9 +128,9 @@ struct Dearchiver::State {
       pipelines.push_back(std::move(plan.out));
     }
     const UnpackedPipeline* kept = &pipelines[slot];
-    slot_of.emplace(kept, slot);
     if (plan.cacheable) unmodified.emplace(kept->name, kept);
-    if (!key.empty()) variants.emplace(std::move(key), kept);
+    auto variant = key.empty() ? variants.end() : variants.emplace(std::move(key), kept).first;
+    place_of.emplace(kept, Place{slot, variant});
     return kept;
   }
 
@@ -136,15 +141,17 @@ struct Dearchiver::State {
   }
 
   Result<void> release(const UnpackedPipeline* pipeline) {
-    auto it = slot_of.find(pipeline);
-    if (it == slot_of.end())
+    auto it = place_of.find(pipeline);
+    if (it == place_of.end())
       return Error{ErrorCode::invalid_argument,
                    "Dearchiver::release: the pipeline is not one this Dearchiver holds (released already, or "
                    "from another Dearchiver)"};
-    const size_t slot = it->second;
-    slot_of.erase(it);
-    std::erase_if(unmodified, [&](const auto& entry) { return entry.second == pipeline; });
-    std::erase_if(variants, [&](const auto& entry) { return entry.second == pipeline; });
+    const Place place = it->second;
+    place_of.erase(it);
+    if (auto u = unmodified.find(pipeline->name); u != unmodified.end() && u->second == pipeline)
+      unmodified.erase(u);
+    if (place.variant != variants.end()) variants.erase(place.variant);
+    const size_t slot = place.slot;
     caps.vk.vkDestroyPipeline(context.device, pipelines[slot].pipeline, context.allocator);
     pipelines[slot] = UnpackedPipeline{};  // VK_NULL_HANDLE: the destructor skips it
     free_slots.push_back(slot);
@@ -191,7 +198,6 @@ Result<Dearchiver> Dearchiver::create(const DeviceContext& context) {
     state->caps.vk = *functions;
     state->caps.vk.vkGetPhysicalDeviceProperties(context.physical_device, &state->caps.properties);
     state->enabled = EnabledFeatures::gather(context, state->caps);
-    state->features = state->enabled.core();
     state->context.enabled_feature_chain = nullptr;  // read: the application may free it now
     state->context.enabled_extensions = nullptr;
     return Dearchiver(std::move(state));

@@ -92,7 +92,8 @@ EnabledFeatures EnabledFeatures::gather(const DeviceContext& context, const Devi
 std::string EnabledFeatures::check_capabilities(const std::vector<uint32_t>& capabilities) const {
   for (uint32_t capability : capabilities) {
     bool listed = false, allowed = false;
-    std::string needs;
+    std::string needs;  // every way to allow it, for the message
+    auto can_allow = [&](const std::string& way) { needs += (needs.empty() ? "" : ", ") + way; };
     const char* name = nullptr;
     for (const CapabilityEnable& e : kCapabilityEnables) {
       if (e.capability != capability) continue;
@@ -101,26 +102,25 @@ std::string EnabledFeatures::check_capabilities(const std::vector<uint32_t>& cap
       switch (e.kind) {
         case EnableKind::version:
           allowed = api_version_ >= e.version;
-          needs += std::string(needs.empty() ? "" : ", ") + "Vulkan " +
-                   std::to_string(VK_API_VERSION_MAJOR(e.version)) + "." +
-                   std::to_string(VK_API_VERSION_MINOR(e.version));
+          can_allow("Vulkan " + std::to_string(VK_API_VERSION_MAJOR(e.version)) + "." +
+                    std::to_string(VK_API_VERSION_MINOR(e.version)));
           break;
         case EnableKind::feature: {
           auto it = features_.find(uint32_t(e.s_type));
           // A structure the application's chain lacks is off; without a chain, unknown (allowed).
           allowed = it != features_.end() ? word_at(it->second, e.offset) != 0 : !features_known_;
-          needs += std::string(needs.empty() ? "" : ", ") + e.what;
+          can_allow(e.what);
           break;
         }
         case EnableKind::extension:
           allowed = !extensions_known_ || extensions_.count(e.extension) != 0;
-          needs += std::string(needs.empty() ? "" : ", ") + "the extension " + e.extension;
+          can_allow(std::string("the extension ") + e.extension);
           break;
         case EnableKind::property: {
           auto it = properties_.find(uint32_t(e.s_type));
           allowed = it == properties_.end() ? !properties_known_
                                             : (word_at(it->second, e.offset) & e.bits) == e.bits;
-          needs += std::string(needs.empty() ? "" : ", ") + e.what;
+          can_allow(e.what);
           break;
         }
       }

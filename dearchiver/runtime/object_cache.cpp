@@ -95,7 +95,7 @@ Result<VkSampler> ObjectCache::sampler(size_t archive, uint32_t index, std::stri
   return find_or_create(samplers_, {archive, index}, [&]() -> Result<VkSampler> {
     const format::Sampler& s = contents(archive).samplers[index];
     if (auto ok = check_sampler(s, caps_, binding); !ok) return ok.error();
-    if (s.anisotropy_enable && !features_.samplerAnisotropy)
+    if (s.anisotropy_enable && !enabled_.core().samplerAnisotropy)
       return Error{ErrorCode::unsupported,
                    "immutable sampler of '" + std::string(binding) +
                        "' uses anisotropic filtering, which the device does not support"};
@@ -132,7 +132,7 @@ VkSampler ObjectCache::immutable_sampler_of(size_t archive, const format::Bindin
 Result<VkRenderPass> ObjectCache::render_pass(size_t archive, uint32_t index) {
   return find_or_create(render_passes_, {archive, index}, [&]() -> Result<VkRenderPass> {
     const format::RenderPass& rp = contents(archive).render_passes[index];
-    if (auto ok = check_render_pass(rp, caps_, features_); !ok) return ok.error();
+    if (auto ok = check_render_pass(rp, caps_, enabled_.core()); !ok) return ok.error();
     std::vector<VkAttachmentDescription> attachments;
     for (const auto& a : rp.attachments)
       attachments.push_back(

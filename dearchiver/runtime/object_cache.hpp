@@ -23,9 +23,9 @@ namespace statepack::detail {
 class ObjectCache {
  public:
   // `archives` is the Dearchiver's list: objects are keyed by (archive index, record index).
-  ObjectCache(const DeviceContext& context, const DeviceCaps& caps, const VkPhysicalDeviceFeatures& features,
-              const EnabledFeatures& enabled, const std::vector<Archive>& archives)
-      : context_(context), caps_(caps), features_(features), enabled_(enabled), archives_(archives) {}
+  ObjectCache(const DeviceContext& context, const DeviceCaps& caps, const EnabledFeatures& enabled,
+              const std::vector<Archive>& archives)
+      : context_(context), caps_(caps), enabled_(enabled), archives_(archives) {}
   ObjectCache(const ObjectCache&) = delete;
   ObjectCache& operator=(const ObjectCache&) = delete;
   ~ObjectCache();
@@ -55,8 +55,7 @@ class ObjectCache {
 
   const DeviceContext& context_;
   const DeviceCaps& caps_;
-  const VkPhysicalDeviceFeatures& features_;
-  const EnabledFeatures& enabled_;  // SPIR-V capabilities are checked against it
+  const EnabledFeatures& enabled_;  // features, and SPIR-V capabilities, are checked against it
   const std::vector<Archive>& archives_;
   std::map<Key, VkShaderModule> modules_;
   std::map<Key, VkDescriptorSetLayout> set_layouts_;

@@ -149,14 +149,15 @@ Location variable_location(const PipelineDesc& p, const std::string& name, const
 // separate image and a sampler variable on a combined descriptor). Without the attribute, or without
 // a partner, they stay apart and the collision moves one of them, as for HLSL's t0 and s0.
 void pair_combined_image_samplers(std::vector<Slot>& slots, std::map<std::string, size_t>& by_name) {
-  std::vector<bool> absorbed(slots.size(), false);
+  constexpr size_t kKept = SIZE_MAX;
+  std::vector<size_t> absorbed_by(slots.size(), kKept);  // a sampler's texture slot, once paired
   for (size_t i = 0; i < slots.size(); ++i) {
     Slot& texture = slots[i];
     if (!texture.combined_attribute || texture.binding.descriptor_type != VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE)
       continue;
     for (size_t j = 0; j < slots.size(); ++j) {
       const Slot& sampler = slots[j];
-      if (absorbed[j] || !sampler.combined_attribute ||
+      if (absorbed_by[j] != kKept || !sampler.combined_attribute ||
           sampler.binding.descriptor_type != VK_DESCRIPTOR_TYPE_SAMPLER || sampler.set != texture.set ||
           sampler.binding.binding != texture.binding.binding ||
           sampler.binding.count != texture.binding.count)
@@ -164,21 +165,16 @@ void pair_combined_image_samplers(std::vector<Slot>& slots, std::map<std::string
       texture.binding.descriptor_type = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
       texture.binding.stage_flags |= sampler.binding.stage_flags;
       texture.sampler_name = sampler.binding.name;
-      absorbed[j] = true;
+      absorbed_by[j] = i;
       break;
     }
   }
   std::vector<Slot> kept;
   std::vector<size_t> new_index(slots.size());
   for (size_t i = 0; i < slots.size(); ++i)
-    if (!absorbed[i]) new_index[i] = kept.size(), kept.push_back(std::move(slots[i]));
-  for (auto& [name, index] : by_name)
-    if (absorbed[index]) {
-      for (size_t k = 0; k < kept.size(); ++k)
-        if (kept[k].sampler_name == name) index = k;
-    } else {
-      index = new_index[index];
-    }
+    if (absorbed_by[i] == kKept) new_index[i] = kept.size(), kept.push_back(std::move(slots[i]));
+  for (auto& [name, index] : by_name)  // a paired sampler's name leads to its texture's binding
+    index = new_index[absorbed_by[index] == kKept ? index : absorbed_by[index]];
   slots = std::move(kept);
 }
 
