@@ -209,7 +209,8 @@ Result<void> VulkanContext::create_device(const VulkanContextOptions& options) {
   device_info.pQueueCreateInfos = &queue_info;
   device_info.enabledExtensionCount = static_cast<uint32_t>(device_extensions.size());
   device_info.ppEnabledExtensionNames = device_extensions.data();
-  if (VkResult r = vkCreateDevice(physical_device, &device_info, nullptr, &device); r != VK_SUCCESS)
+  device_allocator = options.device_allocator;
+  if (VkResult r = vkCreateDevice(physical_device, &device_info, device_allocator, &device); r != VK_SUCCESS)
     return vk_error("vkCreateDevice", r);
   vkGetDeviceQueue(device, queue_family, 0, &queue);
   VkCommandPoolCreateInfo pool_info{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
@@ -224,8 +225,7 @@ DeviceContext VulkanContext::device_context() const {
   DeviceContext context{physical_device, device};
   context.enabled_features = &enabled_features;
   context.enabled_feature_chain = &enabled_features2;
-  static const char* const kNoExtensions[1] = {nullptr};  // non-null: "none", not "not told"
-  context.enabled_extensions = enabled_extensions.empty() ? kNoExtensions : enabled_extensions.data();
+  context.enabled_extensions = enabled_extensions.data();
   context.enabled_extension_count = static_cast<uint32_t>(enabled_extensions.size());
   context.instance = instance;
   context.get_instance_proc_addr = vkGetInstanceProcAddr;
@@ -236,7 +236,7 @@ void VulkanContext::destroy_device() {
   if (!device) return;
   vkDeviceWaitIdle(device);
   if (command_pool) vkDestroyCommandPool(device, command_pool, nullptr);
-  vkDestroyDevice(device, nullptr);
+  vkDestroyDevice(device, device_allocator);
   device = VK_NULL_HANDLE;
   command_pool = VK_NULL_HANDLE;
 }

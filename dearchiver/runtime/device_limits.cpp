@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <map>
 #include <optional>
 #include <string>
 #include <tuple>
@@ -343,6 +344,21 @@ Result<void> check_render_pass(const format::RenderPass& pass, const DeviceCaps&
         return Error{ErrorCode::corrupt, subpass + " resolves color attachment " + std::to_string(i) +
                                              " into an attachment that does not fit"};
     }
+    // Every use of one attachment within a subpass is in one layout (VUID-VkSubpassDescription-layout-02519).
+    std::map<uint32_t, uint32_t> layout_of;
+    for (const auto* list : {&sp.colors, &sp.inputs, &sp.resolves})
+      for (const auto& r : *list) {
+        if (r.attachment == format::kNone) continue;
+        if (auto [it, first] = layout_of.emplace(r.attachment, r.layout); !first && it->second != r.layout)
+          return Error{ErrorCode::corrupt, subpass + " uses attachment " + std::to_string(r.attachment) +
+                                               " in two different layouts"};
+      }
+    if (sp.depth_stencil.attachment != format::kNone)
+      if (auto it = layout_of.find(sp.depth_stencil.attachment);
+          it != layout_of.end() && it->second != sp.depth_stencil.layout)
+        return Error{ErrorCode::corrupt, subpass + " uses attachment " +
+                                             std::to_string(sp.depth_stencil.attachment) +
+                                             " in two different layouts"};
     for (uint32_t p : sp.preserve) {
       auto used = [&](const format::AttachmentRef& r) { return r.attachment == p; };
       if (p == format::kNone || std::any_of(sp.colors.begin(), sp.colors.end(), used) ||

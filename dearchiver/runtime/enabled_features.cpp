@@ -32,24 +32,13 @@ void copy_chain(const void* chain, std::map<uint32_t, std::vector<unsigned char>
     }
 }
 
-// The Vulkan 1.1-1.3 structures this device supports (queried when the application gives no chain).
-void query_supported(const DeviceCaps& caps, uint32_t api_version,
-                     std::map<uint32_t, std::vector<unsigned char>>& into, bool properties) {
-  VkPhysicalDeviceVulkan13Features f13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
-  VkPhysicalDeviceVulkan12Features f12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
-  VkPhysicalDeviceVulkan11Features f11{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_FEATURES, &f12};
-  if (api_version >= VK_API_VERSION_1_3) f12.pNext = &f13;
+// The Vulkan 1.1-1.2 properties of this device (subgroup operations, float controls, ...).
+void query_properties(const DeviceCaps& caps, std::map<uint32_t, std::vector<unsigned char>>& into) {
   VkPhysicalDeviceVulkan12Properties p12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_PROPERTIES};
   VkPhysicalDeviceVulkan11Properties p11{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_PROPERTIES, &p12};
-  if (properties) {
-    VkPhysicalDeviceProperties2 p{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &p11};
-    caps.vk.vkGetPhysicalDeviceProperties2(caps.physical_device, &p);
-    copy_chain(&p11, into);
-  } else {
-    VkPhysicalDeviceFeatures2 f{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &f11};
-    caps.vk.vkGetPhysicalDeviceFeatures2(caps.physical_device, &f);
-    copy_chain(&f, into);
-  }
+  VkPhysicalDeviceProperties2 p{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &p11};
+  caps.vk.vkGetPhysicalDeviceProperties2(caps.physical_device, &p);
+  copy_chain(&p11, into);
 }
 
 }  // namespace
@@ -58,31 +47,24 @@ EnabledFeatures EnabledFeatures::gather(const DeviceContext& context, const Devi
   EnabledFeatures out;
   out.api_version_ = caps.properties.apiVersion;
   const bool queryable = out.api_version_ >= VK_API_VERSION_1_2;  // the Vulkan11/12 structures exist
-  if (context.enabled_feature_chain) {
-    copy_chain(context.enabled_feature_chain, out.features_);
-    out.features_known_ = true;
-  } else if (queryable && caps.vk.vkGetPhysicalDeviceFeatures2) {
-    query_supported(caps, out.api_version_, out.features_, false);
-    out.features_.erase(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2);  // enabled_features decides, below
-    // Extension structures stay unknown: nothing tells what the application enabled of them.
-  }
-  // VkPhysicalDeviceFeatures: the chain's VkPhysicalDeviceFeatures2, else enabled_features, else (no
-  // word from the application at all) what the device supports.
+  // What the application did not pass it did not enable, as for vkCreateDevice: a structure missing
+  // from the chain (or no chain) is all off, no enabled_features is no core feature, no extension list
+  // is no extension. Guessing "what the device supports" instead would let through what the validation
+  // layer then reports.
+  if (context.enabled_feature_chain) copy_chain(context.enabled_feature_chain, out.features_);
+  // VkPhysicalDeviceFeatures: the chain's VkPhysicalDeviceFeatures2, else enabled_features.
   if (auto it = out.features_.find(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2); it != out.features_.end())
     std::memcpy(&out.core_, it->second.data() + offsetof(VkPhysicalDeviceFeatures2, features),
                 sizeof out.core_);
   else if (context.enabled_features)
     out.core_ = *context.enabled_features;
-  else if (!context.enabled_feature_chain)
-    caps.vk.vkGetPhysicalDeviceFeatures(caps.physical_device, &out.core_);
   VkPhysicalDeviceFeatures2 core2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, nullptr, out.core_};
   copy_chain(&core2, out.features_);  // the 1.0 rows read it there, whichever way it came
   if (queryable && caps.vk.vkGetPhysicalDeviceProperties2) {
-    query_supported(caps, out.api_version_, out.properties_, true);
+    query_properties(caps, out.properties_);
     out.properties_known_ = true;
   }
   if (context.enabled_extensions) {
-    out.extensions_known_ = true;
     for (uint32_t i = 0; i < context.enabled_extension_count; ++i)
       if (context.enabled_extensions[i]) out.extensions_.insert(context.enabled_extensions[i]);
   }
@@ -106,14 +88,13 @@ std::string EnabledFeatures::check_capabilities(const std::vector<uint32_t>& cap
                     std::to_string(VK_API_VERSION_MINOR(e.version)));
           break;
         case EnableKind::feature: {
-          auto it = features_.find(uint32_t(e.s_type));
-          // A structure the application's chain lacks is off; without a chain, unknown (allowed).
-          allowed = it != features_.end() ? word_at(it->second, e.offset) != 0 : !features_known_;
+          auto it = features_.find(uint32_t(e.s_type));  // a structure the chain lacks is off
+          allowed = it != features_.end() && word_at(it->second, e.offset) != 0;
           can_allow(e.what);
           break;
         }
         case EnableKind::extension:
-          allowed = !extensions_known_ || extensions_.count(e.extension) != 0;
+          allowed = extensions_.count(e.extension) != 0;
           can_allow(std::string("the extension ") + e.extension);
           break;
         case EnableKind::property: {
@@ -131,9 +112,8 @@ std::string EnabledFeatures::check_capabilities(const std::vector<uint32_t>& cap
              ", which Vulkan does not allow in shaders (it is not in Vulkan's table of SPIR-V capabilities)";
     if (!allowed)
       return "declares the SPIR-V capability " + std::string(name) + ", which needs one of: " + needs +
-             "; none is enabled on this device (DeviceContext::enabled_feature_chain says what the device "
-             "was "
-             "created with)";
+             "; none is enabled on this device (DeviceContext::enabled_feature_chain and enabled_extensions "
+             "say what the device was created with)";
   }
   return "";
 }

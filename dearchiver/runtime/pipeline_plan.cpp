@@ -33,6 +33,7 @@ Result<std::unique_ptr<Plan>> Planner::plan_common(const ArchivedPipeline& found
     return Error{ErrorCode::missing_backend, "pipeline '" + p.name + "': the archive has no Vulkan data"};
   if (auto ok = check_pipeline_layout(contents, p, caps_); !ok) return ok.error();
   auto plan = std::make_unique<Plan>();
+  plan->source = found;
   UnpackedPipeline& out = plan->out;
   out.name = p.name;
   out.push_constant_size = p.push_constant_size;
@@ -86,7 +87,9 @@ Result<std::unique_ptr<Plan>> Planner::plan_common(const ArchivedPipeline& found
 
 Error Planner::missing_feature(std::string_view pipeline, const char* feature) {
   return Error{ErrorCode::unsupported, "pipeline '" + std::string(pipeline) + "' needs the device feature '" +
-                                           feature + "', which is not enabled"};
+                                           feature +
+                                           "', which is not enabled (DeviceContext::enabled_features says "
+                                           "what the device was created with)"};
 }
 
 // Runs the caller's callback. What it throws becomes an error naming the pipeline, here, so that an
@@ -143,6 +146,7 @@ Result<std::unique_ptr<Plan>> Planner::plan_compute(const ArchivedPipeline& foun
   if (!plan) return plan.error();
   Plan& pl = **plan;
   pl.cacheable = !modify;
+  pl.state.constants = *constants;  // what a variants file records of a compute pipeline
   pl.out.bind_point = VK_PIPELINE_BIND_POINT_COMPUTE;
   pl.compute.stage = pl.stages.at(0);
   pl.compute.layout = pl.out.layout;

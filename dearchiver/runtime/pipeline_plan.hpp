@@ -27,6 +27,7 @@ struct ArchivedPipeline {
 // Heap-allocated so the pointers between the structs stay valid.
 struct Plan {
   UnpackedPipeline out;
+  ArchivedPipeline source{0, nullptr};  // what it was planned from
   bool cacheable = true;
   std::vector<VkPipelineShaderStageCreateInfo> stages;
   VkComputePipelineCreateInfo compute{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
@@ -56,6 +57,10 @@ struct Plan {
   VkPipelineDynamicStateCreateInfo dynamic{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
   VkPipelineRenderingCreateInfo rendering{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
   VkGraphicsPipelineCreateInfo graphics{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
+  // VK_EXT_pipeline_creation_feedback, chained in front of the create info's pNext when the device has it.
+  VkPipelineCreationFeedback feedback{};
+  VkPipelineCreationFeedbackCreateInfo feedback_info{
+      VK_STRUCTURE_TYPE_PIPELINE_CREATION_FEEDBACK_CREATE_INFO};
 };
 
 class Planner {

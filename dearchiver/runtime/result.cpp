@@ -37,6 +37,8 @@ const char* to_string(ErrorCode code) {
       return "out_of_memory";
     case ErrorCode::gl_error:
       return "gl_error";
+    case ErrorCode::cancelled:
+      return "cancelled";
   }
   return "unknown";
 }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <iterator>
+#include <string_view>
 
 namespace statepack::detail {
 namespace {
@@ -59,6 +60,49 @@ std::string vk_name(VkDescriptorType value) {
 }
 std::string vk_name(VkLogicOp value) {
   return lookup(kVkLogicOpNames, value, "VkLogicOp");
+}
+
+namespace {
+
+// The value Vulkan names `name` in `table`: a linear scan, for the few names a variants file holds.
+template <class E, size_t N>
+bool find_value(const EnumName (&table)[N], std::string_view name, E& out) {
+  for (const EnumName& e : table)
+    if (name == e.name) {
+      out = static_cast<E>(e.value);
+      return true;
+    }
+  return false;
+}
+
+}  // namespace
+
+bool vk_value(std::string_view name, VkFormat& out) {
+  return find_value(kVkFormatNames, name, out);
+}
+bool vk_value(std::string_view name, VkDynamicState& out) {
+  return find_value(kVkDynamicStateNames, name, out);
+}
+bool vk_value(std::string_view name, VkBlendFactor& out) {
+  return find_value(kVkBlendFactorNames, name, out);
+}
+bool vk_value(std::string_view name, VkBlendOp& out) {
+  return find_value(kVkBlendOpNames, name, out);
+}
+bool vk_value(std::string_view name, VkCompareOp& out) {
+  return find_value(kVkCompareOpNames, name, out);
+}
+bool vk_value(std::string_view name, VkStencilOp& out) {
+  return find_value(kVkStencilOpNames, name, out);
+}
+bool vk_value(std::string_view name, VkPolygonMode& out) {
+  return find_value(kVkPolygonModeNames, name, out);
+}
+bool vk_value(std::string_view name, VkFrontFace& out) {
+  return find_value(kVkFrontFaceNames, name, out);
+}
+bool vk_value(std::string_view name, VkSampleCountFlagBits& out) {
+  return find_value(kVkSampleCountFlagBitsNames, name, out);
 }
 
 bool is_depth_stencil_format(VkFormat format) {

@@ -6,6 +6,7 @@
 #include <vulkan/vulkan_core.h>
 
 #include <string>
+#include <string_view>
 
 namespace statepack::detail {
 
@@ -21,6 +22,18 @@ std::string vk_name(VkPrimitiveTopology value);
 std::string vk_name(VkSampleCountFlagBits value);
 std::string vk_name(VkDescriptorType value);
 std::string vk_name(VkLogicOp value);
+
+// The value of a Vulkan name ("VK_FORMAT_B8G8R8A8_SRGB"), as vk_name spells it; false for a name the
+// type does not have.
+bool vk_value(std::string_view name, VkFormat& out);
+bool vk_value(std::string_view name, VkDynamicState& out);
+bool vk_value(std::string_view name, VkBlendFactor& out);
+bool vk_value(std::string_view name, VkBlendOp& out);
+bool vk_value(std::string_view name, VkCompareOp& out);
+bool vk_value(std::string_view name, VkStencilOp& out);
+bool vk_value(std::string_view name, VkPolygonMode& out);
+bool vk_value(std::string_view name, VkFrontFace& out);
+bool vk_value(std::string_view name, VkSampleCountFlagBits& out);
 
 // Depth, stencil or both: a format that can only be a depth-stencil attachment.
 bool is_depth_stencil_format(VkFormat format);

@@ -108,6 +108,7 @@ struct PackCommand {
         "--strip_debug,--strip_reflection", strip_debug,
         "Strip debug information (names, lines) from the SPIR-V; binding names stay in the archive");
     app->add_flag("--print_contents", options.print_contents, "Print the archive's contents");
+    app->add_flag("--time-report", options.time_report, "Print the wall time of each stage of the pack");
     app->add_flag("--vulkan", vulkan, "Produce the Vulkan backend (SPIR-V)");
     app->add_flag("--opengl", opengl,
                   "Produce the OpenGL backend (OpenGL 4.5 + GL_ARB_gl_spirv) from the same sources: each "
@@ -205,7 +206,7 @@ struct VerifyCommand {
   CLI::App* app = nullptr;
   VerifyOptions options;
   std::vector<std::string> paths;
-  std::string format = "RGBA8_UNORM", cache, worker_start;
+  std::string format = "RGBA8_UNORM", cache, variants, worker_start;
   bool no_validation = false;
 
   void add_to(CLI::App& parent) {
@@ -225,6 +226,10 @@ struct VerifyCommand {
     app->add_option(
         "--cache", cache,
         "Pipeline cache file: loaded when present and valid for this device, saved after (warming)");
+    app->add_option(
+        "--variants", variants,
+        "Variants file (Dearchiver::save_variants, docs/variants.md): create exactly these patched "
+        "pipelines instead of every object; with --cache, warms the cache for them");
     app->add_flag("--no-validation", no_validation, "Do not enable the validation layer");
     app->add_option("--timeout", options.timeout_seconds,
                     "Seconds an object may take to create: objects are created in worker processes, so a "
@@ -244,6 +249,7 @@ struct VerifyCommand {
     options.color_format = *color_format;
     options.validation = !no_validation;
     if (!cache.empty()) options.cache = cache;
+    if (!variants.empty()) options.variants = variants;
     if (!worker_start.empty()) {
       VerifyOptions::Position start;
       char colon = 0;

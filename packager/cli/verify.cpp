@@ -5,7 +5,9 @@
 #include <algorithm>
 #include <bit>
 #include <cerrno>
+#include <cstdio>
 #include <ostream>
+#include <set>
 
 #include "format/archive_file.hpp"
 #include "layout/format_support.hpp"
@@ -35,14 +37,23 @@ const char* kind_name(ObjectKind kind) {
   return "object";
 }
 
-// `patched_slots` receives the render targets the archive leaves to run time (UNKNOWN, or absent while
-// the pixel shader writes them), which the application must set: verify shows them.
-Result<void> unpack_one(Dearchiver& dearchiver, const ObjectInfo& object, VkFormat color_format,
-                        std::vector<uint32_t>& patched_slots) {
+// What verify creates: an object of an archive, or a recorded variant of a pipeline (--variants).
+struct Task {
+  ObjectInfo object;
+  const PipelineVariant* variant = nullptr;
+};
+
+// Creates one task's object. A pipeline comes back (null for other objects). `patched_slots` receives
+// the render targets the archive leaves to run time (UNKNOWN, or absent while the pixel shader writes
+// them), which the application must set: verify shows them.
+Result<const UnpackedPipeline*> unpack_one(Dearchiver& dearchiver, const Task& task, VkFormat color_format,
+                                           std::vector<uint32_t>& patched_slots) {
+  const ObjectInfo& object = task.object;
+  if (task.variant) return dearchiver.unpack_variant(*task.variant);
   switch (object.kind) {
-    case ObjectKind::graphics_pipeline: {
+    case ObjectKind::graphics_pipeline:
       // A render target left UNKNOWN is patched at run time (a swapchain format): verify it with one.
-      auto patched = dearchiver.unpack_graphics(object.name, [&](PatchableState& s) {
+      return dearchiver.unpack_graphics(object.name, [&](PatchableState& s) {
         // Targets the notation leaves to run time (the pixel shader writes more than it gives) are
         // added as the application's callback would add them.
         const uint32_t written = uint32_t(32 - std::countl_zero(s.written_color_targets));
@@ -53,26 +64,48 @@ Result<void> unpack_one(Dearchiver& dearchiver, const ObjectInfo& object, VkForm
             patched_slots.push_back(i);
           }
       });
-      if (!patched) return patched.error();
-      return {};
-    }
     case ObjectKind::compute_pipeline:
-      if (auto r = dearchiver.unpack_compute(object.name); !r) return r.error();
-      return {};
+      return dearchiver.unpack_compute(object.name);
     case ObjectKind::resource_signature:
       if (auto r = dearchiver.unpack_signature(object.name); !r) return r.error();
-      return {};
+      break;
     case ObjectKind::render_pass:
       if (auto r = dearchiver.unpack_render_pass(object.name); !r) return r.error();
-      return {};
+      break;
     case ObjectKind::shader:
       if (auto r = dearchiver.unpack_shader(object.name); !r) return r.error();
-      return {};
+      break;
   }
-  return {};
+  return static_cast<const UnpackedPipeline*>(nullptr);
+}
+
+std::string milliseconds(int64_t ns) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.2f ms", double(ns) / 1e6);
+  return text;
+}
+
+// ": created in 0.31 ms (the driver's feedback: 0.29 ms, from the pipeline cache)"
+std::string creation_text(const PipelineCreation& c) {
+  std::string text = ": created in " + milliseconds(c.time.count());
+  if (c.feedback)
+    text += " (the driver's feedback: " + milliseconds(c.driver_time.count()) +
+            (c.cache_hit ? ", from the pipeline cache)" : ")");
+  return text;
 }
 
 }  // namespace
+
+std::string VerifyTotals::summary() const {
+  std::string text = std::to_string(ok) + " of " + std::to_string(objects) + " objects ok";
+  if (pipelines == 0) return text;
+  text += "; " + std::to_string(pipelines) + (pipelines == 1 ? " pipeline" : " pipelines") + " created in " +
+          milliseconds(time_ns);
+  if (with_feedback)
+    text += " (the driver's feedback: " + milliseconds(driver_ns) + ", " + std::to_string(cache_hits) +
+            " from the pipeline cache)";
+  return text;
+}
 
 std::optional<VkFormat> parse_vk_format(const std::string& name) {
   std::string bare = name.starts_with("VK_FORMAT_") ? name.substr(10) : name;
@@ -120,8 +153,11 @@ class MessageCursor {
   size_t seen_ = 0;
 };
 
-std::string describe(const ObjectInfo& object, const std::vector<uint32_t>& patched_slots, VkFormat format) {
+std::string describe(const Task& task, const std::vector<uint32_t>& patched_slots, VkFormat format) {
+  const ObjectInfo& object = task.object;
   std::string what = std::string(kind_name(object.kind)) + " '" + printable(object.name) + "'";
+  if (task.variant)
+    what += task.variant->state == "{}" ? " as archived" : " with " + printable(task.variant->state);
   if (!patched_slots.empty()) {
     what += " (render target";
     for (size_t i = 0; i < patched_slots.size(); ++i)
@@ -131,10 +167,25 @@ std::string describe(const ObjectInfo& object, const std::vector<uint32_t>& patc
   return what;
 }
 
-// Unpacks the objects of one archive from `first_object` on; returns the exit code it earned.
+// What verify creates of one archive: every object, or the variants that resolve to it.
+std::vector<Task> tasks_of(const Archive& archive, size_t index, const VerifyOptions& options,
+                           const std::vector<PipelineVariant>& variants, const std::vector<size_t>& owner) {
+  std::vector<Task> tasks;
+  if (!options.variants) {
+    for (auto& object : archive.objects()) tasks.push_back({std::move(object)});
+    return tasks;
+  }
+  for (size_t v = 0; v < variants.size(); ++v)
+    if (owner[v] == index) tasks.push_back({{variants[v].pipeline, variants[v].kind}, &variants[v]});
+  return tasks;
+}
+
+// Unpacks the tasks of one archive from `first_object` on; returns the exit code it earned.
 int verify_archive(size_t index, const std::filesystem::path& path, size_t first_object,
-                   const DeviceContext& context, const VerifyOptions& options, MessageCursor& messages,
-                   const Progress& progress, std::ostream& out, std::ostream& err) {
+                   const DeviceContext& context, const VerifyOptions& options,
+                   const std::vector<PipelineVariant>& variants, const std::vector<size_t>& owner,
+                   MessageCursor& messages, const Progress& progress, VerifyTotals& all, std::ostream& out,
+                   std::ostream& err) {
   auto archive = Archive::from_file(path);
   if (!archive) {
     err << "statepack: error: " << printable(archive.error().message) << '\n';
@@ -145,32 +196,39 @@ int verify_archive(size_t index, const std::filesystem::path& path, size_t first
     err << "statepack: error: " << printable(gl.error().message) << '\n';
     return kExitInputError;
   }
-  std::vector<ObjectInfo> objects = archive->objects();
-  progress.send("archive " + std::to_string(index) + " " + std::to_string(objects.size()));
+  const std::vector<Task> tasks = tasks_of(*archive, index, options, variants, owner);
+  progress.send("archive " + std::to_string(index) + " " + std::to_string(tasks.size()));
   int exit_code = kExitSuccess;
-  size_t ok = 0;
+  VerifyTotals totals;
+  totals.objects = tasks.size();
   {
     auto dearchiver = Dearchiver::create(context);
     if (!dearchiver || !dearchiver->add_archive(std::move(*archive))) {
       err << "statepack: error: " << printable(path.string()) << ": cannot create the dearchiver\n";
       return kExitInputError;
     }
-    for (size_t i = first_object; i < objects.size(); ++i) {
-      const ObjectInfo& object = objects[i];
+    for (size_t i = first_object; i < tasks.size(); ++i) {
+      const Task& task = tasks[i];
       const std::string place = std::to_string(index) + " " + std::to_string(i);
-      progress.send("begin " + place + " " + describe(object, {}, options.color_format));
+      progress.send("begin " + place + " " + describe(task, {}, options.color_format));
       std::vector<uint32_t> patched_slots;
-      auto unpacked = unpack_one(*dearchiver, object, options.color_format, patched_slots);
+      auto unpacked = unpack_one(*dearchiver, task, options.color_format, patched_slots);
       auto fresh = messages.fresh();
-      const std::string what = describe(object, patched_slots, options.color_format);
+      const std::string what = describe(task, patched_slots, options.color_format);
       // Performance warnings are advice: the object is valid, and is reported ok with them.
       const bool only_advice = std::all_of(fresh.begin(), fresh.end(), [](const std::string& m) {
         return m.starts_with(bootstrap::kPerformanceWarning);
       });
+      VerifyTotals made;
+      if (unpacked && *unpacked) {
+        const PipelineCreation& c = (*unpacked)->creation;
+        made.add(1, c.time.count(), c.feedback ? c.driver_time.count() : 0, c.feedback, c.cache_hit);
+      }
       if (unpacked && only_advice) {
-        out << "ok     " << what << '\n';
+        out << "ok     " << what << (*unpacked ? creation_text((*unpacked)->creation) : "") << '\n';
         for (const auto& m : fresh) out << "         warning: " << printable(m) << '\n';
-        ++ok;
+        ++totals.ok;
+        totals.add(made);
       } else {
         exit_code = kExitInputError;
         out << "FAILED " << what << ": "
@@ -178,7 +236,10 @@ int verify_archive(size_t index, const std::filesystem::path& path, size_t first
         for (const auto& m : fresh) out << "         " << printable(m) << '\n';
       }
       out.flush();  // before the supervisor hears of it: its own lines come after
-      progress.send("end " + place + (unpacked && only_advice ? " ok" : " failed"));
+      const bool passed = unpacked && only_advice;
+      progress.send("end " + place + (passed ? " ok " : " failed ") + std::to_string(made.pipelines) + " " +
+                    std::to_string(made.time_ns) + " " + std::to_string(made.driver_ns) + " " +
+                    std::to_string(made.with_feedback) + " " + std::to_string(made.cache_hits));
     }
   }  // the dearchiver destroys its objects here; the layer reports anything left behind
   if (auto leaks = messages.fresh(); !leaks.empty()) {
@@ -186,11 +247,29 @@ int verify_archive(size_t index, const std::filesystem::path& path, size_t first
     for (const auto& m : leaks) out << "FAILED " << printable(path.string()) << ": " << printable(m) << '\n';
   }
   out.flush();
+  all.add(totals);
   if (progress.worker())
     progress.send("done " + std::to_string(index));  // the supervisor counts and prints the summary
   else
-    out << printable(path.string()) << ": " << ok << " of " << objects.size() << " objects ok\n";
+    out << printable(path.string()) << ": " << totals.summary() << '\n';
   return exit_code;
+}
+
+// Each variant's archive: the first (in command-line order) with a pipeline of its name and kind, as a
+// Dearchiver holding them all resolves it; options.archives.size() for none.
+std::vector<size_t> owners_of(const std::vector<PipelineVariant>& variants, const VerifyOptions& options) {
+  std::vector<size_t> owner(variants.size(), options.archives.size());
+  for (size_t a = options.archives.size(); a-- > 0;) {  // the last first, so the first wins
+    auto archive = Archive::from_file(options.archives[a]);
+    if (!archive) continue;  // verify_archive reports it
+    std::set<std::string, std::less<>> names;
+    for (const auto& o : archive->objects())
+      if (o.kind == ObjectKind::graphics_pipeline || o.kind == ObjectKind::compute_pipeline)
+        names.insert(o.name);
+    for (size_t v = 0; v < variants.size(); ++v)
+      if (names.count(variants[v].pipeline)) owner[v] = a;
+  }
+  return owner;
 }
 
 }  // namespace
@@ -230,15 +309,38 @@ int run_verify(const VerifyOptions& options, std::ostream& out, std::ostream& er
     if (first && !cache->reused && !cache->reason.empty())
       out << "pipeline cache: starting empty (" << printable(cache->reason) << ")\n";
   }
-  progress.send("ready");
-
   int exit_code = kExitSuccess;
+  size_t unresolved = 0;  // variants whose pipeline no archive has
+  std::vector<PipelineVariant> variants;
+  std::vector<size_t> owner;
+  if (options.variants) {
+    auto loaded = load_variants(*options.variants);
+    if (!loaded) {
+      err << "statepack: error: " << printable(loaded.error().message) << '\n';
+      return loaded.error().code == ErrorCode::io_error ? kExitIoError : kExitInputError;
+    }
+    variants = std::move(*loaded);
+    owner = owners_of(variants, options);
+    for (size_t v = 0; v < variants.size(); ++v)
+      if (owner[v] == options.archives.size()) {
+        exit_code = kExitInputError;
+        ++unresolved;
+        if (first)
+          out << "FAILED " << describe({{variants[v].pipeline, variants[v].kind}, &variants[v]}, {}, {})
+              << ": no archive given has a pipeline of that name\n";
+      }
+  }
+  progress.send("ready " + std::to_string(unresolved));
+
   MessageCursor messages(**vk);
+  VerifyTotals all;
+  all.objects = unresolved;
   for (size_t i = start.archive; i < options.archives.size(); ++i) {
     const size_t first_object = i == start.archive ? start.object : 0;
     exit_code = std::max(exit_code, verify_archive(i, options.archives[i], first_object, context, options,
-                                                   messages, progress, out, err));
+                                                   variants, owner, messages, progress, all, out, err));
   }
+  if (!progress.worker() && options.archives.size() > 1) out << "in all: " << all.summary() << '\n';
   if (cache) {
     if (auto saved = save_pipeline_cache(context, cache->cache, *options.cache); !saved) {
       err << "statepack: error: " << printable(saved.error().message) << '\n';

@@ -3,6 +3,7 @@
 // and fails on any error or validation message. Like fossilize-replay, it can warm a pipeline cache.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <iosfwd>
 #include <optional>
@@ -20,6 +21,9 @@ struct VerifyOptions {
   // Render targets the archive leaves UNKNOWN (patched at run time) are verified with these formats.
   VkFormat color_format = VK_FORMAT_R8G8B8A8_UNORM;
   std::optional<std::filesystem::path> cache;  // pipeline cache to load (if present) and save
+  // A variants file (Dearchiver::save_variants): create exactly these patched pipelines, each from the
+  // first archive that has its pipeline, instead of every object of the archives.
+  std::optional<std::filesystem::path> variants;
   // Objects are created in worker processes (this program again, with --worker-start) so that a driver
   // that crashes or hangs fails only the object it was creating; a worker that reports nothing for
   // this long is killed. 0: create everything in this process, with no time limit.
@@ -33,6 +37,24 @@ struct VerifyOptions {
 
 // The file descriptor a worker reports its progress on (verify_supervisor.cpp has the protocol).
 inline constexpr int kVerifyControlFd = 3;
+
+// What verify counts per archive and in all: objects, those ok, and the pipelines those created
+// (PipelineCreation's fields, summed).
+struct VerifyTotals {
+  size_t objects = 0, ok = 0;
+  size_t pipelines = 0, with_feedback = 0, cache_hits = 0;
+  int64_t time_ns = 0, driver_ns = 0;
+  void add(size_t count, int64_t time, int64_t driver, size_t feedback, size_t hits) {
+    pipelines += count, time_ns += time, driver_ns += driver, with_feedback += feedback, cache_hits += hits;
+  }
+  void add(const VerifyTotals& o) {
+    objects += o.objects, ok += o.ok;
+    add(o.pipelines, o.time_ns, o.driver_ns, o.with_feedback, o.cache_hits);
+  }
+  // "2 of 2 objects ok; 2 pipelines created in 0.61 ms (the driver's feedback: 0.55 ms, 1 from the
+  // pipeline cache)"
+  std::string summary() const;
+};
 
 // Returns an ExitCode: 0 every object unpacked without a validation message, 1 an object failed or the
 // layer spoke, 2 usage, 3 an archive could not be read or no device could be created.

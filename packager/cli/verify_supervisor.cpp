@@ -5,10 +5,13 @@
 //
 // | line (worker to supervisor)  | meaning                                                          |
 // |------------------------------|------------------------------------------------------------------|
-// | `ready`                      | the device exists (and the pipeline cache is loaded)             |
+// | `ready U`                    | the device exists (and the pipeline cache is loaded); U variants  |
+// |                              | (--variants) have a pipeline no archive has: FAILED, counted once |
 // | `archive A N`                | archive A (index on the command line) is read; it has N objects   |
 // | `begin A O WHAT`             | creating object O of archive A; WHAT as the report names it       |
-// | `end A O ok` / `end A O failed` | that object's lines are on stdout                             |
+// | `end A O ok P T D F H` / `end A O failed ...` | that object's lines are on stdout; P pipelines |
+// |                              | created (0 or 1), T ns, D ns of the driver's feedback, F with     |
+// |                              | feedback, H from the pipeline cache (VerifyTotals)              |
 // | `done A`                     | archive A's objects are destroyed and its leaks reported          |
 //
 // A worker that dies between `begin` and `end`, or says nothing for --timeout seconds, is the driver's
@@ -50,6 +53,7 @@ std::vector<std::string> worker_arguments(const VerifyOptions& options, Position
       "--format",       format_name(options.color_format)};
   if (options.device_index >= 0) args.insert(args.end(), {"--device", std::to_string(options.device_index)});
   if (options.cache) args.insert(args.end(), {"--cache", options.cache->string()});
+  if (options.variants) args.insert(args.end(), {"--variants", options.variants->string()});
   if (!options.validation) args.emplace_back("--no-validation");
   args.emplace_back("--");  // archive names that begin with '-' stay names
   for (const auto& path : options.archives) args.push_back(path.string());
@@ -104,11 +108,7 @@ struct WorkerRun {
 class Supervisor {
  public:
   Supervisor(const VerifyOptions& options, std::ostream& out, std::ostream& err)
-      : options_(options),
-        out_(out),
-        err_(err),
-        ok_(options.archives.size()),
-        total_(options.archives.size()) {}
+      : options_(options), out_(out), err_(err), totals_(options.archives.size()) {}
 
   int run() {
     Position next;
@@ -123,7 +123,15 @@ class Supervisor {
       }
       WorkerRun run = watch(*worker, next);
       const std::string reason = death_reason(run);
-      if (reason.empty() && !run.pending) return std::max(exit_code_, WEXITSTATUS(run.status));
+      if (reason.empty() && !run.pending) {
+        if (options_.archives.size() > 1) {
+          VerifyTotals all;
+          all.objects = unresolved_;
+          for (const auto& t : totals_) all.add(t);
+          out_ << "in all: " << all.summary() << '\n';
+        }
+        return std::max(exit_code_, WEXITSTATUS(run.status));
+      }
       exit_code_ = std::max(exit_code_, int(kExitInputError));
       if (run.pending) {  // the driver's fault for that object; go on after it
         out_ << "FAILED " << *run.pending << ": " << reason
@@ -191,8 +199,9 @@ class Supervisor {
     in >> event >> archive;
     if (event == "ready") {
       run.ready = true;
-    } else if (event == "archive" && archive < total_.size()) {
-      in >> total_[archive];
+      unresolved_ = archive;  // the number after "ready"
+    } else if (event == "archive" && archive < totals_.size()) {
+      in >> totals_[archive].objects;
     } else if (event == "begin" && in >> object) {
       std::string what;
       std::getline(in >> std::ws, what);
@@ -200,14 +209,18 @@ class Supervisor {
       run.resume = {archive, object + 1};
     } else if (event == "end" && in >> object) {
       std::string verdict;
-      in >> verdict;
-      if (verdict == "ok" && archive < ok_.size()) ++ok_[archive];
+      size_t pipelines = 0, feedback = 0, hits = 0;
+      int64_t time = 0, driver = 0;
+      in >> verdict >> pipelines >> time >> driver >> feedback >> hits;
+      if (verdict == "ok" && archive < totals_.size()) {
+        ++totals_[archive].ok;
+        totals_[archive].add(pipelines, time, driver, feedback, hits);
+      }
       run.pending.reset();
       run.progressed = true;
       run.resume = {archive, object + 1};
-    } else if (event == "done" && archive < total_.size()) {
-      out_ << printable(options_.archives[archive].string()) << ": " << ok_[archive] << " of "
-           << total_[archive] << " objects ok\n";
+    } else if (event == "done" && archive < totals_.size()) {
+      out_ << printable(options_.archives[archive].string()) << ": " << totals_[archive].summary() << '\n';
       out_.flush();  // before the worker's next line
       run.progressed = true;
       run.resume = {archive + 1, 0};
@@ -217,7 +230,8 @@ class Supervisor {
   const VerifyOptions& options_;
   std::ostream& out_;
   std::ostream& err_;
-  std::vector<size_t> ok_, total_;
+  std::vector<VerifyTotals> totals_;  // per archive
+  size_t unresolved_ = 0;             // variants no archive has
   int exit_code_ = kExitSuccess;
 };
 

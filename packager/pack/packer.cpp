@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <atomic>
 #include <bit>
+#include <chrono>
 #include <map>
 #include <mutex>
 #include <ostream>
@@ -31,6 +32,23 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr size_t kNoJob = SIZE_MAX;
+
+// --time-report: the wall time of each stage of a pack, printed as each ends.
+class PhaseTimes {
+ public:
+  explicit PhaseTimes(std::ostream* out) : out_(out) {}
+  void done(const char* phase) {
+    if (!out_) return;
+    const auto now = std::chrono::steady_clock::now();
+    *out_ << "statepack: time: " << phase << ": "
+          << std::chrono::duration<double, std::milli>(now - last_).count() << " ms\n";
+    last_ = now;
+  }
+
+ private:
+  std::ostream* out_;
+  std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
+};
 
 // Two slots compile to the same module when everything that feeds glslang is equal.
 std::string compile_key(const ShaderDesc& s) {
@@ -523,6 +541,7 @@ int write_outputs(const PackOptions& options, const std::vector<InputFile>& inpu
 }  // namespace
 
 int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err) {
+  PhaseTimes times(options.time_report ? &err : nullptr);
   // Outputs that can never be written are refused before any work (inputs are checked once known).
   if (!options.check_only) {
     detail::OutputSet none({});
@@ -538,6 +557,7 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err) {
   Notation notation;
   for (const auto& input : options.inputs) read_notation(input, options.notation, notation, diag);
   resolve_references(notation, diag);
+  times.done("read notation");
   if (notation.pipelines.empty() && notation.shaders.empty() && notation.signatures.empty() &&
       notation.render_passes.empty() && !diag.has_errors())
     diag.note({options.inputs.empty() ? "" : options.inputs.front().string()},
@@ -548,6 +568,7 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err) {
   // compiles the pipelines' shaders for Vulkan too.
   CompiledShaders compiled, gl_compiled;
   if (options.vulkan || options.opengl) compiled = compile_shaders(notation, options, diag, !options.vulkan);
+  times.done("compile");
   if (options.opengl) {
     gl_compiled = opengl_units(compiled, options, diag);
     if (!options.vulkan &&
@@ -573,8 +594,11 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err) {
   std::string io_error;
   if (notation_ok && options.vulkan) {
     Plan plan = plan_archive(notation, compiled, builder, finalizer, diag);
+    times.done("lay out and check");
     finalizer.run(options.threads);  // optimise and validate every distinct module in parallel
+    times.done("optimise and validate");
     assemble_archive(notation, compiled, plan, finalizer, builder, dumper, io_error, diag);
+    times.done("assemble");
   }
   if (notation_ok && options.opengl) add_opengl(notation, gl_compiled, options, builder, diag);
   if (!diag.has_errors()) note_unused_objects(notation, diag);
@@ -590,6 +614,7 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err) {
   }
 
   std::vector<uint8_t> bytes = format::encode(builder.contents);
+  times.done("encode");
   // What pack writes must load: decoded and checked against its SPIR-V as the runtime will, so a build
   // step that says OK means it (a check the pack stages missed surfaces here, not in the application).
   if (auto loads = format::load_archive_with_opengl(bytes, std::nullopt, "the packed archive would not load");
@@ -599,8 +624,10 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err) {
     err << "statepack: error: " << printable(message) << "; no archive written\n";
     return kExitInputError;
   }
+  times.done("load-back check");
   if (!options.check_only)
     if (int code = write_outputs(options, inputs, bytes, err); code != kExitSuccess) return code;
+  times.done("write");
   if (options.print_contents) {
     // Print what the archive holds, read back the way the dearchiver reads it.
     auto written = format::decode(bytes);

@@ -36,6 +36,7 @@ struct PackOptions {
   uint32_t threads = 0;  // 0: all cores
   bool print_contents = false;
   bool check_only = false;
+  bool time_report = false;  // --time-report: each stage's wall time to `err`
   size_t max_errors =
       Diagnostics::kDefaultMaxErrors;  // 0: no limit  // --check: pack and validate everything, write nothing
 };

@@ -14,7 +14,7 @@ std::unique_ptr<Dearchiver> load_archive(bootstrap::VulkanContext& vk, const std
     std::fprintf(stderr, "path_tracer: %s\n", printable(archive.error().message).c_str());
     return nullptr;
   }
-  auto dearchiver = Dearchiver::create({vk.physical_device, vk.device});
+  auto dearchiver = Dearchiver::create(vk.device_context());  // the features the device was made with
   if (!dearchiver || !dearchiver->add_archive(std::move(*archive))) return nullptr;
   return std::make_unique<Dearchiver>(std::move(dearchiver.value()));
 }

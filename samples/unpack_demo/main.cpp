@@ -70,7 +70,7 @@ int main(int argc, char** argv) {
   std::printf("device: %s (%s), validation layer on\n", printable((*vk)->device_name).c_str(),
               printable((*vk)->driver_name).c_str());
 
-  auto dearchiver = statepack::Dearchiver::create({(*vk)->physical_device, (*vk)->device});
+  auto dearchiver = statepack::Dearchiver::create((*vk)->device_context());
   if (!dearchiver) return fail("dearchiver", dearchiver.error());
   if (auto added = dearchiver->add_archive(std::move(*archive)); !added)
     return fail("add archive", added.error());

@@ -41,7 +41,7 @@ class VulkanTest : public ::testing::Test {
     bootstrap::VulkanContextOptions options;
     options.validation = true;
     options.require_lavapipe = true;
-    // The dearchiver (given no feature list) assumes every supported feature is enabled: make it so.
+    // Every feature lavapipe has is enabled, and vk_->device_context() tells the Dearchiver so.
     options.enable_supported_features = true;
     auto created = bootstrap::VulkanContext::create(options);
     ASSERT_TRUE(created) << created.error().message;
@@ -56,7 +56,7 @@ class VulkanTest : public ::testing::Test {
 
   // A dearchiver with the test archive loaded (built by statepack_add_archive in tests/CMakeLists.txt).
   Dearchiver make_dearchiver() {
-    auto dearchiver = Dearchiver::create({vk_->physical_device, vk_->device});
+    auto dearchiver = Dearchiver::create(vk_->device_context());
     EXPECT_TRUE(dearchiver) << dearchiver.error().message;
     auto archive = Archive::from_file(STATEPACK_TEST_ARCHIVE);
     EXPECT_TRUE(archive) << archive.error().message;

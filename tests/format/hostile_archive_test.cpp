@@ -392,7 +392,7 @@ class HostileUnpack : public VulkanTest {
     ForgedBytes bytes;
     auto archive = load(contents, bytes);
     if (!archive) return "load: " + archive.error().message;
-    auto dearchiver = Dearchiver::create({vk_->physical_device, vk_->device});
+    auto dearchiver = Dearchiver::create(vk_->device_context());
     EXPECT_TRUE(dearchiver->add_archive(std::move(*archive)));
     for (const auto& p : contents.pipelines) {
       if (p.name != name) continue;
@@ -480,7 +480,7 @@ TEST_F(HostileUnpack, SignatureBeyondTheDevice) {
   ForgedBytes bytes;
   auto archive = load(corpus.contents, bytes);
   ASSERT_TRUE(archive) << archive.error().message;
-  auto dearchiver = Dearchiver::create({vk_->physical_device, vk_->device});
+  auto dearchiver = Dearchiver::create(vk_->device_context());
   ASSERT_TRUE(dearchiver->add_archive(std::move(*archive)));
   auto sig = dearchiver->unpack_signature("Frame Signature");
   ASSERT_FALSE(sig);

@@ -68,7 +68,7 @@ class GlTest : public VulkanTest {
 
   // A Vulkan dearchiver with the same archive (packed for both backends).
   Dearchiver make_vulkan_dearchiver() {
-    auto dearchiver = Dearchiver::create({vk_->physical_device, vk_->device});
+    auto dearchiver = Dearchiver::create(vk_->device_context());
     EXPECT_TRUE(dearchiver) << dearchiver.error().message;
     auto added = dearchiver->add_archive(load(STATEPACK_GL_ARCHIVE));
     EXPECT_TRUE(added) << added.error().message;

@@ -326,7 +326,7 @@ TEST_F(TutorialLike, DiligentsCommandLinePacksBothBackends) {
 TEST_F(TutorialLike, UnpackingWithoutThePatchesNamesTheMissingTargets) {
   auto archive = Archive::from_file(packed_archive());
   ASSERT_TRUE(archive) << archive.error().message;
-  auto dearchiver = Dearchiver::create({vk_->physical_device, vk_->device});
+  auto dearchiver = Dearchiver::create(vk_->device_context());
   ASSERT_TRUE(dearchiver && dearchiver->add_archive(std::move(*archive)));
   auto gbuffer = dearchiver->unpack_graphics("G-Buffer PSO");
   ASSERT_FALSE(gbuffer);
@@ -349,7 +349,7 @@ TEST_F(TutorialLike, EveryPassDrawsTheSamePixelsOnVulkanAndOpenGl) {
   const fs::path path = packed_archive();
   auto archive = Archive::from_file(path);
   ASSERT_TRUE(archive) << archive.error().message;
-  auto dearchiver = Dearchiver::create({vk_->physical_device, vk_->device});
+  auto dearchiver = Dearchiver::create(vk_->device_context());
   ASSERT_TRUE(dearchiver && dearchiver->add_archive(std::move(*archive)));
   gl::Dearchiver gl_dearchiver = make_gl_dearchiver(load(path.c_str()));
 
@@ -445,7 +445,7 @@ TEST_F(TutorialLike, HlslComputeFillsTheSameValuesOnBothBackends) {
 
   auto archive = Archive::from_file(path);
   ASSERT_TRUE(archive) << archive.error().message;
-  auto dearchiver = Dearchiver::create({vk_->physical_device, vk_->device});
+  auto dearchiver = Dearchiver::create(vk_->device_context());
   ASSERT_TRUE(dearchiver && dearchiver->add_archive(std::move(*archive)));
   auto pso = dearchiver->unpack_compute("Scale PSO");
   ASSERT_TRUE(pso) << pso.error().message;
@@ -501,7 +501,7 @@ TEST_F(TutorialLike, VulkanGlslWithPushConstantsAndSeparateSamplersDrawsAlikeOnO
   auto archive = Archive::from_file(tutorial);
   auto copy_archive = Archive::from_file(STATEPACK_VULKAN_GLSL_ARCHIVE);
   ASSERT_TRUE(archive && copy_archive);
-  auto dearchiver = Dearchiver::create({vk_->physical_device, vk_->device});
+  auto dearchiver = Dearchiver::create(vk_->device_context());
   ASSERT_TRUE(dearchiver && dearchiver->add_archive(std::move(*archive)) &&
               dearchiver->add_archive(std::move(*copy_archive)));
   struct Tint {
@@ -584,7 +584,7 @@ TEST_F(TutorialLike, TessellationDrawsAlikeOnOpenGl) {
     EXPECT_NE(refused.find("needs both tessellation stages and a patch list topology"), std::string::npos)
         << refused;
   }
-  auto dearchiver = Dearchiver::create({vk_->physical_device, vk_->device});
+  auto dearchiver = Dearchiver::create(vk_->device_context());
   ASSERT_TRUE(dearchiver && dearchiver->add_archive(std::move(*archive)));
   auto pso = dearchiver->unpack_graphics("Tessellated Triangle PSO");
   ASSERT_TRUE(pso) << pso.error().message;

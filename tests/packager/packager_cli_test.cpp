@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <regex>
 #include <string>
 
 #include "common/run_command.hpp"
@@ -233,10 +234,27 @@ namespace {
 
 class Verify : public PackagerCli {};
 
+// verify's report without the creation times it prints (": created in 0.31 ms (...)" after an object,
+// "; 2 pipelines created in ..." after a count), which differ from run to run.
+std::string without_times(const std::string& report) {
+  static const std::regex times(R"((: created in |; [0-9]+ pipelines? created in )[^\n]*)");
+  return std::regex_replace(report, times, "");
+}
+
 TEST_F(Verify, ReportsEveryObjectAndWarmsACache) {
   fs::path out = dir_ / "slice.spk", cache = dir_ / "cache.bin";
   ASSERT_EQ(statepack(pack_args(std::string(STATEPACK_STATES_DIR) + "/slice.json", out)).exit_code, 0);
-  CliRun run = statepack("verify '" + out.string() + "' --cache '" + cache.string() + "'");
+  CliRun timed = statepack("verify '" + out.string() + "' --cache '" + cache.string() + "'");
+  // Each pipeline with its creation time and the driver's own (lavapipe has creation feedback), and a total.
+  static const std::regex pipeline_line(
+      R"(ok     compute pipeline 'Fill Buffer PSO': created in [0-9]+\.[0-9]{2} ms \(the driver's feedback: )"
+      R"([0-9]+\.[0-9]{2} ms\)\n)");
+  EXPECT_TRUE(std::regex_search(timed.output, pipeline_line)) << timed.output;
+  static const std::regex total_line(
+      R"(slice\.spk: 2 of 2 objects ok; 2 pipelines created in [0-9.]+ ms \(the driver's feedback: [0-9.]+ ms, )"
+      R"(0 from the pipeline cache\)\n)");
+  EXPECT_TRUE(std::regex_search(timed.output, total_line)) << timed.output;
+  CliRun run{timed.exit_code, without_times(timed.output)};
   EXPECT_EQ(run.exit_code, 0) << run.output;
   EXPECT_NE(run.output.find("validation layer on"), std::string::npos) << run.output;
   EXPECT_NE(run.output.find("ok     compute pipeline 'Fill Buffer PSO'\n"), std::string::npos) << run.output;
@@ -257,6 +275,7 @@ TEST_F(Verify, RunTimeFormatsAreVerifiedWithTheFormatGiven) {
     "pPS": {"Desc": {"Name": "PS", "ShaderType": "PIXEL"}, "FilePath": "gradient.frag"}}]})";
   ASSERT_EQ(statepack(pack_args(json.string(), out)).exit_code, 0);
   CliRun bgra = statepack("verify --format BGRA8_UNORM_SRGB '" + out.string() + "'");
+  bgra.output = without_times(bgra.output);
   EXPECT_EQ(bgra.exit_code, 0) << bgra.output;
   // The slots the application must set are shown, with the format they were verified with.
   EXPECT_NE(bgra.output.find("ok     graphics pipeline 'Swapchain PSO' (render target 0, set at run "
@@ -289,6 +308,7 @@ TEST_F(Verify, PipelinesNeedingVulkan11To13FeaturesAreVerified) {
              "Source": "#version 450\n#extension GL_EXT_buffer_reference : require\nlayout(local_size_x = 64) in;\nlayout(buffer_reference, std430) buffer Values { uint v[]; };\nlayout(push_constant) uniform Args { Values values; } args;\nvoid main() { args.values.v[gl_GlobalInvocationID.x] = gl_GlobalInvocationID.x; }\n"}}]})";
   ASSERT_EQ(statepack(pack_args(json.string(), out)).exit_code, 0);
   CliRun run = statepack("verify '" + out.string() + "'");
+  run.output = without_times(run.output);
   EXPECT_EQ(run.exit_code, 0) << run.output;
   EXPECT_NE(run.output.find("ok     graphics pipeline 'Per View PSO'\n"), std::string::npos) << run.output;
   EXPECT_NE(run.output.find("ok     compute pipeline 'Pointer Chase PSO'\n"), std::string::npos)
@@ -316,6 +336,7 @@ TEST_F(Verify, DriverCrashesAndHangsFailTheirObjectAndVerifyGoesOn) {
                              ":/usr/local/share:/usr/share' STATEPACK_TEST_FAULTS=1 ";
   CliRun run = statepack::testing::run_command(faults + "'" + STATEPACK_EXE + "' verify --timeout 2 '" +
                                                out.string() + "' '" + slice.string() + "'");
+  run.output = without_times(run.output);
   EXPECT_EQ(run.exit_code, 1) << run.output;
   const std::string expected =
       "ok     compute pipeline 'A First'\n"
@@ -329,15 +350,54 @@ TEST_F(Verify, DriverCrashesAndHangsFailTheirObjectAndVerifyGoesOn) {
       out.string() + ": 2 of 5 objects ok\n" +
       "ok     compute pipeline 'Fill Buffer PSO'\n"
       "ok     graphics pipeline 'Gradient PSO'\n" +
-      slice.string() + ": 2 of 2 objects ok\n";
+      slice.string() + ": 2 of 2 objects ok\n" + "in all: 4 of 7 objects ok\n";
   const size_t device_line = run.output.find('\n');
   EXPECT_EQ(run.output.substr(0, run.output.find(' ')), "device:") << run.output;
   EXPECT_EQ(run.output.substr(device_line + 1), expected);
   // Without the faults, the same archive's good objects verify, also in-process (--timeout 0).
   CliRun in_process = statepack("verify --timeout 0 '" + slice.string() + "'");
+  in_process.output = without_times(in_process.output);
   EXPECT_EQ(in_process.exit_code, 0) << in_process.output;
   EXPECT_NE(in_process.output.find(slice.string() + ": 2 of 2 objects ok\n"), std::string::npos)
       << in_process.output;
+}
+
+// --variants creates exactly the variants a file lists (tests/runtime/variants_test.cpp writes one with
+// the Dearchiver); a variant whose pipeline no archive has fails, and a damaged file is an input error.
+TEST_F(Verify, VariantsFilesCreateExactlyTheirVariants) {
+  fs::path out = dir_ / "slice.spk", variants = dir_ / "variants.json", cache = dir_ / "warm.cache";
+  ASSERT_EQ(statepack(pack_args(std::string(STATEPACK_STATES_DIR) + "/slice.json", out)).exit_code, 0);
+  std::ofstream(variants) << R"({"statepack_variants": 1, "variants": [
+    {"pipeline": "Gradient PSO", "kind": "graphics", "state": {"color_formats.0": "VK_FORMAT_B8G8R8A8_SRGB"}},
+    {"pipeline": "Gradient PSO", "kind": "graphics", "state": {"color_formats.0": "VK_FORMAT_R16G16B16A16_SFLOAT",
+     "blend.0.enable": true, "blend.0.src_color": "VK_BLEND_FACTOR_SRC_ALPHA"}},
+    {"pipeline": "Gone PSO", "kind": "compute", "state": {}}]})";
+  CliRun run = statepack("verify '" + out.string() + "' --variants '" + variants.string() + "' --cache '" +
+                         cache.string() + "'");
+  EXPECT_EQ(run.exit_code, 1) << run.output;
+  const std::string report = without_times(run.output);
+  const std::string expected =
+      "FAILED compute pipeline 'Gone PSO' as archived: no archive given has a pipeline of that name\n"
+      "ok     graphics pipeline 'Gradient PSO' with {\"color_formats.0\":\"VK_FORMAT_B8G8R8A8_SRGB\"}\n"
+      "ok     graphics pipeline 'Gradient PSO' with {\"color_formats.0\":\"VK_FORMAT_R16G16B16A16_SFLOAT\","
+      "\"blend.0.enable\":true,\"blend.0.src_color\":\"VK_BLEND_FACTOR_SRC_ALPHA\"}\n" +
+      out.string() + ": 2 of 2 objects ok\n";
+  EXPECT_NE(report.find(expected), std::string::npos) << report;
+  EXPECT_EQ(report.find("Fill Buffer PSO"), std::string::npos) << report;  // exactly the variants
+  EXPECT_TRUE(fs::exists(cache));
+
+  std::ofstream(variants, std::ios::trunc)
+      << R"({"statepack_variants": 1, "variants": [{"pipeline": "Gradient PSO", "kind": "graphics", "state": {"blend.9.enable": true}}]})";
+  CliRun bad = statepack("verify '" + out.string() + "' --variants '" + variants.string() + "'");
+  EXPECT_EQ(bad.exit_code, 1) << bad.output;
+  EXPECT_NE(
+      bad.output.find("statepack: error: variants file '" + variants.string() +
+                      "' at /variants/0/state/blend.9.enable: no such field (did you mean 'blend.0.enable'"),
+      std::string::npos)
+      << bad.output;
+  CliRun missing =
+      statepack("verify '" + out.string() + "' --variants '" + (dir_ / "none.json").string() + "'");
+  EXPECT_EQ(missing.exit_code, 3) << missing.output;
 }
 
 TEST_F(Verify, DamagedArchivesAndMissingDevicesAreErrors) {

@@ -56,8 +56,8 @@ TEST_F(CapabilityFeaturesTest, AFeatureLeftOutOfTheChainIsNamedBeforeAnyVulkanCa
       int8.error().message,
       "shader 'Int8 CS' declares the SPIR-V capability Int8, which needs one of: "
       "VkPhysicalDeviceVulkan12Features::shaderInt8, VkPhysicalDeviceShaderFloat16Int8Features::shaderInt8; "
-      "none is enabled on this device (DeviceContext::enabled_feature_chain says what the device was "
-      "created with)");
+      "none is enabled on this device (DeviceContext::enabled_feature_chain and enabled_extensions say "
+      "what the device was created with)");
   auto float64 = dearchiver->unpack_compute("Float64 PSO");
   ASSERT_FALSE(float64);
   EXPECT_EQ(float64.error().code, ErrorCode::unsupported);
@@ -111,8 +111,8 @@ TEST_F(CapabilityFeaturesTest, CapabilitiesThatNeedAnExtensionNameIt) {
   EXPECT_EQ(
       unclocked.error().message,
       "shader 'Clock CS' declares the SPIR-V capability ShaderClockKHR, which needs one of: the extension "
-      "VK_KHR_shader_clock; none is enabled on this device (DeviceContext::enabled_feature_chain says what "
-      "the device was created with)");
+      "VK_KHR_shader_clock; none is enabled on this device (DeviceContext::enabled_feature_chain and "
+      "enabled_extensions say what the device was created with)");
   auto no_atomic = bare->unpack_compute("Atomic Float PSO");
   ASSERT_FALSE(no_atomic);
   EXPECT_NE(no_atomic.error().message.find(
@@ -122,12 +122,25 @@ TEST_F(CapabilityFeaturesTest, CapabilitiesThatNeedAnExtensionNameIt) {
       << no_atomic.error().message;
 }
 
-TEST_F(CapabilityFeaturesTest, WithoutAChainTheDevicesSupportedFeaturesCount) {
+// Null means what it means to vkCreateDevice: nothing enabled. A device that supports shaderInt8 (as
+// lavapipe does) still refuses an Int8 shader unless the application enabled it, so the Dearchiver does
+// too, before any Vulkan call, rather than let the validation layer find it.
+TEST_F(CapabilityFeaturesTest, WithoutAChainNothingIsEnabled) {
   DeviceContext context{vk_->physical_device, vk_->device};
   auto dearchiver = dearchiver_with(context);
   ASSERT_TRUE(dearchiver) << dearchiver.error().message;
   auto int8 = dearchiver->unpack_compute("Int8 PSO");
-  EXPECT_TRUE(int8) << int8.error().message;
+  ASSERT_FALSE(int8);
+  EXPECT_EQ(int8.error().code, ErrorCode::unsupported);
+  EXPECT_NE(
+      int8.error().message.find("Int8, which needs one of: VkPhysicalDeviceVulkan12Features::shaderInt8"),
+      std::string::npos)
+      << int8.error().message;
+  auto clock = dearchiver->unpack_compute("Clock PSO");
+  ASSERT_FALSE(clock);
+  EXPECT_NE(clock.error().message.find("the extension VK_KHR_shader_clock"), std::string::npos)
+      << clock.error().message;
+  EXPECT_TRUE(vk_->validation_messages().empty()) << vk_->validation_messages().front();
 }
 
 }  // namespace

@@ -39,7 +39,7 @@ TEST_F(CorpusUnpack, EveryObjectOfEveryArchiveUnpacks) {
     ASSERT_TRUE(archive) << archive.error().message;
     format::Contents contents =
         detail::ArchiveAccess::contents(*archive);  // names only; the archive moves below
-    auto dearchiver = Dearchiver::create({vk_->physical_device, vk_->device});
+    auto dearchiver = Dearchiver::create(vk_->device_context());
     ASSERT_TRUE(dearchiver);
     ASSERT_TRUE(dearchiver->add_archive(std::move(*archive)));
     for (const auto& p : contents.pipelines) {
@@ -116,7 +116,7 @@ TEST_F(CorpusUnpack, PipelinesShareLayoutsAndSetLayouts) {
     if (path.find("diligent_style") == std::string::npos) continue;
     auto archive = Archive::from_file(path);
     ASSERT_TRUE(archive);
-    auto dearchiver = Dearchiver::create({vk_->physical_device, vk_->device});
+    auto dearchiver = Dearchiver::create(vk_->device_context());
     ASSERT_TRUE(dearchiver->add_archive(std::move(*archive)));
     auto a = dearchiver->unpack_graphics("Shade PSO");
     auto b = dearchiver->unpack_graphics("Shade Again PSO");
@@ -138,7 +138,7 @@ TEST_F(CorpusUnpack, RenderPassPipelinesRejectFormatPatches) {
     if (path.find("render_pass") == std::string::npos) continue;
     auto archive = Archive::from_file(path);
     ASSERT_TRUE(archive);
-    auto dearchiver = Dearchiver::create({vk_->physical_device, vk_->device});
+    auto dearchiver = Dearchiver::create(vk_->device_context());
     ASSERT_TRUE(dearchiver->add_archive(std::move(*archive)));
     auto pso = dearchiver->unpack_graphics(
         "Depth Tested PSO", [](PatchableState& s) { s.color_formats[0] = VK_FORMAT_B8G8R8A8_UNORM; });

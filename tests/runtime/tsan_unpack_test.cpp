@@ -3,6 +3,8 @@
 // dearchiver_tsan_tests, which compiles the dearchiver's sources with -fsanitize=thread; the Vulkan
 // loader, the validation layer and lavapipe are not instrumented (see tests/tsan.supp).
 #include <algorithm>
+#include <atomic>
+#include <optional>
 #include <set>
 #include <thread>
 
@@ -16,7 +18,7 @@ namespace {
 class TsanUnpack : public VulkanTest {};
 
 TEST_F(TsanUnpack, ConcurrentUnpackAllAndSingleUnpacksAgree) {
-  auto dearchiver = Dearchiver::create({vk_->physical_device, vk_->device});
+  auto dearchiver = Dearchiver::create(vk_->device_context());
   ASSERT_TRUE(dearchiver);
   std::vector<std::pair<std::string, format::PipelineKind>> pipelines;
   std::vector<std::string> signatures;
@@ -68,7 +70,7 @@ TEST_F(TsanUnpack, ConcurrentUnpackAllAndSingleUnpacksAgree) {
 // so the threads meet on the same variants), then released while other threads keep unpacking: the
 // variant table and the released places are shared state.
 TEST_F(TsanUnpack, ConcurrentVariantsAndReleasesAgree) {
-  auto dearchiver = Dearchiver::create({vk_->physical_device, vk_->device});
+  auto dearchiver = Dearchiver::create(vk_->device_context());
   ASSERT_TRUE(dearchiver);
   std::string compute;
   for (const auto& path : corpus_archives_without_run_time_state()) {
@@ -107,6 +109,87 @@ TEST_F(TsanUnpack, ConcurrentVariantsAndReleasesAgree) {
   ASSERT_TRUE(a && b);
   EXPECT_EQ(*a, *b);
   EXPECT_NE((*a)->pipeline, VkPipeline(VK_NULL_HANDLE));
+}
+
+// Unpack jobs running while other threads wait for their pipelines, unpack the same ones singly (which
+// wait for the job's), start a second job that meets the first on every pipeline, and finally destroy
+// the Dearchiver with a third job still creating: every shared structure of the jobs at once.
+TEST_F(TsanUnpack, AsynchronousJobsWaitersAndSingleUnpacksAgree) {
+  std::vector<std::pair<std::string, format::PipelineKind>> pipelines;
+  std::optional<UnpackJob> last;
+  {
+    auto dearchiver = Dearchiver::create(vk_->device_context());
+    ASSERT_TRUE(dearchiver);
+    std::set<std::string> names;
+    for (const auto& path : corpus_archives_without_run_time_state()) {
+      auto archive = Archive::from_file(path);
+      ASSERT_TRUE(archive) << archive.error().message;
+      for (const auto& p : detail::ArchiveAccess::contents(*archive).pipelines)
+        if (names.insert(p.name).second) pipelines.emplace_back(p.name, p.kind);
+      ASSERT_TRUE(dearchiver->add_archive(std::move(*archive)));
+    }
+    std::atomic<size_t> progressed{0};
+    UnpackAllOptions options;
+    options.threads = 2;
+    options.progress = [&](const UnpackProgress&) { ++progressed; };
+    auto first = dearchiver->unpack_all_async(options);
+    ASSERT_TRUE(first) << first.error().message;
+    std::vector<std::string> errors(4);
+    std::vector<std::vector<const UnpackedPipeline*>> seen(4);
+    std::vector<std::thread> threads;
+    for (size_t t = 0; t < 2; ++t)  // waiters, in opposite orders
+      threads.emplace_back([&, t] {
+        for (size_t i = 0; i < pipelines.size(); ++i) {
+          const std::string& name = pipelines[t == 0 ? i : pipelines.size() - 1 - i].first;
+          auto got = first->wait(name);
+          if (got)
+            seen[t].push_back(*got);
+          else
+            errors[t] = got.error().message;
+        }
+      });
+    threads.emplace_back([&] {  // single unpacks of what the job is making
+      for (const auto& [name, kind] : pipelines) {
+        auto got = kind == format::PipelineKind::compute ? dearchiver->unpack_compute(name)
+                                                         : dearchiver->unpack_graphics(name);
+        if (got)
+          seen[2].push_back(*got);
+        else
+          errors[2] = got.error().message;
+      }
+    });
+    threads.emplace_back([&] {  // a second job meeting the first on every pipeline
+      auto second = dearchiver->unpack_all(UnpackAllOptions{});
+      if (!second)
+        errors[3] = second.error().message;
+      else if (!second->ok())
+        errors[3] = second->failures.front().error.message;
+      else
+        seen[3] = second->pipelines;
+    });
+    for (auto& t : threads) t.join();
+    for (const auto& e : errors) EXPECT_EQ(e, "");
+    UnpackReport report = first->wait_all();
+    EXPECT_TRUE(report.ok());
+    EXPECT_EQ(progressed.load(), pipelines.size());
+    // Everyone got the same pipeline per name: one set of pipelines, made once.
+    const std::set<const UnpackedPipeline*> made(report.pipelines.begin(), report.pipelines.end());
+    EXPECT_EQ(made.size(), pipelines.size());
+    for (const auto& list : seen)
+      EXPECT_EQ(std::set<const UnpackedPipeline*>(list.begin(), list.end()), made);
+    // A patched job still running when the Dearchiver goes.
+    UnpackAllOptions patched;
+    patched.threads = 2;
+    patched.patch = [](const ObjectInfo&, PatchableState& s) {
+      if (!s.constants.empty() && s.constants[0].size == 4) s.constants[0].value[0] ^= 1;
+    };
+    auto running = dearchiver->unpack_all_async(patched);
+    ASSERT_TRUE(running) << running.error().message;
+    last.emplace(std::move(*running));
+  }
+  UnpackReport after = last->wait_all();
+  EXPECT_EQ(after.failures.size(), pipelines.size());
+  for (const auto& f : after.failures) EXPECT_EQ(f.error.code, ErrorCode::cancelled) << f.error.message;
 }
 
 }  // namespace

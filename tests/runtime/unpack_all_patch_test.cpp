@@ -116,13 +116,16 @@ TEST_F(UnpackAllPatch, OneCallbackSetsTheSwapchainFormatOfEveryPipelineThatLeftI
 
 TEST_F(UnpackAllPatch, AFormatLeftUnknownIsAnErrorNamingThePipelineAndSlot) {
   Dearchiver dearchiver = make_run_time_formats_dearchiver();
-  // The old signature, no callback: the first pipeline (by name) with an UNKNOWN target is named.
+  // The old signature, no callback: every pipeline with an UNKNOWN target is named, in archive order.
   auto unpatched = dearchiver.unpack_all();
   ASSERT_FALSE(unpatched);
   EXPECT_EQ(unpatched.error().code, ErrorCode::invalid_argument);
-  EXPECT_EQ(unpatched.error().message,
-            "pipeline 'Overlay Gradient PSO': render target 0 is UNKNOWN (a format set at run time); set "
-            "PatchableState::color_formats[0] in the modify callback");
+  EXPECT_EQ(
+      unpatched.error().message,
+      "2 objects failed: pipeline 'Overlay Gradient PSO': render target 0 is UNKNOWN (a format set at run "
+      "time); set PatchableState::color_formats[0] in the modify callback; pipeline 'Swapchain Gradient "
+      "PSO': render target 0 is UNKNOWN (a format set at run time); set PatchableState::color_formats[0] "
+      "in the modify callback");
   // A callback that patches one of the two leaves the other one's slot named.
   auto half = dearchiver.unpack_all([](const ObjectInfo& pipeline, PatchableState& s) {
     if (pipeline.name == kOverlay) set_swapchain_format(s);
@@ -300,7 +303,9 @@ TEST_F(UnpackAllPatch, CallbackExceptionsBecomeErrorsNamingThePipeline) {
   });
   ASSERT_FALSE(not_an_exception);
   EXPECT_EQ(not_an_exception.error().code, ErrorCode::invalid_argument);
-  EXPECT_EQ(not_an_exception.error().message, "pipeline 'Fill Buffer PSO': the modify callback threw");
+  EXPECT_TRUE(not_an_exception.error().message.starts_with(
+      "3 objects failed: pipeline 'Fill Buffer PSO': the modify callback threw; "))
+      << not_an_exception.error().message;
 
   auto out_of_memory =
       dearchiver.unpack_all([](const ObjectInfo&, PatchableState&) { throw std::bad_alloc(); });

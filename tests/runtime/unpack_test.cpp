@@ -27,7 +27,7 @@ struct ForgedArchive {
 class Unpack : public VulkanTest {};
 
 TEST_F(Unpack, EverythingOnSeveralThreadsMatchesOneByOne) {
-  auto dearchiver = Dearchiver::create({vk_->physical_device, vk_->device});
+  auto dearchiver = Dearchiver::create(vk_->device_context());
   ASSERT_TRUE(dearchiver);
   std::set<std::string> expected;
   for (const auto& path : corpus_archives_without_run_time_state()) {
@@ -65,7 +65,7 @@ TEST_F(Unpack, NamesResolveAcrossArchivesAndTheFirstWins) {
   ForgedArchive second_bytes(renamed);
   auto second = Archive::from_memory(second_bytes.span());
   ASSERT_TRUE(second) << second.error().message;
-  auto dearchiver = Dearchiver::create({vk_->physical_device, vk_->device});
+  auto dearchiver = Dearchiver::create(vk_->device_context());
   ASSERT_TRUE(dearchiver->add_archive(std::move(*first)));
   ASSERT_TRUE(dearchiver->add_archive(std::move(*second)));
   auto from_second = dearchiver->unpack_compute("Only In Second");
@@ -105,7 +105,7 @@ TEST_F(Unpack, ArchiveWithoutVulkanDataIsAnError) {
   ForgedArchive bytes(other);
   auto forged = Archive::from_memory(bytes.span());
   ASSERT_TRUE(forged);
-  auto dearchiver = Dearchiver::create({vk_->physical_device, vk_->device});
+  auto dearchiver = Dearchiver::create(vk_->device_context());
   ASSERT_TRUE(dearchiver->add_archive(std::move(*forged)));
   auto pso = dearchiver->unpack_compute("Fill Buffer PSO");
   ASSERT_FALSE(pso);

@@ -2,7 +2,9 @@
 //
 //   auto archive = statepack::Archive::from_file("scene.spk");          // or from_memory(bytes)
 //   if (!archive) return fail(archive.error());                         // every call returns a Result
-//   auto dearchiver = statepack::Dearchiver::create({physical_device, device});
+//   statepack::DeviceContext context{physical_device, device};
+//   context.enabled_feature_chain = &enabled;  // what vkCreateDevice got: null means "nothing enabled"
+//   auto dearchiver = statepack::Dearchiver::create(context);
 //   if (!dearchiver || !dearchiver->add_archive(std::move(*archive))) return ...;
 //   auto pso = dearchiver->unpack_graphics("Resolve PSO", [&](statepack::PatchableState& s) {
 //     s.color_formats[0] = swapchain_format;                            // run-time-only state
@@ -21,6 +23,7 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
@@ -188,6 +191,17 @@ struct BindingInfo {
   VkSampler immutable_sampler = VK_NULL_HANDLE;
 };
 
+// How the driver's pipeline creation went, for a loading screen's log or a build step's report.
+struct PipelineCreation {
+  // Wall time of this pipeline's vkCreateGraphicsPipelines / vkCreateComputePipelines call.
+  std::chrono::nanoseconds time{0};
+  // VK_EXT_pipeline_creation_feedback (core in Vulkan 1.3), asked for when the device has it: whether the
+  // driver filled it in, its own duration, and whether DeviceContext::pipeline_cache held the pipeline.
+  bool feedback = false;
+  std::chrono::nanoseconds driver_time{0};
+  bool cache_hit = false;
+};
+
 struct STATEPACK_API UnpackedPipeline {
   std::string name;
   VkPipeline pipeline = VK_NULL_HANDLE;
@@ -197,8 +211,90 @@ struct STATEPACK_API UnpackedPipeline {
   std::vector<BindingInfo> bindings;
   uint32_t push_constant_size = 0;
   VkShaderStageFlags push_constant_stages = 0;
+  PipelineCreation creation;
 
   const BindingInfo* find_binding(std::string_view resource_name) const;
+};
+
+// A patched pipeline an application created, as a variants file records it (docs/variants.md): the
+// pipeline's name and kind, and the fields of PatchableState its callback changed from the archived
+// state, as a JSON object ({"color_formats/0": "VK_FORMAT_B8G8R8A8_SRGB"}). Dearchiver::variants()
+// gives those it made; load_variants() reads a file; Dearchiver::unpack_variant() makes one again.
+struct STATEPACK_API PipelineVariant {
+  std::string pipeline;
+  ObjectKind kind = ObjectKind::graphics_pipeline;
+  std::string state;  // the JSON object of changed fields ("{}": none)
+
+  // Sets the recorded fields in `s` (a modify callback's state); invalid_argument naming the field for
+  // one that is unknown or out of range (load_variants checks every field, so its variants apply).
+  Result<void> apply(PatchableState& s) const;
+};
+
+// The variants of a file written by Dearchiver::save_variants (or by hand: docs/variants.md), each
+// checked; an error names the file, the JSON pointer and the reason.
+STATEPACK_API Result<std::vector<PipelineVariant>> load_variants(const std::filesystem::path& path);
+// The same from text in memory; `name` is what messages call it.
+STATEPACK_API Result<std::vector<PipelineVariant>> parse_variants(std::string_view json,
+                                                                  std::string_view name);
+
+// What unpack_all learns as it goes: called once per pipeline, after it is created or has failed.
+struct UnpackProgress {
+  const ObjectInfo* object = nullptr;          // the pipeline
+  const UnpackedPipeline* pipeline = nullptr;  // null when it failed
+  const Error* error = nullptr;                // null when it was created (or reused)
+  size_t done = 0, total = 0;                  // pipelines finished so far (this one included), of all
+};
+// Called on whichever thread finished the pipeline, never two at once. It may call the Dearchiver and
+// the job's non-waiting members (ready, done), but must not wait for the job (UnpackJob::wait): the
+// thread that would finish it may be this one.
+using ProgressCallback = std::function<void(const UnpackProgress&)>;
+
+struct UnpackAllOptions {
+  PatchCallback patch;        // each pipeline's state, as unpack_all(patch, threads) does; empty: none
+  ProgressCallback progress;  // empty: none
+  uint32_t threads = 0;       // threads creating pipelines; 0: one per core
+};
+
+// A pipeline (or other object) unpack_all could not make, and why.
+struct UnpackFailure {
+  ObjectInfo object;
+  Error error;
+};
+
+// Everything unpack_all did: every pipeline it returns, and every object that failed, in archive order.
+struct UnpackReport {
+  std::vector<const UnpackedPipeline*> pipelines;
+  std::vector<UnpackFailure> failures;
+  // Sum of the pipelines' PipelineCreation::time, and the wall time of the whole call.
+  std::chrono::nanoseconds creation_time{0}, wall_time{0};
+  bool ok() const { return failures.empty(); }
+};
+
+// unpack_all_async's handle: pipelines are created on its own threads while the application goes on.
+// Destroying it (or the Dearchiver) cancels the pipelines not yet begun and waits for those being
+// created; the pipelines made stay the Dearchiver's.
+class STATEPACK_API UnpackJob {
+ public:
+  UnpackJob(UnpackJob&&) noexcept;
+  UnpackJob& operator=(UnpackJob&&) noexcept;
+  ~UnpackJob();
+
+  // Waits for that pipeline only (not for the others), then returns it or its error; not_found for a
+  // name the job does not create.
+  Result<const UnpackedPipeline*> wait(std::string_view name);
+  // Whether that pipeline is finished (created or failed), without waiting.
+  bool ready(std::string_view name) const;
+  size_t done() const;   // pipelines finished
+  size_t total() const;  // pipelines the job creates
+  // Waits for every pipeline; the report holds every failure of the job, planning included.
+  UnpackReport wait_all();
+
+  struct Shared;  // the job's state, shared with its threads and the Dearchiver
+
+ private:
+  friend class Dearchiver;
+  explicit UnpackJob(std::shared_ptr<Shared> shared);
+  std::shared_ptr<Shared> shared_;
 };
 
 // A resource signature: one descriptor set layout, shared by the pipelines that use it.
@@ -225,20 +321,23 @@ struct DeviceContext {
   // Graphics pipelines without render passes need dynamic rendering (Vulkan 1.3 core, or
   // VK_KHR_dynamic_rendering); say whether the device was created with the feature enabled.
   bool dynamic_rendering_enabled = true;
-  // The core features the device was created with, to report pipelines that need others (geometry or
-  // tessellation shaders, depth clamp, wireframe, dual-source or independent blending, anisotropy)
-  // as errors. Null: assume every feature the device supports is enabled.
+  // What the device was created with, so that a pipeline needing something else is an `unsupported`
+  // error naming the feature before any Vulkan call, never a validation error. Null means what it
+  // means to vkCreateDevice: nothing enabled. Pass what you gave VkDeviceCreateInfo.
+  //
+  // The core features (pEnabledFeatures, or the chain's VkPhysicalDeviceFeatures2): geometry or
+  // tessellation shaders, depth clamp, wireframe, dual-source or independent blending, anisotropy and
+  // the SPIR-V capabilities of Vulkan 1.0.
   const VkPhysicalDeviceFeatures* enabled_features = nullptr;
   // The pNext chain of features the device was created with (VkDeviceCreateInfo::pNext): a
   // VkPhysicalDeviceFeatures2 and/or VkPhysicalDeviceVulkan11/12/13Features and extension feature
   // structures. A shader declaring a SPIR-V capability that nothing in it enables (Int8 without
   // shaderInt8, MultiView without multiview, ...) is an `unsupported` error naming the features that
-  // would allow it, before any Vulkan call. A structure missing from a given chain counts as all off.
-  // Null: Vulkan 1.1-1.3 features are taken as the device supports them, extension structures as on.
-  // Read during Dearchiver::create only.
+  // would allow it. A structure missing from the chain counts as all off. Read during
+  // Dearchiver::create only.
   const void* enabled_feature_chain = nullptr;
   // The device extensions the device was created with, for capabilities an extension allows
-  // (VK_KHR_shader_draw_parameters, ...). Null: taken as enabled.
+  // (VK_KHR_shader_draw_parameters, ...) and VK_EXT_pipeline_creation_feedback before Vulkan 1.3.
   const char* const* enabled_extensions = nullptr;
   uint32_t enabled_extension_count = 0;
   // Where the Vulkan entry points come from: the application owns dispatch. Give the loader you use
@@ -275,7 +374,8 @@ class STATEPACK_API Dearchiver {
 
   // Unpacks every pipeline of every added archive (the earliest archive wins a name), creating the
   // pipelines on `threads` threads (0: all cores), then every signature, render pass and standalone
-  // shader. Returns the pipelines.
+  // shader. Returns the pipelines; when any object fails, the others are still made and the error lists
+  // every failure (the first one's code). unpack_all(options) returns them one by one instead.
   Result<std::vector<const UnpackedPipeline*>> unpack_all(uint32_t threads = 0);
   // The same, with every pipeline's state first given to `patch` (once per pipeline, on the calling
   // thread, one after another, before any pipeline is created). A patched pipeline is reused when an
@@ -283,6 +383,22 @@ class STATEPACK_API Dearchiver {
   // taken from the unpatched ones.
   // An empty `patch` is the call above.
   Result<std::vector<const UnpackedPipeline*>> unpack_all(const PatchCallback& patch, uint32_t threads = 0);
+  // The same with a progress callback; every failure is in the report, not an error (an error is
+  // returned only for what stops the whole call, such as out_of_memory).
+  Result<UnpackReport> unpack_all(const UnpackAllOptions& options);
+  // The same without waiting: the states are patched and the shared objects made on the calling
+  // thread, then the call returns while the job's threads create the pipelines (options.threads, 0: one
+  // per core). UnpackJob::wait(name) waits for one of them; unpack_graphics/unpack_compute of a pipeline
+  // the job is creating (unpatched: the same pipeline) waits for that one too.
+  Result<UnpackJob> unpack_all_async(UnpackAllOptions options = {});
+
+  // The patched variants this Dearchiver created (each distinct settled state once, in the order they
+  // were first made, released ones included), and the same written as a variants file, atomically:
+  // `statepack verify ARCHIVE --variants FILE --cache OUT` creates exactly these to warm a cache.
+  std::vector<PipelineVariant> variants() const;
+  Result<void> save_variants(const std::filesystem::path& path) const;
+  // Unpacks a recorded variant: its pipeline, patched by PipelineVariant::apply.
+  Result<const UnpackedPipeline*> unpack_variant(const PipelineVariant& variant);
 
   // Unpack the other named objects. Each is created once and owned by the Dearchiver.
   Result<const UnpackedSignature*> unpack_signature(std::string_view name);
@@ -298,11 +414,10 @@ class STATEPACK_API Dearchiver {
   // invalid_argument for a pointer this Dearchiver does not hold (released already, or not its own).
   Result<void> release(const UnpackedPipeline* pipeline);
 
+  struct State;  // internal (runtime/dearchiver_state.hpp)
+
  private:
-  struct State;
   explicit Dearchiver(std::unique_ptr<State> state);
-  Result<std::vector<const UnpackedPipeline*>> unpack_all_pipelines(uint32_t threads,
-                                                                    const PatchCallback& patch);
   std::unique_ptr<State> state_;
 };
 

@@ -30,6 +30,7 @@ enum class ErrorCode {
   invalid_argument,          // the caller passed something unusable
   out_of_memory,             // an allocation failed
   gl_error,                  // an OpenGL shader did not specialize or a program did not link (driver's log)
+  cancelled,                 // an unpack job ended (UnpackJob or Dearchiver destroyed) before creating it
 };
 
 STATEPACK_API const char* to_string(ErrorCode code);

@@ -26,6 +26,9 @@ struct VulkanContextOptions {
   int device_index = -1;  // >= 0: that entry of vkEnumeratePhysicalDevices, else the first 1.3 one
   bool enable_supported_features = false;        // enable every core 1.0-1.3 feature the device supports
   std::vector<const char*> instance_extensions;  // e.g. what GLFW needs
+  // The device's host allocator (vkCreateDevice's pAllocator, kept until the device is destroyed): the
+  // driver allocates objects made on the device through it.
+  const VkAllocationCallbacks* device_allocator = nullptr;
 };
 
 class VulkanContext {
@@ -50,7 +53,8 @@ class VulkanContext {
   VkPhysicalDeviceVulkan11Features enabled_features11{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_FEATURES};
   VkPhysicalDeviceVulkan12Features enabled_features12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
   VkPhysicalDeviceVulkan13Features enabled_features13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
-  std::vector<const char*> enabled_extensions;  // device extensions
+  std::vector<const char*> enabled_extensions;              // device extensions
+  const VkAllocationCallbacks* device_allocator = nullptr;  // as created with
 
   // The Dearchiver's view of this device: its handles, the features it was created with, and this
   // context's loader as the dispatch (as an engine hands over its own).

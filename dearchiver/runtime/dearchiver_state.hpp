@@ -1,0 +1,104 @@
+// The Dearchiver's state, shared by the files of its public API: dearchiver.cpp (single unpacks and
+// the other objects), unpack_job.cpp (unpack_all and its asynchronous form) and variants.cpp (the
+// variants patched unpacks made). One mutex guards it; an unpack job creates pipelines outside it.
+#pragma once
+
+#include <condition_variable>
+#include <deque>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <set>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "device_limits.hpp"
+#include "enabled_features.hpp"
+#include "format/archive_format.hpp"
+#include "object_cache.hpp"
+#include "pipeline_plan.hpp"
+#include "statepack/dearchiver.hpp"
+
+namespace statepack {
+namespace detail {
+
+// A pipeline an unpack job creates: whoever needs it (the job's own wait, another job, a single unpack
+// of the same name and state) waits until it is finished. Guarded by SlotSync::mutex.
+struct PipelineSlot {
+  bool finished = false;
+  bool cancelled = false;  // its job ended before creating it: nothing was made, unpack it again
+  const UnpackedPipeline* pipeline = nullptr;
+  std::optional<Error> error;
+};
+// One lock and one condition for every slot of a Dearchiver: shared with its jobs, which may outlive it.
+struct SlotSync {
+  std::mutex mutex;
+  std::condition_variable finished;
+};
+
+// Cancels what a job has not begun and waits for its threads (unpack_job.cpp); `dearchiver_gone`: the
+// job forgets the Dearchiver, which is being destroyed.
+void stop_job(UnpackJob::Shared& job, bool dearchiver_gone = false);
+
+}  // namespace detail
+
+struct Dearchiver::State {
+  DeviceContext context;
+  detail::DeviceCaps caps;  // limits and formats, checked before any vkCreate*
+  // Enabled features, every structure; assigned in create(), so the references below stay bound to it.
+  detail::EnabledFeatures enabled;
+  std::vector<Archive> archives;
+  detail::ObjectCache cache{context, caps, enabled, archives};  // what pipelines share
+  detail::Planner planner{context, caps, enabled.core(), cache};
+  bool creation_feedback = false;  // VK_EXT_pipeline_creation_feedback (or Vulkan 1.3) may be chained
+  std::deque<UnpackedSignature> signatures;
+  std::map<std::pair<size_t, uint32_t>, const UnpackedSignature*> signature_by_layout;
+  std::deque<UnpackedPipeline> pipelines;                                  // stable addresses
+  std::map<std::string, const UnpackedPipeline*, std::less<>> unmodified;  // cache by name
+  std::map<std::string, const UnpackedPipeline*> variants;                 // patched, by variant_key
+  struct Place {
+    size_t slot;                                                       // in `pipelines`
+    std::map<std::string, const UnpackedPipeline*>::iterator variant;  // variants.end(): not a variant
+  };
+  std::unordered_map<const UnpackedPipeline*, Place> place_of;  // live pipelines, for release()
+  std::vector<size_t> free_slots;                               // places of released ones
+  // Pipelines unpack jobs are creating now, unpatched by name and patched by variant key.
+  std::map<std::string, std::shared_ptr<detail::PipelineSlot>, std::less<>> creating_unmodified;
+  std::map<std::string, std::shared_ptr<detail::PipelineSlot>> creating_variants;
+  std::shared_ptr<detail::SlotSync> sync = std::make_shared<detail::SlotSync>();
+  std::vector<std::weak_ptr<UnpackJob::Shared>> jobs;  // stopped before anything here is destroyed
+  // Every distinct variant made (variants.cpp writes them): where from, and the state it settled.
+  struct Recorded {
+    detail::ArchivedPipeline source;
+    VkPipelineBindPoint bind_point;
+    PatchableState settled;
+  };
+  std::vector<Recorded> recorded;
+  std::set<std::string> recorded_keys;
+  std::mutex mutex;
+
+  ~State();
+
+  const format::Contents& contents(size_t archive) const;
+  // Names of the given kinds across every archive, for listings and "did you mean".
+  std::vector<std::string> names_of(std::initializer_list<ObjectKind> kinds) const;
+  std::vector<std::string> pipeline_names() const;
+  Result<detail::ArchivedPipeline> find(std::string_view name, format::PipelineKind kind) const;
+
+  // Creates the pipeline of a plan, timed, with creation feedback when the device has it; safe to call
+  // for different plans on several threads, without the lock.
+  Result<void> create(detail::Plan& plan) const;
+  // Keeps a created pipeline (in a released one's place when there is one); `key`: its variant key.
+  const UnpackedPipeline* keep(detail::Plan& plan, std::string key = {});
+  // The variant made before with the same settled state, if any.
+  const UnpackedPipeline* earlier_variant(const std::string& key) const;
+  Result<void> release(const UnpackedPipeline* pipeline);
+  // Cached, being created by a job (waited for, the lock let go meanwhile), or planned, created and
+  // kept. `lock` holds `mutex`.
+  Result<const UnpackedPipeline*> unpack(std::unique_lock<std::mutex>& lock, std::string_view name,
+                                         format::PipelineKind kind, const ModifyCallback& modify);
+};
+
+}  // namespace statepack

@@ -1,0 +1,409 @@
+// unpack_all and unpack_all_async. Every pipeline of every archive is planned on the calling thread
+// (the callbacks run there, under the Dearchiver's lock, and the shared modules and layouts are made
+// once), then created on the job's threads without the lock, each kept the moment it exists, so that
+// UnpackJob::wait(name) hands out one pipeline while the others are still being created. A failure
+// is recorded and stops nothing else.
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <set>
+#include <thread>
+#include <unordered_map>
+
+#include "api_guard.hpp"
+#include "dearchiver_state.hpp"
+#include "support/suggest.hpp"
+#include "variant_key.hpp"
+
+namespace statepack {
+using namespace detail;
+
+struct UnpackJob::Shared {
+  struct Entry {
+    ObjectInfo object;
+    std::unique_ptr<Plan> plan;  // set when this job creates it, until it is created
+    std::string key;             // its variant key when patched
+    std::shared_ptr<PipelineSlot> slot;
+    bool settled = false;                     // guarded by sync->mutex: this job is done with it
+    std::chrono::nanoseconds created_in{-1};  // set when this job created it
+  };
+
+  Dearchiver::State* state = nullptr;  // null once the Dearchiver is gone
+  std::shared_ptr<SlotSync> sync;
+  std::vector<Entry> entries;
+  std::unordered_map<std::string_view, size_t> by_name;
+  std::vector<UnpackFailure> object_failures;  // signatures, render passes, shaders
+  ProgressCallback progress;
+  std::mutex progress_mutex;  // one progress call at a time; guards callback_failures
+  std::vector<UnpackFailure> callback_failures;
+  std::atomic<size_t> done{0}, next{0};
+  std::atomic<bool> cancelled{false};
+  size_t settled = 0;  // entries settled; guarded by sync->mutex
+  std::chrono::steady_clock::time_point start, last_settled;
+  std::mutex threads_mutex;
+  std::vector<std::thread> threads;
+
+  // Takes the next entry until none is left (or the job is cancelled): a worker's whole life.
+  void work() {
+    for (;;) {
+      if (cancelled) return;
+      const size_t i = next++;
+      if (i >= entries.size()) return;
+      run(entries[i]);
+    }
+  }
+
+  void run(Entry& e) {
+    if (e.plan) {
+      create(e);
+    } else {
+      std::unique_lock lock(sync->mutex);
+      if (e.settled) return;  // settled at planning, and reported there
+      // Another job creates it: its outcome is this job's too.
+      sync->finished.wait(lock, [&] { return e.slot->finished || cancelled; });
+      if (!e.slot->finished) return;
+      settle_locked(e);
+    }
+    sync->finished.notify_all();
+    report(e);
+  }
+
+  void create(Entry& e) {
+    const UnpackedPipeline* kept = nullptr;
+    std::optional<Error> error;
+    try {
+      if (auto created = state->create(*e.plan); !created) error = created.error();
+      std::lock_guard lock(state->mutex);
+      forget_locked(e);
+      if (!error) {
+        e.created_in = e.plan->out.creation.time;
+        kept = state->keep(*e.plan, e.key);
+      }
+    } catch (...) {  // keep() ran out of memory: the pipeline is the driver's, and lost
+      error = Error{ErrorCode::out_of_memory, "pipeline '" + e.object.name + "': out of memory"};
+    }
+    e.plan.reset();
+    std::lock_guard lock(sync->mutex);
+    e.slot->pipeline = kept;
+    e.slot->error = std::move(error);
+    e.slot->finished = true;
+    settle_locked(e);
+  }
+
+  // Removes the entry from the Dearchiver's pipelines being created (state->mutex held).
+  void forget_locked(const Entry& e) {
+    if (e.key.empty()) {
+      auto it = state->creating_unmodified.find(e.object.name);
+      if (it != state->creating_unmodified.end() && it->second == e.slot)
+        state->creating_unmodified.erase(it);
+    } else {
+      auto it = state->creating_variants.find(e.key);
+      if (it != state->creating_variants.end() && it->second == e.slot) state->creating_variants.erase(it);
+    }
+  }
+
+  void settle_locked(Entry& e) {  // sync->mutex held
+    e.settled = true;
+    ++settled;
+    last_settled = std::chrono::steady_clock::now();
+  }
+
+  void report(const Entry& e) {
+    if (!progress) {
+      ++done;
+      return;
+    }
+    std::lock_guard lock(progress_mutex);
+    const UnpackProgress p{&e.object, e.slot->pipeline, e.slot->error ? &*e.slot->error : nullptr, ++done,
+                           entries.size()};
+    try {
+      progress(p);
+    } catch (const std::exception& x) {
+      callback_failures.push_back({e.object, Error{ErrorCode::invalid_argument,
+                                                   "the progress callback threw while told of pipeline '" +
+                                                       e.object.name + "': " + x.what()}});
+    } catch (...) {
+      callback_failures.push_back(
+          {e.object, Error{ErrorCode::invalid_argument,
+                           "the progress callback threw while told of pipeline '" + e.object.name + "'"}});
+    }
+  }
+
+  Entry* entry(std::string_view name) {
+    auto it = by_name.find(name);
+    return it == by_name.end() ? nullptr : &entries[it->second];
+  }
+
+  // A pipeline nobody made, or (once the Dearchiver is gone) one destroyed with it.
+  Error cancelled_error(const std::string& name) const {  // sync->mutex held
+    return Error{
+        ErrorCode::cancelled,
+        "pipeline '" + name + "': " +
+            (state ? "the unpack job was destroyed before it created the pipeline"
+                   : "the Dearchiver was destroyed (with every pipeline it made) while its unpack job ran")};
+  }
+};
+
+namespace detail {
+
+void stop_job(UnpackJob::Shared& job, bool dearchiver_gone) {
+  job.cancelled = true;
+  { std::lock_guard lock(job.sync->mutex); }  // a worker waiting on another job's pipeline sees it
+  job.sync->finished.notify_all();
+  {
+    std::lock_guard lock(job.threads_mutex);
+    for (auto& t : job.threads) {
+      if (t.get_id() == std::this_thread::get_id())
+        t.detach();  // destroyed from its own progress callback: it returns from work() next
+      else if (t.joinable())
+        t.join();
+    }
+    job.threads.clear();
+  }
+  // What the threads did not begin is made by nobody: whoever waits for it makes it itself.
+  std::unique_lock state_lock =
+      job.state ? std::unique_lock(job.state->mutex) : std::unique_lock<std::mutex>();
+  std::lock_guard lock(job.sync->mutex);
+  for (auto& e : job.entries) {
+    if (e.settled) continue;
+    if (e.plan) {
+      if (job.state) job.forget_locked(e);
+      e.plan.reset();
+      e.slot->cancelled = e.slot->finished = true;
+    }
+    job.settle_locked(e);
+  }
+  if (dearchiver_gone) job.state = nullptr;
+  job.sync->finished.notify_all();
+}
+
+}  // namespace detail
+
+namespace {
+
+// Plans every pipeline not yet made (the callbacks run here), makes the other objects, and starts
+// `threads` workers; the job's entries are in archive order, the earliest archive winning a name.
+std::shared_ptr<UnpackJob::Shared> start_job(Dearchiver& dearchiver, Dearchiver::State& state,
+                                             const UnpackAllOptions& options, size_t threads) {
+  auto job = std::make_shared<UnpackJob::Shared>();
+  job->sync = state.sync;
+  job->progress = options.progress;
+  job->start = job->last_settled = std::chrono::steady_clock::now();
+  std::vector<ObjectInfo> others;
+  {
+    std::lock_guard lock(state.mutex);
+    std::set<std::string, std::less<>> seen;
+    for (size_t a = 0; a < state.archives.size(); ++a) {
+      for (const auto& p : state.contents(a).pipelines) {
+        if (!seen.insert(p.name).second) continue;  // the earliest archive wins
+        const bool compute = p.kind == format::PipelineKind::compute;
+        UnpackJob::Shared::Entry& e = job->entries.emplace_back();
+        e.object = {p.name, compute ? ObjectKind::compute_pipeline : ObjectKind::graphics_pipeline};
+        auto settle = [&](const UnpackedPipeline* made, std::optional<Error> error) {
+          e.slot = std::make_shared<PipelineSlot>();
+          e.slot->finished = true;
+          e.slot->pipeline = made;
+          e.slot->error = std::move(error);
+          e.settled = true;
+          ++job->settled;
+        };
+        if (!options.patch) {  // a patch callback sees every pipeline, so nothing made before is reused then
+          if (auto it = state.unmodified.find(p.name); it != state.unmodified.end()) {
+            settle(it->second, std::nullopt);
+            continue;
+          }
+          if (auto it = state.creating_unmodified.find(p.name); it != state.creating_unmodified.end()) {
+            e.slot = it->second;  // another job's
+            continue;
+          }
+        }
+        // The single-object path's callback, told which pipeline it patches: the patched state goes
+        // through the same checks as unpack_graphics/unpack_compute with a modify callback.
+        ModifyCallback modify;
+        if (options.patch) modify = [&options, &e](PatchableState& s) { options.patch(e.object, s); };
+        const ArchivedPipeline found{a, &p};
+        auto plan =
+            compute ? state.planner.plan_compute(found, modify) : state.planner.plan_graphics(found, modify);
+        if (!plan) {
+          settle(nullptr, plan.error());
+          continue;
+        }
+        if (options.patch) {
+          e.key = variant_key(p.name, **plan);
+          if (const UnpackedPipeline* earlier = state.earlier_variant(e.key)) {
+            settle(earlier, std::nullopt);
+            continue;
+          }
+          if (auto it = state.creating_variants.find(e.key); it != state.creating_variants.end()) {
+            e.slot = it->second;
+            continue;
+          }
+        }
+        e.plan = std::move(plan.value());
+        e.slot = std::make_shared<PipelineSlot>();
+        (e.key.empty() ? state.creating_unmodified[p.name] : state.creating_variants[e.key]) = e.slot;
+      }
+    }
+    job->state = &state;
+    std::erase_if(state.jobs, [](const auto& weak) { return weak.expired(); });
+    state.jobs.push_back(job);
+    for (const auto& archive : state.archives)
+      for (auto& object : archive.objects())
+        if (object.kind != ObjectKind::graphics_pipeline && object.kind != ObjectKind::compute_pipeline)
+          others.push_back(std::move(object));
+  }
+  for (size_t i = 0; i < job->entries.size(); ++i) job->by_name.emplace(job->entries[i].object.name, i);
+  // The other named objects, so that everything is ready; each is quick to make.
+  for (const auto& object : others) {
+    std::optional<Error> failed;
+    if (object.kind == ObjectKind::resource_signature) {
+      if (auto r = dearchiver.unpack_signature(object.name); !r) failed = r.error();
+    } else if (object.kind == ObjectKind::render_pass) {
+      if (auto r = dearchiver.unpack_render_pass(object.name); !r) failed = r.error();
+    } else if (auto r = dearchiver.unpack_shader(object.name); !r) {
+      failed = r.error();
+    }
+    if (failed) job->object_failures.push_back({object, std::move(*failed)});
+  }
+  for (const auto& e : job->entries)
+    if (e.settled) job->report(e);
+  std::lock_guard lock(job->threads_mutex);
+  try {
+    for (size_t i = 0; i < threads; ++i) job->threads.emplace_back([job] { job->work(); });
+  } catch (const std::system_error&) {  // no more threads: those started do the work
+    if (job->threads.empty()) job->work();
+  }
+  return job;
+}
+
+size_t thread_count(uint32_t threads) {
+  return threads ? threads : std::max(1u, std::thread::hardware_concurrency());
+}
+
+UnpackReport report_of(UnpackJob::Shared& job) {
+  UnpackReport report;
+  std::lock_guard lock(job.sync->mutex);  // a slot of another job may be finishing
+  for (const auto& e : job.entries) {
+    const PipelineSlot& slot = *e.slot;
+    if (!slot.finished || slot.cancelled || !job.state)
+      report.failures.push_back({e.object, job.cancelled_error(e.object.name)});
+    else if (slot.pipeline)
+      report.pipelines.push_back(slot.pipeline);
+    else
+      report.failures.push_back({e.object, *slot.error});
+    if (e.created_in.count() >= 0) report.creation_time += e.created_in;
+  }
+  report.failures.insert(report.failures.end(), job.object_failures.begin(), job.object_failures.end());
+  report.failures.insert(report.failures.end(), job.callback_failures.begin(), job.callback_failures.end());
+  report.wall_time = job.last_settled - job.start;
+  return report;
+}
+
+// unpack_all's single error: the one failure itself, or every failure in one message.
+Error combined_error(const std::vector<UnpackFailure>& failures) {
+  if (failures.size() == 1) return failures.front().error;
+  constexpr size_t kListed = 20;  // a message stays readable; UnpackReport has them all
+  std::string message = std::to_string(failures.size()) + " objects failed: ";
+  for (size_t i = 0; i < failures.size() && i < kListed; ++i)
+    message += (i ? "; " : "") + failures[i].error.message;
+  if (failures.size() > kListed)
+    message +=
+        "; and " + std::to_string(failures.size() - kListed) + " more (unpack_all(options) lists each)";
+  Error first = failures.front().error;
+  return Error{first.code, std::move(message), first.vk_result};
+}
+
+}  // namespace
+
+UnpackJob::UnpackJob(std::shared_ptr<Shared> shared) : shared_(std::move(shared)) {}
+UnpackJob::UnpackJob(UnpackJob&&) noexcept = default;
+UnpackJob& UnpackJob::operator=(UnpackJob&& other) noexcept {
+  if (this != &other) {
+    if (shared_) stop_job(*shared_);
+    shared_ = std::move(other.shared_);
+  }
+  return *this;
+}
+UnpackJob::~UnpackJob() {
+  if (shared_) stop_job(*shared_);
+}
+
+Result<const UnpackedPipeline*> UnpackJob::wait(std::string_view name) {
+  return api_guard("UnpackJob::wait", [&]() -> Result<const UnpackedPipeline*> {
+    Shared::Entry* e = shared_ ? shared_->entry(name) : nullptr;
+    if (!e) {
+      std::vector<std::string> names;
+      if (shared_)
+        for (const auto& entry : shared_->entries) names.push_back(entry.object.name);
+      return Error{ErrorCode::not_found, "the unpack job creates no pipeline named '" + std::string(name) +
+                                             "'" + did_you_mean(name, names)};
+    }
+    std::unique_lock lock(shared_->sync->mutex);
+    shared_->sync->finished.wait(lock, [&] { return e->slot->finished || e->settled; });
+    if (!e->slot->finished || e->slot->cancelled || !shared_->state)
+      return shared_->cancelled_error(e->object.name);
+    if (e->slot->error) return *e->slot->error;
+    return e->slot->pipeline;
+  });
+}
+
+bool UnpackJob::ready(std::string_view name) const {
+  Shared::Entry* e = shared_ ? shared_->entry(name) : nullptr;
+  if (!e) return false;
+  std::lock_guard lock(shared_->sync->mutex);
+  return e->slot->finished;
+}
+
+size_t UnpackJob::done() const {
+  return shared_ ? shared_->done.load() : 0;
+}
+
+size_t UnpackJob::total() const {
+  return shared_ ? shared_->entries.size() : 0;
+}
+
+UnpackReport UnpackJob::wait_all() {
+  if (!shared_) return {};
+  {
+    std::unique_lock lock(shared_->sync->mutex);
+    shared_->sync->finished.wait(lock, [&] { return shared_->settled == shared_->entries.size(); });
+  }
+  {
+    std::lock_guard lock(shared_->threads_mutex);  // the last progress calls end with their threads
+    for (auto& t : shared_->threads)
+      if (t.joinable() && t.get_id() != std::this_thread::get_id()) t.join();
+  }
+  return report_of(*shared_);
+}
+
+Result<UnpackJob> Dearchiver::unpack_all_async(UnpackAllOptions options) {
+  return api_guard("Dearchiver::unpack_all_async", [&]() -> Result<UnpackJob> {
+    return UnpackJob(start_job(*this, *state_, options, thread_count(options.threads)));
+  });
+}
+
+Result<UnpackReport> Dearchiver::unpack_all(const UnpackAllOptions& options) {
+  return api_guard("Dearchiver::unpack_all", [&]() -> Result<UnpackReport> {
+    // The calling thread is one of the workers.
+    UnpackJob job(start_job(*this, *state_, options, thread_count(options.threads) - 1));
+    job.shared_->work();
+    return job.wait_all();
+  });
+}
+
+Result<std::vector<const UnpackedPipeline*>> Dearchiver::unpack_all(uint32_t threads) {
+  return unpack_all(PatchCallback{}, threads);
+}
+
+Result<std::vector<const UnpackedPipeline*>> Dearchiver::unpack_all(const PatchCallback& patch,
+                                                                    uint32_t threads) {
+  UnpackAllOptions options;
+  options.patch = patch;
+  options.threads = threads;
+  auto report = unpack_all(options);
+  if (!report) return report.error();
+  if (!report->failures.empty()) return combined_error(report->failures);
+  return std::move(report->pipelines);
+}
+
+}  // namespace statepack
