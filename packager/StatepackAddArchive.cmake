@@ -12,6 +12,8 @@
 #     [PACKAGER <path or target>]     # default: the statepack target of this build, else the installed
 #                                     # statepack::statepack (find_package), else `statepack` on PATH
 #     [VERIFY]                        # also run `statepack verify` on the local Vulkan device
+#     [CACHE_DIR <dir> | NO_CACHE]    # compile cache (--cache-dir); default: statepack-cache in the top
+#                                     # binary dir, shared by every archive of the build
 #     [ARGS <extra packager args>...])
 #
 # Relative INPUTS are looked up in the current source dir, then in each RENDER_STATE_DIRS entry; one
@@ -24,14 +26,14 @@
 # installed), and the build fails on any error or validation message; a stamp file beside the archive
 # records a passed verification, so it runs again only when the archive changes.
 function(statepack_add_archive target)
-  cmake_parse_arguments(PARSE_ARGV 1 ARG "VERIFY;OPENGL" "OUTPUT;CONTENT_VERSION;VULKAN_VERSION;PACKAGER"
+  cmake_parse_arguments(PARSE_ARGV 1 ARG "VERIFY;OPENGL;NO_CACHE" "OUTPUT;CONTENT_VERSION;VULKAN_VERSION;PACKAGER;CACHE_DIR"
                         "INPUTS;SHADER_DIRS;RENDER_STATE_DIRS;DEFINES;ARGS")
   # An unknown keyword first: it is usually a misspelt OUTPUT or INPUTS, which would otherwise be reported
   # as missing.
   if(ARG_UNPARSED_ARGUMENTS)
     message(FATAL_ERROR "statepack_add_archive(${target}): unknown arguments ${ARG_UNPARSED_ARGUMENTS} "
                         "(keywords: OUTPUT INPUTS SHADER_DIRS RENDER_STATE_DIRS DEFINES CONTENT_VERSION "
-                        "VULKAN_VERSION OPENGL PACKAGER VERIFY ARGS)")
+                        "VULKAN_VERSION OPENGL PACKAGER VERIFY CACHE_DIR NO_CACHE ARGS)")
   endif()
   if(NOT ARG_OUTPUT OR NOT ARG_INPUTS)
     message(FATAL_ERROR "statepack_add_archive(${target}): OUTPUT and INPUTS are required")
@@ -102,6 +104,17 @@ function(statepack_add_archive target)
   endif()
   if(ARG_OPENGL)
     list(APPEND args --opengl)
+  endif()
+  # Unchanged shaders are not compiled again when one changes (the archive is the same bytes either way).
+  if(ARG_NO_CACHE AND ARG_CACHE_DIR)
+    message(FATAL_ERROR "statepack_add_archive(${target}): CACHE_DIR and NO_CACHE exclude each other")
+  elseif(NOT ARG_NO_CACHE)
+    if(ARG_CACHE_DIR)
+      cmake_path(ABSOLUTE_PATH ARG_CACHE_DIR BASE_DIRECTORY "${CMAKE_CURRENT_BINARY_DIR}" NORMALIZE OUTPUT_VARIABLE cache_dir)
+    else()
+      set(cache_dir "${CMAKE_BINARY_DIR}/statepack-cache")
+    endif()
+    list(APPEND args --cache-dir "${cache_dir}")
   endif()
   list(APPEND args ${ARG_ARGS})
 

@@ -6,11 +6,11 @@
 namespace statepack::format {
 
 Result<Contents> load_archive(std::span<const uint8_t> bytes, std::optional<uint32_t> required,
-                              const std::string& origin) {
+                              const std::string& origin, uint32_t threads) {
   auto decoded = decode(bytes);
   if (!decoded) return Error{decoded.error().code, origin + ": " + decoded.error().message};
   // What the SPIR-V declares must agree with the stored layouts before anything reaches Vulkan.
-  if (auto consistent = check_shader_interfaces(*decoded); !consistent)
+  if (auto consistent = check_shader_interfaces(*decoded, threads); !consistent)
     return Error{consistent.error().code, origin + ": " + consistent.error().message};
   if (required && decoded->content_version != *required)
     return Error{ErrorCode::content_version_mismatch, origin + ": content version " +
@@ -40,8 +40,8 @@ Result<LoadedArchive> load_archive_file(const std::filesystem::path& path, std::
 }
 
 Result<Contents> load_archive_with_opengl(std::span<const uint8_t> bytes, std::optional<uint32_t> required,
-                                          const std::string& origin) {
-  auto contents = load_archive(bytes, required, origin);
+                                          const std::string& origin, uint32_t threads) {
+  auto contents = load_archive(bytes, required, origin, threads);
   if (!contents) return contents.error();
   if (auto checked = check_opengl(*contents, origin); !checked) return checked.error();
   return contents;

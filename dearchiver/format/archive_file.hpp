@@ -22,9 +22,11 @@ struct LoadedArchive {
 };
 
 // Decodes and checks caller-owned bytes (4-byte aligned; they must outlive the result's spans).
-// `origin` starts every error message (a file name, or "archive in memory").
+// `origin` starts every error message (a file name, or "archive in memory"). `threads`: the SPIR-V is
+// walked on that many (0: every core); the runtime walks on the calling thread, the packer on its -t.
 Result<Contents> load_archive(std::span<const uint8_t> bytes,
-                              std::optional<uint32_t> required_content_version, const std::string& origin);
+                              std::optional<uint32_t> required_content_version, const std::string& origin,
+                              uint32_t threads = 1);
 
 // The OpenGL block checked as load_archive checks the rest: its records (validate_gl), then against its
 // SPIR-V (check_gl_shader_interfaces). The Vulkan runtime leaves it out (it never reads that block, and
@@ -40,7 +42,7 @@ Result<LoadedArchive> load_archive_file(const std::filesystem::path& path,
 // how statepack's own tools read an archive.
 Result<Contents> load_archive_with_opengl(std::span<const uint8_t> bytes,
                                           std::optional<uint32_t> required_content_version,
-                                          const std::string& origin);
+                                          const std::string& origin, uint32_t threads = 1);
 Result<LoadedArchive> load_archive_file_with_opengl(const std::filesystem::path& path);
 
 }  // namespace statepack::format

@@ -1,5 +1,7 @@
 #include "semantic_check.hpp"
 
+#include "support/parallel_for.hpp"
+
 #include <algorithm>
 #include <iterator>
 #include <map>
@@ -321,16 +323,23 @@ Result<void> check_gl_pipeline(const Contents& c, const GlPipeline& p,
 
 }  // namespace
 
-Result<void> check_shader_interfaces(const Contents& c) {
+Result<void> check_shader_interfaces(const Contents& c, uint32_t threads) {
+  // Each blob a shader uses, walked once (on `threads` threads: the walks are independent); an error is
+  // reported at the first shader that uses the blob, whichever thread found it.
+  std::vector<uint32_t> used;
+  std::vector<bool> is_used(c.spirv.size());
+  for (const Shader& shader : c.shaders)
+    if (!is_used[shader.blob]) is_used[shader.blob] = true, used.push_back(shader.blob);
+  std::vector<std::optional<Result<spirv::Module>>> walks(c.spirv.size());
+  detail::parallel_for(used.size(), threads,
+                       [&](size_t i) { walks[used[i]] = spirv::walk(c.spirv[used[i]]); });
   std::vector<spirv::Module> modules(c.spirv.size());
-  std::vector<bool> walked(c.spirv.size());
   for (const Shader& shader : c.shaders) {
     const std::string who = "shader '" + shader.name + "'";
-    if (!walked[shader.blob]) {
-      auto module = spirv::walk(c.spirv[shader.blob]);
-      if (!module) return corrupt(who + ": " + module.error().message);
-      modules[shader.blob] = std::move(module.value());
-      walked[shader.blob] = true;
+    if (auto& walk = walks[shader.blob]) {
+      if (!*walk) return corrupt(who + ": " + walk->error().message);
+      modules[shader.blob] = std::move(walk->value());
+      walk.reset();
     }
     const auto model = spirv::execution_model_of_stage(shader.stage);
     if (!model || !modules[shader.blob].find(*model, shader.entry_point))

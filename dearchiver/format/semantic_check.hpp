@@ -12,7 +12,7 @@ namespace statepack::format {
 // enough descriptors and visible to that stage; push constant blocks fit the stored push constant
 // range; every vertex input location a vertex shader reads has an attribute. The error names the
 // pipeline or shader, the binding and the reason.
-Result<void> check_shader_interfaces(const Contents& contents);
+Result<void> check_shader_interfaces(const Contents& contents, uint32_t threads = 1);
 
 // The same for the OpenGL block, whose records validate_gl has checked: each stage's entry point, no
 // push constants, only capabilities OpenGL 4.5 with GL_ARB_gl_spirv has, every resource bound in its

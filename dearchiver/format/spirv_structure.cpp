@@ -5,6 +5,8 @@
 #include "spirv_structure.hpp"
 
 #include <algorithm>
+#include <array>
+#include <optional>
 #include <string>
 #include <unordered_map>
 #include <unordered_set>
@@ -35,11 +37,24 @@ enum : uint16_t {
   kOpSwitch = 251,
 };
 
-const Instruction* find_instruction(uint32_t opcode) {
+const Instruction* search_instruction(uint32_t opcode) {
   const auto* end = std::end(kInstructions);
   const auto* it = std::lower_bound(std::begin(kInstructions), end, opcode,
                                     [](const Instruction& i, uint32_t op) { return i.opcode < op; });
   return it != end && it->opcode == opcode ? it : nullptr;
+}
+
+// The grammar row of an opcode: a direct table for the core range every module is made of, a search
+// beyond it (extensions' opcodes run to 6000 and more, sparsely).
+const Instruction* find_instruction(uint32_t opcode) {
+  static constexpr uint32_t kDirect = 1024;
+  static const std::array<const Instruction*, kDirect> direct = [] {
+    std::array<const Instruction*, kDirect> table{};
+    for (const Instruction& i : kInstructions)
+      if (i.opcode < kDirect) table[i.opcode] = &i;
+    return table;
+  }();
+  return opcode < kDirect ? direct[opcode] : search_instruction(opcode);
 }
 
 // The parameters `value` of enum kind `kind` carries (none for most values).
@@ -57,10 +72,11 @@ std::string id_text(uint32_t id) {
   return "%" + std::to_string(id);
 }
 
-// What is known of a defined id: the instruction that defined it, and for a value its type, for an
-// integer or float type its width.
+// What is known of a defined id: the instruction that defined it (and its grammar flags), and for a
+// value its type, for an integer or float type its width.
 struct Definition {
   uint16_t opcode = 0;
+  uint8_t flags = 0;
   bool defined = false;
   uint32_t info = 0;
 };
@@ -84,6 +100,8 @@ class Definitions {
   std::unordered_map<uint32_t, Definition> sparse_;
 };
 
+// Each check returns false once the module is found wrong, with the reason in `error` (a Result per
+// operand would cost more than the check itself: this runs on every word of every module loaded).
 struct Checker {
   std::span<const uint32_t> words;
   uint32_t bound;
@@ -96,6 +114,7 @@ struct Checker {
   };
   std::vector<LaterUse> later;  // uses SPIR-V lets precede their definition, settled at the end
   bool in_function = false;
+  std::optional<Error> error;
 
   // The instruction being read.
   size_t at = 0;
@@ -107,45 +126,43 @@ struct Checker {
 
   Checker(std::span<const uint32_t> w) : words(w), bound(w[3]), definitions(w[3], w.size()) {}
 
-  Error fail(size_t word, const std::string& what) const {
+  bool fail(size_t word, const std::string& what) {
     const Instruction* i = find_instruction(words[word] & 0xFFFFu);
-    return Error{ErrorCode::corrupt, "SPIR-V " + std::string(i ? i->name : "instruction") + " at word " +
-                                         std::to_string(word) + ": " + what};
+    error = Error{ErrorCode::corrupt, "SPIR-V " + std::string(i ? i->name : "instruction") + " at word " +
+                                          std::to_string(word) + ": " + what};
+    return false;
   }
-  Error fail(const std::string& what) const { return fail(at, what); }
+  bool fail(const std::string& what) { return fail(at, what); }
 
   const Definition* definition(uint32_t id) const { return id < bound ? definitions.find(id) : nullptr; }
   uint16_t opcode_of(uint32_t id) const {
     const Definition* d = definition(id);
     return d ? d->opcode : 0;
   }
-  static uint8_t flags_of(uint16_t opcode) {
-    const Instruction* i = find_instruction(opcode);
-    return i ? i->flags : 0;
-  }
   bool is_type(uint32_t id) const {
     const Definition* d = definition(id);
-    return d && (flags_of(d->opcode) & kDefinesType);
+    return d && (d->flags & kDefinesType);
   }
 
-  Result<uint32_t> word() {
+  bool word(uint32_t& out) {
     if (pos >= operands.size()) return fail("has fewer operands than its grammar requires");
-    return operands[pos++];
+    out = operands[pos++];
+    return true;
   }
 
-  Result<void> use(uint32_t id, bool names_type) {
+  bool use(uint32_t id, bool names_type) {
     if (id == 0 || id >= bound)
       return fail("operand " + id_text(id) + " is outside the module's id bound " + std::to_string(bound));
     ids.push_back(id);
     if (const Definition* d = definitions.find(id)) {
-      if (names_type && !(flags_of(d->opcode) & kDefinesType))
+      if (names_type && !(d->flags & kDefinesType))
         return fail("type operand " + id_text(id) + " is defined by " + find_instruction(d->opcode)->name +
                     ", not a type");
-      return {};
+      return true;
     }
     if (forward_pointers.count(id) || in_function || (instruction->flags & kMayReferenceForward)) {
       later.push_back({id, at});
-      return {};
+      return true;
     }
     return fail((names_type ? "type operand " : "operand ") + id_text(id) +
                 " is not defined before its use (outside functions, SPIR-V defines before it uses)");
@@ -158,113 +175,90 @@ struct Checker {
     return std::max(1u, (d->info + 31) / 32);
   }
 
-  Result<void> operand(const Operand& o) {
+  bool operand(const Operand& o) {
+    uint32_t w = 0;
     switch (o.kind) {
-      case Kind::result_type: {
-        auto id = word();
-        if (!id) return id.error();
-        if (!is_type(*id))
-          return fail("result type " + id_text(*id) +
-                      (definition(*id) ? " is not a type" : " is not defined before its use"));
-        result_type = *id;
-        return {};
-      }
-      case Kind::result: {
-        auto id = word();
-        if (!id) return id.error();
-        if (*id == 0 || *id >= bound)
-          return fail("result " + id_text(*id) + " is outside the module's id bound " +
-                      std::to_string(bound));
-        if (definitions.find(*id)) return fail("result " + id_text(*id) + " is defined twice");
-        result = *id;
-        return {};
-      }
-      case Kind::id: {
-        auto id = word();
-        if (!id) return id.error();
-        return use(*id, o.names_type);
-      }
-      case Kind::literal: {
-        auto w = word();
-        if (!w) return w.error();
-        return {};
-      }
-      case Kind::string: {
+      case Kind::result_type:
+        if (!word(w)) return false;
+        if (!is_type(w))
+          return fail("result type " + id_text(w) +
+                      (definition(w) ? " is not a type" : " is not defined before its use"));
+        result_type = w;
+        return true;
+      case Kind::result:
+        if (!word(w)) return false;
+        if (w == 0 || w >= bound)
+          return fail("result " + id_text(w) + " is outside the module's id bound " + std::to_string(bound));
+        if (definitions.find(w)) return fail("result " + id_text(w) + " is defined twice");
+        result = w;
+        return true;
+      case Kind::id:
+        return word(w) && use(w, o.names_type);
+      case Kind::literal:
+        return word(w);
+      case Kind::string:
         for (; pos < operands.size(); ++pos)
           if ((operands[pos] & 0xFF000000u) == 0 || (operands[pos] & 0xFF0000u) == 0 ||
               (operands[pos] & 0xFF00u) == 0 || (operands[pos] & 0xFFu) == 0) {
             ++pos;
-            return {};
+            return true;
           }
         return fail("has a literal string without its terminating nul");
-      }
       case Kind::context_number: {
         // Only OpConstant and OpSpecConstant have one: as wide as their result type.
         const uint32_t n = literal_words(result_type);
         if (operands.size() - pos < n) return fail("has a constant narrower than its type");
         pos += n;
-        return {};
+        return true;
       }
       case Kind::spec_opcode: {
-        auto op = word();
-        if (!op) return op.error();
-        const Instruction* inner = find_instruction(*op);
-        if (!inner) return fail("names opcode " + std::to_string(*op) + ", which SPIR-V does not have");
+        if (!word(w)) return false;
+        const Instruction* inner = find_instruction(w);
+        if (!inner) return fail("names opcode " + std::to_string(w) + ", which SPIR-V does not have");
         for (const Operand& p : std::span(kOperands + inner->first_operand, inner->operand_count))
-          if (p.kind != Kind::result && p.kind != Kind::result_type)
-            if (auto ok = quantified(p); !ok) return ok;
-        return {};
+          if (p.kind != Kind::result && p.kind != Kind::result_type && !quantified(p)) return false;
+        return true;
       }
       case Kind::pair_literal_id: {
         // OpSwitch: the literal is as wide as the selector, its first id operand.
         const uint32_t n = ids.empty() ? 1 : literal_words(definition(ids[0]) ? definition(ids[0])->info : 0);
         if (operands.size() - pos < n) return fail("has a case literal narrower than its selector");
         pos += n;
-        auto id = word();
-        if (!id) return id.error();
-        return use(*id, false);
+        return word(w) && use(w, false);
       }
       case Kind::pair_id_literal:
       case Kind::pair_id_id: {
-        auto id = word();
-        if (!id) return id.error();
-        if (auto ok = use(*id, false); !ok) return ok;
-        auto second = word();
-        if (!second) return second.error();
-        return o.kind == Kind::pair_id_id ? use(*second, false) : Result<void>{};
+        uint32_t second = 0;
+        if (!word(w) || !use(w, false) || !word(second)) return false;
+        return o.kind != Kind::pair_id_id || use(second, false);
       }
-      case Kind::value_enum: {
-        auto value = word();
-        if (!value) return value.error();
-        return parameters(parameters_of(o.enum_kind, *value));
-      }
-      case Kind::bit_enum: {
-        auto bits = word();
-        if (!bits) return bits.error();
-        for (uint32_t rest = *bits; rest; rest &= rest - 1)
-          if (auto ok = parameters(parameters_of(o.enum_kind, rest & (~rest + 1))); !ok) return ok;
-        return {};
-      }
+      case Kind::value_enum:
+        return word(w) && parameters(parameters_of(o.enum_kind, w));
+      case Kind::bit_enum:
+        if (!word(w)) return false;
+        for (uint32_t rest = w; rest; rest &= rest - 1)
+          if (!parameters(parameters_of(o.enum_kind, rest & (~rest + 1)))) return false;
+        return true;
     }
     return fail("has an operand kind this reader does not know");
   }
 
-  Result<void> parameters(std::span<const Operand> list) {
+  bool parameters(std::span<const Operand> list) {
     for (const Operand& p : list)
-      if (auto ok = quantified(p); !ok) return ok;
-    return {};
+      if (!quantified(p)) return false;
+    return true;
   }
 
-  Result<void> quantified(const Operand& o) {
+  bool quantified(const Operand& o) {
     if (o.quantifier == Quantifier::one) return operand(o);
-    if (o.quantifier == Quantifier::optional) return pos < operands.size() ? operand(o) : Result<void>{};
+    if (o.quantifier == Quantifier::optional) return pos < operands.size() ? operand(o) : true;
     while (pos < operands.size())
-      if (auto ok = operand(o); !ok) return ok;
-    return {};
+      if (!operand(o)) return false;
+    return true;
   }
 
   // The kinds SPIR-V requires of particular operands, beyond "is a type".
-  Result<void> kinds() {
+  bool kinds() {
     const uint16_t op = instruction->opcode;
     if (op == kOpVariable && opcode_of(result_type) != kOpTypePointer)
       return fail("variable " + id_text(result) + " has type " + id_text(result_type) + ", not a pointer");
@@ -274,17 +268,17 @@ struct Checker {
                   ", not an integer or float type");
     if (op == kOpTypeArray) {
       const Definition* length = definition(ids.at(1));
-      if (!length || !(flags_of(length->opcode) & kDefinesConstant) || opcode_of(length->info) != kOpTypeInt)
+      if (!length || !(length->flags & kDefinesConstant) || opcode_of(length->info) != kOpTypeInt)
         return fail("array length " + id_text(ids[1]) + " is not an integer constant");
     }
     if (op == kOpFunction && opcode_of(ids.at(0)) != kOpTypeFunction)
       return fail("function " + id_text(result) + " has type " + id_text(ids[0]) + ", not a function type");
     if (op == kOpExtInst && !(opcode_of(ids.at(0)) == kOpExtInstImport))
       return fail("extended instruction set " + id_text(ids[0]) + " is not an OpExtInstImport");
-    return {};
+    return true;
   }
 
-  Result<void> step(size_t where) {
+  bool step(size_t where) {
     at = where;
     const uint32_t count = words[at] >> 16, opcode = words[at] & 0xFFFFu;
     instruction = find_instruction(opcode);
@@ -298,9 +292,8 @@ struct Checker {
     if (opcode == kOpExtInst) {
       // Operands of sets other than GLSL.std.450 (debug information, printf) are opaque here.
       for (size_t i = 0; i < 4; ++i)
-        if (auto ok = operand(list[i]); !ok) return ok;
-      if (glsl_std_450.count(ids[0]))
-        if (auto ok = quantified(list[4]); !ok) return ok;
+        if (!operand(list[i])) return false;
+      if (glsl_std_450.count(ids[0]) && !quantified(list[4])) return false;
       pos = operands.size();
     } else if (opcode == kOpTypeForwardPointer) {
       if (operands.size() != 2) return fail("does not have exactly two operands");
@@ -308,17 +301,18 @@ struct Checker {
         return fail("declares " + id_text(operands[0]) + ", which is outside the bound or already defined");
       forward_pointers.insert(operands[0]);
       pos = operands.size();
-    } else {
-      if (auto ok = parameters(list); !ok) return ok;
+    } else if (!parameters(list)) {
+      return false;
     }
     if (pos != operands.size())
       return fail("has " + std::to_string(operands.size() - pos) + " words more than its operands");
-    if (auto ok = kinds(); !ok) return ok;
+    if (!kinds()) return false;
     if (opcode == kOpFunction) in_function = true;
     if (result) {
       Definition& d = definitions.at(result);
       d.defined = true;
       d.opcode = instruction->opcode;
+      d.flags = instruction->flags;
       d.info = (opcode == kOpTypeInt || opcode == kOpTypeFloat) ? operands[1] : result_type;
     }
     if (opcode == kOpExtInstImport &&
@@ -326,7 +320,7 @@ struct Checker {
                 .substr(0, 13) == std::string_view("GLSL.std.450\0", 13))
       glsl_std_450.insert(result);
     if (opcode == kOpFunctionEnd) in_function = false;
-    return {};
+    return true;
   }
 };
 
@@ -340,11 +334,14 @@ Result<void> check_structure(std::span<const uint32_t> words) {
       return Error{ErrorCode::corrupt, "SPIR-V word " + std::to_string(at) +
                                            (count == 0 ? ": instruction with a word count of zero"
                                                        : ": instruction runs past the end of the module")};
-    if (auto ok = c.step(at); !ok) return ok;
+    if (!c.step(at)) return *c.error;
     at += count;
   }
   for (const Checker::LaterUse& u : c.later)
-    if (!c.definitions.find(u.id)) return c.fail(u.at, "operand " + id_text(u.id) + " is never defined");
+    if (!c.definitions.find(u.id)) {
+      c.fail(u.at, "operand " + id_text(u.id) + " is never defined");
+      return *c.error;
+    }
   return {};
 }
 

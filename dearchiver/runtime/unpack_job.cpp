@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <condition_variable>
 #include <set>
 #include <thread>
 #include <unordered_map>
@@ -21,9 +22,10 @@ using namespace detail;
 struct UnpackJob::Shared {
   struct Entry {
     ObjectInfo object;
-    std::unique_ptr<Plan> plan;  // set when this job creates it, until it is created
+    std::unique_ptr<Plan> plan;  // this job's plan of it (patched, or to create), until it is created
     std::string key;             // its variant key when patched
     std::shared_ptr<PipelineSlot> slot;
+    bool borrowed = false;                    // another job was creating it when this one was planned
     bool settled = false;                     // guarded by sync->mutex: this job is done with it
     std::chrono::nanoseconds created_in{-1};  // set when this job created it
   };
@@ -34,34 +36,60 @@ struct UnpackJob::Shared {
   std::unordered_map<std::string_view, size_t> by_name;
   std::vector<UnpackFailure> object_failures;  // signatures, render passes, shaders
   ProgressCallback progress;
-  std::mutex progress_mutex;  // one progress call at a time; guards callback_failures
+  // One progress call at a time, without a lock held while it runs (it may destroy the job, whose
+  // stop then wakes the workers waiting for their turn: they skip their calls).
+  std::mutex progress_mutex;  // guards reporting, callback_failures
+  std::condition_variable progress_turn;
+  bool reporting = false;
   std::vector<UnpackFailure> callback_failures;
   std::atomic<size_t> done{0}, next{0};
   std::atomic<bool> cancelled{false};
   size_t settled = 0;  // entries settled; guarded by sync->mutex
+  size_t active = 0;   // threads still in work() (a detached one too); guarded by sync->mutex
   std::chrono::steady_clock::time_point start, last_settled;
-  std::mutex threads_mutex;
+  std::mutex threads_mutex;  // threads; held through stop_job, so two stops never interleave
   std::vector<std::thread> threads;
 
-  // Takes the next entry until none is left (or the job is cancelled): a worker's whole life.
-  void work() {
+  // A thread of the job: work(), then it says it has left, so that wait_all returns only once every
+  // thread is done (also one that destroyed the Dearchiver from a progress call and went on alone).
+  void thread_body() noexcept {
+    work();
+    {
+      std::lock_guard lock(sync->mutex);
+      --active;
+    }
+    sync->finished.notify_all();
+  }
+
+  // Takes the next entry until none is left (or the job is cancelled): a worker's whole life. Nothing
+  // may escape a thread: whatever an entry throws settles it as failed.
+  void work() noexcept {
     for (;;) {
       if (cancelled) return;
       const size_t i = next++;
       if (i >= entries.size()) return;
-      run(entries[i]);
+      try {
+        run(entries[i]);
+      } catch (...) {
+        settle_failed(entries[i]);
+      }
     }
   }
 
   void run(Entry& e) {
-    if (e.plan) {
+    if (!e.borrowed && e.plan) {
       create(e);
     } else {
       std::unique_lock lock(sync->mutex);
       if (e.settled) return;  // settled at planning, and reported there
-      // Another job creates it: its outcome is this job's too.
+      // Another job creates it: its outcome is this job's too, unless that job ended first.
       sync->finished.wait(lock, [&] { return e.slot->finished || cancelled; });
       if (!e.slot->finished) return;
+      if (e.slot->cancelled) {
+        lock.unlock();
+        make_instead(e);
+        lock.lock();
+      }
       settle_locked(e);
     }
     sync->finished.notify_all();
@@ -69,18 +97,23 @@ struct UnpackJob::Shared {
   }
 
   void create(Entry& e) {
-    const UnpackedPipeline* kept = nullptr;
+    Plan& plan = *e.plan;
     std::optional<Error> error;
-    try {
-      if (auto created = state->create(*e.plan); !created) error = created.error();
+    if (auto created = state->create(plan); !created) error = created.error();
+    const UnpackedPipeline* kept = nullptr;
+    {
       std::lock_guard lock(state->mutex);
       forget_locked(e);
       if (!error) {
-        e.created_in = e.plan->out.creation.time;
-        kept = state->keep(*e.plan, e.key);
+        e.created_in = plan.out.creation.time;
+        const VkPipeline made = plan.out.pipeline;
+        try {
+          kept = state->keep(plan, e.key);
+        } catch (...) {  // no memory to keep it: it is nobody's, so it goes now
+          state->caps.vk.vkDestroyPipeline(state->context.device, made, state->context.allocator);
+          throw;
+        }
       }
-    } catch (...) {  // keep() ran out of memory: the pipeline is the driver's, and lost
-      error = Error{ErrorCode::out_of_memory, "pipeline '" + e.object.name + "': out of memory"};
     }
     e.plan.reset();
     std::lock_guard lock(sync->mutex);
@@ -90,8 +123,61 @@ struct UnpackJob::Shared {
     settle_locked(e);
   }
 
+  // A pipeline another job was to create, but that job ended before it did: this one makes it, as a
+  // single unpack would (the lock held: it is rare), into a slot of its own.
+  void make_instead(Entry& e) {
+    auto own = std::make_shared<PipelineSlot>();
+    std::unique_lock lock(state->mutex);
+    Result<const UnpackedPipeline*> made = Error{ErrorCode::cancelled, ""};
+    if (!e.plan) {  // unpatched: planned without a callback, so the single-object path does it all
+      const bool existed = state->unmodified.count(e.object.name) != 0;
+      made = state->unpack(lock, e.object.name,
+                           e.object.kind == ObjectKind::compute_pipeline ? format::PipelineKind::compute
+                                                                         : format::PipelineKind::graphics,
+                           {});
+      if (made && !existed) e.created_in = (*made)->creation.time;
+    } else if (const UnpackedPipeline* earlier = state->earlier_variant(e.key)) {
+      made = earlier;
+    } else if (auto created = state->create(*e.plan); created) {
+      e.created_in = e.plan->out.creation.time;
+      made = state->keep(*e.plan, e.key);
+    } else {
+      made = created.error();
+    }
+    e.plan.reset();
+    lock.unlock();
+    own->finished = true;
+    if (made)
+      own->pipeline = *made;
+    else
+      own->error = made.error();
+    std::lock_guard slots(sync->mutex);
+    e.slot = std::move(own);
+  }
+
+  // An entry whose work threw (out of memory): failed, with an error that needs no allocation of its own
+  // beyond what a short string does not.
+  void settle_failed(Entry& e) noexcept {
+    try {
+      if (state) {
+        std::lock_guard lock(state->mutex);
+        forget_locked(e);
+      }
+      std::lock_guard lock(sync->mutex);
+      if (e.settled) return;
+      if (!e.slot->finished) {
+        e.slot->error = Error{ErrorCode::out_of_memory, "out of memory"};
+        e.slot->finished = true;
+      }
+      settle_locked(e);
+    } catch (...) {  // nothing more can be done; waiters are woken below
+    }
+    sync->finished.notify_all();
+  }
+
   // Removes the entry from the Dearchiver's pipelines being created (state->mutex held).
   void forget_locked(const Entry& e) {
+    if (e.borrowed) return;
     if (e.key.empty()) {
       auto it = state->creating_unmodified.find(e.object.name);
       if (it != state->creating_unmodified.end() && it->second == e.slot)
@@ -113,20 +199,32 @@ struct UnpackJob::Shared {
       ++done;
       return;
     }
-    std::lock_guard lock(progress_mutex);
-    const UnpackProgress p{&e.object, e.slot->pipeline, e.slot->error ? &*e.slot->error : nullptr, ++done,
+    size_t count = 0;
+    {
+      std::unique_lock lock(progress_mutex);
+      progress_turn.wait(lock, [&] { return !reporting || cancelled; });
+      count = ++done;
+      if (reporting) return;  // cancelled while another call runs: the job is ending, nobody is told
+      reporting = true;
+    }
+    const UnpackProgress p{&e.object, e.slot->pipeline, e.slot->error ? &*e.slot->error : nullptr, count,
                            entries.size()};
+    std::optional<std::string> thrown;
     try {
       progress(p);
     } catch (const std::exception& x) {
-      callback_failures.push_back({e.object, Error{ErrorCode::invalid_argument,
-                                                   "the progress callback threw while told of pipeline '" +
-                                                       e.object.name + "': " + x.what()}});
+      thrown = x.what();
     } catch (...) {
+      thrown = "";
+    }
+    std::lock_guard lock(progress_mutex);
+    if (thrown)
       callback_failures.push_back(
           {e.object, Error{ErrorCode::invalid_argument,
-                           "the progress callback threw while told of pipeline '" + e.object.name + "'"}});
-    }
+                           "the progress callback threw while told of pipeline '" + e.object.name + "'" +
+                               (thrown->empty() ? "" : ": ") + *thrown}});
+    reporting = false;
+    progress_turn.notify_all();
   }
 
   Entry* entry(std::string_view name) {
@@ -147,30 +245,30 @@ struct UnpackJob::Shared {
 namespace detail {
 
 void stop_job(UnpackJob::Shared& job, bool dearchiver_gone) {
+  std::lock_guard threads_lock(job.threads_mutex);
   job.cancelled = true;
   { std::lock_guard lock(job.sync->mutex); }  // a worker waiting on another job's pipeline sees it
   job.sync->finished.notify_all();
-  {
-    std::lock_guard lock(job.threads_mutex);
-    for (auto& t : job.threads) {
-      if (t.get_id() == std::this_thread::get_id())
-        t.detach();  // destroyed from its own progress callback: it returns from work() next
-      else if (t.joinable())
-        t.join();
-    }
-    job.threads.clear();
+  { std::lock_guard lock(job.progress_mutex); }  // and one waiting for its turn to report
+  job.progress_turn.notify_all();
+  for (auto& t : job.threads) {
+    if (t.get_id() == std::this_thread::get_id())
+      t.detach();  // destroyed from its own progress callback: it returns from work() next
+    else if (t.joinable())
+      t.join();
   }
+  job.threads.clear();
   // What the threads did not begin is made by nobody: whoever waits for it makes it itself.
   std::unique_lock state_lock =
       job.state ? std::unique_lock(job.state->mutex) : std::unique_lock<std::mutex>();
   std::lock_guard lock(job.sync->mutex);
   for (auto& e : job.entries) {
     if (e.settled) continue;
-    if (e.plan) {
+    if (!e.borrowed && e.plan) {
       if (job.state) job.forget_locked(e);
-      e.plan.reset();
       e.slot->cancelled = e.slot->finished = true;
     }
+    e.plan.reset();
     job.settle_locked(e);
   }
   if (dearchiver_gone) job.state = nullptr;
@@ -181,97 +279,129 @@ void stop_job(UnpackJob::Shared& job, bool dearchiver_gone) {
 
 namespace {
 
+// Plans one pipeline into `e` (state.mutex held): settled at once when made before or refused, borrowed
+// when another job is creating it, else this job's to create (registered as being created).
+void plan_entry(UnpackJob::Shared& job, Dearchiver::State& state, const UnpackAllOptions& options,
+                const ArchivedPipeline& found, UnpackJob::Shared::Entry& e) {
+  const format::Pipeline& p = *found.pipeline;
+  const bool compute = p.kind == format::PipelineKind::compute;
+  e.object = {p.name, compute ? ObjectKind::compute_pipeline : ObjectKind::graphics_pipeline};
+  auto settle = [&](const UnpackedPipeline* made, std::optional<Error> error) {
+    e.slot = std::make_shared<PipelineSlot>();
+    e.slot->finished = true;
+    e.slot->pipeline = made;
+    e.slot->error = std::move(error);
+    e.settled = true;
+    ++job.settled;
+  };
+  if (!options.patch) {  // a patch callback sees every pipeline, so nothing made before is reused then
+    if (auto it = state.unmodified.find(p.name); it != state.unmodified.end()) return settle(it->second, {});
+    if (auto it = state.creating_unmodified.find(p.name); it != state.creating_unmodified.end()) {
+      e.slot = it->second;  // another job's
+      e.borrowed = true;
+      return;
+    }
+  }
+  // The single-object path's callback, told which pipeline it patches: the patched state goes through
+  // the same checks as unpack_graphics/unpack_compute with a modify callback.
+  ModifyCallback modify;
+  if (options.patch) modify = [&options, &e](PatchableState& s) { options.patch(e.object, s); };
+  auto plan =
+      compute ? state.planner.plan_compute(found, modify) : state.planner.plan_graphics(found, modify);
+  if (!plan) return settle(nullptr, plan.error());
+  if (options.patch) {
+    e.key = variant_key(p.name, **plan);
+    if (const UnpackedPipeline* earlier = state.earlier_variant(e.key)) return settle(earlier, {});
+    if (auto it = state.creating_variants.find(e.key); it != state.creating_variants.end()) {
+      e.slot = it->second;  // another job's; the plan is kept in case that job ends first
+      e.borrowed = true;
+      e.plan = std::move(plan.value());
+      return;
+    }
+  }
+  e.plan = std::move(plan.value());
+  e.slot = std::make_shared<PipelineSlot>();
+  (e.key.empty() ? state.creating_unmodified[p.name] : state.creating_variants[e.key]) = e.slot;
+}
+
 // Plans every pipeline not yet made (the callbacks run here), makes the other objects, and starts
-// `threads` workers; the job's entries are in archive order, the earliest archive winning a name.
+// `threads` workers; the job's entries are in archive order, the earliest archive winning a name. If
+// anything throws (no memory, a callback's bad_alloc), the job is stopped first, so that nothing is left
+// registered as being created.
 std::shared_ptr<UnpackJob::Shared> start_job(Dearchiver& dearchiver, Dearchiver::State& state,
                                              const UnpackAllOptions& options, size_t threads) {
   auto job = std::make_shared<UnpackJob::Shared>();
   job->sync = state.sync;
   job->progress = options.progress;
   job->start = job->last_settled = std::chrono::steady_clock::now();
+  job->state = &state;
   std::vector<ObjectInfo> others;
   {
     std::lock_guard lock(state.mutex);
-    std::set<std::string, std::less<>> seen;
-    for (size_t a = 0; a < state.archives.size(); ++a) {
-      for (const auto& p : state.contents(a).pipelines) {
-        if (!seen.insert(p.name).second) continue;  // the earliest archive wins
-        const bool compute = p.kind == format::PipelineKind::compute;
-        UnpackJob::Shared::Entry& e = job->entries.emplace_back();
-        e.object = {p.name, compute ? ObjectKind::compute_pipeline : ObjectKind::graphics_pipeline};
-        auto settle = [&](const UnpackedPipeline* made, std::optional<Error> error) {
-          e.slot = std::make_shared<PipelineSlot>();
-          e.slot->finished = true;
-          e.slot->pipeline = made;
-          e.slot->error = std::move(error);
-          e.settled = true;
-          ++job->settled;
-        };
-        if (!options.patch) {  // a patch callback sees every pipeline, so nothing made before is reused then
-          if (auto it = state.unmodified.find(p.name); it != state.unmodified.end()) {
-            settle(it->second, std::nullopt);
-            continue;
-          }
-          if (auto it = state.creating_unmodified.find(p.name); it != state.creating_unmodified.end()) {
-            e.slot = it->second;  // another job's
-            continue;
-          }
-        }
-        // The single-object path's callback, told which pipeline it patches: the patched state goes
-        // through the same checks as unpack_graphics/unpack_compute with a modify callback.
-        ModifyCallback modify;
-        if (options.patch) modify = [&options, &e](PatchableState& s) { options.patch(e.object, s); };
-        const ArchivedPipeline found{a, &p};
-        auto plan =
-            compute ? state.planner.plan_compute(found, modify) : state.planner.plan_graphics(found, modify);
-        if (!plan) {
-          settle(nullptr, plan.error());
-          continue;
-        }
-        if (options.patch) {
-          e.key = variant_key(p.name, **plan);
-          if (const UnpackedPipeline* earlier = state.earlier_variant(e.key)) {
-            settle(earlier, std::nullopt);
-            continue;
-          }
-          if (auto it = state.creating_variants.find(e.key); it != state.creating_variants.end()) {
-            e.slot = it->second;
-            continue;
-          }
-        }
-        e.plan = std::move(plan.value());
-        e.slot = std::make_shared<PipelineSlot>();
-        (e.key.empty() ? state.creating_unmodified[p.name] : state.creating_variants[e.key]) = e.slot;
-      }
+    try {
+      std::set<std::string, std::less<>> seen;
+      for (size_t a = 0; a < state.archives.size(); ++a)
+        for (const auto& p : state.contents(a).pipelines)
+          if (seen.insert(p.name).second)  // the earliest archive wins
+            plan_entry(*job, state, options, ArchivedPipeline{a, &p}, job->entries.emplace_back());
+      std::erase_if(state.jobs, [](const auto& weak) { return weak.expired(); });
+      state.jobs.push_back(job);
+      for (const auto& archive : state.archives)
+        for (auto& object : archive.objects())
+          if (object.kind != ObjectKind::graphics_pipeline && object.kind != ObjectKind::compute_pipeline)
+            others.push_back(std::move(object));
+    } catch (...) {
+      for (auto& e : job->entries) job->forget_locked(e);
+      for (auto& e : job->entries)
+        if (e.slot && !e.borrowed && !e.settled) e.slot->cancelled = e.slot->finished = true;
+      throw;
     }
-    job->state = &state;
-    std::erase_if(state.jobs, [](const auto& weak) { return weak.expired(); });
-    state.jobs.push_back(job);
-    for (const auto& archive : state.archives)
-      for (auto& object : archive.objects())
-        if (object.kind != ObjectKind::graphics_pipeline && object.kind != ObjectKind::compute_pipeline)
-          others.push_back(std::move(object));
   }
-  for (size_t i = 0; i < job->entries.size(); ++i) job->by_name.emplace(job->entries[i].object.name, i);
-  // The other named objects, so that everything is ready; each is quick to make.
-  for (const auto& object : others) {
-    std::optional<Error> failed;
-    if (object.kind == ObjectKind::resource_signature) {
-      if (auto r = dearchiver.unpack_signature(object.name); !r) failed = r.error();
-    } else if (object.kind == ObjectKind::render_pass) {
-      if (auto r = dearchiver.unpack_render_pass(object.name); !r) failed = r.error();
-    } else if (auto r = dearchiver.unpack_shader(object.name); !r) {
-      failed = r.error();
-    }
-    if (failed) job->object_failures.push_back({object, std::move(*failed)});
-  }
-  for (const auto& e : job->entries)
-    if (e.settled) job->report(e);
-  std::lock_guard lock(job->threads_mutex);
   try {
-    for (size_t i = 0; i < threads; ++i) job->threads.emplace_back([job] { job->work(); });
-  } catch (const std::system_error&) {  // no more threads: those started do the work
-    if (job->threads.empty()) job->work();
+    for (size_t i = 0; i < job->entries.size(); ++i) job->by_name.emplace(job->entries[i].object.name, i);
+    // The other named objects, so that everything is ready; each is quick to make.
+    for (const auto& object : others) {
+      std::optional<Error> failed;
+      if (object.kind == ObjectKind::resource_signature) {
+        if (auto r = dearchiver.unpack_signature(object.name); !r) failed = r.error();
+      } else if (object.kind == ObjectKind::render_pass) {
+        if (auto r = dearchiver.unpack_render_pass(object.name); !r) failed = r.error();
+      } else if (auto r = dearchiver.unpack_shader(object.name); !r) {
+        failed = r.error();
+      }
+      if (failed) job->object_failures.push_back({object, std::move(*failed)});
+    }
+    std::vector<size_t> settled_at_planning;  // read before any thread settles more
+    for (size_t i = 0; i < job->entries.size(); ++i)
+      if (job->entries[i].settled) settled_at_planning.push_back(i);
+    const size_t to_make = job->entries.size() - settled_at_planning.size();  // no more threads than these
+    bool started = false;
+    {
+      std::lock_guard lock(job->threads_mutex);
+      job->threads.reserve(std::min(threads, to_make));
+      try {
+        for (size_t i = 0; i < threads && i < to_make; ++i) {
+          {
+            std::lock_guard count(job->sync->mutex);
+            ++job->active;
+          }
+          try {
+            job->threads.emplace_back([job] { job->thread_body(); });
+          } catch (...) {
+            std::lock_guard count(job->sync->mutex);
+            --job->active;
+            throw;
+          }
+        }
+      } catch (const std::system_error&) {  // no more threads: those started do the work
+      }
+      started = !job->threads.empty() || threads == 0;
+    }
+    if (!started) job->work();  // not one thread: this one does it all
+    for (size_t i : settled_at_planning) job->report(job->entries[i]);
+  } catch (...) {
+    stop_job(*job);
+    throw;
   }
   return job;
 }
@@ -366,12 +496,21 @@ UnpackReport UnpackJob::wait_all() {
   if (!shared_) return {};
   {
     std::unique_lock lock(shared_->sync->mutex);
-    shared_->sync->finished.wait(lock, [&] { return shared_->settled == shared_->entries.size(); });
+    shared_->sync->finished.wait(
+        lock, [&] { return shared_->settled == shared_->entries.size() && shared_->active == 0; });
   }
+  // The last progress calls end with their threads. Joined outside the lock, which stop_job takes (the
+  // Dearchiver may be destroyed from a progress call meanwhile).
+  std::vector<std::thread> threads;
   {
-    std::lock_guard lock(shared_->threads_mutex);  // the last progress calls end with their threads
-    for (auto& t : shared_->threads)
-      if (t.joinable() && t.get_id() != std::this_thread::get_id()) t.join();
+    std::lock_guard lock(shared_->threads_mutex);
+    threads.swap(shared_->threads);
+  }
+  for (auto& t : threads) {
+    if (t.get_id() == std::this_thread::get_id())
+      t.detach();
+    else if (t.joinable())
+      t.join();
   }
   return report_of(*shared_);
 }

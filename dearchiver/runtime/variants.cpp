@@ -94,7 +94,9 @@ std::string from_json(const Json& j, T& out) {
       return "expected an unsigned 32-bit integer";
     out = j.get<uint32_t>();
   } else if constexpr (std::is_same_v<T, float>) {
-    if (!j.is_number() || !std::isfinite(j.get<double>())) return "expected a finite number";
+    if (!j.is_number() || !std::isfinite(j.get<double>()) ||
+        std::fabs(j.get<double>()) > double(std::numeric_limits<float>::max()))
+      return "expected a finite number a float can hold";
     out = float(j.get<double>());
   } else {
     if (!j.is_string() || !vk_value(j.get_ref<const std::string&>(), out))
@@ -241,21 +243,27 @@ std::string pointer_escape(std::string_view key) {
   return out;
 }
 
-// Applies a variant's "state" to `s`; "" when it could, else "<JSON pointer below state>: <reason>".
-// `check_constants`: each constant must be one of s's (false when checking a file without its archive).
-std::string apply_state(const Json& state, bool compute, PatchableState& s, bool check_constants) {
-  if (!state.is_object()) return ": expected an object of the fields the callback changed";
+// What is wrong with a variant's state: where (a JSON pointer below "state") and why.
+struct StateProblem {
+  std::string where, reason;
+};
+
+// Applies a variant's "state" to `s`. `check_constants`: each constant must be one of s's (false when
+// checking a file without its archive).
+std::optional<StateProblem> apply_state(const Json& state, bool compute, PatchableState& s,
+                                        bool check_constants) {
+  if (!state.is_object()) return StateProblem{"", "expected an object of the fields the callback changed"};
   std::vector<std::string> keys;
   for (const Field& f : fields()) keys.push_back(f.key);
   keys.insert(keys.end(), {"dynamic_states", "constants"});
   for (const auto& [key, value] : state.items()) {
     const std::string at = "/" + pointer_escape(key);
     if (key == "constants") {
-      if (!value.is_object()) return at + ": expected an object of constant names and values";
+      if (!value.is_object()) return StateProblem{at, "expected an object of constant names and values"};
       for (const auto& [name, v] : value.items()) {
         const std::string here = at + "/" + pointer_escape(name);
         if (!v.is_number_unsigned() && !(v.is_number_integer() && v.get<int64_t>() >= 0))
-          return here + ": expected the value's bits as an unsigned integer";
+          return StateProblem{here, "expected the value's bits as an unsigned integer"};
         SpecializationConstant* c = nullptr;
         for (auto& k : s.constants)
           if (k.name == name) c = &k;
@@ -263,26 +271,26 @@ std::string apply_state(const Json& state, bool compute, PatchableState& s, bool
           if (!check_constants) continue;
           std::vector<std::string> names;
           for (const auto& k : s.constants) names.push_back(k.name);
-          return here + ": the pipeline has no specialization constant named '" + printable(name) + "'" +
-                 did_you_mean(name, names);
+          return StateProblem{here, "the pipeline has no specialization constant named '" + printable(name) +
+                                        "'" + did_you_mean(name, names)};
         }
         const uint64_t bits = v.get<uint64_t>();
         if (c->size < 8 && (bits >> (8 * c->size)) != 0)
-          return here + ": " + std::to_string(bits) + " does not fit the constant's " +
-                 std::to_string(c->size) + " bytes";
+          return StateProblem{here, std::to_string(bits) + " does not fit the constant's " +
+                                        std::to_string(c->size) + " bytes"};
         c->value = {};
         std::memcpy(c->value.data(), &bits, c->size);
       }
       continue;
     }
-    if (compute) return at + ": a compute pipeline's variant sets only constants";
+    if (compute) return StateProblem{at, "a compute pipeline's variant sets only constants"};
     if (key == "dynamic_states") {
-      if (!value.is_array()) return at + ": expected an array of VkDynamicState names";
+      if (!value.is_array()) return StateProblem{at, "expected an array of VkDynamicState names"};
       std::vector<VkDynamicState> states;
       for (size_t i = 0; i < value.size(); ++i) {
         VkDynamicState d{};
         if (std::string bad = from_json(value[i], d); !bad.empty())
-          return at + "/" + std::to_string(i) + ": " + bad;
+          return StateProblem{at + "/" + std::to_string(i), bad};
         states.push_back(d);
       }
       s.dynamic_states = std::move(states);
@@ -290,10 +298,10 @@ std::string apply_state(const Json& state, bool compute, PatchableState& s, bool
     }
     auto f = std::find_if(fields().begin(), fields().end(),
                           [&](const Field& candidate) { return candidate.key == key; });
-    if (f == fields().end()) return at + ": no such field" + did_you_mean(key, keys);
-    if (std::string bad = f->read(value, s); !bad.empty()) return at + ": " + bad;
+    if (f == fields().end()) return StateProblem{at, "no such field" + did_you_mean(key, keys)};
+    if (std::string bad = f->read(value, s); !bad.empty()) return StateProblem{at, bad};
   }
-  return "";
+  return std::nullopt;
 }
 
 // Nesting deeper than kMaxDepth, found before parsing (outside strings); false when too deep.
@@ -320,7 +328,8 @@ bool shallow_enough(std::string_view text) {
 
 Error file_error(std::string_view name, const std::string& where, const std::string& what) {
   return Error{ErrorCode::invalid_argument, "variants file '" + printable(name) + "'" +
-                                                (where.empty() ? "" : " at " + where) + ": " + what};
+                                                (where.empty() ? "" : " at " + printable(where)) + ": " +
+                                                what};
 }
 
 }  // namespace
@@ -333,10 +342,10 @@ Result<std::vector<PipelineVariant>> parse_variants(std::string_view text, std::
     Json doc;
     try {
       doc = Json::parse(text);
-    } catch (const Json::parse_error& e) {
+    } catch (const Json::exception& e) {  // a syntax error, or a number beyond what a double holds
       std::string what = e.what();
       if (auto at = what.find("] "); at != std::string::npos) what.erase(0, at + 2);
-      return file_error(name, "", what);
+      return file_error(name, "", printable(what));
     }
     if (!doc.is_object()) return file_error(name, "/", "expected an object");
     for (const auto& [key, value] : doc.items())
@@ -345,7 +354,7 @@ Result<std::vector<PipelineVariant>> parse_variants(std::string_view text, std::
             name, "/" + pointer_escape(key),
             "unknown key" + did_you_mean(key, std::vector<std::string>{"statepack_variants", "variants"}));
     auto version = doc.find("statepack_variants");
-    if (version == doc.end() || !version->is_number_unsigned())
+    if (version == doc.end() || !version->is_number_unsigned() || version->get<uint64_t>() == 0)
       return file_error(name, "/statepack_variants",
                         "missing, or not a version number (this reader writes 1)");
     if (version->get<uint64_t>() > kVariantsVersion)
@@ -375,10 +384,8 @@ Result<std::vector<PipelineVariant>> parse_variants(std::string_view text, std::
       const Json no_changes = Json::object();
       const Json& changes = state == v.end() ? no_changes : *state;
       PatchableState scratch;
-      if (std::string bad = apply_state(changes, compute, scratch, false); !bad.empty()) {
-        const size_t colon = bad.find(": ");
-        return file_error(name, at + "/state" + bad.substr(0, colon), bad.substr(colon + 2));
-      }
+      if (auto bad = apply_state(changes, compute, scratch, false))
+        return file_error(name, at + "/state" + bad->where, bad->reason);
       variants.push_back({pipeline->get<std::string>(),
                           compute ? ObjectKind::compute_pipeline : ObjectKind::graphics_pipeline,
                           changes.dump()});
@@ -403,9 +410,9 @@ Result<void> PipelineVariant::apply(PatchableState& s) const {
     if (changes.is_discarded() || !shallow_enough(state))
       return Error{ErrorCode::invalid_argument,
                    "variant of pipeline '" + printable(pipeline) + "': its state is not JSON"};
-    if (std::string bad = apply_state(changes, kind == ObjectKind::compute_pipeline, s, true); !bad.empty())
-      return Error{ErrorCode::invalid_argument,
-                   "variant of pipeline '" + printable(pipeline) + "': state" + bad};
+    if (auto bad = apply_state(changes, kind == ObjectKind::compute_pipeline, s, true))
+      return Error{ErrorCode::invalid_argument, "variant of pipeline '" + printable(pipeline) + "': state" +
+                                                    printable(bad->where) + ": " + bad->reason};
     return {};
   });
 }
@@ -416,8 +423,10 @@ std::vector<PipelineVariant> Dearchiver::variants() const {
   for (const State::Recorded& r : state_->recorded) {
     const bool compute = r.bind_point == VK_PIPELINE_BIND_POINT_COMPUTE;
     const format::Pipeline& p = *r.source.pipeline;
+    // Constant names are the shaders' (OpName): bytes that are not UTF-8 are replaced, never thrown on.
     out.push_back({p.name, compute ? ObjectKind::compute_pipeline : ObjectKind::graphics_pipeline,
-                   state_changes(to_patchable(p), r.settled, compute).dump()});
+                   state_changes(to_patchable(p), r.settled, compute)
+                       .dump(-1, ' ', false, Json::error_handler_t::replace)});
   }
   return out;
 }

@@ -11,6 +11,7 @@
 #include "merge.hpp"
 #include "notation/notation_schema.hpp"
 #include "pack/packer.hpp"
+#include "shaders/compile_cache.hpp"
 #include "verify.hpp"
 #include "version.hpp"
 
@@ -60,7 +61,7 @@ struct PackCommand {
   CLI::Option* output_option = nullptr;
   PackOptions options;
   std::vector<std::string> inputs, render_state_dirs, shader_dirs, defines;
-  std::string output, vulkan_version = "1.0", depfile, dump_dir, optimize = "none";
+  std::string output, vulkan_version = "1.0", depfile, dump_dir, optimize = "none", cache_dir;
   bool strip_debug = false;
   uint64_t max_input_size = kMaxInputBytes;
   bool vulkan = false, opengl = false, opengles = false, dx11 = false, dx12 = false, metal_macos = false,
@@ -108,7 +109,15 @@ struct PackCommand {
         "--strip_debug,--strip_reflection", strip_debug,
         "Strip debug information (names, lines) from the SPIR-V; binding names stay in the archive");
     app->add_flag("--print_contents", options.print_contents, "Print the archive's contents");
-    app->add_flag("--time-report", options.time_report, "Print the wall time of each stage of the pack");
+    app->add_flag("--time-report", options.time_report,
+                  "Print the wall time of each stage of the pack (and the compile cache's hits)");
+    app->add_option("--cache-dir", cache_dir,
+                    "Keep compiled and finalised SPIR-V in DIR between runs: an unchanged shader (its text, "
+                    "#includes, macros and options) is not compiled again; the archive is the same bytes");
+    app->add_option("--cache-max-size", options.cache_max_bytes,
+                    "Size bound of --cache-dir, least recently used entries removed first (suffixes K, M, G)")
+        ->capture_default_str()
+        ->transform(CLI::AsSizeValue(false));
     app->add_flag("--vulkan", vulkan, "Produce the Vulkan backend (SPIR-V)");
     app->add_flag("--opengl", opengl,
                   "Produce the OpenGL backend (OpenGL 4.5 + GL_ARB_gl_spirv) from the same sources: each "
@@ -176,7 +185,37 @@ struct PackCommand {
       return false;
     }
     if (!depfile.empty()) options.depfile = depfile;
+    if (!cache_dir.empty()) options.cache_dir = cache_dir;
     return true;
+  }
+};
+
+// `cache prune`: trims a --cache-dir to a size.
+struct CacheCommand {
+  CLI::App* app = nullptr;
+  CLI::App* prune = nullptr;
+  std::string dir;
+  uint64_t max_bytes = uint64_t(1) << 30;
+
+  void add_to(CLI::App& parent) {
+    app = parent.add_subcommand("cache", "Look after a compile cache directory (pack --cache-dir)");
+    app->require_subcommand(1);
+    prune = app->add_subcommand(
+        "prune", "Remove the least recently used entries until the cache holds at most --max-size");
+    prune->add_option("dir", dir, "The cache directory")->required();
+    prune->add_option("--max-size", max_bytes, "Bytes to keep at most (suffixes K, M, G; 0 empties it)")
+        ->capture_default_str()
+        ->transform(CLI::AsSizeValue(false));
+  }
+  int run() {
+    auto r = CompileCache::prune(dir, max_bytes);
+    if (!r.error.empty()) {
+      std::cerr << "statepack: error: " << r.error << '\n';
+      return kExitUsage;
+    }
+    std::cout << printable(dir) << ": " << r.entries_before << " entries, " << r.bytes_before << " bytes -> "
+              << r.entries_after << " entries, " << r.bytes_after << " bytes\n";
+    return kExitSuccess;
   }
 };
 
@@ -297,6 +336,8 @@ int run(int argc, char** argv) {
       "packer reads with");
   MergeCommand merge;
   merge.add_to(app);
+  CacheCommand cache;
+  cache.add_to(app);
   VerifyCommand verify;
   verify.add_to(app);
 
@@ -315,6 +356,7 @@ int run(int argc, char** argv) {
     return kExitSuccess;
   }
   if (merge.app->parsed()) return merge.run();
+  if (cache.app->parsed()) return cache.run();
   if (verify.app->parsed()) return verify.run();
   if (!pack.settle(std::cerr)) return kExitUsage;
   return run_pack(pack.options, std::cout, std::cerr);

@@ -201,6 +201,7 @@ int verify_archive(size_t index, const std::filesystem::path& path, size_t first
   int exit_code = kExitSuccess;
   VerifyTotals totals;
   totals.objects = tasks.size();
+  std::set<const UnpackedPipeline*> counted;
   {
     auto dearchiver = Dearchiver::create(context);
     if (!dearchiver || !dearchiver->add_archive(std::move(*archive))) {
@@ -220,7 +221,8 @@ int verify_archive(size_t index, const std::filesystem::path& path, size_t first
         return m.starts_with(bootstrap::kPerformanceWarning);
       });
       VerifyTotals made;
-      if (unpacked && *unpacked) {
+      // A pipeline made before (two variants that settle alike) is reported again but counted once.
+      if (unpacked && *unpacked && counted.insert(*unpacked).second) {
         const PipelineCreation& c = (*unpacked)->creation;
         made.add(1, c.time.count(), c.feedback ? c.driver_time.count() : 0, c.feedback, c.cache_hit);
       }
@@ -255,8 +257,9 @@ int verify_archive(size_t index, const std::filesystem::path& path, size_t first
   return exit_code;
 }
 
-// Each variant's archive: the first (in command-line order) with a pipeline of its name and kind, as a
-// Dearchiver holding them all resolves it; options.archives.size() for none.
+// Each variant's archive: the first (in command-line order) with a pipeline of its name, as a
+// Dearchiver holding them all resolves it (a kind that differs is then wrong_type); archives.size() for
+// none. Each worker reads the archives' names again: a cost of --variants, paid before the device.
 std::vector<size_t> owners_of(const std::vector<PipelineVariant>& variants, const VerifyOptions& options) {
   std::vector<size_t> owner(variants.size(), options.archives.size());
   for (size_t a = options.archives.size(); a-- > 0;) {  // the last first, so the first wins

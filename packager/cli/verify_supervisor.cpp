@@ -124,7 +124,7 @@ class Supervisor {
       WorkerRun run = watch(*worker, next);
       const std::string reason = death_reason(run);
       if (reason.empty() && !run.pending) {
-        if (options_.archives.size() > 1) {
+        if (options_.archives.size() > 1 && run.ready) {
           VerifyTotals all;
           all.objects = unresolved_;
           for (const auto& t : totals_) all.add(t);

@@ -435,7 +435,10 @@ bool check_graphics_interfaces(const PipelineDesc& p, const format::GraphicsStat
         return s->desc->stage == VK_SHADER_STAGE_GEOMETRY_BIT ||
                s->desc->stage == VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT;
       })) {
-    auto module = spirv::walk(*ordered.front()->spirv);
+    std::optional<spirv::Module> walked;
+    const spirv::Module* module = ordered.front()->module;
+    if (!module)
+      if (auto w = spirv::walk(*ordered.front()->spirv)) module = &walked.emplace(std::move(*w));
     if (module && !module->writes_point_size) {
       diag.error(sources.at(p.where, p.where.pointer + "/GraphicsPipeline/PrimitiveTopology"),
                  "pipeline '" + p.name + "' draws points (POINT_LIST), but " + shader_text(*ordered.front()) +
@@ -450,12 +453,16 @@ bool check_graphics_interfaces(const PipelineDesc& p, const format::GraphicsStat
 void warn_compute_work_group(const PipelineDesc& p, const StageInput& stage,
                              const std::vector<format::SpecConstant>& constants, WalkedModules& walked,
                              Diagnostics& diag) {
-  auto [it, fresh] = walked.try_emplace(stage.spirv);
-  if (fresh)
-    if (auto module = spirv::walk(*stage.spirv)) it->second = std::move(*module);
-  if (!it->second) return;
-  const spirv::EntryPoint* entry = it->second->find(
-      *spirv::execution_model_of_stage(VK_SHADER_STAGE_COMPUTE_BIT), stage.desc->entry_point);
+  const spirv::Module* module = stage.module;
+  if (!module) {
+    auto [it, fresh] = walked.try_emplace(stage.spirv);
+    if (fresh)
+      if (auto m = spirv::walk(*stage.spirv)) it->second = std::move(*m);
+    if (!it->second) return;
+    module = &*it->second;
+  }
+  const spirv::EntryPoint* entry =
+      module->find(*spirv::execution_model_of_stage(VK_SHADER_STAGE_COMPUTE_BIT), stage.desc->entry_point);
   if (!entry || !entry->workgroup_size) return;
   // The pipeline's 4-byte compute constant with that SpecId, as the dearchiver applies it.
   auto specialized = [&](uint32_t spec_id) -> std::optional<uint32_t> {

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "contents_builder.hpp"
+#include "format/spirv_walk.hpp"
 #include "notation/diagnostics.hpp"
 #include "notation/notation.hpp"
 #include "shaders/spirv_reflect.hpp"
@@ -17,6 +18,7 @@ struct StageInput {
   const ShaderDesc* desc;
   const std::vector<uint32_t>* spirv;
   const Reflection* reflection;
+  const spirv::Module* module = nullptr;  // `spirv` walked (on the compile's threads), when it could be
 };
 
 struct PipelineLayout {

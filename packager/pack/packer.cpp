@@ -22,6 +22,7 @@
 #include "layout/pipeline_layout.hpp"
 #include "layout/specialization.hpp"
 #include "notation/input_file.hpp"
+#include "shaders/compile_cache.hpp"
 #include "shaders/gl_translate.hpp"
 #include "shaders/spirv_reflect.hpp"
 #include "support/parallel_for.hpp"
@@ -44,6 +45,9 @@ class PhaseTimes {
           << std::chrono::duration<double, std::milli>(now - last_).count() << " ms\n";
     last_ = now;
   }
+  void note(const std::string& text) {
+    if (out_) *out_ << "statepack: " << text << '\n';
+  }
 
  private:
   std::ostream* out_;
@@ -62,6 +66,7 @@ struct CompiledUnit {
   ShaderDesc desc;
   CompiledShader compiled;
   Reflection reflection;
+  std::optional<spirv::Module> module;  // the compiled SPIR-V walked, for the layout's checks
 };
 
 // A path in Make syntax, as GCC writes depfiles (and Ninja and Make read them): spaces and '#' get a
@@ -90,11 +95,41 @@ std::string file_name_of(const std::string& name) {
   return out.empty() ? "_" : out;
 }
 
+// A compile and its reflection, from the cache when it has them (and kept there when it did not).
+void compile_cached(const ShaderDesc& shader, const CompileOptions& options, ShaderMessages& errors,
+                    CompileCache* cache, CompiledShader& compiled, Reflection& reflection) {
+  if (cache)
+    if (auto hit = cache->find_compile(shader, options)) {
+      compiled = std::move(hit->compiled);
+      reflection =
+          hit->reflection ? std::move(*hit->reflection) : reflect_spirv(compiled.spirv, shader.stage);
+      return;
+    }
+  compiled = compile_shader(shader, options, errors);
+  if (!compiled.ok) return;
+  reflection = reflect_spirv(compiled.spirv, shader.stage);
+  if (cache) cache->keep_compile(shader, options, compiled, &reflection);
+}
+
+// finalize_spirv, from the cache when it has the result.
+std::string finalize_cached(std::vector<uint32_t>& words, const CompileOptions& options,
+                            CompileCache* cache) {
+  if (cache)
+    if (auto hit = cache->find_finalized(words, options)) {
+      words = std::move(*hit);
+      return "";
+    }
+  std::vector<uint32_t> input = cache ? words : std::vector<uint32_t>();
+  std::string error = finalize_spirv(words, options);
+  if (cache && error.empty()) cache->keep_finalized(input, options, words);
+  return error;
+}
+
 // Optimises, strips and validates each distinct module once, on all cores: the same patched module
 // used by several pipelines is finalised once.
 class Finalizer {
  public:
-  explicit Finalizer(const CompileOptions& options) : options_(options) {}
+  Finalizer(const CompileOptions& options, CompileCache* cache) : options_(options), cache_(cache) {}
   size_t request(std::vector<uint32_t> words) {
     std::string key(reinterpret_cast<const char*>(words.data()), words.size() * 4);
     auto [it, inserted] = job_by_content_.try_emplace(std::move(key), jobs_.size());
@@ -102,8 +137,9 @@ class Finalizer {
     return it->second;
   }
   void run(uint32_t threads) {
-    detail::parallel_for(jobs_.size(), threads,
-                         [&](size_t i) { jobs_[i].error = finalize_spirv(jobs_[i].words, options_); });
+    detail::parallel_for(jobs_.size(), threads, [&](size_t i) {
+      jobs_[i].error = finalize_cached(jobs_[i].words, options_, cache_);
+    });
   }
   const std::vector<uint32_t>& words(size_t job) const { return jobs_[job].words; }
   const std::string& error(size_t job) const { return jobs_[job].error; }
@@ -114,6 +150,7 @@ class Finalizer {
     std::string error;
   };
   const CompileOptions& options_;
+  CompileCache* cache_;
   std::map<std::string, size_t> job_by_content_;
   std::vector<Job> jobs_;
 };
@@ -170,7 +207,7 @@ struct CompiledShaders {
       const CompiledUnit& unit = units[pipeline_units[i][k]];
       if (!unit.compiled.ok) return std::nullopt;
       stages.push_back({pipeline_descs.empty() ? &unit.desc : pipeline_descs[i][k], &unit.compiled.spirv,
-                        &unit.reflection});
+                        &unit.reflection, unit.module ? &*unit.module : nullptr});
     }
     return stages;
   }
@@ -180,7 +217,7 @@ struct CompiledShaders {
 // objects have notation errors, so one run reports both (docs/cli.md).
 // `pipelines_only`: the standalone Shaders are left out (--opengl alone: its block stores pipelines only).
 CompiledShaders compile_shaders(const Notation& notation, const PackOptions& options, Diagnostics& diag,
-                                bool pipelines_only) {
+                                bool pipelines_only, CompileCache* cache) {
   CompiledShaders out;
   std::map<std::string, size_t> unit_by_key;
   auto unit_for = [&](const ShaderDesc& s) {
@@ -203,9 +240,9 @@ CompiledShaders compile_shaders(const Notation& notation, const PackOptions& opt
   detail::parallel_for(out.units.size(), options.threads, [&](size_t i) {
     CompiledUnit& u = out.units[i];
     if (u.desc.broken) return;  // its notation errors are reported; compiling it would guess
-    u.compiled = compile_shader(u.desc, options.compile, compile_errors);
+    compile_cached(u.desc, options.compile, compile_errors, cache, u.compiled, u.reflection);
     if (!u.compiled.ok) return;
-    u.reflection = reflect_spirv(u.compiled.spirv, u.desc.stage);
+    if (auto walked = spirv::walk(u.compiled.spirv)) u.module = std::move(*walked);  // here: on all cores
     for (ReflectedBinding& b : u.reflection.bindings)
       b.combined_attribute =
           std::find(u.compiled.combined_image_samplers.begin(), u.compiled.combined_image_samplers.end(),
@@ -314,7 +351,7 @@ std::string refused_for_opengl(const CompiledUnit& vulkan) {
 // One shader for OpenGL from its Vulkan unit: SPIR-V translated (gl_translate.hpp), or, for GLSL that
 // tests VULKAN or GL_SPIRV, its own text compiled again with glslang's OpenGL client.
 void make_opengl_unit(const CompiledUnit& vulkan, const PackOptions& options, CompiledUnit& out,
-                      ShaderMessages& direct_errors, Diagnostics& diag) {
+                      ShaderMessages& direct_errors, Diagnostics& diag, CompileCache* cache) {
   const std::string who = "shader '" + vulkan.desc.name + "' (OpenGL)";
   out.desc = vulkan.desc;
   std::map<uint32_t, std::string> name_of_binding;  // translated modules' binding numbers -> names
@@ -325,7 +362,7 @@ void make_opengl_unit(const CompiledUnit& vulkan, const PackOptions& options, Co
     }
     CompileOptions gl = options.compile;
     gl.opengl = true;
-    out.compiled = compile_shader(vulkan.desc, gl, direct_errors);
+    compile_cached(vulkan.desc, gl, direct_errors, cache, out.compiled, out.reflection);
   } else {
     // What is translated must be valid SPIR-V: SPIRV-Cross would carry a fault (two outputs at one
     // location, as glslang makes of some HLSL) into GLSL that then fails to compile. With --vulkan the
@@ -362,10 +399,10 @@ void make_opengl_unit(const CompiledUnit& vulkan, const PackOptions& options, Co
     }
     out.desc.entry_point = "main";  // SPIRV-Cross names the entry point main
     out.compiled.ok = true;
+    out.reflection = reflect_spirv(out.compiled.spirv, out.desc.stage);  // (compile_cached reflects its own)
     name_of_binding = std::move(t.name_of_binding);
   }
   if (!out.compiled.ok) return;
-  out.reflection = reflect_spirv(out.compiled.spirv, out.desc.stage);
   if (!out.reflection.error.empty()) {
     out.compiled.ok = false;
     diag.error(vulkan.desc.where, who + ": SPIR-V reflection failed: " + out.reflection.error);
@@ -376,7 +413,8 @@ void make_opengl_unit(const CompiledUnit& vulkan, const PackOptions& options, Co
 
 // Every pipeline's shaders for OpenGL, unit for unit beside the Vulkan ones (the same pipeline_units),
 // on all cores. Standalone Shaders are left out: the OpenGL block stores pipelines only.
-CompiledShaders opengl_units(const CompiledShaders& vulkan, const PackOptions& options, Diagnostics& diag) {
+CompiledShaders opengl_units(const CompiledShaders& vulkan, const PackOptions& options, Diagnostics& diag,
+                             CompileCache* cache) {
   CompiledShaders out;
   out.pipeline_units = vulkan.pipeline_units;
   out.units.resize(vulkan.units.size());
@@ -386,7 +424,7 @@ CompiledShaders opengl_units(const CompiledShaders& vulkan, const PackOptions& o
   ShaderMessages direct_errors;
   detail::parallel_for(vulkan.units.size(), options.threads, [&](size_t u) {
     if (used[u] && vulkan.units[u].compiled.ok)
-      make_opengl_unit(vulkan.units[u], options, out.units[u], direct_errors, diag);
+      make_opengl_unit(vulkan.units[u], options, out.units[u], direct_errors, diag, cache);
   });
   direct_errors.report(diag);
   return out;
@@ -396,7 +434,7 @@ CompiledShaders opengl_units(const CompiledShaders& vulkan, const PackOptions& o
 // (gl_layout.hpp). Specialization constants are resolved as for Vulkan; when Vulkan is packed too its
 // stage has reported any error in them already.
 void add_opengl(const Notation& notation, const CompiledShaders& compiled, const PackOptions& options,
-                ContentsBuilder& builder, Diagnostics& diag) {
+                ContentsBuilder& builder, Diagnostics& diag, CompileCache* cache) {
   CompileOptions gl_options = options.compile;
   gl_options.opengl = true;
   Diagnostics reported_by_vulkan(0);
@@ -436,7 +474,7 @@ void add_opengl(const Notation& notation, const CompiledShaders& compiled, const
     bool ok = true;
     for (size_t s = 0; s < stages.size(); ++s) {
       std::vector<uint32_t>& spirv = layout.patched_spirv[s];
-      if (std::string error = finalize_spirv(spirv, gl_options); !error.empty()) {
+      if (std::string error = finalize_cached(spirv, gl_options, cache); !error.empty()) {
         diag.error(stages[s].desc->where,
                    "shader '" + stages[s].desc->name + "' (OpenGL): SPIR-V validation failed: " + error);
         ok = false;
@@ -553,6 +591,13 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err) {
       }
     }
   }
+  std::string cache_error;
+  std::optional<CompileCache> cache =
+      options.cache_dir ? CompileCache::open(*options.cache_dir, options.cache_max_bytes, cache_error)
+                        : std::nullopt;
+  if (!cache_error.empty())
+    err << "statepack: warning: --cache-dir: " << cache_error << "; packing without a cache\n";
+  CompileCache* const cached = cache ? &*cache : nullptr;
   Diagnostics diag(options.max_errors);
   Notation notation;
   for (const auto& input : options.inputs) read_notation(input, options.notation, notation, diag);
@@ -567,10 +612,11 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err) {
   // OpenGL is made from the Vulkan compile (translated, or checked against it), so --opengl alone
   // compiles the pipelines' shaders for Vulkan too.
   CompiledShaders compiled, gl_compiled;
-  if (options.vulkan || options.opengl) compiled = compile_shaders(notation, options, diag, !options.vulkan);
+  if (options.vulkan || options.opengl)
+    compiled = compile_shaders(notation, options, diag, !options.vulkan, cached);
   times.done("compile");
   if (options.opengl) {
-    gl_compiled = opengl_units(compiled, options, diag);
+    gl_compiled = opengl_units(compiled, options, diag, cached);
     if (!options.vulkan &&
         (!notation.shaders.empty() || !notation.signatures.empty() || !notation.render_passes.empty()))
       diag.warning(
@@ -589,7 +635,7 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err) {
   builder.contents.content_version = options.content_version;
   builder.contents.backends =
       (options.vulkan ? format::kBackendVulkan : 0u) | (options.opengl ? format::kBackendOpenGL : 0u);
-  Finalizer finalizer(options.compile);
+  Finalizer finalizer(options.compile, cached);
   Dumper dumper(options.dump_dir, options.compile, inputs);
   std::string io_error;
   if (notation_ok && options.vulkan) {
@@ -600,7 +646,17 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err) {
     assemble_archive(notation, compiled, plan, finalizer, builder, dumper, io_error, diag);
     times.done("assemble");
   }
-  if (notation_ok && options.opengl) add_opengl(notation, gl_compiled, options, builder, diag);
+  if (notation_ok && options.opengl) add_opengl(notation, gl_compiled, options, builder, diag, cached);
+  // What compiled is kept whether or not the pack succeeds: the next run needs it either way.
+  if (cached) {
+    if (std::string warning = cached->flush(inputs); !warning.empty())
+      err << "statepack: warning: --cache-dir: " << warning << "\n";
+    const CompileCache::Stats s = cached->stats();
+    times.note("cache: " + std::to_string(s.hits) + " hits, " + std::to_string(s.misses) + " misses, " +
+               std::to_string(s.damaged) + " damaged, " + std::to_string(s.written) + " written, " +
+               std::to_string(s.removed) + " removed");
+    times.done("cache");
+  }
   if (!diag.has_errors()) note_unused_objects(notation, diag);
   if (diag.has_errors()) {
     diag.print(err);
@@ -617,7 +673,8 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err) {
   times.done("encode");
   // What pack writes must load: decoded and checked against its SPIR-V as the runtime will, so a build
   // step that says OK means it (a check the pack stages missed surfaces here, not in the application).
-  if (auto loads = format::load_archive_with_opengl(bytes, std::nullopt, "the packed archive would not load");
+  if (auto loads = format::load_archive_with_opengl(bytes, std::nullopt, "the packed archive would not load",
+                                                    options.threads);
       !loads) {
     std::string message = loads.error().message;
     if (auto at = message.find("corrupt archive: "); at != std::string::npos) message.erase(at, 17);

@@ -9,6 +9,7 @@
 #include <spirv-tools/optimizer.hpp>
 
 #include <vulkan/vulkan_core.h>
+#include <xxhash.h>
 
 #include "allocation_budget.hpp"
 #include "hlsl_combined_image_samplers.hpp"
@@ -72,11 +73,10 @@ class Includer final : public glslang::TShader::Includer {
   }
 
   IncludeResult* includeLocal(const char* header, const char* includer, size_t depth) override {
-    fs::path base = fs::path(includer).parent_path();
-    return open(header, resolve_file(header, base, dirs_), depth, includer);
+    return open(header, true, depth, includer);
   }
   IncludeResult* includeSystem(const char* header, const char* includer, size_t depth) override {
-    return open(header, resolve_file(header, fs::path(), dirs_), depth, includer);
+    return open(header, false, depth, includer);
   }
   void releaseInclude(IncludeResult* result) override {
     if (!result) return;
@@ -97,10 +97,13 @@ class Includer final : public glslang::TShader::Includer {
   const std::string& problem() const { return problem_; }
   // Whether an included file tests VULKAN or GL_SPIRV.
   bool backend_specific() const { return backend_specific_; }
+  std::vector<IncludeRecord>& includes() { return includes_; }
 
  private:
-  IncludeResult* open(const std::string& header, const fs::path& path, size_t depth, const char* includer) {
+  IncludeResult* open(const std::string& header, bool local, size_t depth, const char* includer) {
     if (!problem_.empty()) return nullptr;  // one cause, one message
+    const std::string includer_name = includer ? includer : "";
+    const fs::path path = resolve_include(header, includer_name, local, dirs_);
     if (path.empty()) {  // glslang's own message ("Could not process include directive") says less
       const std::string from = includer && *includer ? std::string(includer) : std::string("the shader");
       problem_ = "#include \"" + header + "\": no such file next to " + from +
@@ -136,6 +139,7 @@ class Includer final : public glslang::TShader::Includer {
     }
     if (budget_) budget_->raise(kCompileAllocationPerByte * input.text.size());
     files_read_.push_back({fs::absolute(path, ec).lexically_normal(), input.identity});
+    includes_.push_back({header, includer_name, local, path.string(), text_hash(input.text)});
     backend_specific_ = backend_specific_ || tests_backend_macros(input.text);
     chain_.push_back(canonical);
     if (input.text.find("combinedImageSampler") != std::string::npos)
@@ -155,6 +159,7 @@ class Includer final : public glslang::TShader::Includer {
   std::map<std::string, std::string> attribute_texts_;
   std::string problem_;
   bool backend_specific_ = false;
+  std::vector<IncludeRecord> includes_;
 };
 
 // One line of glslang's log, "ERROR: file:line: message" (or WARNING): where and what, or nullopt for
@@ -255,6 +260,23 @@ void target_opengl(glslang::TShader& ts, EShLanguage stage) {
   ts.setEnvInput(glslang::EShSourceGlsl, stage, glslang::EShClientOpenGL, 450);
   ts.setEnvClient(glslang::EShClientOpenGL, glslang::EShTargetOpenGL_450);
   ts.setEnvTarget(glslang::EShTargetSpv, glslang::EShTargetSpv_1_0);
+}
+
+// The client and SPIR-V version glslang compiles for: --vulkan_version, or OpenGL 4.5.
+void set_target(glslang::TShader& ts, EShLanguage stage, bool hlsl, const CompileOptions& options) {
+  if (options.opengl) return target_opengl(ts, stage);
+  const uint32_t minor = options.vulkan_version >> 12 & 0x3FF;
+  const auto client = minor >= 3   ? glslang::EShTargetVulkan_1_3
+                      : minor == 2 ? glslang::EShTargetVulkan_1_2
+                      : minor == 1 ? glslang::EShTargetVulkan_1_1
+                                   : glslang::EShTargetVulkan_1_0;
+  const auto spirv_version = minor >= 3   ? glslang::EShTargetSpv_1_6
+                             : minor == 2 ? glslang::EShTargetSpv_1_5
+                             : minor == 1 ? glslang::EShTargetSpv_1_3
+                                          : glslang::EShTargetSpv_1_0;
+  ts.setEnvInput(hlsl ? glslang::EShSourceHlsl : glslang::EShSourceGlsl, stage, glslang::EShClientVulkan, 100);
+  ts.setEnvClient(glslang::EShClientVulkan, client);
+  ts.setEnvTarget(glslang::EShTargetSpv, spirv_version);
 }
 
 // A parsed shader linked on its own and turned into SPIR-V (glslang's optimizer off: SPIRV-Tools
@@ -422,23 +444,7 @@ CompiledShader compile_shader(const ShaderDesc& original, const CompileOptions& 
   for (const auto& [name, value] : options.global_macros) preamble += "#define " + name + " " + value + "\n";
   for (const auto& [name, value] : shader.macros) preamble += "#define " + name + " " + value + "\n";
   ts.setPreamble(preamble.c_str());
-  const uint32_t minor = options.vulkan_version >> 12 & 0x3FF;
-  const auto client = minor >= 3   ? glslang::EShTargetVulkan_1_3
-                      : minor == 2 ? glslang::EShTargetVulkan_1_2
-                      : minor == 1 ? glslang::EShTargetVulkan_1_1
-                                   : glslang::EShTargetVulkan_1_0;
-  const auto spirv_version = minor >= 3   ? glslang::EShTargetSpv_1_6
-                             : minor == 2 ? glslang::EShTargetSpv_1_5
-                             : minor == 1 ? glslang::EShTargetSpv_1_3
-                                          : glslang::EShTargetSpv_1_0;
-  if (options.opengl) {
-    target_opengl(ts, stage);
-  } else {
-    ts.setEnvInput(hlsl ? glslang::EShSourceHlsl : glslang::EShSourceGlsl, stage, glslang::EShClientVulkan,
-                   100);
-    ts.setEnvClient(glslang::EShClientVulkan, client);
-    ts.setEnvTarget(glslang::EShTargetSpv, spirv_version);
-  }
+  set_target(ts, stage, hlsl, options);
   // No setEnvTargetHlslFunctionality1: its SPV_GOOGLE_hlsl_functionality1 decorations need a device
   // extension that many drivers (lavapipe included) lack, and Vulkan does not use them.
   if (hlsl) ts.setHlslIoMapping(true);
@@ -488,6 +494,8 @@ CompiledShader compile_shader(const ShaderDesc& original, const CompileOptions& 
   }
   result.spirv = std::move(linked.spirv);
   result.backend_specific = !hlsl && (tests_backend_macros(source) || includer.backend_specific());
+  result.source_hash = text_hash(source);
+  result.includes = std::move(includer.includes());
   // A resource counts as used by what the entry point statically uses: glslang keeps every global of
   // the source (one HLSL file often holds VSMain and PSMain with disjoint resources), so module-scope
   // variables nothing references are removed before reflection decides the layout.
@@ -505,6 +513,21 @@ CompiledShader compile_shader(const ShaderDesc& shader, const CompileOptions& op
   CompiledShader result = compile_shader(shader, options, errors);
   errors.report(diag);
   return result;
+}
+
+fs::path resolve_include(const std::string& header, const std::string& includer, bool local,
+                         const std::vector<fs::path>& include_dirs) {
+  return resolve_file(header, local ? fs::path(includer).parent_path() : fs::path(), include_dirs);
+}
+
+std::array<uint8_t, 16> text_hash(std::string_view text) {
+  const XXH128_hash_t h = XXH3_128bits(text.data(), text.size());
+  std::array<uint8_t, 16> out{};
+  for (int i = 0; i < 8; ++i) {
+    out[size_t(i)] = uint8_t(h.low64 >> (8 * i));
+    out[size_t(8 + i)] = uint8_t(h.high64 >> (8 * i));
+  }
+  return out;
 }
 
 bool tests_backend_macros(std::string_view text) {

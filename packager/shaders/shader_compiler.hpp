@@ -1,6 +1,7 @@
 // GLSL and HLSL to SPIR-V with glslang, in process; each result validated by SPIRV-Tools.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <string>
@@ -30,10 +31,21 @@ struct CompileOptions {
   uint64_t max_input_bytes = kMaxInputBytes;
 };
 
+// An #include glslang asked for while compiling, as the compile cache replays it (compile_cache.hpp).
+struct IncludeRecord {
+  std::string header;    // as written: #include "header" (local) or <header>
+  std::string includer;  // glslang's name for the including file (where a local include is looked for first)
+  bool local = true;
+  std::string path;  // where it was found
+  std::array<uint8_t, 16> text_hash{};
+};
+
 struct CompiledShader {
   std::vector<uint32_t> spirv;
-  std::vector<InputFile> files_read;  // the source and every #include, for the depfile and output checks
-  bool backend_specific = false;      // GLSL whose text (or an #include's) tests_backend_macros
+  std::array<uint8_t, 16> source_hash{};  // of the text glslang compiled (the shader's file or Source)
+  std::vector<IncludeRecord> includes;    // in the order glslang asked for them
+  std::vector<InputFile> files_read;      // the source and every #include, for the depfile and output checks
+  bool backend_specific = false;          // GLSL whose text (or an #include's) tests_backend_macros
   // HLSL textures and samplers declared [[vk::combinedImageSampler]] (hlsl_combined_image_samplers.hpp)
   std::vector<std::string> combined_image_samplers;
   bool ok = false;
@@ -55,6 +67,14 @@ std::vector<uint32_t> compile_generated_glsl(const std::string& glsl, uint32_t s
 // (#if, #ifdef, #ifndef, #elif): its author wrote code per backend, so the OpenGL backend compiles its
 // own text rather than translating its Vulkan SPIR-V.
 bool tests_backend_macros(std::string_view source);
+
+// Where `#include header` from the file glslang calls `includer` is found: next to it (local includes
+// only), then in the -s directories; empty when nowhere.
+std::filesystem::path resolve_include(const std::string& header, const std::string& includer, bool local,
+                                      const std::vector<std::filesystem::path>& include_dirs);
+
+// XXH3-128 of text, as IncludeRecord and the compile cache keep it.
+std::array<uint8_t, 16> text_hash(std::string_view text);
 
 // Optimises and strips `spirv` as the options say, then validates it with SPIRV-Tools.
 // Returns an empty string on success, else the reason.

@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <map>
 #include <mutex>
+#include <optional>
 #include <thread>
 #include <unordered_map>
 
@@ -170,6 +171,73 @@ TEST_F(UnpackJobTest, TheFirstPipelineIsHandedOutWhileTheLastIsStillBeingCreated
   dearchiver = Dearchiver::create((*device)->device_context()).value();  // the first one destroyed
   (*device)->destroy_device();  // the layer reports what was left alive
   for (const auto& message : (*device)->validation_messages()) ADD_FAILURE() << message;
+}
+
+// Two jobs need the same pipelines: the second waits for the first's. When the first ends before making
+// them (destroyed from its own progress callback, deterministically after its second pipeline), the
+// second makes them itself instead of failing them as cancelled.
+TEST_F(UnpackJobTest, AJobMakesWhatAnEndedJobLeftUnmade) {
+  GateAllocator gate;
+  const VkAllocationCallbacks callbacks = gate.callbacks();
+  bootstrap::VulkanContextOptions gated;
+  gated.require_lavapipe = true;
+  gated.enable_supported_features = true;
+  gated.device_allocator = &callbacks;
+  auto device = bootstrap::VulkanContext::create(gated);
+  ASSERT_TRUE(device) << device.error().message;
+  {
+    auto dearchiver = Dearchiver::create((*device)->device_context());
+    ASSERT_TRUE(dearchiver) << dearchiver.error().message;
+    // Four pipelines in this order: Fill Buffer PSO, Gradient PSO, Negated, Seven.
+    for (const char* path : {STATEPACK_TEST_ARCHIVE, STATEPACK_SPECIALIZATION_ARCHIVE})
+      ASSERT_TRUE(dearchiver->add_archive(Archive::from_file(path).value()));
+    std::optional<UnpackJob> first;
+    UnpackAllOptions options;
+    options.threads = 1;
+    options.progress = [&](const UnpackProgress& p) {
+      if (p.done == 1) gate.close();   // the second pipeline waits in the driver
+      if (p.done == 2) first.reset();  // ends the job: the last two are never begun by it
+    };
+    auto started = dearchiver->unpack_all_async(options);
+    ASSERT_TRUE(started) << started.error().message;
+    first.emplace(std::move(*started));
+    ASSERT_TRUE(first->wait("Fill Buffer PSO"));
+    ASSERT_TRUE(gate.wait_until_held());
+    // The second job plans while the first still holds the last three as being made.
+    UnpackAllOptions plain;
+    plain.threads = 1;
+    auto second = dearchiver->unpack_all_async(plain);
+    ASSERT_TRUE(second) << second.error().message;
+    gate.open();
+    UnpackReport report = second->wait_all();
+    for (const auto& f : report.failures) ADD_FAILURE() << f.error.message;
+    ASSERT_EQ(report.pipelines.size(), 4u);
+    for (const UnpackedPipeline* p : report.pipelines) EXPECT_NE(p->pipeline, VK_NULL_HANDLE) << p->name;
+    EXPECT_GT(report.creation_time.count(), 0);  // it made Negated and Seven itself
+  }
+  (*device)->destroy_device();
+  for (const auto& message : (*device)->validation_messages()) ADD_FAILURE() << message;
+}
+
+// A progress callback may destroy the Dearchiver (on two threads, the other worker waits for its turn to
+// report): the job ends without a deadlock and the Dearchiver's pipelines go with it.
+TEST_F(UnpackJobTest, TheDearchiverMayBeDestroyedFromAProgressCallback) {
+  std::optional<Dearchiver> dearchiver = Dearchiver::create(vk_->device_context()).value();
+  for (const auto& path : corpus_archives_without_run_time_state())
+    ASSERT_TRUE(dearchiver->add_archive(Archive::from_file(path).value()));
+  UnpackAllOptions options;
+  options.threads = 2;
+  size_t calls = 0;
+  options.progress = [&](const UnpackProgress&) {
+    if (++calls == 2) dearchiver.reset();
+  };
+  auto job = dearchiver->unpack_all_async(options);
+  ASSERT_TRUE(job) << job.error().message;
+  const size_t total = job->total();
+  UnpackReport report = job->wait_all();
+  EXPECT_FALSE(dearchiver);
+  EXPECT_EQ(report.failures.size(), total);
+  for (const auto& f : report.failures) EXPECT_EQ(f.error.code, ErrorCode::cancelled) << f.error.message;
 }
 
 // Every failure is reported (none stops the others), each pipeline is told to the progress callback

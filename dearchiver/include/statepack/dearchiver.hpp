@@ -218,7 +218,7 @@ struct STATEPACK_API UnpackedPipeline {
 
 // A patched pipeline an application created, as a variants file records it (docs/variants.md): the
 // pipeline's name and kind, and the fields of PatchableState its callback changed from the archived
-// state, as a JSON object ({"color_formats/0": "VK_FORMAT_B8G8R8A8_SRGB"}). Dearchiver::variants()
+// state, as a JSON object ({"color_formats.0": "VK_FORMAT_B8G8R8A8_SRGB"}). Dearchiver::variants()
 // gives those it made; load_variants() reads a file; Dearchiver::unpack_variant() makes one again.
 struct STATEPACK_API PipelineVariant {
   std::string pipeline;
@@ -244,9 +244,10 @@ struct UnpackProgress {
   const Error* error = nullptr;                // null when it was created (or reused)
   size_t done = 0, total = 0;                  // pipelines finished so far (this one included), of all
 };
-// Called on whichever thread finished the pipeline, never two at once. It may call the Dearchiver and
-// the job's non-waiting members (ready, done), but must not wait for the job (UnpackJob::wait): the
-// thread that would finish it may be this one.
+// Called on whichever thread finished the pipeline, never two at once. It may call the job's non-waiting
+// members (ready, done), release pipelines, and destroy the job or the Dearchiver (the job then ends);
+// it must not wait for the job or unpack a pipeline the job has not finished: the thread that would make
+// it may be this one.
 using ProgressCallback = std::function<void(const UnpackProgress&)>;
 
 struct UnpackAllOptions {

@@ -1,0 +1,594 @@
+#include "compile_cache.hpp"
+
+#include <dirent.h>
+#include <fcntl.h>
+#include <link.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#define XXH_STATIC_LINKING_ONLY  // XXH3_state_t on the stack
+#include <xxhash.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
+#include <map>
+#include <set>
+
+#include "notation/notation.hpp"
+#include "support/printable.hpp"
+
+namespace statepack::packager {
+namespace fs = std::filesystem;
+namespace {
+
+constexpr char kMagic[4] = {'S', 'P', 'K', 'C'};
+constexpr uint32_t kEntryVersion = 1;
+constexpr size_t kHeaderBytes = 40;
+constexpr uint64_t kMaxEntryBytes = uint64_t(256) << 20;  // larger than any module statepack writes
+constexpr size_t kSubdirectories = 256;
+constexpr int64_t kStaleTemporarySeconds = 3600;  // a temporary this old belongs to a run that died
+
+// Builds a key from typed fields, each length-prefixed so that no two field lists hash alike.
+class KeyBuilder {
+ public:
+  KeyBuilder() { XXH3_128bits_reset(&state_); }
+  KeyBuilder& add(std::string_view text) {
+    add(uint64_t(text.size()));
+    XXH3_128bits_update(&state_, text.data(), text.size());
+    return *this;
+  }
+  KeyBuilder& add(uint64_t value) {
+    uint8_t bytes[8];
+    for (int i = 0; i < 8; ++i) bytes[i] = uint8_t(value >> (8 * i));
+    XXH3_128bits_update(&state_, bytes, sizeof bytes);
+    return *this;
+  }
+  KeyBuilder& add(const CacheKey& key) {
+    XXH3_128bits_update(&state_, key.data(), key.size());
+    return *this;
+  }
+  KeyBuilder& add(const std::vector<uint32_t>& words) {
+    add(uint64_t(words.size()));
+    XXH3_128bits_update(&state_, words.data(), words.size() * 4);
+    return *this;
+  }
+  CacheKey key() const {
+    const XXH128_hash_t h = XXH3_128bits_digest(&state_);
+    CacheKey out{};
+    for (int i = 0; i < 8; ++i) {
+      out[size_t(i)] = uint8_t(h.low64 >> (8 * i));
+      out[size_t(8 + i)] = uint8_t(h.high64 >> (8 * i));
+    }
+    return out;
+  }
+
+ private:
+  XXH3_state_t state_{};
+};
+
+// statepack's own code, glslang and SPIRV-Tools included (they are linked in): the hash of the
+// program's read-only loaded segments, so any other build of it never reads this one's entries.
+const CacheKey& code_identity() {
+  static const CacheKey identity = [] {
+    KeyBuilder k;
+    k.add("statepack compile cache");
+    dl_iterate_phdr(
+        [](dl_phdr_info* info, size_t, void* data) -> int {
+          auto& builder = *static_cast<KeyBuilder*>(data);
+          for (int i = 0; i < info->dlpi_phnum; ++i) {
+            const ElfW(Phdr)& p = info->dlpi_phdr[i];
+            if (p.p_type != PT_LOAD || (p.p_flags & PF_W)) continue;
+            builder.add(
+                std::string_view(reinterpret_cast<const char*>(info->dlpi_addr + p.p_vaddr), p.p_filesz));
+          }
+          return 1;  // the first object is the program itself
+        },
+        &k);
+    return k.key();
+  }();
+  return identity;
+}
+
+std::string hex(const CacheKey& key) {
+  static const char digits[] = "0123456789abcdef";
+  std::string out;
+  for (uint8_t b : key) out += {digits[b >> 4], digits[b & 15]};
+  return out;
+}
+
+// What decides a compile, its #includes aside (they are checked one by one on a hit).
+CacheKey compile_key(const ShaderDesc& shader, const CompileOptions& options,
+                     const std::array<uint8_t, 16>& text) {
+  KeyBuilder k;
+  k.add("compile").add(code_identity());
+  k.add(uint64_t(options.vulkan_version)).add(uint64_t(options.opengl)).add(options.max_input_bytes);
+  k.add(uint64_t(options.include_dirs.size()));
+  for (const auto& d : options.include_dirs) k.add(d.string());
+  k.add(uint64_t(options.global_macros.size()));
+  for (const auto& [name, value] : options.global_macros) k.add(name).add(value);
+  std::error_code ec;
+  k.add(fs::current_path(ec).string());  // relative -s directories and file names resolve against it
+  k.add(uint64_t(shader.stage)).add(uint64_t(shader.language)).add(shader.entry_point);
+  k.add(uint64_t(shader.macros.size()));
+  for (const auto& [name, value] : shader.macros) k.add(name).add(value);
+  if (shader.file.empty())
+    k.add(uint64_t(0)).add(shader.name);  // the inline source's name is its file name for glslang
+  else
+    k.add(uint64_t(1))
+        .add(fs::absolute(shader.file, ec).lexically_normal().string())
+        .add(display_path(shader.file));
+  k.add(std::string_view(reinterpret_cast<const char*>(text.data()), text.size()));
+  return k.key();
+}
+
+CacheKey finalize_key(const std::vector<uint32_t>& input, const CompileOptions& options) {
+  KeyBuilder k;
+  k.add("finalize").add(code_identity());
+  k.add(uint64_t(options.vulkan_version)).add(uint64_t(options.opengl));
+  k.add(uint64_t(options.optimization)).add(uint64_t(options.strip_debug_info));
+  k.add(input);
+  return k.key();
+}
+
+// Little-endian payload writing and bounded reading.
+class PayloadWriter {
+ public:
+  void u32(uint32_t v) {
+    for (int i = 0; i < 4; ++i) bytes.push_back(uint8_t(v >> (8 * i)));
+  }
+  void str(std::string_view s) {
+    u32(uint32_t(s.size()));
+    bytes.insert(bytes.end(), s.begin(), s.end());
+  }
+  void words(const std::vector<uint32_t>& w) {
+    u32(uint32_t(w.size()));
+    for (uint32_t v : w) u32(v);
+  }
+  std::vector<uint8_t> bytes;
+};
+
+class PayloadReader {
+ public:
+  explicit PayloadReader(std::span<const uint8_t> bytes) : bytes_(bytes) {}
+  bool u32(uint32_t& v) {
+    if (bytes_.size() - at_ < 4) return false;
+    v = 0;
+    for (int i = 0; i < 4; ++i) v |= uint32_t(bytes_[at_ + size_t(i)]) << (8 * i);
+    at_ += 4;
+    return true;
+  }
+  bool str(std::string& s) {
+    uint32_t n = 0;
+    if (!u32(n) || bytes_.size() - at_ < n) return false;
+    s.assign(reinterpret_cast<const char*>(bytes_.data() + at_), n);
+    at_ += n;
+    return true;
+  }
+  bool raw(uint8_t* out, size_t n) {
+    if (bytes_.size() - at_ < n) return false;
+    std::memcpy(out, bytes_.data() + at_, n);
+    at_ += n;
+    return true;
+  }
+  bool words(std::vector<uint32_t>& w) {
+    uint32_t n = 0;
+    if (!u32(n) || (bytes_.size() - at_) / 4 < n) return false;
+    w.resize(n);
+    for (uint32_t& v : w) u32(v);
+    return true;
+  }
+  bool done() const { return at_ == bytes_.size(); }
+
+ private:
+  std::span<const uint8_t> bytes_;
+  size_t at_ = 0;
+};
+
+// A module's reflection, field by field (keep it in step with spirv_reflect.hpp: a field left out here
+// would come back from the cache as its default).
+void write_reflection(PayloadWriter& w, const Reflection& r) {
+  w.u32(uint32_t(r.bindings.size()));
+  for (const ReflectedBinding& b : r.bindings) {
+    w.str(b.name);
+    for (uint32_t v : {b.set, b.binding, b.descriptor_type, b.count, b.stage, b.set_word, b.binding_word})
+      w.u32(v);
+    w.str(b.block_layout);
+    w.u32(b.combined_attribute ? 1 : 0);
+  }
+  for (const auto* list : {&r.inputs, &r.outputs}) {
+    w.u32(uint32_t(list->size()));
+    for (const InterfaceVariable& v : *list) {
+      w.str(v.name);
+      for (uint32_t x : {uint32_t(v.base), v.location, v.component, v.bit_width, v.vector_size, v.columns,
+                         v.array_size, uint32_t(v.flat), uint32_t(v.patch)})
+        w.u32(x);
+    }
+  }
+  w.u32(uint32_t(r.constants.size()));
+  for (const ReflectedConstant& c : r.constants) {
+    w.str(c.name);
+    for (uint32_t x : {uint32_t(c.kind), c.constant_id, c.size}) w.u32(x);
+  }
+  w.u32(r.push_constant_size);
+  w.str(r.error);
+  w.str(r.unsupported);
+}
+
+bool read_reflection(PayloadReader& r, Reflection& out) {
+  constexpr uint32_t kMaxItems = 1u << 20;  // far above any module; bounds a damaged count
+  uint32_t n = 0;
+  if (!r.u32(n) || n > kMaxItems) return false;
+  out.bindings.resize(n);
+  for (ReflectedBinding& b : out.bindings) {
+    uint32_t combined = 0;
+    if (!r.str(b.name) || !r.u32(b.set) || !r.u32(b.binding) || !r.u32(b.descriptor_type) ||
+        !r.u32(b.count) || !r.u32(b.stage) || !r.u32(b.set_word) || !r.u32(b.binding_word) ||
+        !r.str(b.block_layout) || !r.u32(combined))
+      return false;
+    b.combined_attribute = combined != 0;
+  }
+  for (auto* list : {&out.inputs, &out.outputs}) {
+    if (!r.u32(n) || n > kMaxItems) return false;
+    list->resize(n);
+    for (InterfaceVariable& v : *list) {
+      uint32_t base = 0, flat = 0, patch = 0;
+      if (!r.str(v.name) || !r.u32(base) || !r.u32(v.location) || !r.u32(v.component) ||
+          !r.u32(v.bit_width) || !r.u32(v.vector_size) || !r.u32(v.columns) || !r.u32(v.array_size) ||
+          !r.u32(flat) || !r.u32(patch) || base > uint32_t(InterfaceVariable::Base::other))
+        return false;
+      v.base = InterfaceVariable::Base(base), v.flat = flat != 0, v.patch = patch != 0;
+    }
+  }
+  if (!r.u32(n) || n > kMaxItems) return false;
+  out.constants.resize(n);
+  for (ReflectedConstant& c : out.constants) {
+    uint32_t kind = 0;
+    if (!r.str(c.name) || !r.u32(kind) || !r.u32(c.constant_id) || !r.u32(c.size) ||
+        kind > uint32_t(ReflectedConstant::Kind::other))
+      return false;
+    c.kind = ReflectedConstant::Kind(kind);
+  }
+  return r.u32(out.push_constant_size) && r.str(out.error) && r.str(out.unsupported);
+}
+
+uint32_t get_u32(const uint8_t* p) {
+  return uint32_t(p[0]) | uint32_t(p[1]) << 8 | uint32_t(p[2]) << 16 | uint32_t(p[3]) << 24;
+}
+void put_u32(std::vector<uint8_t>& out, uint32_t v) {
+  for (int i = 0; i < 4; ++i) out.push_back(uint8_t(v >> (8 * i)));
+}
+uint64_t get_u64(const uint8_t* p) {
+  uint64_t v = 0;
+  for (int i = 0; i < 8; ++i) v |= uint64_t(p[i]) << (8 * i);
+  return v;
+}
+void put_u64(std::vector<uint8_t>& out, uint64_t v) {
+  for (int i = 0; i < 8; ++i) out.push_back(uint8_t(v >> (8 * i)));
+}
+
+bool is_entry_name(std::string_view name) {
+  return name.size() == 32 && name.find_first_not_of("0123456789abcdef") == std::string_view::npos;
+}
+
+// Every entry (and temporary) of one subdirectory, oldest use first.
+struct FileOnDisk {
+  int64_t mtime;
+  uint64_t size;
+  fs::path path;
+  bool temporary;
+};
+std::vector<FileOnDisk> files_of(const fs::path& subdir) {
+  std::vector<FileOnDisk> out;
+  DIR* d = ::opendir(subdir.c_str());
+  if (!d) return out;
+  while (dirent* e = ::readdir(d)) {
+    const std::string_view name = e->d_name;
+    const bool temporary = name.starts_with(".tmp-");
+    if (!temporary && !is_entry_name(name)) continue;
+    struct stat st {};
+    if (::fstatat(::dirfd(d), e->d_name, &st, AT_SYMLINK_NOFOLLOW) != 0) continue;
+    out.push_back({int64_t(st.st_mtime), uint64_t(st.st_size), subdir / e->d_name, temporary});
+  }
+  ::closedir(d);
+  std::sort(out.begin(), out.end(),
+            [](const FileOnDisk& a, const FileOnDisk& b) { return a.mtime < b.mtime; });
+  return out;
+}
+
+// Removes the oldest entries of `files` until they hold at most `target` bytes, and dead temporaries.
+size_t trim(std::vector<FileOnDisk>& files, uint64_t target) {
+  uint64_t total = 0;
+  for (const auto& f : files) total += f.size;
+  size_t removed = 0;
+  const int64_t now = int64_t(::time(nullptr));
+  std::vector<FileOnDisk> kept;
+  for (auto& f : files) {
+    const bool dead_temporary = f.temporary && now - f.mtime > kStaleTemporarySeconds;
+    if ((dead_temporary || (!f.temporary && total > target)) && ::unlink(f.path.c_str()) == 0) {
+      total -= f.size;
+      ++removed;
+      continue;
+    }
+    kept.push_back(std::move(f));
+  }
+  files = std::move(kept);
+  return removed;
+}
+
+// A subdirectory that is a real directory (created if missing), never a link planted in its place.
+bool usable_subdirectory(const fs::path& path) {
+  if (::mkdir(path.c_str(), 0755) == 0) return true;
+  struct stat st {};
+  return errno == EEXIST && ::lstat(path.c_str(), &st) == 0 && S_ISDIR(st.st_mode);
+}
+
+}  // namespace
+
+CompileCache::CompileCache(fs::path dir, uint64_t max_bytes) : dir_(std::move(dir)), max_bytes_(max_bytes) {}
+CompileCache::CompileCache(CompileCache&& o) noexcept
+    : dir_(std::move(o.dir_)),
+      max_bytes_(o.max_bytes_),
+      pending_(std::move(o.pending_)),
+      hits_(o.hits_.load()),
+      misses_(o.misses_.load()),
+      damaged_(o.damaged_.load()),
+      written_(o.written_),
+      removed_(o.removed_) {}
+CompileCache::~CompileCache() = default;
+
+std::optional<CompileCache> CompileCache::open(const fs::path& dir, uint64_t max_bytes, std::string& error) {
+  std::error_code ec;
+  fs::create_directories(dir / "v1", ec);
+  if (ec || !fs::is_directory(dir / "v1", ec)) {
+    error = "cannot use '" + printable(dir.string()) +
+            "' as a cache directory: " + (ec ? ec.message() : std::string("not a directory"));
+    return std::nullopt;
+  }
+  // The standard mark of a cache directory: backup tools skip it.
+  const fs::path tag = dir / "CACHEDIR.TAG";
+  if (!fs::exists(fs::symlink_status(tag, ec))) {
+    constexpr std::string_view text =
+        "Signature: 8a477f597d28d172789f06886806bc55\n# statepack's compile cache\n";
+    (void)detail::write_file_atomically(tag, {reinterpret_cast<const uint8_t*>(text.data()), text.size()});
+  }
+  return CompileCache(dir / "v1", max_bytes);
+}
+
+std::optional<std::vector<uint8_t>> CompileCache::read_entry(const CacheKey& key) {
+  const std::string name = hex(key);
+  const fs::path path = dir_ / name.substr(0, 2) / name;
+  const int fd = ::open(path.c_str(), O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) {
+    if (errno != ENOENT) ++damaged_;  // a link planted there (ELOOP), or what cannot be read: rewritten
+    return std::nullopt;
+  }
+  std::vector<uint8_t> bytes;
+  struct stat st {};
+  bool ok = ::fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && uint64_t(st.st_size) >= kHeaderBytes &&
+            uint64_t(st.st_size) <= kMaxEntryBytes;
+  if (ok) {
+    bytes.resize(size_t(st.st_size));
+    size_t done = 0;
+    while (done < bytes.size()) {
+      const ssize_t n = ::read(fd, bytes.data() + done, bytes.size() - done);
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0) break;
+      done += size_t(n);
+    }
+    ok = done == bytes.size() && std::memcmp(bytes.data(), kMagic, 4) == 0 &&
+         get_u32(bytes.data() + 4) == kEntryVersion &&
+         std::memcmp(bytes.data() + 8, key.data(), key.size()) == 0 &&
+         get_u64(bytes.data() + 24) == bytes.size() - kHeaderBytes &&
+         get_u64(bytes.data() + 32) == XXH3_64bits(bytes.data() + kHeaderBytes, bytes.size() - kHeaderBytes);
+  }
+  if (ok) ::futimens(fd, nullptr);  // recently used: pruned last
+  ::close(fd);
+  if (!ok) {
+    ++damaged_;  // truncated, damaged or not ours: a miss, and written again
+    return std::nullopt;
+  }
+  bytes.erase(bytes.begin(), bytes.begin() + kHeaderBytes);
+  return bytes;
+}
+
+void CompileCache::keep(const CacheKey& key, std::vector<uint8_t> payload) {
+  std::lock_guard lock(mutex_);
+  pending_.push_back({key, std::move(payload)});
+}
+
+std::optional<CompileCache::Compile> CompileCache::find_compile(const ShaderDesc& shader,
+                                                                const CompileOptions& options) {
+  std::string source = shader.source;
+  Compile found;
+  CompiledShader& out = found.compiled;
+  if (!shader.file.empty()) {
+    InputText input = read_input_file(shader.file, display_path(shader.file), options.max_input_bytes);
+    if (!input.error.empty()) return std::nullopt;  // the compile reports it
+    source = std::move(input.text);
+    std::error_code ec;
+    out.files_read.push_back({fs::absolute(shader.file, ec).lexically_normal(), input.identity});
+  }
+  out.source_hash = text_hash(source);
+  auto payload = read_entry(compile_key(shader, options, out.source_hash));
+  uint32_t flags = 0, count = 0;
+  PayloadReader r(payload ? std::span<const uint8_t>(*payload) : std::span<const uint8_t>());
+  if (!payload || !r.u32(flags) || !r.u32(count)) {
+    if (payload) ++damaged_;
+    ++misses_;
+    return std::nullopt;
+  }
+  // Every #include glslang asked for: found in the same place, with the same text.
+  uint64_t included = 0;
+  for (uint32_t i = 0; i < count; ++i) {
+    IncludeRecord rec;
+    uint8_t local = 0;
+    if (!r.str(rec.header) || !r.str(rec.includer) || !r.raw(&local, 1) || !r.str(rec.path) ||
+        !r.raw(rec.text_hash.data(), rec.text_hash.size())) {
+      ++damaged_, ++misses_;
+      return std::nullopt;
+    }
+    rec.local = local != 0;
+    const fs::path path = resolve_include(rec.header, rec.includer, rec.local, options.include_dirs);
+    if (path.string() != rec.path) return ++misses_, std::nullopt;
+    InputText input = read_input_file(path, display_path(path), options.max_input_bytes);
+    included += input.text.size();
+    if (!input.error.empty() || text_hash(input.text) != rec.text_hash || included > options.max_input_bytes)
+      return ++misses_, std::nullopt;
+    std::error_code ec;
+    out.files_read.push_back({fs::absolute(path, ec).lexically_normal(), input.identity});
+    out.includes.push_back(std::move(rec));
+  }
+  uint32_t names = 0;
+  if (!r.u32(names) || names > (1u << 20)) return ++damaged_, ++misses_, std::nullopt;
+  out.combined_image_samplers.resize(names);
+  for (auto& n : out.combined_image_samplers)
+    if (!r.str(n)) return ++damaged_, ++misses_, std::nullopt;
+  if (!r.words(out.spirv) || out.spirv.empty()) return ++damaged_, ++misses_, std::nullopt;
+  if (flags & 2) {
+    if (!read_reflection(r, found.reflection.emplace())) return ++damaged_, ++misses_, std::nullopt;
+  }
+  if (!r.done()) return ++damaged_, ++misses_, std::nullopt;
+  out.backend_specific = flags & 1;
+  out.ok = true;
+  ++hits_;
+  return found;
+}
+
+void CompileCache::keep_compile(const ShaderDesc& shader, const CompileOptions& options,
+                                const CompiledShader& compiled, const Reflection* reflection) {
+  if (!compiled.ok) return;
+  PayloadWriter w;
+  w.u32((compiled.backend_specific ? 1 : 0) | (reflection ? 2 : 0));
+  w.u32(uint32_t(compiled.includes.size()));
+  for (const IncludeRecord& rec : compiled.includes) {
+    w.str(rec.header);
+    w.str(rec.includer);
+    w.bytes.push_back(rec.local ? 1 : 0);
+    w.str(rec.path);
+    w.bytes.insert(w.bytes.end(), rec.text_hash.begin(), rec.text_hash.end());
+  }
+  w.u32(uint32_t(compiled.combined_image_samplers.size()));
+  for (const auto& n : compiled.combined_image_samplers) w.str(n);
+  w.words(compiled.spirv);
+  if (reflection) write_reflection(w, *reflection);
+  keep(compile_key(shader, options, compiled.source_hash), std::move(w.bytes));
+}
+
+std::optional<std::vector<uint32_t>> CompileCache::find_finalized(const std::vector<uint32_t>& input,
+                                                                  const CompileOptions& options) {
+  auto payload = read_entry(finalize_key(input, options));
+  std::vector<uint32_t> words;
+  PayloadReader r(payload ? std::span<const uint8_t>(*payload) : std::span<const uint8_t>());
+  if (!payload || !r.words(words) || !r.done() || words.empty()) {
+    if (payload) ++damaged_;
+    ++misses_;
+    return std::nullopt;
+  }
+  ++hits_;
+  return words;
+}
+
+void CompileCache::keep_finalized(const std::vector<uint32_t>& input, const CompileOptions& options,
+                                  const std::vector<uint32_t>& output) {
+  PayloadWriter w;
+  w.words(output);
+  keep(finalize_key(input, options), std::move(w.bytes));
+}
+
+std::string CompileCache::flush(const std::vector<InputFile>& inputs) {
+  std::vector<Pending> pending;
+  {
+    std::lock_guard lock(mutex_);
+    pending.swap(pending_);
+  }
+  std::set<FileIdentity> input_identities;
+  for (const auto& f : inputs) input_identities.insert(f.identity);
+  std::set<std::string> subdirectories, done;
+  std::string warning;
+  static std::atomic<uint64_t> counter{0};
+  for (const Pending& p : pending) {
+    const std::string name = hex(p.key);
+    if (!done.insert(name).second) continue;  // the same result twice in one run
+    const fs::path subdir = dir_ / name.substr(0, 2), path = subdir / name;
+    if (!usable_subdirectory(subdir)) {
+      warning = "'" + printable(subdir.string()) + "' is not a directory";
+      continue;
+    }
+    // The entry itself (not what a link planted there points to: rename() replaces the link).
+    struct stat st {};
+    if (::lstat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode) &&
+        input_identities.count(FileIdentity{uint64_t(st.st_dev), uint64_t(st.st_ino)})) {
+      warning = "'" + printable(path.string()) + "' is one of this run's inputs; not replaced";
+      continue;
+    }
+    std::vector<uint8_t> bytes(kMagic, kMagic + 4);
+    put_u32(bytes, kEntryVersion);
+    bytes.insert(bytes.end(), p.key.begin(), p.key.end());
+    put_u64(bytes, p.payload.size());
+    put_u64(bytes, XXH3_64bits(p.payload.data(), p.payload.size()));
+    bytes.insert(bytes.end(), p.payload.begin(), p.payload.end());
+    const fs::path temporary = subdir / (".tmp-" + std::to_string(::getpid()) + "-" +
+                                         std::to_string(counter++) + "-" + name.substr(0, 8));
+    const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
+    if (fd < 0) {
+      warning = "cannot write '" + printable(temporary.string()) + "': " + std::strerror(errno);
+      continue;
+    }
+    size_t written = 0;
+    while (written < bytes.size()) {
+      const ssize_t n = ::write(fd, bytes.data() + written, bytes.size() - written);
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0) break;
+      written += size_t(n);
+    }
+    const bool closed = ::close(fd) == 0;
+    // rename() replaces a link planted at `path` rather than following it.
+    if (written != bytes.size() || !closed || ::rename(temporary.c_str(), path.c_str()) != 0) {
+      warning = "cannot write '" + printable(path.string()) + "': " + std::strerror(errno);
+      ::unlink(temporary.c_str());
+      continue;
+    }
+    ++written_;
+    subdirectories.insert(name.substr(0, 2));
+  }
+  // Each subdirectory written to is trimmed to its share of the bound (entries spread evenly over them).
+  for (const std::string& s : subdirectories) {
+    auto files = files_of(dir_ / s);
+    removed_ += trim(files, max_bytes_ / kSubdirectories);
+  }
+  return warning;
+}
+
+CompileCache::Stats CompileCache::stats() const {
+  return {hits_.load(), misses_.load(), damaged_.load(), written_, removed_};
+}
+
+CompileCache::PruneResult CompileCache::prune(const fs::path& dir, uint64_t max_bytes) {
+  PruneResult result;
+  std::error_code ec;
+  const fs::path root = dir / "v1";
+  if (!fs::is_directory(fs::symlink_status(root, ec))) {
+    result.error = "'" + printable(dir.string()) + "' is not a statepack cache directory (no v1/ in it)";
+    return result;
+  }
+  std::vector<FileOnDisk> all;
+  for (size_t i = 0; i < kSubdirectories; ++i) {
+    static const char digits[] = "0123456789abcdef";
+    const fs::path subdir = root / std::string{digits[i >> 4], digits[i & 15]};
+    struct stat st {};
+    if (::lstat(subdir.c_str(), &st) != 0 || !S_ISDIR(st.st_mode)) continue;
+    auto files = files_of(subdir);
+    all.insert(all.end(), files.begin(), files.end());
+  }
+  std::sort(all.begin(), all.end(),
+            [](const FileOnDisk& a, const FileOnDisk& b) { return a.mtime < b.mtime; });
+  for (const auto& f : all)
+    if (!f.temporary) result.bytes_before += f.size, ++result.entries_before;
+  trim(all, max_bytes);
+  for (const auto& f : all)
+    if (!f.temporary) result.bytes_after += f.size, ++result.entries_after;
+  return result;
+}
+
+}  // namespace statepack::packager

@@ -1,0 +1,115 @@
+// statepack pack --cache-dir: compiled and finalised SPIR-V kept between runs, so an unchanged shader
+// is never compiled (or optimised and validated) again. An entry is found by a hash of everything that
+// decides its result:
+//
+// - a compile: statepack's own code (glslang and SPIRV-Tools are linked into it: the hash of its loaded
+//   read-only segments), the options (target, -D macros, -s directories, --max-input-size), the
+//   working directory, the shader's stage, language, entry point, macros, path and text. Its #includes
+//   are not in the key: the entry lists each one glslang asked for (the name, who included it, where it
+//   was found, a hash of its text), and a hit re-resolves and re-reads every one of them. Same text and
+//   same includes found in the same files with the same text give the same preprocessed source, so the
+//   same SPIR-V (an include that now resolves elsewhere, or changed, is a miss).
+// - a finalisation (optimise, strip, validate): the code, the options and the module's words.
+//
+// Entries are files DIR/v1/XX/<32 hex digits> (XX: the first two), each written to a temporary beside it
+// and renamed, so two packs sharing the directory at once only ever see whole entries; each holds a
+// hash of its contents, so a truncated or damaged one is a miss and is written again. Only successful
+// results are kept. The directory is kept under a size bound: a pack that writes entries into a
+// subdirectory trims that subdirectory to its share of the bound, the least recently used first
+// (`statepack cache prune` trims all of it). The archive is byte-identical with and without a cache.
+//
+// | entry bytes | meaning                                                                          |
+// |-------------|----------------------------------------------------------------------------------|
+// | 0..3        | "SPKC"                                                                           |
+// | 4..7        | u32 entry layout version (1)                                                     |
+// | 8..23       | the 128-bit key (the file's name, repeated: a renamed entry is not a hit)        |
+// | 24..31      | u64 payload size                                                                 |
+// | 32..39      | u64 XXH3-64 of the payload                                                       |
+// | 40..        | payload: a compile's (u32 backend-specific flag; u32 count and per #include str  |
+// |             | header, str includer, u8 local, str path, 16-byte text hash; u32 count and strs  |
+// |             | of combined image samplers; u32 count and SPIR-V words; with flag 2, the         |
+// |             | module's Reflection, field by field as spirv_reflect.hpp declares them) or a     |
+// |             | finalisation's (u32 count and SPIR-V words). str: u32 length and bytes; all      |
+// |             | little-endian.                                                                   |
+#pragma once
+
+#include <array>
+#include <atomic>
+#include <cstdint>
+#include <filesystem>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "notation/input_file.hpp"
+#include "shader_compiler.hpp"
+#include "spirv_reflect.hpp"
+
+namespace statepack::packager {
+
+using CacheKey = std::array<uint8_t, 16>;
+
+class CompileCache {
+ public:
+  static constexpr uint64_t kDefaultMaxBytes = uint64_t(1) << 30;
+
+  // Opens (creating it if needed) a cache directory; nullopt with `error` set when it cannot be used.
+  static std::optional<CompileCache> open(const std::filesystem::path& dir, uint64_t max_bytes,
+                                          std::string& error);
+  CompileCache(CompileCache&&) noexcept;
+  ~CompileCache();
+
+  // A compile from the cache, when every input it depended on is unchanged, with the module's reflection
+  // when it was kept too; else nullopt. Thread-safe.
+  struct Compile {
+    CompiledShader compiled;
+    std::optional<Reflection> reflection;
+  };
+  std::optional<Compile> find_compile(const ShaderDesc& shader, const CompileOptions& options);
+  // Keeps a successful compile and, when given, its reflection (written by flush()). Thread-safe.
+  void keep_compile(const ShaderDesc& shader, const CompileOptions& options, const CompiledShader& compiled,
+                    const Reflection* reflection);
+  // The same for finalize_spirv: `input` before, `output` after.
+  std::optional<std::vector<uint32_t>> find_finalized(const std::vector<uint32_t>& input,
+                                                      const CompileOptions& options);
+  void keep_finalized(const std::vector<uint32_t>& input, const CompileOptions& options,
+                      const std::vector<uint32_t>& output);
+
+  // Writes what was kept, never over one of `inputs` (by identity) or through a link, then trims the
+  // subdirectories written to their share of the size bound. Returns a warning ("" when all went well):
+  // a cache that cannot be written costs time, not correctness.
+  std::string flush(const std::vector<InputFile>& inputs);
+
+  struct Stats {
+    size_t hits = 0, misses = 0, damaged = 0, written = 0, removed = 0;
+  };
+  Stats stats() const;
+
+  // `statepack cache prune`: removes the least recently used entries until the cache holds at most
+  // `max_bytes`, and temporaries of runs that died. Returns what it removed, or an error.
+  struct PruneResult {
+    uint64_t bytes_before = 0, bytes_after = 0;
+    size_t entries_before = 0, entries_after = 0;
+    std::string error;
+  };
+  static PruneResult prune(const std::filesystem::path& dir, uint64_t max_bytes);
+
+ private:
+  CompileCache(std::filesystem::path dir, uint64_t max_bytes);
+  struct Pending {
+    CacheKey key;
+    std::vector<uint8_t> payload;
+  };
+  std::optional<std::vector<uint8_t>> read_entry(const CacheKey& key);
+  void keep(const CacheKey& key, std::vector<uint8_t> payload);
+
+  std::filesystem::path dir_;  // DIR/v1
+  uint64_t max_bytes_;
+  std::mutex mutex_;  // pending_
+  std::vector<Pending> pending_;
+  std::atomic<size_t> hits_{0}, misses_{0}, damaged_{0};
+  size_t written_ = 0, removed_ = 0;
+};
+
+}  // namespace statepack::packager

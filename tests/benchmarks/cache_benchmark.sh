@@ -1,0 +1,66 @@
+#!/usr/bin/env bash
+# The compile cache (pack --cache-dir) on a project of N shader files (generate_shader_project.sh):
+# a pack without a cache, a cold pack into an empty cache, a warm pack with nothing changed, and a pack
+# after one shader file changed, each with every core; prints a Markdown table with each figure's share
+# of the cold pack, and checks that every archive is the bytes of a pack without a cache.
+# Usage: cache_benchmark.sh <statepack> <repository root> [N=1000] [repeats=3]
+# Run it through CMake: cmake --build build --target bench_cache
+set -euo pipefail
+statepack=$1 root=$2 count=${3:-1000} repeats=${4:-3}
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+bash "$(dirname "$0")/generate_shader_project.sh" "$root" "$work/project" "$count"
+cd "$work/project"
+
+# Wall milliseconds and peak RSS (MiB) of one pack; sets $ms and $mib.
+pack() {
+  local out=$1
+  shift
+  local start end
+  start=$(date +%s%N)
+  /usr/bin/time -f '%M' -o "$work/rss" "$statepack" pack -i project.json -o "$out" --vulkan "$@" > /dev/null
+  end=$(date +%s%N)
+  ms=$(((end - start) / 1000000))
+  mib=$(($(cat "$work/rss") / 1024))
+}
+# The median of the arguments.
+median() { printf '%s\n' "$@" | sort -n | sed -n "$((($# + 1) / 2))p"; }
+
+# Without a cache and cold, interleaved run by run (this machine's load varies from minute to minute).
+plain=() cold=()
+for ((r = 0; r < repeats; r++)); do
+  pack plain.spk
+  plain+=("$ms") plain_mib=$mib
+  rm -rf cache
+  pack cold.spk --cache-dir cache
+  cold+=("$ms") cold_mib=$mib
+done
+plain_ms=$(median "${plain[@]}") cold_ms=$(median "${cold[@]}")
+warm=() changed=()
+for ((r = 0; r < repeats; r++)); do
+  pack warm.spk --cache-dir cache
+  warm+=("$ms") warm_mib=$mib
+done
+for archive in cold.spk warm.spk; do cmp -s plain.spk "$archive" || { echo "FAIL: $archive differs from a pack without a cache"; exit 1; }; done
+for ((r = 0; r < repeats; r++)); do
+  # One shader changed (its early-return constant), as an edit does; each repeat changes it again.
+  sed -i "s/== \([0-9]*\)u) return;  \/\/ copy 0\$/== $((2000000 + r))u) return;  \/\/ copy 0/" shader_0.comp
+  pack changed.spk --cache-dir cache
+  changed+=("$ms") changed_mib=$mib
+done
+pack reference.spk  # the last change, without a cache
+cmp -s reference.spk changed.spk || { echo "FAIL: changed.spk differs from a pack without a cache"; exit 1; }
+
+warm_ms=$(median "${warm[@]}") changed_ms=$(median "${changed[@]}")
+share() { awk -v a="$1" -v b="$2" 'BEGIN { printf "%.1f %%", 100 * a / b }'; }
+echo "statepack pack --cache-dir, $count shader files (the path tracer's compute shader, ~480 lines with its"
+echo "#includes, each copy compiling to its own module), -t $(nproc), $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ *//')"
+echo "medians of $repeats runs (without a cache: ${plain[*]}; cold: ${cold[*]}; warm: ${warm[*]}; one changed:"
+echo "${changed[*]} ms); every archive byte-identical to a pack without a cache"
+echo
+echo "| pack | wall (ms) | share of a pack without a cache | share of cold | peak RSS (MiB) |"
+echo "|---|---|---|---|---|"
+echo "| without a cache | $plain_ms | 100.0 % | $(share "$plain_ms" "$cold_ms") | $plain_mib |"
+echo "| cold (empty cache) | $cold_ms | $(share "$cold_ms" "$plain_ms") | 100.0 % | $cold_mib |"
+echo "| warm (nothing changed) | $warm_ms | $(share "$warm_ms" "$plain_ms") | $(share "$warm_ms" "$cold_ms") | $warm_mib |"
+echo "| one of $count shaders changed | $changed_ms | $(share "$changed_ms" "$plain_ms") | $(share "$changed_ms" "$cold_ms") | $changed_mib |"

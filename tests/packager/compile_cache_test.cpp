@@ -1,0 +1,256 @@
+// statepack pack --cache-dir: a hit for an unchanged shader, a miss for any change of what decides its
+// SPIR-V (its text, an #include's text, where an #include is found, macros, options), damaged entries
+// ignored and rewritten, two packs sharing the cache at once, the size bound. The archive is always the
+// bytes a pack without a cache writes.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <regex>
+#include <string>
+#include <thread>
+
+#include "common/run_command.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using statepack::testing::CommandResult;
+using statepack::testing::run_command;
+
+std::string read_file(const fs::path& path) {
+  std::ifstream file(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>()};
+}
+void write_file(const fs::path& path, const std::string& text) {
+  fs::create_directories(path.parent_path());
+  std::ofstream(path, std::ios::binary) << text;
+}
+
+struct CacheStats {
+  int hits = -1, misses = -1, damaged = -1, written = -1, removed = -1;
+};
+
+class CompileCacheTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::path(STATEPACK_TEST_OUTPUT_DIR) / "compile_cache" /
+           ::testing::UnitTest::GetInstance()->current_test_info()->name();
+    fs::remove_all(dir_);
+    // Two compute shaders sharing an #include (one of them including a second one from an -s
+    // directory), and an inline HLSL shader.
+    write_file(dir_ / "project.json", R"({"Pipelines": [
+      {"PSODesc": {"Name": "A"}, "pCS": {"Desc": {"Name": "A CS"}, "FilePath": "a.comp",
+                                         "Macros": [{"Name": "SCALE", "Definition": "2u"}]}},
+      {"PSODesc": {"Name": "B"}, "pCS": {"Desc": {"Name": "B CS"}, "FilePath": "b.comp"}},
+      {"PSODesc": {"Name": "H"}, "pCS": {"Desc": {"Name": "H CS"}, "SourceLanguage": "HLSL",
+        "Source": "RWStructuredBuffer<uint> data;\n[numthreads(4, 1, 1)] void main(uint3 id : SV_DispatchThreadID) { data[id.x] = id.x; }\n"}}]})");
+    write_file(dir_ / "common.glsl", "uint twice(uint x) { return 2u * x; }\n");
+    write_file(dir_ / "a.comp",
+               "#version 450\n#extension GL_GOOGLE_include_directive : require\n#include \"common.glsl\"\n"
+               "layout(local_size_x = 64) in;\nlayout(set = 0, binding = 0) buffer Data { uint v[]; } data;\n"
+               "void main() { data.v[gl_GlobalInvocationID.x] = twice(gl_GlobalInvocationID.x) * SCALE; }\n");
+    write_file(dir_ / "b.comp",
+               "#version 450\n#extension GL_GOOGLE_include_directive : require\n#include \"common.glsl\"\n"
+               "#include \"helper.glsl\"\nlayout(local_size_x = 32) in;\n"
+               "layout(set = 0, binding = 0) buffer Data { uint v[]; } data;\n"
+               "void main() { data.v[gl_GlobalInvocationID.x] = helper(twice(gl_GlobalInvocationID.x)); }\n");
+    write_file(dir_ / "inc" / "helper.glsl", "uint helper(uint x) { return x + 1u; }\n");
+    fs::create_directories(dir_ / "early");  // an -s directory searched before inc/
+  }
+
+  // Packs with the cache (or without: `cache` false) into `out`; the stats from --time-report.
+  CacheStats pack(const std::string& out, const std::string& extra = "", bool cache = true) {
+    CommandResult run = run_command(
+        "cd '" + dir_.string() + "' && '" STATEPACK_EXE "' pack -i project.json -s early -s inc -o '" + out +
+        "' --vulkan --time-report " + (cache ? "--cache-dir cache " : "") + extra);
+    EXPECT_EQ(run.exit_code, 0) << run.output;
+    last_output_ = run.output;
+    CacheStats s;
+    static const std::regex line(
+        R"(cache: (\d+) hits, (\d+) misses, (\d+) damaged, (\d+) written, (\d+) removed)");
+    std::smatch m;
+    if (std::regex_search(run.output, m, line))
+      s = {std::stoi(m[1]), std::stoi(m[2]), std::stoi(m[3]), std::stoi(m[4]), std::stoi(m[5])};
+    return s;
+  }
+  // The archive a pack without a cache writes for the same inputs.
+  std::string clean_bytes(const std::string& extra = "") {
+    pack("clean.spk", extra, false);
+    return read_file(dir_ / "clean.spk");
+  }
+  std::vector<fs::path> entries() const {
+    std::vector<fs::path> out;
+    for (const auto& e : fs::recursive_directory_iterator(dir_ / "cache" / "v1"))
+      if (e.is_regular_file() && e.path().filename().string().size() == 32) out.push_back(e.path());
+    return out;
+  }
+
+  fs::path dir_;
+  std::string last_output_;
+};
+
+// 3 compiles + 3 finalisations.
+constexpr int kEntries = 6;
+
+TEST_F(CompileCacheTest, AnUnchangedProjectIsNotCompiledAgainAndTheBytesAreTheSame) {
+  CacheStats cold = pack("cold.spk");
+  EXPECT_EQ(cold.hits, 0);
+  EXPECT_EQ(cold.misses, kEntries);
+  EXPECT_EQ(cold.written, kEntries);
+  EXPECT_EQ(entries().size(), size_t(kEntries));
+  EXPECT_TRUE(fs::exists(dir_ / "cache" / "CACHEDIR.TAG"));
+  CacheStats warm = pack("warm.spk");
+  EXPECT_EQ(warm.hits, kEntries) << last_output_;
+  EXPECT_EQ(warm.misses, 0);
+  EXPECT_EQ(warm.written, 0);
+  const std::string clean = clean_bytes();
+  EXPECT_EQ(read_file(dir_ / "cold.spk"), clean);
+  EXPECT_EQ(read_file(dir_ / "warm.spk"), clean);
+  // The depfile lists the #includes also when nothing was compiled.
+  pack("warm.spk", "--depfile warm.d");
+  const std::string depfile = read_file(dir_ / "warm.d");
+  for (const char* file : {"a.comp", "b.comp", "common.glsl", "helper.glsl", "project.json"})
+    EXPECT_NE(depfile.find(file), std::string::npos) << file << " missing from\n" << depfile;
+}
+
+// Each change misses exactly where it should, and the archive is the one a clean pack makes.
+TEST_F(CompileCacheTest, AnyChangeToWhatDecidesTheSpirvMisses) {
+  pack("first.spk");
+  struct Change {
+    const char* what;
+    std::function<void()> apply;
+    std::string extra;
+    int compile_misses;  // of the 3 compiles (finalisations miss when the module changed)
+  };
+  const fs::path root = dir_;
+  const Change changes[] = {
+      {"a shared #include's text",
+       [&] { write_file(root / "common.glsl", "uint twice(uint x) { return x + x; }\n"); }, "", 2},
+      {"an #include found earlier in the -s directories",
+       [&] { write_file(root / "early" / "helper.glsl", "uint helper(uint x) { return x + 2u; }\n"); }, "",
+       1},
+      {"a shader's own text",
+       [&] { write_file(root / "a.comp", read_file(root / "a.comp") + "// edited\n"); }, "", 1},
+      {"a notation macro",
+       [&] {
+         std::string json = read_file(root / "project.json");
+         json.replace(json.find("\"2u\""), 4, "\"3u\"");
+         write_file(root / "project.json", json);
+       },
+       "", 1},
+      {"a -D macro", [] {}, "-D UNUSED_BY_ALL=1", 3},
+      {"the Vulkan version", [] {}, "-D UNUSED_BY_ALL=1 --vulkan_version 1.1", 3},
+  };
+  std::string extra;
+  for (const Change& c : changes) {
+    SCOPED_TRACE(c.what);
+    c.apply();
+    extra = c.extra;
+    const CacheStats s = pack("changed.spk", extra);
+    // Compile misses are the misses beyond the finalisations of modules that changed.
+    EXPECT_GE(s.misses, c.compile_misses) << last_output_;
+    EXPECT_LE(s.misses, 2 * c.compile_misses) << last_output_;
+    EXPECT_EQ(read_file(dir_ / "changed.spk"), clean_bytes(extra));
+    const CacheStats again = pack("again.spk", extra);
+    EXPECT_EQ(again.misses, 0) << last_output_;
+    EXPECT_EQ(read_file(dir_ / "again.spk"), read_file(dir_ / "changed.spk"));
+  }
+  // Optimisation: the compiles still hit; only the finalisations miss.
+  const CacheStats optimized = pack("optimized.spk", extra + " --optimize size");
+  EXPECT_EQ(optimized.misses, 3) << last_output_;
+  EXPECT_EQ(read_file(dir_ / "optimized.spk"), clean_bytes(extra + " --optimize size"));
+}
+
+// Truncated, damaged, foreign and linked entries are misses, written again; the archive is unchanged.
+TEST_F(CompileCacheTest, DamagedEntriesAreIgnoredAndRewritten) {
+  pack("first.spk");
+  const std::string clean = clean_bytes();
+  auto all = entries();
+  ASSERT_EQ(all.size(), size_t(kEntries));
+  fs::resize_file(all[0], fs::file_size(all[0]) / 2);  // truncated
+  {
+    std::string bytes = read_file(all[1]);
+    bytes[bytes.size() - 3] ^= 0x40;  // one bit of the payload
+    write_file(all[1], bytes);
+  }
+  write_file(all[2], "not an entry at all");
+  fs::remove(all[3]);
+  fs::create_symlink(dir_ / "project.json", all[3]);  // a planted link: never read through, replaced
+  const CacheStats s = pack("damaged.spk");
+  EXPECT_EQ(s.damaged, 4) << last_output_;  // the link too
+  EXPECT_EQ(s.misses, 4) << last_output_;
+  EXPECT_EQ(read_file(dir_ / "damaged.spk"), clean);
+  EXPECT_FALSE(fs::is_symlink(all[3]));
+  EXPECT_NE(read_file(dir_ / "project.json").find("Pipelines"), std::string::npos);  // the target untouched
+  const CacheStats healed = pack("healed.spk");
+  EXPECT_EQ(healed.hits, kEntries) << last_output_;
+  EXPECT_EQ(read_file(dir_ / "healed.spk"), clean);
+}
+
+// Two packs at once on one new cache: both succeed with the same bytes, and the cache they leave is whole.
+TEST_F(CompileCacheTest, TwoPacksShareTheCacheAtOnce) {
+  const std::string clean = clean_bytes();
+  CommandResult runs[2];
+  std::thread other([&] {
+    runs[1] = run_command("cd '" + dir_.string() +
+                          "' && '" STATEPACK_EXE
+                          "' pack -i project.json -s early -s inc -o two.spk --vulkan --cache-dir cache");
+  });
+  runs[0] = run_command("cd '" + dir_.string() +
+                        "' && '" STATEPACK_EXE
+                        "' pack -i project.json -s early -s inc -o one.spk --vulkan --cache-dir cache");
+  other.join();
+  EXPECT_EQ(runs[0].exit_code, 0) << runs[0].output;
+  EXPECT_EQ(runs[1].exit_code, 0) << runs[1].output;
+  EXPECT_EQ(read_file(dir_ / "one.spk"), clean);
+  EXPECT_EQ(read_file(dir_ / "two.spk"), clean);
+  const CacheStats after = pack("after.spk");
+  EXPECT_EQ(after.hits, kEntries) << last_output_;
+  EXPECT_EQ(after.damaged, 0);
+  for (const auto& e : fs::recursive_directory_iterator(dir_ / "cache" / "v1"))
+    EXPECT_FALSE(e.path().filename().string().starts_with(".tmp-")) << e.path();
+}
+
+// The size bound trims the least recently used entries; `statepack cache prune` trims on demand; a
+// subdirectory replaced by a link is not written through.
+TEST_F(CompileCacheTest, TheCacheStaysWithinItsBound) {
+  const CacheStats small =
+      pack("small.spk", "--cache-max-size 256");  // 1 byte per subdirectory: nothing fits
+  EXPECT_EQ(small.written, kEntries);
+  EXPECT_EQ(small.removed, kEntries);
+  EXPECT_TRUE(entries().empty());
+  pack("full.spk");
+  ASSERT_EQ(entries().size(), size_t(kEntries));
+  CommandResult prune =
+      run_command("'" STATEPACK_EXE "' cache prune '" + (dir_ / "cache").string() + "' --max-size 0");
+  EXPECT_EQ(prune.exit_code, 0) << prune.output;
+  EXPECT_NE(prune.output.find(": 6 entries, "), std::string::npos) << prune.output;
+  EXPECT_NE(prune.output.find("-> 0 entries, 0 bytes"), std::string::npos) << prune.output;
+  EXPECT_TRUE(entries().empty());
+  CommandResult not_a_cache = run_command("'" STATEPACK_EXE "' cache prune '" + dir_.string() + "/inc'");
+  EXPECT_EQ(not_a_cache.exit_code, 2) << not_a_cache.output;
+  EXPECT_NE(not_a_cache.output.find("is not a statepack cache directory"), std::string::npos)
+      << not_a_cache.output;
+
+  // Every entry's subdirectory replaced by a link to a directory of its own: nothing is written there.
+  fs::remove_all(dir_ / "cache" / "v1");
+  fs::create_directories(dir_ / "cache" / "v1");
+  fs::create_directories(dir_ / "elsewhere");
+  for (int i = 0; i < 256; ++i) {
+    char name[3];
+    std::snprintf(name, sizeof name, "%02x", i);
+    fs::create_directory_symlink(dir_ / "elsewhere", dir_ / "cache" / "v1" / name);
+  }
+  CommandResult linked =
+      run_command("cd '" + dir_.string() +
+                  "' && '" STATEPACK_EXE
+                  "' pack -i project.json -s early -s inc -o linked.spk --vulkan --cache-dir cache");
+  EXPECT_EQ(linked.exit_code, 0) << linked.output;
+  EXPECT_NE(linked.output.find("statepack: warning: --cache-dir: "), std::string::npos) << linked.output;
+  EXPECT_TRUE(fs::is_empty(dir_ / "elsewhere"));
+  EXPECT_EQ(read_file(dir_ / "linked.spk"), clean_bytes());
+}
+
+}  // namespace
