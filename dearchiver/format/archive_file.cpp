@@ -6,11 +6,12 @@
 namespace statepack::format {
 
 Result<Contents> load_archive(std::span<const uint8_t> bytes, std::optional<uint32_t> required,
-                              const std::string& origin, uint32_t threads) {
+                              const std::string& origin, uint32_t threads,
+                              std::vector<spirv::Module>* walked) {
   auto decoded = decode(bytes);
   if (!decoded) return Error{decoded.error().code, origin + ": " + decoded.error().message};
   // What the SPIR-V declares must agree with the stored layouts before anything reaches Vulkan.
-  if (auto consistent = check_shader_interfaces(*decoded, threads); !consistent)
+  if (auto consistent = check_shader_interfaces(*decoded, threads, walked); !consistent)
     return Error{consistent.error().code, origin + ": " + consistent.error().message};
   if (required && decoded->content_version != *required)
     return Error{ErrorCode::content_version_mismatch, origin + ": content version " +
@@ -33,7 +34,7 @@ Result<LoadedArchive> load_archive_file(const std::filesystem::path& path, std::
   LoadedArchive loaded;
   loaded.owned = std::move(file->words);
   std::span<const uint8_t> bytes(reinterpret_cast<const uint8_t*>(loaded.owned.data()), file->size);
-  auto contents = load_archive(bytes, required, path.string());
+  auto contents = load_archive(bytes, required, path.string(), 1, &loaded.modules);
   if (!contents) return contents.error();
   loaded.contents = std::move(contents.value());
   return loaded;

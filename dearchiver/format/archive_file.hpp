@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "archive_format.hpp"
+#include "spirv_walk.hpp"
 
 namespace statepack::format {
 
@@ -19,14 +20,16 @@ namespace statepack::format {
 struct LoadedArchive {
   std::vector<uint32_t> owned;  // uint32_t storage keeps file bytes 4-byte aligned for SPIR-V
   Contents contents;
+  std::vector<spirv::Module> modules;  // each blob walked by the load's checks, kept for the runtime
 };
 
 // Decodes and checks caller-owned bytes (4-byte aligned; they must outlive the result's spans).
 // `origin` starts every error message (a file name, or "archive in memory"). `threads`: the SPIR-V is
 // walked on that many (0: every core); the runtime walks on the calling thread, the packer on its -t.
+// `walked`, when given, receives the walk of every blob (check_shader_interfaces).
 Result<Contents> load_archive(std::span<const uint8_t> bytes,
                               std::optional<uint32_t> required_content_version, const std::string& origin,
-                              uint32_t threads = 1);
+                              uint32_t threads = 1, std::vector<spirv::Module>* walked = nullptr);
 
 // The OpenGL block checked as load_archive checks the rest: its records (validate_gl), then against its
 // SPIR-V (check_gl_shader_interfaces). The Vulkan runtime leaves it out (it never reads that block, and

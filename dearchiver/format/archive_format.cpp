@@ -342,10 +342,13 @@ struct SizeCounter {
 };
 template <class T>
 uint32_t record_size() {
-  SizeCounter counter;
-  T record{};
-  visit(counter, record);
-  return counter.bytes;
+  static const uint32_t size = [] {  // fixed by the layout: counted once
+    SizeCounter counter;
+    T record{};
+    visit(counter, record);
+    return counter.bytes;
+  }();
+  return size;
 }
 
 // Every record section, in file order (the pools a list points into included).
@@ -875,14 +878,26 @@ uint64_t hash_bytes(std::span<const uint8_t> bytes) {
   return XXH3_64bits(bytes.data(), bytes.size());
 }
 
+// Records sorted by name: their order is sorted first, then each is moved once (a pipeline record is
+// large, and sorting the records themselves moved each one log n times).
+template <class Record>
+void sort_by_name(std::vector<Record>& records) {
+  std::vector<size_t> order(records.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::sort(order.begin(), order.end(),
+            [&](size_t a, size_t b) { return records[a].name < records[b].name; });
+  std::vector<Record> sorted;
+  sorted.reserve(records.size());
+  for (size_t i : order) sorted.push_back(std::move(records[i]));
+  records = std::move(sorted);
+}
+
 std::vector<uint8_t> encode(const Contents& input) {
   Contents c = input;  // the visitors take mutable references
-  std::sort(c.pipelines.begin(), c.pipelines.end(),
-            [](const Pipeline& a, const Pipeline& b) { return a.name < b.name; });
+  sort_by_name(c.pipelines);
   std::sort(c.standalone_shaders.begin(), c.standalone_shaders.end(),
             [&](uint32_t a, uint32_t b) { return c.shaders[a].name < c.shaders[b].name; });
-  std::sort(c.gl_pipelines.begin(), c.gl_pipelines.end(),
-            [](const GlPipeline& a, const GlPipeline& b) { return a.name < b.name; });
+  sort_by_name(c.gl_pipelines);
 
   // Top-level records first, in index order, so their indices are what other records refer to.
   Writer w;

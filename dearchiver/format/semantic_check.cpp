@@ -323,7 +323,8 @@ Result<void> check_gl_pipeline(const Contents& c, const GlPipeline& p,
 
 }  // namespace
 
-Result<void> check_shader_interfaces(const Contents& c, uint32_t threads) {
+Result<void> check_shader_interfaces(const Contents& c, uint32_t threads,
+                                     std::vector<spirv::Module>* walked) {
   // Each blob a shader uses, walked once (on `threads` threads: the walks are independent); an error is
   // reported at the first shader that uses the blob, whichever thread found it.
   std::vector<uint32_t> used;
@@ -346,9 +347,12 @@ Result<void> check_shader_interfaces(const Contents& c, uint32_t threads) {
       return corrupt(who + " has no " + spirv::stage_name(shader.stage) + " entry point named '" +
                      shader.entry_point + "' in its SPIR-V");
   }
-  InterfaceChecks checks(c, modules);
-  for (const Pipeline& p : c.pipelines)
-    if (auto ok = checks.check(p); !ok) return ok;
+  {
+    InterfaceChecks checks(c, modules);
+    for (const Pipeline& p : c.pipelines)
+      if (auto ok = checks.check(p); !ok) return ok;
+  }
+  if (walked) *walked = std::move(modules);
   return {};
 }
 

@@ -27,9 +27,9 @@ Result<Archive> Archive::from_file(const std::filesystem::path& path, std::optio
 
 Result<Archive> Archive::from_memory(std::span<const uint8_t> bytes, std::optional<uint32_t> required) {
   return api_guard("Archive::from_memory", [&]() -> Result<Archive> {
-    auto contents = format::load_archive(bytes, required, "archive in memory");
-    if (!contents) return contents.error();
     auto state = std::make_unique<State>();
+    auto contents = format::load_archive(bytes, required, "archive in memory", 1, &state->loaded.modules);
+    if (!contents) return contents.error();
     state->loaded.contents = std::move(contents.value());
     return Archive(std::move(state));
   });
@@ -56,6 +56,10 @@ std::vector<ObjectInfo> Archive::objects() const {
 }
 
 namespace detail {
+const spirv::Module* ArchiveAccess::walked(const Archive& archive, uint32_t blob) {
+  const auto& modules = archive.state_->loaded.modules;
+  return blob < modules.size() ? &modules[blob] : nullptr;
+}
 const format::Contents& ArchiveAccess::contents(const Archive& archive) {
   return archive.state_->loaded.contents;
 }

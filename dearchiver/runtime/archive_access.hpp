@@ -3,6 +3,7 @@
 #pragma once
 
 #include "format/archive_format.hpp"
+#include "format/spirv_walk.hpp"
 #include "statepack/dearchiver.hpp"
 
 namespace statepack::detail {
@@ -10,6 +11,8 @@ namespace statepack::detail {
 // Exported although internal: statepack_gl, a library of its own, reads an Archive's tables through it.
 struct STATEPACK_API ArchiveAccess {
   static const format::Contents& contents(const Archive& archive);
+  // A blob as the load's checks walked it (every blob a shader uses); null beyond the blobs.
+  static const spirv::Module* walked(const Archive& archive, uint32_t blob);
 };
 
 }  // namespace statepack::detail

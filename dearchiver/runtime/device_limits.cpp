@@ -436,20 +436,23 @@ Result<void> check_pipeline_layout(const format::Contents& c, const format::Pipe
                       l.maxBoundDescriptorSets);
   DescriptorTotals layout_totals;
   std::array<DescriptorTotals, 6> stage_totals;
+  uint32_t stages_used = 0;
   for (uint32_t index : p.set_layouts) {
     if (index == format::kNone) continue;
     for (const auto& b : c.set_layouts[index].bindings) {
       layout_totals.add(b.descriptor_type, b.count);
+      stages_used |= b.stage_flags;
       for (uint32_t stage = 0; stage < stage_totals.size(); ++stage)
         if (b.stage_flags & (1u << stage)) stage_totals[stage].add(b.descriptor_type, b.count);
     }
   }
   if (auto ok = check_layout_totals(layout_totals, l, who); !ok) return ok;
-  for (uint32_t stage = 0; stage < stage_totals.size(); ++stage)
-    if (auto ok = check_stage_totals(stage_totals[stage], l,
-                                     who + " (" + spirv::stage_name(1u << stage) + " stage)");
-        !ok)
-      return ok;
+  for (uint32_t stage = 0; stage < stage_totals.size(); ++stage)  // (the message only for a stage in use)
+    if (stages_used & (1u << stage))
+      if (auto ok = check_stage_totals(stage_totals[stage], l,
+                                       who + " (" + spirv::stage_name(1u << stage) + " stage)");
+          !ok)
+        return ok;
   if (p.push_constant_size > l.maxPushConstantsSize)
     return over_limit(who, "the push constant size", p.push_constant_size, "maxPushConstantsSize",
                       l.maxPushConstantsSize);

@@ -207,10 +207,7 @@ Result<VkPipelineLayout> ObjectCache::pipeline_layout(const std::vector<VkDescri
 }
 
 const spirv::Module* ObjectCache::walked(size_t archive, uint32_t blob) {
-  auto [it, inserted] = walked_modules_.try_emplace(Key{archive, blob});
-  if (inserted)
-    if (auto module = spirv::walk(contents(archive).spirv[blob])) it->second = std::move(module.value());
-  return it->second ? &*it->second : nullptr;
+  return ArchiveAccess::walked(archives_[archive], blob);  // walked once, by the load's checks
 }
 
 }  // namespace statepack::detail

@@ -44,7 +44,7 @@ class ObjectCache {
 
   // The sampler object set_layout created for a binding's immutable sampler, or null.
   VkSampler immutable_sampler_of(size_t archive, const format::Binding& binding) const;
-  // A blob's declarations, walked once (the walk succeeded at load; nullptr if it somehow does not).
+  // A blob's declarations, as the archive's load walked them (every blob a shader uses).
   const spirv::Module* walked(size_t archive, uint32_t blob);
 
  private:
@@ -63,8 +63,7 @@ class ObjectCache {
   std::map<Key, VkRenderPass> render_passes_;
   VkDescriptorSetLayout empty_set_layout_ = VK_NULL_HANDLE;
   std::map<std::tuple<std::vector<VkDescriptorSetLayout>, uint32_t, uint32_t>, VkPipelineLayout>
-      pipeline_layouts_;                                        // (set layouts, push size, push stages)
-  std::map<Key, std::optional<spirv::Module>> walked_modules_;  // (archive, blob)
+      pipeline_layouts_;  // (set layouts, push size, push stages)
 };
 
 }  // namespace statepack::detail

@@ -162,9 +162,11 @@ std::vector<StructureProblem> check_json_structure(std::string_view t) {
 // at most one block's scan however long its line is (minified JSON is one line).
 size_t JsonPositions::code_points_before(size_t offset) const {
   const size_t block = offset / kBlockSize;
-  size_t count = code_points_before_block_[block];
-  for (size_t i = block * kBlockSize; i < offset; ++i)
-    count += (static_cast<unsigned char>(text_[i]) & 0xC0) != 0x80;
+  size_t from = block * kBlockSize, count = code_points_before_block_[block];
+  // Positions are mostly asked for in text order: go on from the last one when it is closer.
+  if (cursor_offset_ <= offset && cursor_offset_ > from) from = cursor_offset_, count = cursor_count_;
+  for (size_t i = from; i < offset; ++i) count += (static_cast<unsigned char>(text_[i]) & 0xC0) != 0x80;
+  if (offset > cursor_offset_) cursor_offset_ = offset, cursor_count_ = count;  // (a line start goes back)
   return count;
 }
 
@@ -181,7 +183,14 @@ TextPosition JsonPositions::position_at(size_t offset) const {
   }
   offset = std::min(offset, text_.size());
   auto it = std::upper_bound(line_starts_.begin(), line_starts_.end(), offset) - 1;
-  const size_t column = code_points_before(offset) - code_points_before(*it) + 1;
+  // A short line is scanned from its start (the usual case: a few dozen bytes); a long one (minified
+  // JSON) through the block counts, so either way a position costs at most one block's scan.
+  size_t column = 1;
+  if (offset - *it <= kBlockSize) {
+    for (size_t i = *it; i < offset; ++i) column += (static_cast<unsigned char>(text_[i]) & 0xC0) != 0x80;
+  } else {
+    column = code_points_before(offset) - code_points_before(*it) + 1;
+  }
   return {int(it - line_starts_.begin()) + 1, int(std::min<size_t>(column, INT32_MAX))};
 }
 

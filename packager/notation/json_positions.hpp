@@ -54,6 +54,7 @@ class JsonPositions {
   std::string_view text_;
   mutable std::vector<size_t> line_starts_;                  // built on first use
   mutable std::vector<size_t> code_points_before_block_;     // per kBlockSize bytes, built with line_starts_
+  mutable size_t cursor_offset_ = 0, cursor_count_ = 0;      // the last code_points_before
   mutable std::unordered_map<std::string, size_t> offsets_;  // pointer -> offset, resolved before
   mutable std::unordered_map<std::string, std::pair<size_t, size_t>> array_cursor_;  // index, offset
 };

@@ -217,7 +217,13 @@ std::optional<ShaderDesc> read_shader(ReadContext& ctx, const Json& j, const std
   }
   if (source) shader.source = *source;
   if (file_path && !ctx.defaults_mode) {
-    shader.file = resolve_file(*file_path, ctx.base_dir, ctx.options.shader_dirs, ctx.options.memory_files);
+    auto found = ctx.resolved_files.find(*file_path);
+    if (found == ctx.resolved_files.end())
+      found = ctx.resolved_files
+                  .emplace(*file_path, resolve_file(*file_path, ctx.base_dir, ctx.options.shader_dirs,
+                                                    ctx.options.memory_files))
+                  .first;
+    shader.file = found->second;
     if (shader.file.empty())
       json.error(pointer + "/FilePath", "shader file '" + *file_path + "' not found next to " + json.file() +
                                             " or in any shader directory (-s)");

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <filesystem>
+#include <map>
 #include <optional>
 
 #include "json_reader.hpp"
@@ -16,6 +17,9 @@ struct ReadContext {
   std::filesystem::path base_dir;  // the notation file's directory
   const NotationOptions& options;
   bool defaults_mode = false;
+  // FilePath values already found from this file: thousands of pipelines naming one shader file look
+  // it up once, not once each.
+  std::map<std::string, std::filesystem::path, std::less<>> resolved_files;
 };
 
 // `slot_stage`: the stage a pipeline slot requires (0 for the Shaders section).

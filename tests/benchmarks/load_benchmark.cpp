@@ -2,16 +2,19 @@
 //   (b) the driver's own limit: the same pipelines created with bare Vulkan calls from SPIR-V already
 //       in memory (layouts and states known, nothing parsed or checked), and
 //   (a) compiling the same GLSL/HLSL at run time with glslang, then creating the pipelines as in (b).
-// Prints a Markdown table of median milliseconds. Run through tests/benchmarks/load_benchmark.sh.
+// Prints a Markdown table: minima, medians and the spread of the per-run overhead. Run through
+// tests/benchmarks/load_benchmark.sh.
 // Usage: load_benchmark <archive.spk> <notation.json> <shader dir> [repeats]
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <functional>
 #include <iostream>
 #include <map>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -52,7 +55,11 @@ class BareCreator {
   }
 
   // `spirv` per blob index: the archive's own, or freshly compiled ones for (a).
+  // Milliseconds of the last create_all spent before its first pipeline: modules and layouts.
+  double objects_ms = 0;
   void create_all(const std::vector<std::vector<uint32_t>>& spirv) {
+    const auto start = Clock::now();
+    bool first_pipeline = true;
     for (const auto& words : spirv) {
       VkShaderModuleCreateInfo info{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
       info.codeSize = words.size() * 4;
@@ -91,6 +98,9 @@ class BareCreator {
         pipeline_layouts_.push_back(layout);
         it = layouts.emplace(key, layout).first;
       }
+      if (first_pipeline)
+        objects_ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+      first_pipeline = false;
       create_pipeline(p, it->second);
     }
   }
@@ -214,34 +224,95 @@ int main(int argc, char** argv) {
   compile_options.include_dirs.emplace_back(argv[3]);
 
   const uint32_t cores = std::max(1u, std::thread::hardware_concurrency());
-  std::vector<double> bare, ours_one, ours_all, glslang_compile;
+  std::vector<double> bare_objects;  // bare: modules, set layouts and the first pipeline layout
+  auto bare_run = [&] {
+    return time_ms([&] {
+      BareCreator creator(device, contents);
+      creator.create_all(archived_spirv);
+      bare_objects.push_back(creator.objects_ms);
+    });
+  };
+  // Where statepack's time goes, per single-thread run: loading (decode, checksums, the SPIR-V walks and
+  // checks), Dearchiver::create, unpack_all beside the driver's own pipeline creation (planning, state
+  // checks, shader modules and layouts), and destruction.
+  std::vector<double> t_load, t_create, t_unpack, t_driver, t_destroy;
+  auto since = [](Clock::time_point from) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - from).count();
+  };
+  auto ours_run = [&](uint32_t threads) {
+    return time_ms([&] {
+      auto start = Clock::now();
+      auto archive = Archive::from_memory(bytes);
+      const double load = since(start);
+      start = Clock::now();
+      std::optional<Dearchiver> dearchiver = Dearchiver::create((*vk)->device_context()).value();
+      (void)dearchiver->add_archive(std::move(*archive));
+      const double create = since(start);
+      start = Clock::now();
+      UnpackAllOptions unpack_options;
+      unpack_options.threads = threads;
+      auto all = dearchiver->unpack_all(unpack_options);
+      if (!all || !all->ok()) std::fprintf(stderr, "unpack_all failed\n"), std::exit(1);
+      const double unpack = since(start);
+      start = Clock::now();
+      dearchiver.reset();
+      if (threads != 1) return;
+      t_load.push_back(load);
+      t_create.push_back(create);
+      t_unpack.push_back(unpack);
+      t_driver.push_back(std::chrono::duration<double, std::milli>(all->creation_time).count());
+      t_destroy.push_back(since(start));
+    });
+  };
+  // The compared paths alternate run by run, and which goes first alternates too, so that a machine
+  // whose load drifts (another process, a CPU's clock) weighs on both alike; each run's overhead is
+  // taken against the bare run beside it.
+  std::vector<double> bare, ours_one, ours_all, glslang_compile, paired;
   for (int r = 0; r < repeats; ++r) {
-    bare.push_back(time_ms([&] { BareCreator(device, contents).create_all(archived_spirv); }));
-    for (auto [threads, out] : {std::pair{1u, &ours_one}, std::pair{cores, &ours_all}}) {
-      out->push_back(time_ms([&] {
-        auto archive = Archive::from_memory(bytes);
-        auto dearchiver = Dearchiver::create({(*vk)->physical_device, device});
-        (void)dearchiver->add_archive(std::move(*archive));
-        auto all = dearchiver->unpack_all(threads);
-        if (!all) std::fprintf(stderr, "%s\n", all.error().message.c_str()), std::exit(1);
-      }));
+    double b = 0, one = 0;
+    if (r % 2 == 0) {
+      b = bare_run();
+      one = ours_run(1);
+    } else {
+      one = ours_run(1);
+      b = bare_run();
     }
-    glslang_compile.push_back(time_ms([&] {
-      for (const auto* s : sources) {
-        auto compiled = packager::compile_shader(*s, compile_options, diag);
-        if (!compiled.ok) diag.print(std::cerr), std::exit(1);
-      }
-    }));
+    bare.push_back(b);
+    ours_one.push_back(one);
+    paired.push_back(100.0 * (one - b) / b);
+    ours_all.push_back(ours_run(cores));
+    if (r < 5)  // glslang is far slower; five runs say enough
+      glslang_compile.push_back(time_ms([&] {
+        for (const auto* s : sources) {
+          auto compiled = packager::compile_shader(*s, compile_options, diag);
+          if (!compiled.ok) diag.print(std::cerr), std::exit(1);
+        }
+      }));
   }
-  const double b = median(bare), one = median(ours_one), all = median(ours_all),
-               compile = median(glslang_compile);
+  auto percentile = [](std::vector<double> v, double q) {
+    std::sort(v.begin(), v.end());
+    return v[std::min(v.size() - 1, size_t(q * double(v.size() - 1) + 0.5))];
+  };
+  const double b_min = percentile(bare, 0), b_med = median(bare), one_min = percentile(ours_one, 0),
+               one_med = median(ours_one), all = median(ours_all), compile = median(glslang_compile);
   std::printf(
-      "| archive | pipelines | (b) bare Vulkan (ms) | statepack, 1 thread (ms) | overhead over (b) | "
+      "| archive | pipelines | (b) bare Vulkan min / median (ms) | statepack, 1 thread min / median (ms) | "
+      "overhead: of the minima, of the medians | per run: median [10th, 90th percentile] | "
       "statepack, %u threads (ms) | (a) glslang compile + create (ms) |\n",
       cores);
-  std::printf("|---|---|---|---|---|---|---|\n");
-  std::printf("| %s | %zu | %.1f | %.1f | %+.1f %% | %.1f | %.1f (compile %.1f) |\n",
-              std::filesystem::path(archive_path).filename().c_str(), contents.pipelines.size(), b, one,
-              100.0 * (one - b) / b, all, compile + b, compile);
+  std::printf("|---|---|---|---|---|---|---|---|\n");
+  std::printf(
+      "| %s | %zu | %.2f / %.2f | %.2f / %.2f | %+.1f %%, %+.1f %% | %+.1f %% [%+.1f, %+.1f] | %.1f | %.1f "
+      "(compile %.1f) |\n",
+      std::filesystem::path(archive_path).filename().c_str(), contents.pipelines.size(), b_min, b_med,
+      one_min, one_med, 100.0 * (one_min - b_min) / b_min, 100.0 * (one_med - b_med) / b_med, median(paired),
+      percentile(paired, 0.1), percentile(paired, 0.9), all, compile + b_med, compile);
+  if (std::getenv("STATEPACK_BENCH_BREAKDOWN"))
+    std::printf(
+        "\n| medians (ms) | Archive::from_memory | Dearchiver::create | unpack_all | of it, "
+        "vkCreate*Pipelines | destruction | (b): modules and layouts before its first pipeline |\n"
+        "|---|---|---|---|---|---|---|\n| %s, 1 thread | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f |\n",
+        std::filesystem::path(archive_path).filename().c_str(), median(t_load), median(t_create),
+        median(t_unpack), median(t_driver), median(t_destroy), median(bare_objects));
   return 0;
 }

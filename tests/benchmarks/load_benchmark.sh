@@ -2,10 +2,10 @@
 # Load benchmark and binary sizes. Packs the sample's states/ and 100 generated pipelines, times
 # archive bytes -> pipelines against bare Vulkan and against run-time glslang, then compares the
 # stripped sizes of two minimal programs: one with the dearchiver, one with glslang.
-# Usage: load_benchmark.sh <bin dir> <repository root> [repeats=5]
+# Usage: load_benchmark.sh <bin dir> <repository root> [repeats=31]
 # Run it through CMake: cmake --build build --target bench_load
 set -euo pipefail
-bin=$1 root=$2 repeats=${3:-5}
+bin=$1 root=$2 repeats=${3:-31}
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 here=$(cd "$(dirname "$0")" && pwd)
@@ -13,10 +13,10 @@ bash "$here/generate_pipelines.sh" "$root" "$work/gen" 100
 "$bin/statepack" pack -i "$root/states/slice.json" -s "$root/shaders" -o "$work/states.spk" --vulkan
 "$bin/statepack" pack -i "$work/gen/generated.json" -o "$work/generated.spk" --vulkan
 device=$(vulkaninfo --summary 2>/dev/null | grep -m1 deviceName | cut -d= -f2 | sed 's/^ *//')
-echo "Load time, median of $repeats runs, on ${device:-the first Vulkan device} ($(nproc) cores)"
+echo "Load time, $repeats runs alternating with bare Vulkan, on ${device:-the first Vulkan device} ($(nproc) cores)"
 echo
 "$bin/load_benchmark" "$work/states.spk" "$root/states/slice.json" "$root/shaders" "$repeats"
-"$bin/load_benchmark" "$work/generated.spk" "$work/gen/generated.json" "$work/gen" "$repeats" | tail -1
+STATEPACK_BENCH_BREAKDOWN=1 "$bin/load_benchmark" "$work/generated.spk" "$work/gen/generated.json" "$work/gen" "$repeats" | tail -5
 echo
 strip -o "$work/min_dearchiver" "$bin/min_dearchiver"
 strip -o "$work/min_glslang" "$bin/min_glslang"

@@ -1,45 +1,97 @@
 #!/usr/bin/env bash
-# Pack-time benchmark: the sample's states/ and a generated set of N pipelines (each with its own
-# shaders, so every one is compiled), with 1 thread and with every core. Prints a Markdown table.
-# Usage: pack_benchmark.sh <statepack> <repository root> [N=300] [repeats=3]
+# Pack-time benchmark, printed as Markdown tables:
+# 1. one thread against every core, on the sample's states/, 300 generated pipelines with tiny shaders
+#    (generate_pipelines.sh) and 300 real-sized shaders (generate_shader_project.sh: the path tracer's
+#    compute shader, each copy its own module). The runs of -t 1 and -t <cores> alternate, `repeats`
+#    times, so a machine whose load changes from minute to minute slows both alike; each column gives
+#    the minimum and the median. A pack of one trivial shader is timed the same way: process start and
+#    glslang's one-time initialisation of its built-in symbol tables (a global lock in glslang, serial
+#    by nature), the fixed cost no thread count changes; the last column is the speed-up of the rest.
+# 2. scaling: 10,000 and 100,000 compute pipelines sharing one shader, wall time and peak RSS.
+# Usage: pack_benchmark.sh <statepack> <repository root> [N=300] [repeats=5]
 # Run it through CMake: cmake --build build --target bench_pack
 set -euo pipefail
-statepack=$1 root=$2 count=${3:-300} repeats=${4:-3}
+statepack=$1 root=$2 count=${3:-300} repeats=${4:-5}
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 cores=$(nproc)
+here=$(dirname "$0")
 
-bash "$(dirname "$0")/generate_pipelines.sh" "$root" "$work/gen" "$count"
+bash "$here/generate_pipelines.sh" "$root" "$work/gen" "$count"
+bash "$here/generate_shader_project.sh" "$root" "$work/real" "$count"
+mkdir -p "$work/one"
+cp "$root/shaders/fill_buffer.comp" "$work/one/"
+echo '{"Pipelines": [{"PSODesc": {"Name": "One"}, "pCS": {"Desc": {"Name": "One CS"}, "FilePath": "fill_buffer.comp"}}]}' \
+  > "$work/one/one.json"
 
-# Median wall time in milliseconds of `repeats` runs of a pack.
-median_ms() {
-  local times=()
+# Wall milliseconds of one pack; sets $ms (and $kib, the peak RSS).
+pack_ms() {
+  local start end
+  start=$(date +%s%N)
+  /usr/bin/time -f '%M' -o "$work/rss" "$statepack" pack "$@" -o "$work/out.spk" --vulkan > /dev/null
+  end=$(date +%s%N)
+  ms=$(((end - start) / 1000000))
+  kib=$(cat "$work/rss")
+}
+min() { printf '%s\n' "$@" | sort -n | head -1; }
+median() { printf '%s\n' "$@" | sort -n | sed -n "$((($# + 1) / 2))p"; }
+
+# Alternating -t 1 / -t <cores> runs; sets one_min one_med all_min all_med.
+measure() {
+  local one=() all=()
   for ((r = 0; r < repeats; r++)); do
-    local start end
-    start=$(date +%s%N)
-    "$statepack" pack "$@" -o "$work/out.spk" --vulkan > /dev/null
-    end=$(date +%s%N)
-    times+=($(((end - start) / 1000000)))
+    pack_ms -t 1 "$@"
+    one+=("$ms")
+    pack_ms -t "$cores" "$@"
+    all+=("$ms")
   done
-  printf '%s\n' "${times[@]}" | sort -n | sed -n "$(((repeats + 1) / 2))p"
+  one_min=$(min "${one[@]}") one_med=$(median "${one[@]}")
+  all_min=$(min "${all[@]}") all_med=$(median "${all[@]}")
 }
 
-sample_inputs=()
-for f in "$root"/states/*.json; do sample_inputs+=(-i "$f"); done
-echo "statepack pack time, median of $repeats runs, $(nproc) cores ($(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ *//'))"
+measure -i "$work/one/one.json"
+fixed=$one_med
+echo "statepack pack, $cores cores ($(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ *//')), -t 1 and -t $cores"
+echo "alternating, $repeats runs each; fixed cost (one trivial shader, -t 1 median): $fixed ms"
 echo
-echo "| input | pipelines | distinct shaders | -t 1 (ms) | -t $cores (ms) | speed-up |"
-echo "|---|---|---|---|---|---|"
+echo "| input | pipelines | distinct shaders | -t 1 min / median (ms) | -t $cores min / median (ms) | speed-up (medians) | speed-up beyond the fixed cost |"
+echo "|---|---|---|---|---|---|---|"
 row() {
   local name=$1 pipelines=$2 shaders=$3
   shift 3
-  local one all
-  one=$(median_ms -t 1 "$@")
-  all=$(median_ms -t "$cores" "$@")
-  echo "| $name | $pipelines | $shaders | $one | $all | $(awk -v a="$one" -v b="$all" 'BEGIN { printf "%.2fx", a / b }') |"
+  measure "$@"
+  echo "| $name | $pipelines | $shaders | $one_min / $one_med | $all_min / $all_med |" \
+       "$(awk -v a="$one_med" -v b="$all_med" 'BEGIN { printf "%.2fx", a / b }') |" \
+       "$(awk -v a="$one_med" -v b="$all_med" -v f="$fixed" 'BEGIN { printf "%.2fx", (a - f) / (b - f) }') |"
 }
+sample_inputs=()
+for f in "$root"/states/*.json; do sample_inputs+=(-i "$f"); done
 contents=$("$statepack" pack "${sample_inputs[@]}" -s "$root/shaders" -o "$work/s.spk" --vulkan --print_contents)
 sample_pipelines=$(echo "$contents" | grep -c "^pipeline '")
 sample_shaders=$(echo "$contents" | sed -n "s/^\([0-9]*\) SPIR-V blob.*/\1/p")
 row "states/ (sample)" "$sample_pipelines" "$sample_shaders" "${sample_inputs[@]}" -s "$root/shaders"
-row "generated" "$count" "$((count + 1))" -i "$work/gen/generated.json"
+row "generated, tiny shaders" "$count" "$((count + 1))" -i "$work/gen/generated.json"
+row "generated, real-sized shaders" "$count" "$count" -i "$work/real/project.json"
+
+# Scaling: many pipelines over one shader (the notation, layout, archive and load-back stages).
+echo
+echo "| compute pipelines sharing one shader | -t $cores wall (ms) | peak RSS (MiB) |"
+echo "|---|---|---|"
+for n in 10000 100000; do
+  python3 - "$n" "$work/scale_$n.json" << 'EOF'
+import sys
+n, path = int(sys.argv[1]), sys.argv[2]
+with open(path, "w") as f:
+    f.write('{"Pipelines": [\n')
+    f.write(",\n".join('{"PSODesc": {"Name": "Compute %d"}, "pCS": {"Desc": {"Name": "CS"}, "FilePath": "fill_buffer.comp"}}' % i
+                       for i in range(n)))
+    f.write("\n]}\n")
+EOF
+  cp "$root/shaders/fill_buffer.comp" "$work/"
+  times=()
+  for ((r = 0; r < 3; r++)); do
+    pack_ms -i "$work/scale_$n.json"
+    times+=("$ms")
+  done
+  echo "| $n | $(median "${times[@]}") (runs: ${times[*]}) | $((kib / 1024)) |"
+done
