@@ -18,6 +18,7 @@ struct Options {
   std::string archive = STATEPACK_PATH_TRACER_ARCHIVE;
   std::string scene = STATEPACK_DEFAULT_SCENE;
   uint32_t width = 640, height = 480, spp = 256, frames = 0;
+  uint32_t move_frames = 0;  // windowed: the camera turns by itself for these first frames (a moving view)
   RenderSettings settings;
   std::string out = "path_tracer.png";
   std::string screenshot;

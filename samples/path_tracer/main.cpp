@@ -104,6 +104,9 @@ int main(int argc, char** argv) {
   app.add_option("--out", o.out, "Output image: .png (tone-mapped sRGB), .exr or .pfm (linear radiance)")
       ->capture_default_str();
   app.add_option("--frames", o.frames, "Windowed: close after this many frames (0: run until closed)");
+  app.add_option("--move-frames", o.move_frames,
+                 "Windowed: the camera turns by itself for this many first frames, as a moving view (with "
+                 "--frames, the report gives the moving and the still frames apart)");
   app.add_option("--screenshot", o.screenshot,
                  "Windowed: save the last frame's accumulated image here on exit");
   app.add_flag(

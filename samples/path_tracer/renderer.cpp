@@ -206,6 +206,13 @@ void Renderer::upload_scene() {
   std::memcpy(boxes_->mapped, boxes.data(), size);
 }
 
+void Renderer::set_render_divisor(uint32_t divisor) {
+  divisor = std::clamp(divisor, 1u, 8u);
+  if (divisor == divisor_) return;
+  divisor_ = divisor;
+  restart();
+}
+
 void Renderer::set_camera(const Camera& camera) {
   scene_.camera = camera;
   restart();
@@ -226,6 +233,7 @@ void Renderer::record(VkCommandBuffer cmd, VkImage target, VkImageView target_vi
                       VkImageLayout final_layout) {
   // Per-frame constants (one frame in flight: the previous frame has finished reading them).
   const Camera& cam = scene_.camera;
+  const uint32_t render_w = render_width(), render_h = render_height();  // traced: 1/divisor_ of the size
   const CameraBasis basis = camera_basis(cam, width_, height_);
   Constants c{};
   for (int i = 0; i < 3; ++i) {
@@ -241,13 +249,15 @@ void Renderer::record(VkCommandBuffer cmd, VkImage target, VkImageView target_vi
   c.frame[3] = (s.next_event_estimation ? 1u : 0u) | (s.last_bounce_only ? 2u : 0u) |
                (other_emitters_ ? 4u : 0u) | (s.sampler == Sampler::sobol ? 8u : 0u) |
                (s.light_sampling == LightSampling::solid_angle ? 16u : 0u);
-  c.image[0] = width_, c.image[1] = height_, c.image[2] = s.seed, c.image[3] = box_count_;
+  c.image[0] = render_w, c.image[1] = render_h, c.image[2] = s.seed, c.image[3] = box_count_;
   c.light[0] = light_index_;
   c.light[1] = s.roulette_start;
   std::memcpy(constants_->mapped, &c, sizeof c);
 
   const VkViewport viewport{0, 0, float(width_), float(height_), 0, 1};
   const VkRect2D area{{0, 0}, {width_, height_}};
+  const VkViewport traced_viewport{0, 0, float(render_w), float(render_h), 0, 1};
+  const VkRect2D traced_area{{0, 0}, {render_w, render_h}};
   if (gbuffer_dirty_) {
     VkRenderingAttachmentInfo attachments[4];
     Image* targets[] = {&albedo_, &normal_, &emittance_, &depth_};
@@ -263,13 +273,13 @@ void Renderer::record(VkCommandBuffer cmd, VkImage target, VkImageView target_vi
       attachments[i].storeOp = VK_ATTACHMENT_STORE_OP_STORE;
     }
     VkRenderingInfo rendering{VK_STRUCTURE_TYPE_RENDERING_INFO};
-    rendering.renderArea = area;
+    rendering.renderArea = traced_area;  // the top left corner of the targets when traced smaller
     rendering.layerCount = 1;
     rendering.colorAttachmentCount = 4;
     rendering.pColorAttachments = attachments;
     vkCmdBeginRendering(cmd, &rendering);
-    vkCmdSetViewport(cmd, 0, 1, &viewport);
-    vkCmdSetScissor(cmd, 0, 1, &area);
+    vkCmdSetViewport(cmd, 0, 1, &traced_viewport);
+    vkCmdSetScissor(cmd, 0, 1, &traced_area);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, gbuffer_->pipeline);
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, gbuffer_->layout, 0, 1, &gbuffer_set_, 0,
                             nullptr);
@@ -296,7 +306,7 @@ void Renderer::record(VkCommandBuffer cmd, VkImage target, VkImageView target_vi
   vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, timestamps_, 0);
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, trace->pipeline);
   vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, trace_->layout, 0, 1, &trace_set_, 0, nullptr);
-  vkCmdDispatch(cmd, (width_ + 7) / 8, (height_ + 7) / 8, 1);
+  vkCmdDispatch(cmd, (render_w + 7) / 8, (render_h + 7) / 8, 1);
   vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, timestamps_, 1);
   samples_done_ += s.samples_per_frame;
   image_barrier(cmd, accumulation_->image, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_GENERAL,
@@ -323,7 +333,11 @@ void Renderer::record(VkCommandBuffer cmd, VkImage target, VkImageView target_vi
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, resolve_->pipeline);
   vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, resolve_->layout, 0, 1, &resolve_set_, 0,
                           nullptr);
-  vkCmdPushConstants(cmd, resolve_->layout, resolve_->push_constant_stages, 0, sizeof(float), &s.exposure);
+  struct {
+    float exposure;
+    uint32_t divisor;
+  } params{s.exposure, divisor_};  // resolve.frag's Params
+  vkCmdPushConstants(cmd, resolve_->layout, resolve_->push_constant_stages, 0, sizeof params, &params);
   vkCmdDraw(cmd, 3, 1, 0, 0);
   vkCmdEndRendering(cmd);
   const bool to_transfer = final_layout == VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;

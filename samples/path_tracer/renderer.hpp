@@ -65,6 +65,13 @@ class Renderer {
   void set_camera(const Camera& camera);
   void set_settings(const RenderSettings& settings);
   Result<void> resize(uint32_t width, uint32_t height);
+  // Traces at 1/divisor of the width and height (1: full size; at most 8), each traced pixel shown as a
+  // divisor x divisor block: the window does this while the view moves, where a frame's cost matters more
+  // than its detail. A change restarts the accumulation.
+  void set_render_divisor(uint32_t divisor);
+  uint32_t render_divisor() const { return divisor_; }
+  uint32_t render_width() const { return (width_ + divisor_ - 1) / divisor_; }
+  uint32_t render_height() const { return (height_ + divisor_ - 1) / divisor_; }
 
   // Records one frame: the G-buffer when the view changed, one batch of samples, and the resolve into
   // `target` (a color-attachment image of the target format), left in `final_layout`.
@@ -99,6 +106,7 @@ class Renderer {
   const UnpackedPipeline* resolve_ = nullptr;
   VkFormat target_format_ = VK_FORMAT_UNDEFINED;
   uint32_t width_ = 0, height_ = 0;
+  uint32_t divisor_ = 1;
   Scene scene_;
   uint32_t light_index_ = 0, box_count_ = 0;
   bool other_emitters_ = false;

@@ -67,32 +67,28 @@ class Window {
     if (!create_sync() || !init_imgui()) return 1;
 
     uint32_t frames = 0;
-    std::vector<float> frame_ms;  // time between frames, for the report that --frames prints
+    // Time between frames, for the report that --frames prints: of frames that moved, and of still ones.
+    std::vector<float> moving_ms, still_ms;
+    uint32_t moving_divisor = 1;  // the divisor moving frames were last traced at
+    bool last_moved = false;
     auto last = std::chrono::steady_clock::now();
     while (!glfwWindowShouldClose(window_) && (o.frames == 0 || frames < o.frames)) {
       glfwPollEvents();
       auto now = std::chrono::steady_clock::now();
       const float dt = std::chrono::duration<float>(now - last).count();
       last = now;
-      if (frames > 0) frame_ms.push_back(dt * 1000.0f);
+      if (frames > 0) (last_moved ? moving_ms : still_ms).push_back(dt * 1000.0f);
       moving_ = handle_input(dt);
+      if (frames < o.move_frames) moving_ = turn_camera();  // --move-frames: a moving view, scripted
+      last_moved = moving_;
       // With --frames and --screenshot, the last frame is also copied out of the swapchain.
       const bool capture = !o.screenshot.empty() && o.frames != 0 && frames + 1 == o.frames;
       if (!draw_frame(dt, capture)) return 1;
+      if (moving_) moving_divisor = renderer_->render_divisor();
       ++frames;
     }
     vkDeviceWaitIdle(vk_->device);
-    if (o.frames != 0 && !frame_ms.empty()) {
-      // How responsive the window was: the frame-time target is what the pacer aims at.
-      std::vector<float> sorted = frame_ms;
-      std::sort(sorted.begin(), sorted.end());
-      std::printf(
-          "path_tracer: %u frames at %ux%u: frame time median %.0f ms, 90th percentile %.0f ms, max %.0f ms "
-          "(target %.0f ms); %.2f samples per pixel per frame\n",
-          frames, swapchain_.extent.width, swapchain_.extent.height, sorted[sorted.size() / 2],
-          sorted[sorted.size() * 9 / 10], sorted.back(), adaptive_ ? target_ms_ : 0.0f,
-          double(renderer_->samples_done()) / frames);
-    }
+    if (o.frames != 0) report_frames(frames, moving_ms, still_ms, moving_divisor);
     if (!o.screenshot.empty()) {
       if (screenshot_.empty())
         return fail("no screenshot taken (use --frames N, and a swapchain that allows copies)");
@@ -295,6 +291,37 @@ class Window {
 
   // Left button: look around; WASD/QE: move (shift: faster); right button: move the light. Returns
   // whether the camera or the light moved.
+  // How responsive the window was, moving and still apart: the targets are what the pacer aims at.
+  void report_frames(uint32_t frames, std::vector<float> moving_ms, std::vector<float> still_ms,
+                     uint32_t moving_divisor) const {
+    auto times = [](std::vector<float>& ms) {
+      std::sort(ms.begin(), ms.end());
+      char text[128];
+      std::snprintf(text, sizeof text, "frame time median %.0f ms, 90th percentile %.0f ms, max %.0f ms",
+                    double(ms[ms.size() / 2]), double(ms[ms.size() * 9 / 10]), double(ms.back()));
+      return std::string(text);
+    };
+    const uint32_t w = swapchain_.extent.width, h = swapchain_.extent.height;
+    std::printf("path_tracer: %u frames at %ux%u\n", frames, w, h);
+    if (!moving_ms.empty())
+      std::printf("  moving: %zu frames, traced at %ux%u (1/%u), %s (target %.0f ms)\n", moving_ms.size(),
+                  (w + moving_divisor - 1) / moving_divisor, (h + moving_divisor - 1) / moving_divisor,
+                  moving_divisor, times(moving_ms).c_str(), adaptive_ ? double(moving_target_ms_) : 0.0);
+    if (!still_ms.empty())
+      std::printf(
+          "  still: %zu frames, traced at %ux%u, %s (target %.0f ms); %u samples per pixel at the end\n",
+          still_ms.size(), w, h, times(still_ms).c_str(), adaptive_ ? double(target_ms_) : 0.0,
+          renderer_->samples_done());
+  }
+
+  // --move-frames: the camera turns a little each frame, as a user dragging the mouse would.
+  bool turn_camera() {
+    Camera camera = renderer_->camera();
+    camera.yaw_degrees += 0.5f;
+    renderer_->set_camera(camera);
+    return true;
+  }
+
   bool handle_input(float dt) {
     if (ImGui::GetCurrentContext() && ImGui::GetIO().WantCaptureMouse) {
       glfwGetCursorPos(window_, &mouse_x_, &mouse_y_);
@@ -358,7 +385,10 @@ class Window {
     // Collapsed by default, so the panel keeps clear of the walls (the window test looks at them).
     if (ImGui::CollapsingHeader("Sampling and pacing")) {
       ImGui::Checkbox("Adapt samples per frame", &adaptive_);
-      if (adaptive_) ImGui::SliderFloat("Frame target (ms)", &target_ms_, 20.0f, 1000.0f);
+      if (adaptive_) {
+        ImGui::SliderFloat("Frame target (ms)", &target_ms_, 20.0f, 1000.0f);
+        ImGui::SliderFloat("Moving frame target (ms)", &moving_target_ms_, 10.0f, 200.0f);
+      }
       bool sobol = s.sampler == Sampler::sobol;
       ImGui::Checkbox("Sobol sampler", &sobol);
       s.sampler = sobol ? Sampler::sobol : Sampler::random;
@@ -382,24 +412,30 @@ class Window {
       clamp_light(scene.light);
       renderer_->set_scene(scene);
     }
-    ImGui::Text("%u spp, %.1f ms/frame, %u/frame", renderer_->samples_done(), dt * 1000.0f,
-                renderer_->settings().samples_per_frame);
+    ImGui::Text("%u spp, %.1f ms/frame, %u/frame, traced at 1/%u", renderer_->samples_done(), dt * 1000.0f,
+                renderer_->settings().samples_per_frame, renderer_->render_divisor());
     ImGui::TextUnformatted("LMB + WASDQE: camera, RMB: light");
     ImGui::End();
   }
 
   // Samples per frame from the last frame's GPU time (its fence has been waited for, so its timestamps
-  // are ready), toward the target; 1 while the camera or the light moves.
+  // are ready), toward the target; while the camera or the light moves, 1 sample, traced at the fraction
+  // of the size that meets the moving target (back to the full size, and accumulating, when still).
   void pace() {
-    const uint64_t pixels = uint64_t(renderer_->width()) * renderer_->height();
-    if (last_batch_ > 0) pacer_.measured(renderer_->last_trace_ms(), last_batch_, pixels);
+    if (last_batch_ > 0) pacer_.measured(renderer_->last_trace_ms(), last_batch_, last_pixels_);
     RenderSettings s = renderer_->settings();
     if (adaptive_) {
       pacer_.set_target_ms(target_ms_);
+      pacer_.set_moving_target_ms(moving_target_ms_);
       s.samples_per_frame = pacer_.samples_for_next_frame(moving_);
       renderer_->set_settings(s);
+      const uint64_t pixels = uint64_t(renderer_->width()) * renderer_->height();
+      renderer_->set_render_divisor(pacer_.divisor_for_next_frame(moving_, pixels));
+    } else {
+      renderer_->set_render_divisor(1);
     }
     last_batch_ = s.samples_per_frame;
+    last_pixels_ = uint64_t(renderer_->render_width()) * renderer_->render_height();
   }
 
   bool draw_frame(float dt, bool capture) {
@@ -552,9 +588,11 @@ class Window {
   // Frame pacing: samples per frame follow the measured cost toward a frame-time target, 1 while moving.
   bool adaptive_ = true;
   float target_ms_ = 100.0f;
+  float moving_target_ms_ = 50.0f;  // a whole frame while the view moves
   FramePacer pacer_;
-  bool moving_ = false;      // the camera or the light moved this frame
-  uint32_t last_batch_ = 0;  // samples per pixel of the last recorded frame (0: none yet)
+  bool moving_ = false;       // the camera or the light moved this frame
+  uint32_t last_batch_ = 0;   // samples per pixel of the last recorded frame (0: none yet)
+  uint64_t last_pixels_ = 0;  // pixels it traced
 };
 
 }  // namespace

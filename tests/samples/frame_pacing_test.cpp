@@ -1,6 +1,6 @@
 // The window's frame pacing (samples/path_tracer/frame_pacing.hpp): samples per frame follow the
-// measured cost toward the frame-time target, stay within 1..max, drop to 1 while the view moves, and
-// start over when the image size changes.
+// measured cost toward the frame-time target, stay within 1..max, drop to 1 while the view moves, the
+// cost is kept per pixel across image sizes, and moving frames trace at a fraction of the size.
 #include <gtest/gtest.h>
 
 #include "path_tracer/frame_pacing.hpp"
@@ -45,12 +45,35 @@ TEST(FramePacing, SmoothsLoadSpikesAndFollowsLastingChanges) {
   EXPECT_EQ(pacer.samples_for_next_frame(false), 10u);
 }
 
-TEST(FramePacing, StartsOverWhenTheImageSizeChanges) {
+// The cost is kept per pixel and sample: frames traced at a quarter of the pixels (while moving) and
+// full-size frames inform one estimate.
+TEST(FramePacing, KeepsTheCostPerPixelAcrossImageSizes) {
   FramePacer pacer({100, 32, 0.3});
-  pacer.measured(40, 8, kPixels);     // 5 ms per sample at 640x480
-  pacer.measured(20, 1, 1280 * 960);  // four times the pixels: 20 ms per sample, taken at once
-  EXPECT_DOUBLE_EQ(pacer.ms_per_sample(), 20);
-  EXPECT_EQ(pacer.samples_for_next_frame(false), 5u);
+  pacer.measured(40, 8, kPixels);            // 5 ms per sample at 640x480
+  pacer.measured(1.25 * 4, 4, kPixels / 4);  // 1.25 ms per sample at 320x240: the same per pixel
+  EXPECT_DOUBLE_EQ(pacer.ms_per_sample(kPixels), 5);
+  EXPECT_DOUBLE_EQ(pacer.ms_per_sample(kPixels / 4), 1.25);
+  pacer.measured(20, 1, 1280 * 960);  // four times the pixels at 20 ms per sample: still 5 at 640x480
+  EXPECT_DOUBLE_EQ(pacer.ms_per_sample(kPixels), 5);
+  EXPECT_EQ(pacer.samples_for_next_frame(false), 5u);  // 100 ms / 20 ms at the last size
+}
+
+// While moving, the window traces at 1/divisor of its width and height: the smallest divisor whose one
+// sample per pixel fits the moving target's share (25 ms of 50 by default); 1 while still.
+TEST(FramePacing, MovingFramesTraceAtTheFractionThatFitsTheirTarget) {
+  FramePacer pacer;  // moving target 50 ms, half of it for path tracing
+  EXPECT_EQ(pacer.divisor_for_next_frame(true, kPixels), 1u);  // nothing measured yet
+  pacer.measured(90, 1, kPixels);                              // 90 ms per sample at 640x480
+  EXPECT_EQ(pacer.divisor_for_next_frame(false, kPixels), 1u);
+  EXPECT_EQ(pacer.divisor_for_next_frame(true, kPixels), 2u);  // 90 / 4 = 22.5 ms <= 25
+  pacer.set_moving_target_ms(20);                              // 10 ms: 90 / 9 = 10
+  EXPECT_EQ(pacer.divisor_for_next_frame(true, kPixels), 3u);
+  FramePacer cheap;
+  cheap.measured(10, 1, kPixels);
+  EXPECT_EQ(cheap.divisor_for_next_frame(true, kPixels), 1u);  // already fits
+  FramePacer hopeless;
+  hopeless.measured(100000, 1, kPixels);
+  EXPECT_EQ(hopeless.divisor_for_next_frame(true, kPixels), 8u);  // at most 1/8
 }
 
 }  // namespace

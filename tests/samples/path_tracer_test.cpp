@@ -9,6 +9,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <regex>
 #include <sstream>
 
 #include "common/run_command.hpp"
@@ -106,6 +107,25 @@ TEST(PathTracer, LeftWallIsRedAndRightWallGreen) {
   EXPECT_GT(right[1], 2.0 * right[2]);
 }
 
+// A moving view (--move-frames: the camera turns by itself) is traced at a fraction of the window's size
+// chosen for the moving frame target, and the report gives the moving and the still frames apart.
+TEST(PathTracer, WindowReportsMovingAndStillFramesApart) {
+  auto [status, output] = statepack::testing::run_command(
+      "xvfb-run -a -s '-screen 0 800x600x24' '" + std::string(STATEPACK_PATH_TRACER) +
+      "' --frames 10 --move-frames 5 --width 640 --height 480");
+  ASSERT_EQ(status, 0) << output;
+  static const std::regex moving(
+      R"(  moving: 5 frames, traced at (\d+)x(\d+) \(1/(\d)\), frame time median \d+ ms)");
+  static const std::regex still(
+      R"(  still: 4 frames, traced at 640x480, frame time median \d+ ms, .*; \d+ samples per pixel)");
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(output, m, moving)) << output;
+  const int divisor = std::stoi(m[3]);
+  EXPECT_EQ(std::stoi(m[1]), (640 + divisor - 1) / divisor) << output;
+  EXPECT_EQ(std::stoi(m[2]), (480 + divisor - 1) / divisor) << output;
+  EXPECT_TRUE(std::regex_search(output, still)) << output;
+}
+
 // The window path: under a virtual X server the program renders frames into a swapchain (with the
 // panel on top) and saves what the window shows; the room must be in it.
 TEST(PathTracer, WindowUnderXvfbShowsTheRoom) {
@@ -118,7 +138,11 @@ TEST(PathTracer, WindowUnderXvfbShowsTheRoom) {
   ASSERT_EQ(status, 0) << output;
   EXPECT_NE(output.find("window screenshot"), std::string::npos) << output;
   // --frames reports the frame times the pacer achieved (what docs/path_tracer.md quotes).
-  EXPECT_NE(output.find("12 frames at 640x480: frame time median "), std::string::npos) << output;
+  EXPECT_NE(
+      output.find(
+          "path_tracer: 12 frames at 640x480\n  still: 11 frames, traced at 640x480, frame time median "),
+      std::string::npos)
+      << output;
   int w = 0, h = 0, channels = 0;
   unsigned char* pixels = stbi_load(shot.c_str(), &w, &h, &channels, 3);
   ASSERT_NE(pixels, nullptr) << stbi_failure_reason();
