@@ -274,7 +274,8 @@ void set_target(glslang::TShader& ts, EShLanguage stage, bool hlsl, const Compil
                              : minor == 2 ? glslang::EShTargetSpv_1_5
                              : minor == 1 ? glslang::EShTargetSpv_1_3
                                           : glslang::EShTargetSpv_1_0;
-  ts.setEnvInput(hlsl ? glslang::EShSourceHlsl : glslang::EShSourceGlsl, stage, glslang::EShClientVulkan, 100);
+  ts.setEnvInput(hlsl ? glslang::EShSourceHlsl : glslang::EShSourceGlsl, stage, glslang::EShClientVulkan,
+                 100);
   ts.setEnvClient(glslang::EShClientVulkan, client);
   ts.setEnvTarget(glslang::EShTargetSpv, spirv_version);
 }

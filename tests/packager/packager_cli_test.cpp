@@ -813,7 +813,7 @@ TEST_F(PackagerCli, PathTracerStatesPackForOpenGlToo) {
   for (const char* line :
        {"OpenGL pipeline 'Path Trace PSO' (compute)\n", "  image 4: 'accumulation' x1 [\"Compute\"]\n",
         "OpenGL pipeline 'Resolve PSO' (graphics)\n", "  uniform buffer 0: 'Params' x1 [\"Fragment\"]\n",
-        "  push constants: 4 bytes\n"})
+        "  push constants: 8 bytes\n"})  // resolve.frag: exposure and divisor
     EXPECT_NE(text.output.find(line), std::string::npos) << line << "\nin:\n" << text.output;
 }
 
