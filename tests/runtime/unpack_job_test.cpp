@@ -99,6 +99,16 @@ class GateAllocator {
 
 class UnpackJobTest : public VulkanTest {
  protected:
+  // A device of its own whose allocator is the gate: lavapipe allocates a pipeline through the device's
+  // callbacks, so a closed gate holds a pipeline's creation inside the driver.
+  static Result<std::unique_ptr<bootstrap::VulkanContext>> gated_device(const VkAllocationCallbacks& gate) {
+    bootstrap::VulkanContextOptions options;
+    options.require_lavapipe = true;
+    options.enable_supported_features = true;
+    options.device_allocator = &gate;
+    return bootstrap::VulkanContext::create(options);
+  }
+
   Dearchiver dearchiver_with(const char* archive_path) {
     auto dearchiver = Dearchiver::create(vk_->device_context());
     EXPECT_TRUE(dearchiver) << dearchiver.error().message;
@@ -110,14 +120,9 @@ class UnpackJobTest : public VulkanTest {
 };
 
 TEST_F(UnpackJobTest, TheFirstPipelineIsHandedOutWhileTheLastIsStillBeingCreated) {
-  // The gate is the device's allocator: lavapipe allocates a pipeline through the device's callbacks.
   GateAllocator gate;
   const VkAllocationCallbacks callbacks = gate.callbacks();
-  bootstrap::VulkanContextOptions gated;
-  gated.require_lavapipe = true;
-  gated.enable_supported_features = true;
-  gated.device_allocator = &callbacks;
-  auto device = bootstrap::VulkanContext::create(gated);
+  auto device = gated_device(callbacks);
   ASSERT_TRUE(device) << device.error().message;
   auto created = Dearchiver::create((*device)->device_context());
   ASSERT_TRUE(created) << created.error().message;
@@ -179,11 +184,7 @@ TEST_F(UnpackJobTest, TheFirstPipelineIsHandedOutWhileTheLastIsStillBeingCreated
 TEST_F(UnpackJobTest, AJobMakesWhatAnEndedJobLeftUnmade) {
   GateAllocator gate;
   const VkAllocationCallbacks callbacks = gate.callbacks();
-  bootstrap::VulkanContextOptions gated;
-  gated.require_lavapipe = true;
-  gated.enable_supported_features = true;
-  gated.device_allocator = &callbacks;
-  auto device = bootstrap::VulkanContext::create(gated);
+  auto device = gated_device(callbacks);
   ASSERT_TRUE(device) << device.error().message;
   {
     auto dearchiver = Dearchiver::create((*device)->device_context());
