@@ -67,8 +67,31 @@ class KeyBuilder {
   XXH3_state_t state_{};
 };
 
-// statepack's own code, glslang and SPIRV-Tools included (they are linked in): the hash of the
-// program's read-only loaded segments, so any other build of it never reads this one's entries.
+// The GNU build ID of a loaded object (a hash the linker computes over the whole file), if it has one.
+std::optional<std::string_view> build_id(const dl_phdr_info& info) {
+  for (int i = 0; i < info.dlpi_phnum; ++i) {
+    const ElfW(Phdr)& p = info.dlpi_phdr[i];
+    if (p.p_type != PT_NOTE) continue;
+    const auto* at = reinterpret_cast<const uint8_t*>(info.dlpi_addr + p.p_vaddr);
+    const uint8_t* end = at + p.p_memsz;
+    while (size_t(end - at) >= sizeof(ElfW(Nhdr))) {
+      ElfW(Nhdr) note;
+      std::memcpy(&note, at, sizeof note);
+      const size_t name = (note.n_namesz + 3) & ~size_t(3), desc = (note.n_descsz + 3) & ~size_t(3);
+      if (size_t(end - at) - sizeof note < name + desc) break;
+      const auto* note_name = at + sizeof note;
+      if (note.n_type == NT_GNU_BUILD_ID && note.n_namesz == 4 && std::memcmp(note_name, "GNU", 4) == 0)
+        return std::string_view(reinterpret_cast<const char*>(note_name + name), note.n_descsz);
+      at += sizeof note + name + desc;
+    }
+  }
+  return std::nullopt;
+}
+
+// The code that decides a result: statepack itself (glslang and SPIRV-Tools are linked into it) and
+// every shared library it runs with (spirv-cross reflects, libm folds constants, ...), each by its build
+// ID, or by its read-only segments when it has none; so a rebuild of statepack, or an upgrade of a
+// library, never reads the entries of another.
 const CacheKey& code_identity() {
   static const CacheKey identity = [] {
     KeyBuilder k;
@@ -76,13 +99,20 @@ const CacheKey& code_identity() {
     dl_iterate_phdr(
         [](dl_phdr_info* info, size_t, void* data) -> int {
           auto& builder = *static_cast<KeyBuilder*>(data);
+          const std::string_view name = info->dlpi_name ? info->dlpi_name : "";
+          if (name.find("linux-vdso") != std::string_view::npos) return 0;  // the kernel's, not a compiler's
+          builder.add(name.substr(name.rfind('/') + 1));
+          if (auto id = build_id(*info)) {
+            builder.add(*id);
+            return 0;
+          }
           for (int i = 0; i < info->dlpi_phnum; ++i) {
             const ElfW(Phdr)& p = info->dlpi_phdr[i];
             if (p.p_type != PT_LOAD || (p.p_flags & PF_W)) continue;
             builder.add(
                 std::string_view(reinterpret_cast<const char*>(info->dlpi_addr + p.p_vaddr), p.p_filesz));
           }
-          return 1;  // the first object is the program itself
+          return 0;
         },
         &k);
     return k.key();
@@ -165,6 +195,9 @@ class PayloadReader {
     at_ += n;
     return true;
   }
+  // Whether `count` items of at least `bytes` each can still follow: a count read from an entry is
+  // checked against what is left before anything is sized by it.
+  bool room_for(uint64_t count, size_t bytes) const { return count <= (bytes_.size() - at_) / bytes; }
   bool raw(uint8_t* out, size_t n) {
     if (bytes_.size() - at_ < n) return false;
     std::memcpy(out, bytes_.data() + at_, n);
@@ -216,9 +249,10 @@ void write_reflection(PayloadWriter& w, const Reflection& r) {
 }
 
 bool read_reflection(PayloadReader& r, Reflection& out) {
-  constexpr uint32_t kMaxItems = 1u << 20;  // far above any module; bounds a damaged count
+  // Each count is checked against the bytes left (an item takes at least that many) before it sizes
+  // anything: a damaged count is a miss, not an allocation.
   uint32_t n = 0;
-  if (!r.u32(n) || n > kMaxItems) return false;
+  if (!r.u32(n) || !r.room_for(n, 40)) return false;
   out.bindings.resize(n);
   for (ReflectedBinding& b : out.bindings) {
     uint32_t combined = 0;
@@ -229,7 +263,7 @@ bool read_reflection(PayloadReader& r, Reflection& out) {
     b.combined_attribute = combined != 0;
   }
   for (auto* list : {&out.inputs, &out.outputs}) {
-    if (!r.u32(n) || n > kMaxItems) return false;
+    if (!r.u32(n) || !r.room_for(n, 40)) return false;
     list->resize(n);
     for (InterfaceVariable& v : *list) {
       uint32_t base = 0, flat = 0, patch = 0;
@@ -240,7 +274,7 @@ bool read_reflection(PayloadReader& r, Reflection& out) {
       v.base = InterfaceVariable::Base(base), v.flat = flat != 0, v.patch = patch != 0;
     }
   }
-  if (!r.u32(n) || n > kMaxItems) return false;
+  if (!r.u32(n) || !r.room_for(n, 16)) return false;
   out.constants.resize(n);
   for (ReflectedConstant& c : out.constants) {
     uint32_t kind = 0;
@@ -296,17 +330,21 @@ std::vector<FileOnDisk> files_of(const fs::path& subdir) {
   return out;
 }
 
-// Removes the oldest entries of `files` until they hold at most `target` bytes, and dead temporaries.
-size_t trim(std::vector<FileOnDisk>& files, uint64_t target) {
+// Removes the oldest entries of `files` until the entries hold at most `target` bytes (temporaries do
+// not count: another pack may be writing them), never one named in `keep` (written by this run), and
+// temporaries of runs that died.
+size_t trim(std::vector<FileOnDisk>& files, uint64_t target, const std::set<std::string>& keep = {}) {
   uint64_t total = 0;
-  for (const auto& f : files) total += f.size;
+  for (const auto& f : files)
+    if (!f.temporary) total += f.size;
   size_t removed = 0;
   const int64_t now = int64_t(::time(nullptr));
   std::vector<FileOnDisk> kept;
   for (auto& f : files) {
     const bool dead_temporary = f.temporary && now - f.mtime > kStaleTemporarySeconds;
-    if ((dead_temporary || (!f.temporary && total > target)) && ::unlink(f.path.c_str()) == 0) {
-      total -= f.size;
+    const bool evict = !f.temporary && total > target && !keep.count(f.path.filename().string());
+    if ((dead_temporary || evict) && ::unlink(f.path.c_str()) == 0) {
+      if (!f.temporary) total -= f.size;
       ++removed;
       continue;
     }
@@ -314,6 +352,22 @@ size_t trim(std::vector<FileOnDisk>& files, uint64_t target) {
   }
   files = std::move(kept);
   return removed;
+}
+
+// Every entry and temporary of the cache's subdirectories (real directories only), oldest use first.
+std::vector<FileOnDisk> all_files(const fs::path& root) {
+  std::vector<FileOnDisk> all;
+  for (size_t i = 0; i < kSubdirectories; ++i) {
+    static const char digits[] = "0123456789abcdef";
+    const fs::path subdir = root / std::string{digits[i >> 4], digits[i & 15]};
+    struct stat st {};
+    if (::lstat(subdir.c_str(), &st) != 0 || !S_ISDIR(st.st_mode)) continue;
+    auto files = files_of(subdir);
+    all.insert(all.end(), files.begin(), files.end());
+  }
+  std::stable_sort(all.begin(), all.end(),
+                   [](const FileOnDisk& a, const FileOnDisk& b) { return a.mtime < b.mtime; });
+  return all;
 }
 
 // A subdirectory that is a real directory (created if missing), never a link planted in its place.
@@ -340,7 +394,8 @@ CompileCache::~CompileCache() = default;
 std::optional<CompileCache> CompileCache::open(const fs::path& dir, uint64_t max_bytes, std::string& error) {
   std::error_code ec;
   fs::create_directories(dir / "v1", ec);
-  if (ec || !fs::is_directory(dir / "v1", ec)) {
+  // v1 itself must be a directory, not a link planted in its place (everything is written below it).
+  if (ec || !fs::is_directory(fs::symlink_status(dir / "v1", ec))) {
     error = "cannot use '" + printable(dir.string()) +
             "' as a cache directory: " + (ec ? ec.message() : std::string("not a directory"));
     return std::nullopt;
@@ -382,7 +437,11 @@ std::optional<std::vector<uint8_t>> CompileCache::read_entry(const CacheKey& key
          get_u64(bytes.data() + 24) == bytes.size() - kHeaderBytes &&
          get_u64(bytes.data() + 32) == XXH3_64bits(bytes.data() + kHeaderBytes, bytes.size() - kHeaderBytes);
   }
-  if (ok) ::futimens(fd, nullptr);  // recently used: pruned last
+  if (ok) {
+    ::futimens(fd, nullptr);  // recently used: pruned last
+    std::lock_guard lock(mutex_);
+    used_.insert(name);
+  }
   ::close(fd);
   if (!ok) {
     ++damaged_;  // truncated, damaged or not ours: a miss, and written again
@@ -413,7 +472,8 @@ std::optional<CompileCache::Compile> CompileCache::find_compile(const ShaderDesc
   auto payload = read_entry(compile_key(shader, options, out.source_hash));
   uint32_t flags = 0, count = 0;
   PayloadReader r(payload ? std::span<const uint8_t>(*payload) : std::span<const uint8_t>());
-  if (!payload || !r.u32(flags) || !r.u32(count)) {
+  // An #include record takes at least 29 bytes.
+  if (!payload || !r.u32(flags) || !r.u32(count) || !r.room_for(count, 29)) {
     if (payload) ++damaged_;
     ++misses_;
     return std::nullopt;
@@ -440,7 +500,7 @@ std::optional<CompileCache::Compile> CompileCache::find_compile(const ShaderDesc
     out.includes.push_back(std::move(rec));
   }
   uint32_t names = 0;
-  if (!r.u32(names) || names > (1u << 20)) return ++damaged_, ++misses_, std::nullopt;
+  if (!r.u32(names) || !r.room_for(names, 4)) return ++damaged_, ++misses_, std::nullopt;
   out.combined_image_samplers.resize(names);
   for (auto& n : out.combined_image_samplers)
     if (!r.str(n)) return ++damaged_, ++misses_, std::nullopt;
@@ -536,26 +596,37 @@ std::string CompileCache::flush(const std::vector<InputFile>& inputs) {
       continue;
     }
     size_t written = 0;
+    int failure = 0;  // the errno of the first call that failed
     while (written < bytes.size()) {
       const ssize_t n = ::write(fd, bytes.data() + written, bytes.size() - written);
       if (n < 0 && errno == EINTR) continue;
-      if (n <= 0) break;
+      if (n <= 0) {
+        failure = n < 0 ? errno : ENOSPC;
+        break;
+      }
       written += size_t(n);
     }
-    const bool closed = ::close(fd) == 0;
+    if (::close(fd) != 0 && !failure) failure = errno;
     // rename() replaces a link planted at `path` rather than following it.
-    if (written != bytes.size() || !closed || ::rename(temporary.c_str(), path.c_str()) != 0) {
-      warning = "cannot write '" + printable(path.string()) + "': " + std::strerror(errno);
+    if (!failure && ::rename(temporary.c_str(), path.c_str()) != 0) failure = errno;
+    if (failure) {
+      warning = "cannot write '" + printable(path.string()) + "': " + std::strerror(failure);
       ::unlink(temporary.c_str());
       continue;
     }
     ++written_;
     subdirectories.insert(name.substr(0, 2));
   }
-  // Each subdirectory written to is trimmed to its share of the bound (entries spread evenly over them).
-  for (const std::string& s : subdirectories) {
-    auto files = files_of(dir_ / s);
-    removed_ += trim(files, max_bytes_ / kSubdirectories);
+  // A run that wrote entries trims the cache to its bound, least recently used first; what this run
+  // wrote or used stays. (A run that wrote nothing reads no directory listing.)
+  if (!subdirectories.empty()) {
+    std::set<std::string> keep = done;
+    {
+      std::lock_guard lock(mutex_);
+      keep.insert(used_.begin(), used_.end());
+    }
+    auto files = all_files(dir_);
+    removed_ += trim(files, max_bytes_, keep);
   }
   return warning;
 }
@@ -572,17 +643,7 @@ CompileCache::PruneResult CompileCache::prune(const fs::path& dir, uint64_t max_
     result.error = "'" + printable(dir.string()) + "' is not a statepack cache directory (no v1/ in it)";
     return result;
   }
-  std::vector<FileOnDisk> all;
-  for (size_t i = 0; i < kSubdirectories; ++i) {
-    static const char digits[] = "0123456789abcdef";
-    const fs::path subdir = root / std::string{digits[i >> 4], digits[i & 15]};
-    struct stat st {};
-    if (::lstat(subdir.c_str(), &st) != 0 || !S_ISDIR(st.st_mode)) continue;
-    auto files = files_of(subdir);
-    all.insert(all.end(), files.begin(), files.end());
-  }
-  std::sort(all.begin(), all.end(),
-            [](const FileOnDisk& a, const FileOnDisk& b) { return a.mtime < b.mtime; });
+  std::vector<FileOnDisk> all = all_files(root);
   for (const auto& f : all)
     if (!f.temporary) result.bytes_before += f.size, ++result.entries_before;
   trim(all, max_bytes);

@@ -14,9 +14,10 @@
 // Entries are files DIR/v1/XX/<32 hex digits> (XX: the first two), each written to a temporary beside it
 // and renamed, so two packs sharing the directory at once only ever see whole entries; each holds a
 // hash of its contents, so a truncated or damaged one is a miss and is written again. Only successful
-// results are kept. The directory is kept under a size bound: a pack that writes entries into a
-// subdirectory trims that subdirectory to its share of the bound, the least recently used first
-// (`statepack cache prune` trims all of it). The archive is byte-identical with and without a cache.
+// results are kept. The directory is kept under a size bound: a pack that writes entries trims the
+// cache to it, the least recently used first (a hit marks an entry used), never removing what it wrote
+// or read itself; `statepack cache prune` trims on demand. The archive is byte-identical with and
+// without a cache.
 //
 // | entry bytes | meaning                                                                          |
 // |-------------|----------------------------------------------------------------------------------|
@@ -39,6 +40,7 @@
 #include <filesystem>
 #include <mutex>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -76,9 +78,9 @@ class CompileCache {
   void keep_finalized(const std::vector<uint32_t>& input, const CompileOptions& options,
                       const std::vector<uint32_t>& output);
 
-  // Writes what was kept, never over one of `inputs` (by identity) or through a link, then trims the
-  // subdirectories written to their share of the size bound. Returns a warning ("" when all went well):
-  // a cache that cannot be written costs time, not correctness.
+  // Writes what was kept, never over one of `inputs` (by identity) or through a link, then (when it
+  // wrote anything) trims the cache to the size bound. Returns a warning ("" when all went well): a
+  // cache that cannot be written costs time, not correctness.
   std::string flush(const std::vector<InputFile>& inputs);
 
   struct Stats {
@@ -106,8 +108,9 @@ class CompileCache {
 
   std::filesystem::path dir_;  // DIR/v1
   uint64_t max_bytes_;
-  std::mutex mutex_;  // pending_
+  std::mutex mutex_;  // pending_, used_
   std::vector<Pending> pending_;
+  std::set<std::string> used_;  // entries this run read: kept when it trims the cache
   std::atomic<size_t> hits_{0}, misses_{0}, damaged_{0};
   size_t written_ = 0, removed_ = 0;
 };

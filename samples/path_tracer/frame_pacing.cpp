@@ -16,8 +16,8 @@ void FramePacer::measured(double gpu_ms, uint32_t samples, uint64_t pixels) {
   pixels_ = pixels;
 }
 
-uint32_t FramePacer::samples_for_next_frame(bool moving) const {
-  const double per_sample = ms_per_sample();
+uint32_t FramePacer::samples_for_next_frame(bool moving, uint64_t pixels) const {
+  const double per_sample = ms_per_sample(pixels);
   if (moving || per_sample <= 0) return 1;
   const double fit = std::floor(pacing_.target_ms / per_sample);
   return uint32_t(std::clamp(fit, 1.0, double(pacing_.max_samples)));

@@ -28,10 +28,10 @@ class FramePacer {
   // (while moving) and at the full size inform each other.
   void measured(double gpu_ms, uint32_t samples, uint64_t pixels);
 
-  // Samples per pixel for the next frame: as many as fit the target, at least 1 and at most
-  // max_samples; 1 while the camera or the light moves (the accumulation restarts every frame then, so
-  // one sample answers fastest), and 1 until a frame has been measured.
-  uint32_t samples_for_next_frame(bool moving) const;
+  // Samples per pixel for the next frame, which traces `pixels`: as many as fit the target, at least 1
+  // and at most max_samples; 1 while the camera or the light moves (the accumulation restarts every
+  // frame then, so one sample answers fastest), and 1 until a frame has been measured.
+  uint32_t samples_for_next_frame(bool moving, uint64_t pixels) const;
 
   // The divisor of the width and height to trace at while moving: the smallest (at least 1, at most
   // max_divisor) whose one sample per pixel over `pixels`/divisor² fits the moving target's share;

@@ -14,7 +14,7 @@ struct Constants {
   float camera_position[4], camera_right[4], camera_up[4], camera_forward[4];
   uint32_t frame[4];  // samples before this batch, samples in it, bounces, flags
   uint32_t image[4];  // width, height, seed, box count
-  uint32_t light[4];  // light box index, first bounce of Russian roulette
+  uint32_t light[4];  // light box index, first bounce of Russian roulette, divisor, full width | height << 16
 };
 static_assert(sizeof(Constants) == 112);
 
@@ -26,6 +26,10 @@ Error vk_error(const char* call, VkResult r) {
 
 Result<std::unique_ptr<Renderer>> Renderer::create(bootstrap::VulkanContext& vk, Dearchiver& dearchiver,
                                                    uint32_t width, uint32_t height, VkFormat target_format) {
+  if (width > 0xFFFF || height > 0xFFFF)  // Constants carry the full size in 16 bits each
+    return Error{ErrorCode::invalid_argument, "an image of " + std::to_string(width) + "x" +
+                                                  std::to_string(height) +
+                                                  " is larger than the path tracer's 65535"};
   std::unique_ptr<Renderer> r(new Renderer(vk));
   r->width_ = width;
   r->height_ = height;
@@ -137,6 +141,10 @@ void Renderer::destroy_images() {
 }
 
 Result<void> Renderer::resize(uint32_t width, uint32_t height) {
+  if (width > 0xFFFF || height > 0xFFFF)
+    return Error{ErrorCode::invalid_argument, "an image of " + std::to_string(width) + "x" +
+                                                  std::to_string(height) +
+                                                  " is larger than the path tracer's 65535"};
   vkDeviceWaitIdle(vk_.device);
   destroy_images();
   width_ = width, height_ = height;
@@ -252,6 +260,8 @@ void Renderer::record(VkCommandBuffer cmd, VkImage target, VkImageView target_vi
   c.image[0] = render_w, c.image[1] = render_h, c.image[2] = s.seed, c.image[3] = box_count_;
   c.light[0] = light_index_;
   c.light[1] = s.roulette_start;
+  c.light[2] = divisor_;
+  c.light[3] = width_ | height_ << 16;
   std::memcpy(constants_->mapped, &c, sizeof c);
 
   const VkViewport viewport{0, 0, float(width_), float(height_), 0, 1};

@@ -427,9 +427,9 @@ class Window {
     if (adaptive_) {
       pacer_.set_target_ms(target_ms_);
       pacer_.set_moving_target_ms(moving_target_ms_);
-      s.samples_per_frame = pacer_.samples_for_next_frame(moving_);
+      const uint64_t pixels = uint64_t(renderer_->width()) * renderer_->height();  // the full size
+      s.samples_per_frame = pacer_.samples_for_next_frame(moving_, pixels);        // (1 while moving)
       renderer_->set_settings(s);
-      const uint64_t pixels = uint64_t(renderer_->width()) * renderer_->height();
       renderer_->set_render_divisor(pacer_.divisor_for_next_frame(moving_, pixels));
     } else {
       renderer_->set_render_divisor(1);

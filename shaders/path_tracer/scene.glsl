@@ -30,8 +30,10 @@ layout(set = 0, binding = 0, std140) uniform Constants {
   vec4 camera_up;       // scaled by tan(fov/2)
   vec4 camera_forward;
   uvec4 frame;          // x: samples before this batch, y: samples in this batch, z: bounces, w: flags
-  uvec4 image;          // x: width, y: height, z: seed, w: box count
-  uvec4 light;          // x: index of the light's box, y: first bounce of Russian roulette (0: none)
+  uvec4 image;          // x: width, y: height (traced), z: seed, w: box count
+  uvec4 light;          // x: index of the light's box, y: first bounce of Russian roulette (0: none),
+                        // z: divisor of the traced size (1, or 2..8 while the view moves),
+                        // w: the full size, width | height << 16
 } constants;
 
 layout(set = 0, binding = 1, std430) readonly buffer Scene { Box boxes[]; } scene;
@@ -140,7 +142,10 @@ vec3 emitted(int box, int face) {
 
 // The primary ray through the centre of pixel (x, y), y down.
 vec3 primary_direction(vec2 pixel_centre) {
-  vec2 ndc = pixel_centre / vec2(constants.image.xy) * 2.0 - 1.0;
+  // A traced pixel stands for a divisor x divisor block of the full image: its ray goes through the
+  // block's centre (with divisor 1, exactly the pixel's own centre).
+  const uvec2 full = uvec2(constants.light.w & 0xFFFFu, constants.light.w >> 16);
+  vec2 ndc = pixel_centre * float(constants.light.z) / vec2(full) * 2.0 - 1.0;
   return normalize(constants.camera_forward.xyz + ndc.x * constants.camera_right.xyz -
                    ndc.y * constants.camera_up.xyz);
 }

@@ -213,16 +213,22 @@ TEST_F(CompileCacheTest, TwoPacksShareTheCacheAtOnce) {
     EXPECT_FALSE(e.path().filename().string().starts_with(".tmp-")) << e.path();
 }
 
-// The size bound trims the least recently used entries; `statepack cache prune` trims on demand; a
-// subdirectory replaced by a link is not written through.
+// The size bound trims the entries a pack neither wrote nor read, least recently used first; `statepack
+// cache prune` trims on demand; a subdirectory replaced by a link is not written through.
 TEST_F(CompileCacheTest, TheCacheStaysWithinItsBound) {
-  const CacheStats small =
-      pack("small.spk", "--cache-max-size 256");  // 1 byte per subdirectory: nothing fits
-  EXPECT_EQ(small.written, kEntries);
-  EXPECT_EQ(small.removed, kEntries);
-  EXPECT_TRUE(entries().empty());
-  pack("full.spk");
+  pack("first.spk");
   ASSERT_EQ(entries().size(), size_t(kEntries));
+  // A bound nothing fits in: the next pack that writes removes every entry it neither wrote nor read.
+  write_file(dir_ / "common.glsl", "uint twice(uint x) { return x << 1u; }\n");  // A and B change, H not
+  const CacheStats small = pack("small.spk", "--cache-max-size 1");
+  EXPECT_EQ(small.hits, 2) << last_output_;  // H's compile and finalisation
+  // A's and B's compiles (rewritten in place: an entry's name leaves the #includes out) and their new
+  // finalisations; the old finalisations are removed.
+  EXPECT_EQ(small.written, 4) << last_output_;
+  EXPECT_EQ(small.removed, 2) << last_output_;
+  EXPECT_EQ(entries().size(), size_t(kEntries));
+  // Nothing written: nothing trimmed, every entry a hit.
+  EXPECT_EQ(pack("again.spk", "--cache-max-size 1").hits, kEntries) << last_output_;
   CommandResult prune =
       run_command("'" STATEPACK_EXE "' cache prune '" + (dir_ / "cache").string() + "' --max-size 0");
   EXPECT_EQ(prune.exit_code, 0) << prune.output;
