@@ -456,6 +456,41 @@ struct Section {
   uint32_t offset = 0, size = 0, count = 0;
 };
 
+// The section table by tag, sorted once: every string, list and record read looks a section up, and a
+// binary search over a flat array costs a fraction of a tree's. A tag absent reads as an empty section.
+class SectionTable {
+ public:
+  // Adds every entry of the file's table; false (with the index of the second) when a tag repeats.
+  bool assign(std::vector<std::pair<uint32_t, Section>> entries, uint32_t& repeated) {
+    std::vector<uint32_t> order(entries.size());
+    for (uint32_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::stable_sort(order.begin(), order.end(),
+                     [&](uint32_t a, uint32_t b) { return entries[a].first < entries[b].first; });
+    for (size_t i = 1; i < order.size(); ++i)
+      if (entries[order[i]].first == entries[order[i - 1]].first) {
+        repeated = std::max(order[i], order[i - 1]);
+        return false;
+      }
+    entries_.reserve(entries.size());
+    for (uint32_t i : order) entries_.push_back(entries[i]);
+    return true;
+  }
+  const Section* find(uint32_t tag) const {
+    auto it = std::lower_bound(entries_.begin(), entries_.end(), tag,
+                               [](const auto& e, uint32_t t) { return e.first < t; });
+    return it != entries_.end() && it->first == tag ? &it->second : nullptr;
+  }
+  size_t count(uint32_t tag) const { return find(tag) ? 1 : 0; }
+  const Section& operator[](uint32_t tag) const {
+    static const Section kEmpty;
+    const Section* s = find(tag);
+    return s ? *s : kEmpty;
+  }
+
+ private:
+  std::vector<std::pair<uint32_t, Section>> entries_;
+};
+
 Error corrupt(std::string message) {
   return Error{ErrorCode::corrupt, "corrupt archive: " + std::move(message)};
 }
@@ -469,13 +504,16 @@ Error corrupt(std::string message) {
 // so a real archive decodes to about its own size) before anything is allocated for it.
 struct Reader {
   std::span<const uint8_t> file;
-  std::map<uint32_t, Section> sections;
+  SectionTable sections;
   const uint8_t* cursor = nullptr;
   std::optional<std::string> problem;
   uint64_t budget = 0;  // encoded bytes still allowed to be materialised
   uint64_t initial_budget = 0;
-  std::string current;                        // the top-level record being read, for messages
-  const std::string* current_name = nullptr;  // its name, once read
+  // The top-level record being read, for messages (built only when one is needed): its kind, its index
+  // (none while the whole list is charged) and its name once read.
+  const char* current_kind = nullptr;
+  std::optional<uint32_t> current_index;
+  const std::string* current_name = nullptr;
 
   void fail(std::string message) {
     if (!problem) problem = std::move(message);
@@ -485,7 +523,10 @@ struct Reader {
       budget -= bytes;
       return true;
     }
-    fail(current + (current_name && !current_name->empty() ? " '" + *current_name + "'" : "") +
+    fail((!current_kind   ? std::string("the archive")
+          : current_index ? current_kind + (" " + std::to_string(*current_index))
+                          : current_kind + std::string(" records")) +
+         (current_name && !current_name->empty() ? " '" + *current_name + "'" : "") +
          " expands beyond the decoding budget of " + std::to_string(initial_budget) + " bytes (" +
          std::to_string(kExpansionFactor) + " x the file size + " + std::to_string(kExpansionSlack) +
          "): records share lists or strings to amplify the archive");
@@ -541,14 +582,15 @@ struct Reader {
   }
   // The GFXS record a pipeline refers to, or nullopt (a compute pipeline's kNone, or a problem noted).
   template <class P>
-  std::optional<GraphicsRecord> graphics_record(const P& p, const std::string& what) {
+  std::optional<GraphicsRecord> graphics_record(const P& p, const char* kind) {
     uint32_t index = next();
+    auto what = [&] { return std::string(kind) + " '" + p.name + "'"; };
     if (p.kind != PipelineKind::graphics) {
-      if (index != kNone) fail(what + " is a compute pipeline with a graphics state");
+      if (index != kNone) fail(what() + " is a compute pipeline with a graphics state");
       return std::nullopt;
     }
     if (index >= sections[kTagGraphics].count) {
-      fail(what + ": graphics state index out of range");
+      fail(what() + ": graphics state index out of range");
       return std::nullopt;
     }
     if (!charge(record_size<GraphicsRecord>())) return std::nullopt;
@@ -557,14 +599,14 @@ struct Reader {
     return record;
   }
   void graphics(Pipeline& p) {
-    if (auto record = graphics_record(p, "pipeline '" + p.name + "'")) {
+    if (auto record = graphics_record(p, "pipeline")) {
       p.graphics = std::move(record->state);
       p.render_pass = record->render_pass;
       p.subpass = record->subpass;
     }
   }
   void graphics(GlPipeline& p) {
-    if (auto record = graphics_record(p, "OpenGL pipeline '" + p.name + "'")) {
+    if (auto record = graphics_record(p, "OpenGL pipeline")) {
       if (record->render_pass != kNone) return fail("OpenGL pipeline '" + p.name + "' has a render pass");
       p.graphics = std::move(record->state);
     }
@@ -573,11 +615,12 @@ struct Reader {
   std::vector<T> all(const char* kind) {
     // Top-level records are charged too: they are in the file, so they cost at most its size.
     const uint32_t count = sections[Tag<T>::value].count;
-    current = std::string(kind) + " records";
+    current_kind = kind;
+    current_index.reset();
     if (!charge(uint64_t(count) * record_size<T>())) return {};
     std::vector<T> items(count);
     for (uint32_t i = 0; i < items.size() && !problem; ++i) {
-      current = std::string(kind) + " " + std::to_string(i);
+      current_index = i;
       if constexpr (requires { items[i].name; }) current_name = &items[i].name;
       read_at(i, items[i]);
       current_name = nullptr;
@@ -604,68 +647,68 @@ bool valid_samples(uint32_t s) {
 constexpr uint32_t kAllStages = 0x3F;  // VERTEX..COMPUTE
 
 Result<void> validate_render_pass(const RenderPass& r) {
-  const std::string what = "render pass '" + r.name + "'";
+  auto what = [&] { return "render pass '" + r.name + "'"; };
   for (const auto& a : r.attachments)
     if (!valid_format(a.format) || !valid_samples(a.samples) || a.load_op > 2 || a.store_op > 1 ||
         a.stencil_load_op > 2 || a.stencil_store_op > 1 || !valid_layout(a.initial_layout) ||
         !valid_layout(a.final_layout))
-      return corrupt(what + " has an invalid attachment");
-  if (r.subpasses.empty()) return corrupt(what + " has no subpass");
+      return corrupt(what() + " has an invalid attachment");
+  if (r.subpasses.empty()) return corrupt(what() + " has no subpass");
   auto ref_ok = [&](const AttachmentRef& ref) {
     return (ref.attachment == kNone || ref.attachment < r.attachments.size()) && valid_layout(ref.layout);
   };
   for (const auto& s : r.subpasses) {
     for (const auto* list : {&s.inputs, &s.colors, &s.resolves})
       for (const auto& ref : *list)
-        if (!ref_ok(ref)) return corrupt(what + " has an invalid attachment reference");
-    if (!ref_ok(s.depth_stencil)) return corrupt(what + " has an invalid depth attachment reference");
+        if (!ref_ok(ref)) return corrupt(what() + " has an invalid attachment reference");
+    if (!ref_ok(s.depth_stencil)) return corrupt(what() + " has an invalid depth attachment reference");
     if (!s.resolves.empty() && s.resolves.size() != s.colors.size())
-      return corrupt(what + " has resolve attachments that do not match its color attachments");
-    if (s.colors.size() > kMaxColorTargets) return corrupt(what + " has more than 8 color attachments");
+      return corrupt(what() + " has resolve attachments that do not match its color attachments");
+    if (s.colors.size() > kMaxColorTargets) return corrupt(what() + " has more than 8 color attachments");
     for (uint32_t p : s.preserve)
-      if (p >= r.attachments.size()) return corrupt(what + " preserves a missing attachment");
+      if (p >= r.attachments.size()) return corrupt(what() + " preserves a missing attachment");
   }
   for (const auto& d : r.dependencies)
     if ((d.src_subpass != kNone && d.src_subpass >= r.subpasses.size()) ||
         (d.dst_subpass != kNone && d.dst_subpass >= r.subpasses.size()))
-      return corrupt(what + " has a dependency on a missing subpass");
+      return corrupt(what() + " has a dependency on a missing subpass");
   return {};
 }
 
 Result<void> validate_graphics(const Contents& c, const Pipeline& p) {
   const GraphicsState& g = p.graphics;
-  const std::string what = "pipeline '" + p.name + "'";
+  auto what = [&] { return "pipeline '" + p.name + "'"; };
   if (g.topology > 10 || g.polygon_mode > 2 || g.cull_mode > 3 || g.front_face > 1 || g.depth_compare > 7 ||
       !valid_samples(g.samples) || g.color_count > kMaxColorTargets || !valid_format(g.depth_stencil_format))
-    return corrupt(what + " has an invalid graphics state");
+    return corrupt(what() + " has an invalid graphics state");
   for (float f : {g.depth_bias, g.depth_bias_clamp, g.depth_bias_slope})
-    if (!std::isfinite(f)) return corrupt(what + " has a depth bias that is not a finite number");
+    if (!std::isfinite(f)) return corrupt(what() + " has a depth bias that is not a finite number");
   // Vulkan guarantees patches of up to 32 control points (maxTessellationPatchSize); a patch list has a
   // count and nothing else does.
   if (g.patch_control_points > 32 || (g.topology == kTopologyPatchList) != (g.patch_control_points != 0))
-    return corrupt(what +
+    return corrupt(what() +
                    " has a patch list topology without patch control points (1 to 32), or the reverse");
   for (const auto* s : {&g.front, &g.back})
     if (s->fail_op > 7 || s->pass_op > 7 || s->depth_fail_op > 7 || s->compare_op > 7)
-      return corrupt(what + " has an invalid stencil state");
+      return corrupt(what() + " has an invalid stencil state");
   for (uint32_t i = 0; i < kMaxColorTargets; ++i) {
     const BlendAttachment& b = g.blend[i];
     if (!valid_format(g.color_formats[i]) || b.src_color > 18 || b.dst_color > 18 || b.src_alpha > 18 ||
         b.dst_alpha > 18 || b.color_op > 4 || b.alpha_op > 4 || b.write_mask > 0xF)
-      return corrupt(what + " has an invalid render target " + std::to_string(i));
+      return corrupt(what() + " has an invalid render target " + std::to_string(i));
   }
   for (const auto& b : g.vertex_bindings)
-    if (b.input_rate > 1) return corrupt(what + " has an invalid vertex input rate");
+    if (b.input_rate > 1) return corrupt(what() + " has an invalid vertex input rate");
   for (const auto& a : g.vertex_attributes) {
-    if (!valid_format(a.format)) return corrupt(what + " has an invalid vertex format");
+    if (!valid_format(a.format)) return corrupt(what() + " has an invalid vertex format");
     if (std::none_of(g.vertex_bindings.begin(), g.vertex_bindings.end(),
                      [&](const VertexBinding& b) { return b.binding == a.binding; }))
-      return corrupt(what + " has a vertex attribute without its binding");
+      return corrupt(what() + " has a vertex attribute without its binding");
   }
   if (p.render_pass != kNone) {
-    if (p.render_pass >= c.render_passes.size()) return corrupt(what + " refers to a missing render pass");
+    if (p.render_pass >= c.render_passes.size()) return corrupt(what() + " refers to a missing render pass");
     if (p.subpass >= c.render_passes[p.render_pass].subpasses.size())
-      return corrupt(what + " refers to a missing subpass");
+      return corrupt(what() + " refers to a missing subpass");
   }
   return {};
 }
@@ -676,13 +719,13 @@ Result<void> validate_constants(const std::string& pipeline, const std::vector<S
   std::set<std::pair<uint32_t, uint32_t>> ids;            // (stage, constant id)
   std::set<std::pair<uint32_t, std::string_view>> names;  // (stage, name): linear-log, not quadratic
   for (const SpecConstant& s : constants) {
-    const std::string what = "pipeline '" + pipeline + "': specialization constant '" + s.name + "'";
+    auto what = [&] { return "pipeline '" + pipeline + "': specialization constant '" + s.name + "'"; };
     if (s.name.empty() || !std::has_single_bit(s.stage) || (s.stage & stages) == 0)
-      return corrupt(what + " has no name or names a stage the pipeline lacks");
+      return corrupt(what() + " has no name or names a stage the pipeline lacks");
     if ((s.size != 4 && s.size != 8) || (s.size == 4 && (s.value >> 32) != 0))
-      return corrupt(what + " has an invalid size");
+      return corrupt(what() + " has an invalid size");
     if (!ids.emplace(s.stage, s.constant_id).second || !names.emplace(s.stage, s.name).second)
-      return corrupt(what + " is given twice for one stage");
+      return corrupt(what() + " is given twice for one stage");
   }
   return {};
 }
@@ -691,46 +734,46 @@ Result<void> validate_constants(const std::string& pipeline, const std::vector<S
 // its graphics state as a Vulkan pipeline's (the same enumerations reach glEnable & co.).
 Result<void> validate_gl_pipeline(const Contents& c, size_t i) {
   const GlPipeline& p = c.gl_pipelines[i];
-  const std::string what = "OpenGL pipeline '" + p.name + "'";
+  auto what = [&] { return "OpenGL pipeline '" + p.name + "'"; };
   if (i > 0 && c.gl_pipelines[i - 1].name >= p.name)
-    return corrupt(what + " breaks the sorted, unique name index");
+    return corrupt(what() + " breaks the sorted, unique name index");
   if (p.kind != PipelineKind::graphics && p.kind != PipelineKind::compute)
-    return corrupt(what + " has an unknown kind");
+    return corrupt(what() + " has an unknown kind");
   uint32_t stages = 0;
   constexpr uint32_t kTessellationStages = 0x2 | 0x4;
   for (const GlShader& s : p.shaders) {
     if (!std::has_single_bit(s.stage) || (s.stage & kAllStages) == 0 || (stages & s.stage))
-      return corrupt(what + " has a shader with an invalid or repeated stage");
-    if (s.blob >= c.spirv.size()) return corrupt(what + " refers to a missing SPIR-V blob");
+      return corrupt(what() + " has a shader with an invalid or repeated stage");
+    if (s.blob >= c.spirv.size()) return corrupt(what() + " refers to a missing SPIR-V blob");
     stages |= s.stage;
   }
   constexpr uint32_t kComputeStage = 0x20, kVertexStage = 0x1;
   if (p.kind == PipelineKind::compute && stages != kComputeStage)
-    return corrupt(what + " is a compute pipeline without exactly one compute shader");
+    return corrupt(what() + " is a compute pipeline without exactly one compute shader");
   if (p.kind == PipelineKind::graphics && (!(stages & kVertexStage) || (stages & kComputeStage)))
-    return corrupt(what + " needs a vertex shader and no compute shader");
+    return corrupt(what() + " needs a vertex shader and no compute shader");
   std::set<std::string_view> names;
   for (size_t k = 0; k < p.bindings.size(); ++k) {
     const GlBinding& b = p.bindings[k];
     if (b.kind >= kGlNamespaceCount || b.count == 0 || b.count > 1024 || (b.stages & ~kAllStages) != 0 ||
         (b.stages & stages) == 0)
-      return corrupt(what + ": binding '" + b.name + "' has an invalid kind, count or stages");
-    if (!names.insert(b.name).second) return corrupt(what + ": binding '" + b.name + "' is listed twice");
+      return corrupt(what() + ": binding '" + b.name + "' has an invalid kind, count or stages");
+    if (!names.insert(b.name).second) return corrupt(what() + ": binding '" + b.name + "' is listed twice");
     // Sorted by (kind, binding), each range after the one before: lookups can search, nothing overlaps.
     const GlBinding* before = k > 0 ? &p.bindings[k - 1] : nullptr;
     if (before && (before->kind > b.kind ||
                    (before->kind == b.kind && uint64_t(before->binding) + before->count > b.binding)))
-      return corrupt(what + ": binding '" + b.name + "' is out of order or overlaps another of its kind");
+      return corrupt(what() + ": binding '" + b.name + "' is out of order or overlaps another of its kind");
   }
   if (auto valid = validate_constants(p.name, p.constants, stages); !valid) return valid;
   for (const SpecConstant& s : p.constants)  // glSpecializeShader takes 32-bit values
-    if (s.size != 4) return corrupt(what + ": specialization constant '" + s.name + "' is not 32-bit");
+    if (s.size != 4) return corrupt(what() + ": specialization constant '" + s.name + "' is not 32-bit");
   if (p.kind == PipelineKind::graphics) {
     // Both tessellation stages (as the Vulkan pipeline it comes from) exactly when it draws patches.
     const uint32_t tessellation = stages & kTessellationStages;
     if ((tessellation != 0 || p.graphics.topology == kTopologyPatchList) &&
         (tessellation != kTessellationStages || p.graphics.topology != kTopologyPatchList))
-      return corrupt(what + " needs both tessellation stages and a patch list topology together");
+      return corrupt(what() + " needs both tessellation stages and a patch list topology together");
     Pipeline as_vulkan;  // the same rules as a Vulkan pipeline's state without a render pass
     as_vulkan.name = p.name;
     as_vulkan.graphics = p.graphics;
@@ -1041,23 +1084,26 @@ Result<void> read_section_table(std::span<const uint8_t> file, Reader& r) {
   uint32_t header_size = get_u32(h + 16), section_count = get_u32(h + 48), table = get_u32(h + 52);
   if (table < header_size || table % 4 != 0 || uint64_t(table) + uint64_t(section_count) * 16 > file.size())
     return corrupt("section table outside the file");
+  std::vector<std::pair<uint32_t, Section>> entries;
+  entries.reserve(section_count);  // at most the file's size / 16, checked above
   for (uint32_t i = 0; i < section_count; ++i) {
     const uint8_t* e = file.data() + table + 16 * i;
     Section s{get_u32(e + 4), get_u32(e + 8), get_u32(e + 12)};
     if (s.offset % 4 != 0 || uint64_t(s.offset) + s.size > file.size())
       return corrupt("section " + std::to_string(i) + " lies outside the file");
-    if (!r.sections.emplace(get_u32(e), s).second)
-      return corrupt("section " + std::to_string(i) + " is repeated");
+    entries.emplace_back(get_u32(e), s);
   }
+  if (uint32_t repeated = 0; !r.sections.assign(std::move(entries), repeated))
+    return corrupt("section " + std::to_string(repeated) + " is repeated");
   return {};
 }
 
 // Section TAG is present and, when it holds records of RECORD bytes, exactly its count of them.
 Result<void> check_section(const Reader& r, uint32_t tag, uint32_t record) {
   char name[5] = {char(tag), char(tag >> 8), char(tag >> 16), char(tag >> 24), 0};
-  auto it = r.sections.find(tag);
-  if (it == r.sections.end()) return corrupt(std::string("missing section ") + name);
-  if (record != 0 && uint64_t(it->second.count) * record != it->second.size)
+  const Section* found = r.sections.find(tag);
+  if (!found) return corrupt(std::string("missing section ") + name);
+  if (record != 0 && uint64_t(found->count) * record != found->size)
     return corrupt(std::string("section ") + name + " size does not match its record count");
   return {};
 }

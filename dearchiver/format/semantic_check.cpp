@@ -3,6 +3,7 @@
 #include "support/parallel_for.hpp"
 
 #include <algorithm>
+#include <array>
 #include <iterator>
 #include <map>
 #include <optional>
@@ -27,20 +28,32 @@ Error corrupt(std::string message) {
   return Error{ErrorCode::corrupt, "corrupt archive: " + std::move(message)};
 }
 
+// Names a pipeline and one of its shaders in messages. The strings are built only when a check fails:
+// building them for every check cost a load of 100 pipelines a sixth of its own time.
+struct Naming {
+  const char* kind;  // "pipeline" or "OpenGL pipeline"
+  const std::string& pipeline_name;
+  const std::string& shader_name;
+  std::string pipeline() const { return std::string(kind) + " '" + pipeline_name + "'"; }
+  std::string shader() const { return "shader '" + shader_name + "'"; }
+};
+
 // The constants of one stage against its module: each declared, with the same size. A Vulkan map entry
 // must match the size of the constant the shader declares (VUID-VkSpecializationMapEntry-constantID-00776);
 // one the shader does not declare is harmless to Vulkan but a mistake of the archive, and an error for
-// glSpecializeShader. `pipeline` and `who` name the pipeline and the shader in messages.
+// glSpecializeShader. `n` names the pipeline and the shader in messages.
 Result<void> check_constants(const spirv::Module& module, const std::vector<SpecConstant>& constants,
-                             uint32_t stage, const std::string& pipeline, const std::string& who) {
+                             uint32_t stage, const Naming& n) {
   for (const SpecConstant& s : constants) {
     if (s.stage != stage) continue;
     const spirv::SpecConstant* declared = module.find_spec_constant(s.constant_id);
-    const std::string what =
-        pipeline + ": specialization constant '" + s.name + "' (id " + std::to_string(s.constant_id) + ")";
-    if (!declared) return corrupt(what + " is not declared by " + who);
+    auto what = [&] {
+      return n.pipeline() + ": specialization constant '" + s.name + "' (id " +
+             std::to_string(s.constant_id) + ")";
+    };
+    if (!declared) return corrupt(what() + " is not declared by " + n.shader());
     if (declared->size != s.size)
-      return corrupt(what + " is " + std::to_string(s.size) + " bytes, but " + who + " declares " +
+      return corrupt(what() + " is " + std::to_string(s.size) + " bytes, but " + n.shader() + " declares " +
                      (declared->size ? std::to_string(declared->size) + " bytes" : "a type it cannot size"));
   }
   return {};
@@ -56,6 +69,15 @@ struct KeyHash {
   }
 };
 using KeySet = std::unordered_set<Key, KeyHash>;
+// (shader index, set, layout): a fixed key, so that looking one up allocates nothing.
+using Triple = std::array<uint32_t, 3>;
+struct TripleHash {
+  size_t operator()(const Triple& t) const {
+    uint64_t h = 14695981039346656037ull;
+    for (uint32_t w : t) h = (h ^ w) * 1099511628211ull;
+    return size_t(h);
+  }
+};
 
 // What one entry point of a module uses: its descriptors by set number (in module order within a set)
 // and (for a vertex shader) its inputs.
@@ -92,42 +114,42 @@ class InterfaceChecks {
       : c_(c), modules_(modules), budget_(interface_check_budget(c)) {}
 
   Result<void> check(const Pipeline& p) {
-    const std::string pipeline = "pipeline '" + p.name + "'";
     for (uint32_t index : p.shaders) {
       const Shader& shader = c_.shaders[index];
       const spirv::Module& module = modules_[shader.blob];
       const spirv::EntryPoint* entry =
           module.find(*spirv::execution_model_of_stage(shader.stage), shader.entry_point);
-      const std::string who = "shader '" + shader.name + "'";
+      const Naming n{"pipeline", p.name, shader.name};
       const EntryUse* use = uses(shader.blob, module, *entry);
       if (!use) return over_budget(p);
       for (const auto& [set, resources] : use->resources) {
         const uint32_t layout = set < p.set_layouts.size() ? p.set_layouts[set] : kNone;
-        Key key = {index, set, layout};
+        const Triple key = {index, set, layout};
         if (resources_checked_.count(key)) continue;
         if (!charge(resources.size())) return over_budget(p);
-        if (auto ok = check_resources(shader, layout, resources, pipeline, who); !ok) return ok;
-        resources_checked_.insert(std::move(key));
+        if (auto ok = check_resources(shader, layout, resources, n); !ok) return ok;
+        resources_checked_.insert(key);
       }
       // Dynamic rendering has no input attachments (VUID-VkGraphicsPipelineCreateInfo-renderPass-06061).
       if (use->input_attachment && p.kind == PipelineKind::graphics && p.render_pass == kNone)
         return corrupt(
-            pipeline + ": " + who + " reads an input attachment (set " +
+            n.pipeline() + ": " + n.shader() + " reads an input attachment (set " +
             std::to_string(use->input_attachment->set) + ", binding " +
             std::to_string(use->input_attachment->binding) +
             "), but the pipeline has no render pass, and dynamic rendering has no input attachments");
       if (module.push_constants && module.uses(*entry, module.push_constants->variable)) {
         if (p.push_constant_size == 0 || !(p.push_constant_stages & shader.stage))
-          return corrupt(pipeline + ": " + who +
+          return corrupt(n.pipeline() + ": " + n.shader() +
                          " uses push constants, which the pipeline's layout lacks for the " +
                          spirv::stage_name(shader.stage) + " stage");
         if (p.push_constant_size < module.push_constants->size)
-          return corrupt(pipeline + ": push constants are " + std::to_string(p.push_constant_size) +
-                         " bytes, but " + who + " uses " + std::to_string(module.push_constants->size));
+          return corrupt(n.pipeline() + ": push constants are " + std::to_string(p.push_constant_size) +
+                         " bytes, but " + n.shader() + " uses " +
+                         std::to_string(module.push_constants->size));
       }
-      if (auto ok = check_constants(module, p.constants, shader.stage, pipeline, who); !ok) return ok;
+      if (auto ok = check_constants(module, p.constants, shader.stage, n); !ok) return ok;
       if (shader.stage == 0x1 && p.kind == PipelineKind::graphics)
-        if (auto ok = check_vertex_inputs(p, index, *use, pipeline, who); !ok) return ok;
+        if (auto ok = check_vertex_inputs(p, index, *use, n); !ok) return ok;
     }
     return {};
   }
@@ -162,37 +184,37 @@ class InterfaceChecks {
 
   // The resources a shader uses in one set against the set's layout (`layout_index`: kNone for none).
   Result<void> check_resources(const Shader& shader, uint32_t layout_index,
-                               const std::vector<const spirv::Resource*>& resources,
-                               const std::string& pipeline, const std::string& who) const {
+                               const std::vector<const spirv::Resource*>& resources, const Naming& n) const {
     const SetLayout* layout = layout_index != kNone ? &c_.set_layouts[layout_index] : nullptr;
     for (const spirv::Resource* r : resources) {
-      const std::string slot = "set " + std::to_string(r->set) + ", binding " + std::to_string(r->binding);
+      auto slot = [&] { return "set " + std::to_string(r->set) + ", binding " + std::to_string(r->binding); };
       // Bindings are sorted by number (checked by decode).
       auto b = layout ? std::lower_bound(layout->bindings.begin(), layout->bindings.end(), r->binding,
-                                         [](const Binding& x, uint32_t n) { return x.binding < n; })
+                                         [](const Binding& x, uint32_t number) { return x.binding < number; })
                       : std::vector<Binding>::const_iterator{};
       if (layout && b != layout->bindings.end() && b->binding != r->binding) b = layout->bindings.end();
       if (!layout || b == layout->bindings.end())
-        return corrupt(pipeline + ": " + who + " uses " + slot + ", which the pipeline's layout lacks");
-      const std::string binding = pipeline + ": binding '" + b->name + "' (" + slot + ")";
+        return corrupt(n.pipeline() + ": " + n.shader() + " uses " + slot() +
+                       ", which the pipeline's layout lacks");
+      auto binding = [&] { return n.pipeline() + ": binding '" + b->name + "' (" + slot() + ")"; };
       if (r->compatible == 0)
-        return corrupt(pipeline + ": " + who + " uses " + slot +
+        return corrupt(n.pipeline() + ": " + n.shader() + " uses " + slot() +
                        " as a resource no core descriptor type holds");
       if (!(r->compatible & (1u << b->descriptor_type)))
-        return corrupt(binding + " is a " + descriptor_type_name(b->descriptor_type) + " descriptor, but " +
-                       who + " declares a " + type_names(r->compatible));
+        return corrupt(binding() + " is a " + descriptor_type_name(b->descriptor_type) + " descriptor, but " +
+                       n.shader() + " declares a " + type_names(r->compatible));
       if (!(b->stage_flags & shader.stage))
-        return corrupt(binding + " is not visible to the " + spirv::stage_name(shader.stage) +
-                       " stage, which " + who + " uses it from");
+        return corrupt(binding() + " is not visible to the " + spirv::stage_name(shader.stage) +
+                       " stage, which " + n.shader() + " uses it from");
       if (r->array_size > b->count)
-        return corrupt(binding + " holds " + std::to_string(b->count) + " descriptor(s), but " + who +
-                       " declares an array of " + std::to_string(r->array_size));
+        return corrupt(binding() + " holds " + std::to_string(b->count) + " descriptor(s), but " +
+                       n.shader() + " declares an array of " + std::to_string(r->array_size));
     }
     return {};
   }
 
   Result<void> check_vertex_inputs(const Pipeline& p, uint32_t shader_index, const EntryUse& use,
-                                   const std::string& pipeline, const std::string& who) {
+                                   const Naming& n) {
     Key provided;  // attribute locations, sorted for lookups
     for (const auto& a : p.graphics.vertex_attributes) provided.push_back(a.location);
     std::sort(provided.begin(), provided.end());
@@ -202,12 +224,12 @@ class InterfaceChecks {
     if (!charge(use.inputs.size())) return over_budget(p);
     for (const spirv::Input* in : use.inputs) {
       if (in->locations > kMaxVertexLocations)
-        return corrupt(pipeline + ": vertex " + who + " reads " + std::to_string(in->locations) +
+        return corrupt(n.pipeline() + ": vertex " + n.shader() + " reads " + std::to_string(in->locations) +
                        " locations from one input");
       for (uint64_t location = in->location; location < uint64_t(in->location) + in->locations; ++location)
         if (!std::binary_search(provided.begin(), provided.end(), location))
-          return corrupt(pipeline + ": vertex " + who + " reads input location " + std::to_string(location) +
-                         ", which has no vertex attribute");
+          return corrupt(n.pipeline() + ": vertex " + n.shader() + " reads input location " +
+                         std::to_string(location) + ", which has no vertex attribute");
     }
     inputs_checked_.insert(std::move(key));
     return {};
@@ -217,9 +239,9 @@ class InterfaceChecks {
   const std::vector<spirv::Module>& modules_;
   const uint64_t budget_;
   uint64_t work_ = 0;
-  std::map<std::pair<uint32_t, uint32_t>, EntryUse> uses_;  // by (blob, entry point's function id)
-  KeySet resources_checked_;                                // (shader index, set, layout) that passed
-  KeySet inputs_checked_;                                   // (attribute locations, shader index) that passed
+  std::map<std::pair<uint32_t, uint32_t>, EntryUse> uses_;    // by (blob, entry point's function id)
+  std::unordered_set<Triple, TripleHash> resources_checked_;  // (shader index, set, layout) that passed
+  KeySet inputs_checked_;  // (attribute locations, shader index) that passed
 };
 
 // The namespace a resource binds in from the descriptor types it fits, or nullopt for what OpenGL has no
@@ -261,15 +283,15 @@ Result<void> check_gl_pipeline(const Contents& c, const GlPipeline& p,
     for (uint32_t w : {b.kind, b.binding, b.count, b.stages})
       table.append(reinterpret_cast<const char*>(&w), 4);
   for (const GlShader& shader : p.shaders) {
-    const std::string who = "OpenGL pipeline '" + p.name + "', shader '" + shader.name + "'";
+    auto who = [&] { return "OpenGL pipeline '" + p.name + "', shader '" + shader.name + "'"; };
     if (!modules[shader.blob]) {
       auto module = spirv::walk(c.spirv[shader.blob]);
-      if (!module) return corrupt(who + ": " + module.error().message);
+      if (!module) return corrupt(who() + ": " + module.error().message);
       modules[shader.blob] = std::move(module.value());
     }
     const spirv::Module& module = *modules[shader.blob];
-    if (auto ok = check_constants(module, p.constants, shader.stage, "OpenGL pipeline '" + p.name + "'",
-                                  "shader '" + shader.name + "'");
+    if (auto ok = check_constants(module, p.constants, shader.stage,
+                                  Naming{"OpenGL pipeline", p.name, shader.name});
         !ok)
       return ok;
     std::string key = table;  // (binding table, module, stage, entry point)
@@ -284,20 +306,20 @@ Result<void> check_gl_pipeline(const Contents& c, const GlPipeline& p,
     const auto model = spirv::execution_model_of_stage(shader.stage);
     const spirv::EntryPoint* entry = model ? module.find(*model, shader.entry_point) : nullptr;
     if (!entry)
-      return corrupt(who + " has no " + spirv::stage_name(shader.stage) + " entry point named '" +
+      return corrupt(who() + " has no " + spirv::stage_name(shader.stage) + " entry point named '" +
                      shader.entry_point + "' in its SPIR-V");
     if (module.push_constants && module.uses(*entry, module.push_constants->variable))
-      return corrupt(who + " uses push constants, which OpenGL does not have");
+      return corrupt(who() + " uses push constants, which OpenGL does not have");
     // Only what OpenGL 4.5 with GL_ARB_gl_spirv defines reaches the driver: Mesa's llvmpipe crashes
     // linking a fragment-barycentric module, for one.
     for (uint32_t capability : module.capabilities)
       if (!gl_capability(capability))
-        return corrupt(who + " declares SPIR-V capability " + std::to_string(capability) +
+        return corrupt(who() + " declares SPIR-V capability " + std::to_string(capability) +
                        ", which OpenGL 4.5 with GL_ARB_gl_spirv does not have");
     for (const spirv::Resource& r : module.resources) {
       if (!module.uses(*entry, r.variable)) continue;
       const auto kind = gl_namespace_of_mask(r.compatible);
-      auto resource = [&] { return who + ": the resource at binding " + std::to_string(r.binding); };
+      auto resource = [&] { return who() + ": the resource at binding " + std::to_string(r.binding); };
       if (!kind)
         return corrupt(
             resource() +
@@ -336,15 +358,15 @@ Result<void> check_shader_interfaces(const Contents& c, uint32_t threads,
                        [&](size_t i) { walks[used[i]] = spirv::walk(c.spirv[used[i]]); });
   std::vector<spirv::Module> modules(c.spirv.size());
   for (const Shader& shader : c.shaders) {
-    const std::string who = "shader '" + shader.name + "'";
+    auto who = [&] { return "shader '" + shader.name + "'"; };
     if (auto& walk = walks[shader.blob]) {
-      if (!*walk) return corrupt(who + ": " + walk->error().message);
+      if (!*walk) return corrupt(who() + ": " + walk->error().message);
       modules[shader.blob] = std::move(walk->value());
       walk.reset();
     }
     const auto model = spirv::execution_model_of_stage(shader.stage);
     if (!model || !modules[shader.blob].find(*model, shader.entry_point))
-      return corrupt(who + " has no " + spirv::stage_name(shader.stage) + " entry point named '" +
+      return corrupt(who() + " has no " + spirv::stage_name(shader.stage) + " entry point named '" +
                      shader.entry_point + "' in its SPIR-V");
   }
   {

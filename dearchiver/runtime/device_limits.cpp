@@ -9,6 +9,7 @@
 #include <optional>
 #include <string>
 #include <tuple>
+#include <type_traits>
 #include <vector>
 
 #include "format/spirv_walk.hpp"
@@ -16,6 +17,22 @@
 namespace statepack::detail {
 
 namespace {
+
+// The subject of a message ("pipeline 'x'", "pipeline 'x': render target 2"), made only when a check
+// fails: made for every check, these words cost a load of 100 pipelines a tenth of its own time. A
+// non-owning reference to a callable, for parameters only (the callable outlives the call).
+class Lazy {
+ public:
+  template <class F>
+  requires(!std::is_same_v<F, Lazy>)
+      Lazy(const F& make)  // NOLINT(google-explicit-constructor): passed as a lambda at every call
+      : object_(&make), call_([](const void* o) -> std::string { return (*static_cast<const F*>(o))(); }) {}
+  std::string operator()() const { return call_(object_); }
+
+ private:
+  const void* object_;
+  std::string (*call_)(const void*);
+};
 
 Error over_limit(const std::string& object, const std::string& what, uint64_t value, const char* limit,
                  uint64_t allowed) {
@@ -69,8 +86,7 @@ struct DescriptorTotals {
 };
 
 // Totals of a whole layout (the maxDescriptorSet* limits count every set of a pipeline layout).
-Result<void> check_layout_totals(const DescriptorTotals& t, const VkPhysicalDeviceLimits& l,
-                                 const std::string& who) {
+Result<void> check_layout_totals(const DescriptorTotals& t, const VkPhysicalDeviceLimits& l, Lazy who) {
   const std::array<std::tuple<uint64_t, const char*, uint32_t>, 8> checks{{
       {t.samplers, "maxDescriptorSetSamplers", l.maxDescriptorSetSamplers},
       {t.uniform_buffers, "maxDescriptorSetUniformBuffers", l.maxDescriptorSetUniformBuffers},
@@ -82,12 +98,11 @@ Result<void> check_layout_totals(const DescriptorTotals& t, const VkPhysicalDevi
       {t.input_attachments, "maxDescriptorSetInputAttachments", l.maxDescriptorSetInputAttachments},
   }};
   for (auto [value, limit, allowed] : checks)
-    if (value > allowed) return over_limit(who, "the descriptor count", value, limit, allowed);
+    if (value > allowed) return over_limit(who(), "the descriptor count", value, limit, allowed);
   return {};
 }
 
-Result<void> check_stage_totals(const DescriptorTotals& t, const VkPhysicalDeviceLimits& l,
-                                const std::string& who) {
+Result<void> check_stage_totals(const DescriptorTotals& t, const VkPhysicalDeviceLimits& l, Lazy who) {
   const std::array<std::tuple<uint64_t, const char*, uint32_t>, 7> checks{{
       {t.samplers, "maxPerStageDescriptorSamplers", l.maxPerStageDescriptorSamplers},
       {t.uniform_buffers, "maxPerStageDescriptorUniformBuffers", l.maxPerStageDescriptorUniformBuffers},
@@ -98,7 +113,7 @@ Result<void> check_stage_totals(const DescriptorTotals& t, const VkPhysicalDevic
       {t.resources(), "maxPerStageResources", l.maxPerStageResources},
   }};
   for (auto [value, limit, allowed] : checks)
-    if (value > allowed) return over_limit(who, "the descriptor count", value, limit, allowed);
+    if (value > allowed) return over_limit(who(), "the descriptor count", value, limit, allowed);
   return {};
 }
 
@@ -180,15 +195,15 @@ bool access_fits(uint32_t access, uint32_t stages) {
 // Shader interface variables and the formats they meet agree on the numeric type (else the layer
 // warns that values are undefined).
 Result<void> check_numeric(const std::vector<spirv::Input>& variables, uint32_t location, uint32_t format,
-                           const std::string& what) {
+                           Lazy what) {
   for (const auto& v : variables) {
     if (location < v.location || location >= uint64_t(v.location) + v.locations) continue;
     if (format == VK_FORMAT_UNDEFINED)
-      return Error{ErrorCode::corrupt, what + " has no format, but the shader's variable at location " +
+      return Error{ErrorCode::corrupt, what() + " has no format, but the shader's variable at location " +
                                            std::to_string(location) + " is there"};
     const spirv::Numeric wanted = spirv::numeric_of_format(format);
     if (v.numeric != spirv::Numeric::other && wanted != spirv::Numeric::other && v.numeric != wanted)
-      return Error{ErrorCode::corrupt, what + " has format " + vk_name(VkFormat(format)) +
+      return Error{ErrorCode::corrupt, what() + " has format " + vk_name(VkFormat(format)) +
                                            ", whose numeric type differs from the shader's variable"};
   }
   return {};
@@ -219,14 +234,14 @@ Result<void> check_set_layout(const format::SetLayout& layout, const DeviceCaps&
                                            "' is visible to stages other than the fragment stage"};
     totals.add(b.descriptor_type, b.count);
   }
-  return check_layout_totals(totals, caps.properties.limits, std::string(owner));
+  return check_layout_totals(totals, caps.properties.limits, [&] { return std::string(owner); });
 }
 
 Result<void> check_dependencies(const format::RenderPass& pass, const VkPhysicalDeviceFeatures& features) {
-  const std::string who = "render pass '" + pass.name + "'";
+  auto who = [&] { return "render pass '" + pass.name + "'"; };
   for (size_t i = 0; i < pass.dependencies.size(); ++i) {
     const auto& d = pass.dependencies[i];
-    const std::string dependency = who + ": dependency " + std::to_string(i);
+    const std::string dependency = who() + ": dependency " + std::to_string(i);
     auto bad = [&](const std::string& why) { return Error{ErrorCode::corrupt, dependency + " " + why}; };
     if (d.src_subpass == format::kNone && d.dst_subpass == format::kNone)
       return bad("is external on both sides");
@@ -262,10 +277,10 @@ Result<void> check_render_pass(const format::RenderPass& pass, const DeviceCaps&
                                const VkPhysicalDeviceFeatures& features) {
   if (auto ok = check_dependencies(pass, features); !ok) return ok;
   const VkPhysicalDeviceLimits& l = caps.properties.limits;
-  const std::string who = "render pass '" + pass.name + "'";
+  auto who = [&] { return "render pass '" + pass.name + "'"; };
   for (size_t i = 0; i < pass.attachments.size(); ++i) {
     const auto& a = pass.attachments[i];
-    const std::string attachment = who + ": attachment " + std::to_string(i);
+    const std::string attachment = who() + ": attachment " + std::to_string(i);
     if (a.format == VK_FORMAT_UNDEFINED) return Error{ErrorCode::corrupt, attachment + " has no format"};
     if (a.final_layout == VK_IMAGE_LAYOUT_UNDEFINED || a.final_layout == VK_IMAGE_LAYOUT_PREINITIALIZED)
       return Error{ErrorCode::corrupt, attachment + " has an invalid final layout"};
@@ -297,14 +312,14 @@ Result<void> check_render_pass(const format::RenderPass& pass, const DeviceCaps&
       if (sp.depth_stencil.attachment == i && !layout) layout = sp.depth_stencil.layout;
       if (!layout) continue;
       if (read_only_layout(*layout))
-        return Error{ErrorCode::corrupt, who + ": attachment " + std::to_string(i) +
+        return Error{ErrorCode::corrupt, who() + ": attachment " + std::to_string(i) +
                                              " is cleared but first used in a read-only layout"};
       break;
     }
   }
   for (size_t s = 0; s < pass.subpasses.size(); ++s) {
     const auto& sp = pass.subpasses[s];
-    const std::string subpass = who + ": subpass " + std::to_string(s);
+    const std::string subpass = who() + ": subpass " + std::to_string(s);
     if (sp.colors.size() > l.maxColorAttachments)
       return over_limit(subpass, "the color attachment count", sp.colors.size(), "maxColorAttachments",
                         l.maxColorAttachments);
@@ -372,8 +387,8 @@ Result<void> check_render_pass(const format::RenderPass& pass, const DeviceCaps&
 
 Result<void> check_sampler(const format::Sampler& s, const DeviceCaps& caps, std::string_view owner) {
   const VkPhysicalDeviceLimits& l = caps.properties.limits;
-  const std::string who = "immutable sampler of '" + std::string(owner) + "'";
-  auto bad = [&](const char* why) { return Error{ErrorCode::corrupt, who + " " + why}; };
+  auto who = [&] { return "immutable sampler of '" + std::string(owner) + "'"; };
+  auto bad = [&](const char* why) { return Error{ErrorCode::corrupt, who() + " " + why}; };
   for (float f : {s.mip_lod_bias, s.max_anisotropy, s.min_lod, s.max_lod})
     if (!std::isfinite(f)) return bad("has a value that is not a finite number");
   if (std::fabs(s.mip_lod_bias) > l.maxSamplerLodBias) return bad("has a LOD bias beyond maxSamplerLodBias");
@@ -396,15 +411,15 @@ Result<void> check_workgroup_size(const std::string& pipeline, const spirv::Entr
                                   const VkPhysicalDeviceLimits& limits) {
   if (!entry.workgroup_size) return {};  // none, or computed from constants: left to the driver
   const spirv::WorkgroupSize size = spirv::specialized_workgroup_size(*entry.workgroup_size, specialized);
-  const std::string who = "pipeline '" + pipeline + "'";
-  const std::string text = spirv::workgroup_size_text(size);
+  auto who = [&] { return "pipeline '" + pipeline + "'"; };
+  auto text = [&] { return spirv::workgroup_size_text(size); };
   const auto& max = limits.maxComputeWorkGroupSize;
   for (size_t i = 0; i < 3; ++i) {
     if (size[i] == 0)
       return Error{ErrorCode::invalid_argument,
-                   who + ": the work-group size is " + text + "; each dimension must be at least 1"};
+                   who() + ": the work-group size is " + text() + "; each dimension must be at least 1"};
     if (size[i] > max[i])
-      return Error{ErrorCode::unsupported, who + ": the work-group size " + text +
+      return Error{ErrorCode::unsupported, who() + ": the work-group size " + text() +
                                                " is beyond the device's maxComputeWorkGroupSize of (" +
                                                std::to_string(max[0]) + ", " + std::to_string(max[1]) + ", " +
                                                std::to_string(max[2]) + ")"};
@@ -412,7 +427,7 @@ Result<void> check_workgroup_size(const std::string& pipeline, const spirv::Entr
   const uint64_t invocations = size[0] * size[1] * size[2];
   if (invocations > limits.maxComputeWorkGroupInvocations)
     return Error{ErrorCode::unsupported,
-                 who + ": a work group of " + text + " is " + std::to_string(invocations) +
+                 who() + ": a work group of " + text() + " is " + std::to_string(invocations) +
                      " invocations, beyond the device's maxComputeWorkGroupInvocations of " +
                      std::to_string(limits.maxComputeWorkGroupInvocations)};
   return {};
@@ -421,18 +436,18 @@ Result<void> check_workgroup_size(const std::string& pipeline, const spirv::Entr
 Result<void> check_pipeline_layout(const format::Contents& c, const format::Pipeline& p,
                                    const DeviceCaps& caps) {
   const VkPhysicalDeviceLimits& l = caps.properties.limits;
-  const std::string who = "pipeline '" + p.name + "'";
+  auto who = [&] { return "pipeline '" + p.name + "'"; };
   for (uint32_t s : p.shaders) {
     const auto& words = c.spirv[c.shaders[s].blob];  // the header was checked at load time
     const uint32_t needed = api_version_for_spirv(words[1]);
     if (caps.properties.apiVersion < needed)
-      return Error{ErrorCode::unsupported, who + ": shader '" + c.shaders[s].name + "' is SPIR-V " +
+      return Error{ErrorCode::unsupported, who() + ": shader '" + c.shaders[s].name + "' is SPIR-V " +
                                                std::to_string(words[1] >> 16) + "." +
                                                std::to_string((words[1] >> 8) & 0xFF) +
                                                ", which needs a newer Vulkan than the device's"};
   }
   if (p.set_layouts.size() > l.maxBoundDescriptorSets)
-    return over_limit(who, "the descriptor set count", p.set_layouts.size(), "maxBoundDescriptorSets",
+    return over_limit(who(), "the descriptor set count", p.set_layouts.size(), "maxBoundDescriptorSets",
                       l.maxBoundDescriptorSets);
   DescriptorTotals layout_totals;
   std::array<DescriptorTotals, 6> stage_totals;
@@ -449,57 +464,57 @@ Result<void> check_pipeline_layout(const format::Contents& c, const format::Pipe
   if (auto ok = check_layout_totals(layout_totals, l, who); !ok) return ok;
   for (uint32_t stage = 0; stage < stage_totals.size(); ++stage)  // (the message only for a stage in use)
     if (stages_used & (1u << stage))
-      if (auto ok = check_stage_totals(stage_totals[stage], l,
-                                       who + " (" + spirv::stage_name(1u << stage) + " stage)");
+      if (auto ok =
+              check_stage_totals(stage_totals[stage], l,
+                                 [&] { return who() + " (" + spirv::stage_name(1u << stage) + " stage)"; });
           !ok)
         return ok;
   if (p.push_constant_size > l.maxPushConstantsSize)
-    return over_limit(who, "the push constant size", p.push_constant_size, "maxPushConstantsSize",
+    return over_limit(who(), "the push constant size", p.push_constant_size, "maxPushConstantsSize",
                       l.maxPushConstantsSize);
   if (p.push_constant_size > 0 && p.push_constant_stages == 0)
-    return Error{ErrorCode::corrupt, who + " has " + std::to_string(p.push_constant_size) +
+    return Error{ErrorCode::corrupt, who() + " has " + std::to_string(p.push_constant_size) +
                                          " bytes of push constants for no shader stage"};
   return {};
 }
 
 namespace {
 
-Result<void> check_vertex_input(const format::GraphicsState& g, const std::string& who,
-                                const DeviceCaps& caps) {
+Result<void> check_vertex_input(const format::GraphicsState& g, Lazy who, const DeviceCaps& caps) {
   const VkPhysicalDeviceLimits& l = caps.properties.limits;
   if (g.vertex_bindings.size() > l.maxVertexInputBindings)
-    return over_limit(who, "the vertex binding count", g.vertex_bindings.size(), "maxVertexInputBindings",
+    return over_limit(who(), "the vertex binding count", g.vertex_bindings.size(), "maxVertexInputBindings",
                       l.maxVertexInputBindings);
   for (size_t i = 0; i < g.vertex_bindings.size(); ++i) {
     const auto& b = g.vertex_bindings[i];
-    const std::string binding = "vertex binding " + std::to_string(b.binding);
+    auto binding = [&] { return "vertex binding " + std::to_string(b.binding); };
     if (b.binding >= l.maxVertexInputBindings)
-      return over_limit(who, "a vertex binding number", b.binding, "maxVertexInputBindings",
+      return over_limit(who(), "a vertex binding number", b.binding, "maxVertexInputBindings",
                         l.maxVertexInputBindings);
     if (b.stride > l.maxVertexInputBindingStride)
-      return over_limit(who, "the stride of " + binding, b.stride, "maxVertexInputBindingStride",
+      return over_limit(who(), "the stride of " + binding(), b.stride, "maxVertexInputBindingStride",
                         l.maxVertexInputBindingStride);
     for (size_t j = 0; j < i; ++j)
       if (g.vertex_bindings[j].binding == b.binding)
-        return Error{ErrorCode::corrupt, who + " declares " + binding + " twice"};
+        return Error{ErrorCode::corrupt, who() + " declares " + binding() + " twice"};
   }
   if (g.vertex_attributes.size() > l.maxVertexInputAttributes)
-    return over_limit(who, "the vertex attribute count", g.vertex_attributes.size(),
+    return over_limit(who(), "the vertex attribute count", g.vertex_attributes.size(),
                       "maxVertexInputAttributes", l.maxVertexInputAttributes);
   for (size_t i = 0; i < g.vertex_attributes.size(); ++i) {
     const auto& a = g.vertex_attributes[i];
-    const std::string attribute = "vertex attribute at location " + std::to_string(a.location);
+    auto attribute = [&] { return "vertex attribute at location " + std::to_string(a.location); };
     if (a.location >= l.maxVertexInputAttributes)
-      return over_limit(who, "a vertex attribute location", a.location, "maxVertexInputAttributes",
+      return over_limit(who(), "a vertex attribute location", a.location, "maxVertexInputAttributes",
                         l.maxVertexInputAttributes);
     if (a.offset > l.maxVertexInputAttributeOffset)
-      return over_limit(who, "the offset of the " + attribute, a.offset, "maxVertexInputAttributeOffset",
+      return over_limit(who(), "the offset of the " + attribute(), a.offset, "maxVertexInputAttributeOffset",
                         l.maxVertexInputAttributeOffset);
     for (size_t j = 0; j < i; ++j)
       if (g.vertex_attributes[j].location == a.location)
-        return Error{ErrorCode::corrupt, who + " declares the " + attribute + " twice"};
+        return Error{ErrorCode::corrupt, who() + " declares the " + attribute() + " twice"};
     if (!(caps.format(a.format).bufferFeatures & VK_FORMAT_FEATURE_VERTEX_BUFFER_BIT))
-      return Error{ErrorCode::unsupported, who + ": the " + attribute + " has format " +
+      return Error{ErrorCode::unsupported, who() + ": the " + attribute() + " has format " +
                                                vk_name(VkFormat(a.format)) +
                                                ", which the device cannot read vertices from"};
   }
@@ -507,39 +522,38 @@ Result<void> check_vertex_input(const format::GraphicsState& g, const std::strin
 }
 
 // Without a render pass the pipeline's own formats are the attachments: the device must render to them.
-Result<void> check_dynamic_rendering_targets(const GraphicsTargets& t, const std::string& who,
-                                             const DeviceCaps& caps) {
+Result<void> check_dynamic_rendering_targets(const GraphicsTargets& t, Lazy who, const DeviceCaps& caps) {
   const VkPhysicalDeviceLimits& l = caps.properties.limits;
   for (uint32_t i = 0; i < t.color_count; ++i) {
     if (t.color_formats[i] == VK_FORMAT_UNDEFINED) continue;
     const VkFormatProperties f = caps.format(t.color_formats[i]);
     if (!supports(f, VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BIT))
-      return Error{ErrorCode::unsupported, who + ": render target " + std::to_string(i) + " has format " +
+      return Error{ErrorCode::unsupported, who() + ": render target " + std::to_string(i) + " has format " +
                                                vk_name(VkFormat(t.color_formats[i])) +
                                                ", which the device cannot render to"};
     if (t.blend_enabled[i] && !supports(f, VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BLEND_BIT))
-      return Error{ErrorCode::unsupported, who + ": render target " + std::to_string(i) + " blends format " +
-                                               vk_name(VkFormat(t.color_formats[i])) +
+      return Error{ErrorCode::unsupported, who() + ": render target " + std::to_string(i) +
+                                               " blends format " + vk_name(VkFormat(t.color_formats[i])) +
                                                ", which the device cannot blend"};
   }
   if (t.depth_stencil_format != VK_FORMAT_UNDEFINED &&
       !supports(caps.format(t.depth_stencil_format), VK_FORMAT_FEATURE_DEPTH_STENCIL_ATTACHMENT_BIT))
-    return Error{ErrorCode::unsupported, who + ": depth-stencil format " +
+    return Error{ErrorCode::unsupported, who() + ": depth-stencil format " +
                                              vk_name(VkFormat(t.depth_stencil_format)) +
                                              " cannot be rendered to on this device"};
   if (t.depth_stencil_format != VK_FORMAT_UNDEFINED && !(l.framebufferDepthSampleCounts & t.samples))
-    return Error{ErrorCode::unsupported, who + " renders depth with " + std::to_string(t.samples) +
+    return Error{ErrorCode::unsupported, who() + " renders depth with " + std::to_string(t.samples) +
                                              " samples, which the device does not support"};
   return {};
 }
 
 // The render pass fixes the attachments: the pipeline must agree with its subpass.
 Result<void> check_subpass_targets(const format::Contents& c, const format::Pipeline& p,
-                                   const GraphicsTargets& t, const std::string& who, const DeviceCaps& caps) {
+                                   const GraphicsTargets& t, Lazy who, const DeviceCaps& caps) {
   const format::RenderPass& pass = c.render_passes[p.render_pass];
   const format::Subpass& sp = pass.subpasses[p.subpass];
   if (t.color_count != sp.colors.size())
-    return Error{ErrorCode::corrupt, who + " blends " + std::to_string(t.color_count) +
+    return Error{ErrorCode::corrupt, who() + " blends " + std::to_string(t.color_count) +
                                          " render target(s), but its subpass " + std::to_string(p.subpass) +
                                          " of render pass '" + pass.name + "' has " +
                                          std::to_string(sp.colors.size())};
@@ -547,7 +561,7 @@ Result<void> check_subpass_targets(const format::Contents& c, const format::Pipe
   used.push_back(sp.depth_stencil);
   for (const auto& r : used)
     if (r.attachment != format::kNone && pass.attachments[r.attachment].samples != t.samples)
-      return Error{ErrorCode::corrupt, who + " renders with " + std::to_string(t.samples) +
+      return Error{ErrorCode::corrupt, who() + " renders with " + std::to_string(t.samples) +
                                            " samples, but attachment " + std::to_string(r.attachment) +
                                            " of render pass '" + pass.name + "' has " +
                                            std::to_string(pass.attachments[r.attachment].samples)};
@@ -555,14 +569,14 @@ Result<void> check_subpass_targets(const format::Contents& c, const format::Pipe
     if (t.blend_enabled[i] && sp.colors[i].attachment != format::kNone &&
         !supports(caps.format(pass.attachments[sp.colors[i].attachment].format),
                   VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BLEND_BIT))
-      return Error{ErrorCode::unsupported,
-                   who + ": render target " + std::to_string(i) + " blends a format the device cannot blend"};
+      return Error{ErrorCode::unsupported, who() + ": render target " + std::to_string(i) +
+                                               " blends a format the device cannot blend"};
   return {};
 }
 
 // Points need a PointSize from the last stage before rasterization (here only the vertex stage can
 // be: geometry and tessellation shaders leave it to their own output).
-Result<void> check_point_size(const format::Contents& c, const format::Pipeline& p, const std::string& who,
+Result<void> check_point_size(const format::Contents& c, const format::Pipeline& p, Lazy who,
                               const ModuleOf& module_of) {
   uint32_t stages = 0;
   for (uint32_t index : p.shaders) stages |= c.shaders[index].stage;
@@ -575,7 +589,7 @@ Result<void> check_point_size(const format::Contents& c, const format::Pipeline&
     const spirv::Module* module = module_of(shader.blob);
     if (!module) return Error{ErrorCode::corrupt, "shader '" + shader.name + "' has no readable SPIR-V"};
     if (!module->writes_point_size)
-      return Error{ErrorCode::corrupt, who + " draws points, but its vertex shader '" + shader.name +
+      return Error{ErrorCode::corrupt, who() + " draws points, but its vertex shader '" + shader.name +
                                            "' does not write PointSize"};
   }
   return {};
@@ -583,8 +597,7 @@ Result<void> check_point_size(const format::Contents& c, const format::Pipeline&
 
 // Vertex inputs and fragment outputs against the formats they meet.
 Result<void> check_interface_formats(const format::Contents& c, const format::Pipeline& p,
-                                     const GraphicsTargets& t, const std::string& who,
-                                     const ModuleOf& module_of) {
+                                     const GraphicsTargets& t, Lazy who, const ModuleOf& module_of) {
   for (uint32_t index : p.shaders) {
     const format::Shader& shader = c.shaders[index];
     if (shader.stage != VK_SHADER_STAGE_VERTEX_BIT && shader.stage != VK_SHADER_STAGE_FRAGMENT_BIT) continue;
@@ -592,14 +605,15 @@ Result<void> check_interface_formats(const format::Contents& c, const format::Pi
     if (!module) return Error{ErrorCode::corrupt, "shader '" + shader.name + "' has no readable SPIR-V"};
     if (shader.stage == VK_SHADER_STAGE_VERTEX_BIT) {
       for (const auto& a : p.graphics.vertex_attributes)
-        if (auto ok = check_numeric(module->inputs, a.location, a.format,
-                                    who + ": the vertex attribute at location " + std::to_string(a.location));
+        if (auto ok = check_numeric(
+                module->inputs, a.location, a.format,
+                [&] { return who() + ": the vertex attribute at location " + std::to_string(a.location); });
             !ok)
           return ok;
     } else if (p.render_pass == format::kNone) {
       for (uint32_t i = 0; i < t.color_count; ++i)
         if (auto ok = check_numeric(module->outputs, i, t.color_formats[i],
-                                    who + ": render target " + std::to_string(i));
+                                    [&] { return who() + ": render target " + std::to_string(i); });
             !ok)
           return ok;
     } else {
@@ -608,7 +622,7 @@ Result<void> check_interface_formats(const format::Contents& c, const format::Pi
       for (uint32_t i = 0; i < sp.colors.size(); ++i)
         if (sp.colors[i].attachment != format::kNone)
           if (auto ok = check_numeric(module->outputs, i, pass.attachments[sp.colors[i].attachment].format,
-                                      who + ": render target " + std::to_string(i));
+                                      [&] { return who() + ": render target " + std::to_string(i); });
               !ok)
             return ok;
     }
@@ -622,10 +636,10 @@ Result<void> check_graphics_state(const format::Contents& c, const format::Pipel
                                   const GraphicsTargets& t, const DeviceCaps& caps,
                                   const ModuleOf& module_of) {
   const VkPhysicalDeviceLimits& l = caps.properties.limits;
-  const std::string who = "pipeline '" + p.name + "'";
+  auto who = [&] { return "pipeline '" + p.name + "'"; };
   if (auto ok = check_vertex_input(p.graphics, who, caps); !ok) return ok;
   if (t.color_count > l.maxColorAttachments)
-    return over_limit(who, "the color attachment count", t.color_count, "maxColorAttachments",
+    return over_limit(who(), "the color attachment count", t.color_count, "maxColorAttachments",
                       l.maxColorAttachments);
   const bool dynamic_rendering = p.render_pass == format::kNone;
   if (auto ok = dynamic_rendering ? check_dynamic_rendering_targets(t, who, caps)

@@ -91,6 +91,7 @@ PatchableState to_patchable(const format::Pipeline& p) {
 Result<std::vector<SpecializationConstant>> settle_constants(const format::Pipeline& p,
                                                              std::vector<SpecializationConstant> given) {
   std::vector<SpecializationConstant> archived = constants_of(p);
+  if (given.empty()) return archived;  // none given, or all removed: the archived values
   std::unordered_map<std::string_view, size_t> index;
   for (size_t i = 0; i < archived.size(); ++i) index.emplace(archived[i].name, i);
   for (const auto& g : given) {

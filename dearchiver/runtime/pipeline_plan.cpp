@@ -38,6 +38,8 @@ Result<std::unique_ptr<Plan>> Planner::plan_common(const ArchivedPipeline& found
   out.name = p.name;
   out.push_constant_size = p.push_constant_size;
   out.push_constant_stages = p.push_constant_stages;
+  out.set_layouts.reserve(p.set_layouts.size());
+  plan->stages.reserve(p.shaders.size());
   for (uint32_t set = 0; set < p.set_layouts.size(); ++set) {
     auto layout = cache_.set_layout(found.archive, p.set_layouts[set], p.name);
     if (!layout) return layout.error();
@@ -136,10 +138,12 @@ Result<void> Planner::check_compute_size(const ArchivedPipeline& found,
 
 Result<std::unique_ptr<Plan>> Planner::plan_compute(const ArchivedPipeline& found,
                                                     const ModifyCallback& modify) {
-  PatchableState settled = to_patchable(*found.pipeline);
-  if (modify)  // only the constants apply to a compute pipeline
+  Result<std::vector<SpecializationConstant>> constants = constants_of(*found.pipeline);
+  if (modify) {  // only the constants apply to a compute pipeline
+    PatchableState settled = to_patchable(*found.pipeline);
     if (auto thrown = run_modify(found.pipeline->name, modify, settled)) return *thrown;
-  auto constants = settle_constants(*found.pipeline, std::move(settled.constants));
+    constants = settle_constants(*found.pipeline, std::move(settled.constants));
+  }
   if (!constants) return constants.error();
   if (auto ok = check_compute_size(found, *constants); !ok) return ok.error();
   auto plan = plan_common(found, *constants);

@@ -10,6 +10,7 @@
 #include <set>
 #include <thread>
 #include <unordered_map>
+#include <unordered_set>
 
 #include "api_guard.hpp"
 #include "dearchiver_state.hpp"
@@ -339,10 +340,16 @@ std::shared_ptr<UnpackJob::Shared> start_job(Dearchiver& dearchiver, Dearchiver:
   {
     std::lock_guard lock(state.mutex);
     try {
-      std::set<std::string, std::less<>> seen;
+      // Names are unique within an archive (checked at load), so only a second archive needs `seen`;
+      // the names it holds live in the archives, as long as the job's state.
+      std::unordered_set<std::string_view> seen;
+      const bool several = state.archives.size() > 1;
+      size_t total = 0;
+      for (size_t a = 0; a < state.archives.size(); ++a) total += state.contents(a).pipelines.size();
+      job->entries.reserve(total);
       for (size_t a = 0; a < state.archives.size(); ++a)
         for (const auto& p : state.contents(a).pipelines)
-          if (seen.insert(p.name).second)  // the earliest archive wins
+          if (!several || seen.insert(p.name).second)  // the earliest archive wins
             plan_entry(*job, state, options, ArchivedPipeline{a, &p}, job->entries.emplace_back());
       std::erase_if(state.jobs, [](const auto& weak) { return weak.expired(); });
       state.jobs.push_back(job);

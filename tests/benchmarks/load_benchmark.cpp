@@ -16,8 +16,11 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <thread>
 #include <vector>
+
+#include <valgrind/callgrind.h>  // client requests: a few no-op instructions unless run under callgrind
 
 #include "format/archive_format.hpp"
 #include "notation/notation.hpp"
@@ -268,6 +271,22 @@ int main(int argc, char** argv) {
   // whose load drifts (another process, a CPU's clock) weighs on both alike; each run's overhead is
   // taken against the bare run beside it.
   std::vector<double> bare, ours_one, ours_all, glslang_compile, paired;
+  // For a profiler or an instruction count: one path only (STATEPACK_BENCH_ONLY=statepack or bare), once
+  // to warm up and then `repeats` times, each run inside CALLGRIND_TOGGLE_COLLECT (run it under
+  // `valgrind --tool=callgrind --collect-atstart=no`: what is counted is those runs and nothing else).
+  if (const char* only = std::getenv("STATEPACK_BENCH_ONLY"); only && *only) {
+    const bool bare_only = std::string_view(only) == "bare";
+    if (!bare_only && std::string_view(only) != "statepack")
+      return std::fprintf(stderr, "STATEPACK_BENCH_ONLY is 'statepack' or 'bare'\n"), 2;
+    auto one = [&] { bare_only ? (void)bare_run() : (void)ours_run(1); };
+    one();
+    for (int r = 0; r < repeats; ++r) {
+      CALLGRIND_TOGGLE_COLLECT;
+      one();
+      CALLGRIND_TOGGLE_COLLECT;
+    }
+    return 0;
+  }
   for (int r = 0; r < repeats; ++r) {
     double b = 0, one = 0;
     if (r % 2 == 0) {

@@ -18,6 +18,22 @@ echo
 "$bin/load_benchmark" "$work/states.spk" "$root/states/slice.json" "$root/shaders" "$repeats"
 STATEPACK_BENCH_BREAKDOWN=1 "$bin/load_benchmark" "$work/generated.spk" "$work/gen/generated.json" "$work/gen" "$repeats" | tail -5
 echo
+# Times on a shared machine drift by more than the overhead measured; instruction counts do not. Each
+# path runs alone under callgrind, five runs counted (after one uncounted), twice, so that the two
+# counts show how far runs agree.
+count_instructions() {  # <bare|statepack> <out file>
+  STATEPACK_BENCH_ONLY=$1 valgrind --tool=callgrind --collect-atstart=no --callgrind-out-file="$2" \
+    "$bin/load_benchmark" "$work/generated.spk" "$work/gen/generated.json" "$work/gen" 5 > /dev/null 2>&1
+  awk '/^summary:/ { print $2 }' "$2"
+}
+echo "| instructions per load (callgrind, 5 runs) | bare Vulkan | statepack, 1 thread | statepack's own | overhead |"
+echo "|---|---|---|---|---|"
+for attempt in 1 2; do
+  b=$(count_instructions bare "$work/bare.cg") s=$(count_instructions statepack "$work/statepack.cg")
+  awk -v b="$b" -v s="$s" -v a="$attempt" 'BEGIN {
+    printf "| generated.spk, count %d | %.0f | %.0f | %.0f | %+.2f %% |\n", a, b / 5, s / 5, (s - b) / 5, 100 * (s - b) / b }'
+done
+echo
 strip -o "$work/min_dearchiver" "$bin/min_dearchiver"
 strip -o "$work/min_glslang" "$bin/min_glslang"
 "$work/min_dearchiver" "$work/states.spk" "Fill Buffer PSO" > /dev/null
