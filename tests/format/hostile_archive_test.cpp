@@ -425,6 +425,20 @@ TEST_F(HostileUnpack, DescriptorCountsBeyondTheDevice) {
                 std::to_string(limits().maxDescriptorSetStorageBuffers));
 }
 
+// A stage's own limit, below the whole layout's: the message names the pipeline and the stage, words
+// made only when a check fails.
+TEST_F(HostileUnpack, DescriptorCountsBeyondOneStage) {
+  const uint32_t per_stage = limits().maxPerStageDescriptorStorageBuffers;
+  ASSERT_LT(per_stage, limits().maxDescriptorSetStorageBuffers);
+  Slice slice;
+  auto& p = slice.pipeline("Fill Buffer PSO");
+  slice.contents.set_layouts[p.set_layouts[0]].bindings[0].count = per_stage + 1;
+  EXPECT_EQ(unpack_error(slice.contents, "Fill Buffer PSO"),
+            "pipeline 'Fill Buffer PSO' (compute stage): the descriptor count is " +
+                std::to_string(per_stage + 1) +
+                ", beyond the device's maxPerStageDescriptorStorageBuffers of " + std::to_string(per_stage));
+}
+
 TEST_F(HostileUnpack, MoreSetsThanTheDeviceBinds) {
   Slice slice;
   slice.pipeline("Fill Buffer PSO").set_layouts.resize(limits().maxBoundDescriptorSets + 1, format::kNone);
