@@ -7,6 +7,7 @@
 #include <iterator>
 #include <map>
 #include <optional>
+#include <span>
 #include <unordered_set>
 
 #include "spirv_walk.hpp"
@@ -215,12 +216,14 @@ class InterfaceChecks {
 
   Result<void> check_vertex_inputs(const Pipeline& p, uint32_t shader_index, const EntryUse& use,
                                    const Naming& n) {
-    Key provided;  // attribute locations, sorted for lookups
-    for (const auto& a : p.graphics.vertex_attributes) provided.push_back(a.location);
-    std::sort(provided.begin(), provided.end());
-    Key key = provided;
+    // The key: the attribute locations, sorted (looked up below), then the shader index.
+    Key key;
+    key.reserve(p.graphics.vertex_attributes.size() + 1);
+    for (const auto& a : p.graphics.vertex_attributes) key.push_back(a.location);
+    std::sort(key.begin(), key.end());
     key.push_back(shader_index);
     if (inputs_checked_.count(key)) return {};
+    const auto provided = std::span(key).first(key.size() - 1);
     if (!charge(use.inputs.size())) return over_budget(p);
     for (const spirv::Input* in : use.inputs) {
       if (in->locations > kMaxVertexLocations)

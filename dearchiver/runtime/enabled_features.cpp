@@ -72,46 +72,60 @@ EnabledFeatures EnabledFeatures::gather(const DeviceContext& context, const Devi
 }
 
 std::string EnabledFeatures::check_capabilities(const std::vector<uint32_t>& capabilities) const {
-  for (uint32_t capability : capabilities) {
-    bool listed = false, allowed = false;
-    std::string needs;  // every way to allow it, for the message
-    auto can_allow = [&](const std::string& way) { needs += (needs.empty() ? "" : ", ") + way; };
-    const char* name = nullptr;
+  auto allows = [&](const CapabilityEnable& e) {
+    switch (e.kind) {
+      case EnableKind::version:
+        return api_version_ >= e.version;
+      case EnableKind::feature: {
+        auto it = features_.find(uint32_t(e.s_type));  // a structure the chain lacks is off
+        return it != features_.end() && word_at(it->second, e.offset) != 0;
+      }
+      case EnableKind::extension:
+        return extensions_.count(e.extension) != 0;
+      case EnableKind::property: {
+        auto it = properties_.find(uint32_t(e.s_type));
+        return it == properties_.end() ? !properties_known_
+                                       : (word_at(it->second, e.offset) & e.bits) == e.bits;
+      }
+    }
+    return false;
+  };
+  // Every way to allow a capability, in words: made only for a capability refused.
+  auto ways = [&](uint32_t capability) {
+    std::string needs;
     for (const CapabilityEnable& e : kCapabilityEnables) {
       if (e.capability != capability) continue;
-      listed = true;
-      name = e.name;
+      if (!needs.empty()) needs += ", ";
       switch (e.kind) {
         case EnableKind::version:
-          allowed = api_version_ >= e.version;
-          can_allow("Vulkan " + std::to_string(VK_API_VERSION_MAJOR(e.version)) + "." +
-                    std::to_string(VK_API_VERSION_MINOR(e.version)));
+          needs += "Vulkan " + std::to_string(VK_API_VERSION_MAJOR(e.version)) + "." +
+                   std::to_string(VK_API_VERSION_MINOR(e.version));
           break;
-        case EnableKind::feature: {
-          auto it = features_.find(uint32_t(e.s_type));  // a structure the chain lacks is off
-          allowed = it != features_.end() && word_at(it->second, e.offset) != 0;
-          can_allow(e.what);
-          break;
-        }
         case EnableKind::extension:
-          allowed = extensions_.count(e.extension) != 0;
-          can_allow(std::string("the extension ") + e.extension);
+          needs += std::string("the extension ") + e.extension;
           break;
-        case EnableKind::property: {
-          auto it = properties_.find(uint32_t(e.s_type));
-          allowed = it == properties_.end() ? !properties_known_
-                                            : (word_at(it->second, e.offset) & e.bits) == e.bits;
-          can_allow(e.what);
+        case EnableKind::feature:
+        case EnableKind::property:
+          needs += e.what;
           break;
-        }
       }
-      if (allowed) break;
     }
-    if (!listed)
+    return needs;
+  };
+  for (uint32_t capability : capabilities) {
+    const char* name = nullptr;
+    bool allowed = false;
+    for (const CapabilityEnable& e : kCapabilityEnables) {
+      if (e.capability != capability) continue;
+      name = e.name;
+      if ((allowed = allows(e))) break;
+    }
+    if (!name)
       return "declares the SPIR-V capability " + std::to_string(capability) +
              ", which Vulkan does not allow in shaders (it is not in Vulkan's table of SPIR-V capabilities)";
     if (!allowed)
-      return "declares the SPIR-V capability " + std::string(name) + ", which needs one of: " + needs +
+      return "declares the SPIR-V capability " + std::string(name) +
+             ", which needs one of: " + ways(capability) +
              "; none is enabled on this device (DeviceContext::enabled_feature_chain and enabled_extensions "
              "say what the device was created with)";
   }

@@ -2,6 +2,7 @@
 
 #include "vk_enum_names.hpp"
 
+#include <bit>
 #include <string_view>
 #include <unordered_map>
 
@@ -47,6 +48,7 @@ std::vector<SpecializationConstant> constants_of(const format::Pipeline& p) {
 
 PatchableState to_patchable(const format::Pipeline& p) {
   PatchableState s;
+  s.dynamic_states.reserve(size_t(std::popcount(p.dynamic_states)));  // one allocation, not one per growth
   for (uint32_t i = 0; i < 32; ++i)
     if (p.dynamic_states & (1u << i)) s.dynamic_states.push_back(dynamic_state_of_bit(i));
   s.constants = constants_of(p);

@@ -53,7 +53,8 @@ Result<std::unique_ptr<Plan>> Planner::plan_common(const ArchivedPipeline& found
   if (!layout) return layout.error();
   out.layout = *layout;
   uint32_t stages = 0;
-  plan->constants.resize(p.shaders.size());
+  if (p.shaders.size() > plan->constants.size())  // decode refuses two shaders for one stage
+    return Error{ErrorCode::corrupt, "pipeline '" + p.name + "' has more shader stages than Vulkan has"};
   std::unordered_map<std::string_view, const SpecializationConstant*> value_of;
   for (const auto& v : constants) value_of.emplace(v.name, &v);
   for (uint32_t s : p.shaders) {
@@ -318,9 +319,8 @@ void Planner::plan_fixed_function(const format::GraphicsState& g, uint32_t dynam
   }
   pl.blend.attachmentCount = s.color_count;
   pl.blend.pAttachments = pl.attachments.data();
-  pl.dynamic_states = s.dynamic_states;
-  pl.dynamic.dynamicStateCount = static_cast<uint32_t>(pl.dynamic_states.size());
-  pl.dynamic.pDynamicStates = pl.dynamic_states.data();
+  pl.dynamic.dynamicStateCount = static_cast<uint32_t>(s.dynamic_states.size());
+  pl.dynamic.pDynamicStates = s.dynamic_states.data();  // the plan's own settled state: no copy
   pl.rendering.colorAttachmentCount = s.color_count;
   pl.rendering.pColorAttachmentFormats = s.color_formats.data();
   pl.rendering.depthAttachmentFormat = depth_attachment ? s.depth_stencil_format : VK_FORMAT_UNDEFINED;

@@ -47,13 +47,14 @@ struct Plan {
   VkPipelineDepthStencilStateCreateInfo depth{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
   std::array<VkPipelineColorBlendAttachmentState, 8> attachments{};
   VkPipelineColorBlendStateCreateInfo blend{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
-  std::vector<VkDynamicState> dynamic_states;
   struct StageConstants {
     std::vector<VkSpecializationMapEntry> entries;
     std::vector<uint8_t> data;
     VkSpecializationInfo info{};
   };
-  std::vector<StageConstants> constants;  // one per stage, sized before pointers into it are taken
+  // One per stage, in the order of `stages`: a pipeline has at most six (VERTEX..COMPUTE, one shader per
+  // stage, checked at load), and a fixed array costs no allocation and never moves what points into it.
+  std::array<StageConstants, 6> constants;
   VkPipelineDynamicStateCreateInfo dynamic{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
   VkPipelineRenderingCreateInfo rendering{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
   VkGraphicsPipelineCreateInfo graphics{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
