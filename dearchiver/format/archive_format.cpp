@@ -64,6 +64,7 @@
 #include <xxhash.h>
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <cstring>
@@ -445,7 +446,8 @@ struct Writer {
 
 // --- reading ---------------------------------------------------------------------------------------
 
-uint32_t get_u32(const uint8_t* p) {
+// Read for every field of every record: inlined even where the runtime is compiled for size.
+[[gnu::always_inline]] inline uint32_t get_u32(const uint8_t* p) {
   return uint32_t(p[0]) | uint32_t(p[1]) << 8 | uint32_t(p[2]) << 16 | uint32_t(p[3]) << 24;
 }
 uint64_t get_u64(const uint8_t* p) {
@@ -532,15 +534,24 @@ struct Reader {
          "): records share lists or strings to amplify the archive");
     return false;
   }
-  uint32_t next() {
+  // The fields' readers: called for every field of every record, so inlined even at -Os.
+  [[gnu::always_inline]] uint32_t next() {
     uint32_t value = get_u32(cursor);
     cursor += 4;
     return value;
   }
-  void u32(uint32_t& value) { value = next(); }
-  void f32(float& value) { value = std::bit_cast<float>(next()); }
+  [[gnu::always_inline]] void u32(uint32_t& value) { value = next(); }
+  [[gnu::always_inline]] void f32(float& value) { value = std::bit_cast<float>(next()); }
+  // A section by tag, through a small direct-mapped memo: every string, list and record read looks
+  // one up, a few tags over and over.
+  std::array<std::pair<uint32_t, const Section*>, 16> memo{};
+  const Section& section(uint32_t tag) {
+    auto& m = memo[(tag ^ (tag >> 8) ^ (tag >> 16) ^ (tag >> 24)) & 15];
+    if (!m.second || m.first != tag) m = {tag, &sections[tag]};
+    return *m.second;
+  }
   void str(std::string& s) {
-    const Section& strings = sections[kTagStrings];
+    const Section& strings = section(kTagStrings);
     uint32_t offset = next(), length = next();
     if (uint64_t(offset) + length >= strings.size) return fail("string reference outside the string pool");
     const uint8_t* p = file.data() + strings.offset + offset;
@@ -551,7 +562,7 @@ struct Reader {
   std::optional<uint32_t> range(uint32_t tag, uint32_t& count, const char* what) {
     uint32_t first = next();
     count = next();
-    if (uint64_t(first) + count > sections[tag].count) {
+    if (uint64_t(first) + count > section(tag).count) {
       fail(std::string(what) + " list outside its section");
       return std::nullopt;
     }
@@ -562,13 +573,13 @@ struct Reader {
     auto first = range(kTagIndices, count, "index");
     if (!first || !charge(uint64_t(count) * 4)) return;
     out.resize(count);
-    const uint8_t* p = file.data() + sections[kTagIndices].offset + size_t(*first) * 4;
+    const uint8_t* p = file.data() + section(kTagIndices).offset + size_t(*first) * 4;
     for (uint32_t i = 0; i < count; ++i) out[i] = get_u32(p + 4 * i);
   }
   template <class T>
   void read_at(uint32_t index, T& item) {
     const uint8_t* saved = cursor;
-    cursor = file.data() + sections[Tag<T>::value].offset + size_t(index) * record_size<T>();
+    cursor = file.data() + section(Tag<T>::value).offset + size_t(index) * record_size<T>();
     visit(*this, item);
     cursor = saved;
   }
@@ -589,7 +600,7 @@ struct Reader {
       if (index != kNone) fail(what() + " is a compute pipeline with a graphics state");
       return std::nullopt;
     }
-    if (index >= sections[kTagGraphics].count) {
+    if (index >= section(kTagGraphics).count) {
       fail(what() + ": graphics state index out of range");
       return std::nullopt;
     }
@@ -614,7 +625,7 @@ struct Reader {
   template <class T>
   std::vector<T> all(const char* kind) {
     // Top-level records are charged too: they are in the file, so they cost at most its size.
-    const uint32_t count = sections[Tag<T>::value].count;
+    const uint32_t count = section(Tag<T>::value).count;
     current_kind = kind;
     current_index.reset();
     if (!charge(uint64_t(count) * record_size<T>())) return {};

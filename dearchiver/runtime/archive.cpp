@@ -48,14 +48,18 @@ std::vector<ObjectInfo> Archive::objects() const {
   for (const auto& p : c.pipelines)
     out.push_back({p.name, p.kind == format::PipelineKind::compute ? ObjectKind::compute_pipeline
                                                                    : ObjectKind::graphics_pipeline});
-  for (const auto& l : c.set_layouts)
-    if (!l.name.empty()) out.push_back({l.name, ObjectKind::resource_signature});
-  for (const auto& r : c.render_passes) out.push_back({r.name, ObjectKind::render_pass});
-  for (uint32_t s : c.standalone_shaders) out.push_back({c.shaders[s].name, ObjectKind::shader});
+  detail::append_other_objects(c, out);
   return out;
 }
 
 namespace detail {
+void append_other_objects(const format::Contents& c, std::vector<ObjectInfo>& out) {
+  for (const auto& l : c.set_layouts)
+    if (!l.name.empty()) out.push_back({l.name, ObjectKind::resource_signature});
+  for (const auto& r : c.render_passes) out.push_back({r.name, ObjectKind::render_pass});
+  for (uint32_t s : c.standalone_shaders) out.push_back({c.shaders[s].name, ObjectKind::shader});
+}
+
 const spirv::Module* ArchiveAccess::walked(const Archive& archive, uint32_t blob) {
   const auto& modules = archive.state_->loaded.modules;
   return blob < modules.size() ? &modules[blob] : nullptr;

@@ -15,4 +15,8 @@ struct STATEPACK_API ArchiveAccess {
   static const spirv::Module* walked(const Archive& archive, uint32_t blob);
 };
 
+// The named objects of an archive other than its pipelines (signatures, render passes, standalone
+// shaders), appended in Archive::objects' order: what unpack_all makes besides the pipelines.
+void append_other_objects(const format::Contents& contents, std::vector<ObjectInfo>& out);
+
 }  // namespace statepack::detail

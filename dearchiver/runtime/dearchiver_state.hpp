@@ -11,6 +11,7 @@
 #include <optional>
 #include <set>
 #include <string>
+#include <string_view>
 #include <unordered_map>
 #include <vector>
 
@@ -55,9 +56,11 @@ struct Dearchiver::State {
   bool creation_feedback = false;  // VK_EXT_pipeline_creation_feedback (or Vulkan 1.3) may be chained
   std::deque<UnpackedSignature> signatures;
   std::map<std::pair<size_t, uint32_t>, const UnpackedSignature*> signature_by_layout;
-  std::deque<UnpackedPipeline> pipelines;                                  // stable addresses
-  std::map<std::string, const UnpackedPipeline*, std::less<>> unmodified;  // cache by name
-  std::map<std::string, const UnpackedPipeline*> variants;                 // patched, by variant_key
+  std::deque<UnpackedPipeline> pipelines;  // stable addresses
+  // Cache by name. Each key views its own pipeline's name (stable in the deque; erased before its slot is
+  // reused): hashed, with nothing copied, for every unpack_all.
+  std::unordered_map<std::string_view, const UnpackedPipeline*> unmodified;
+  std::map<std::string, const UnpackedPipeline*> variants;  // patched, by variant_key
   struct Place {
     size_t slot;                                                       // in `pipelines`
     std::map<std::string, const UnpackedPipeline*>::iterator variant;  // variants.end(): not a variant
@@ -65,7 +68,8 @@ struct Dearchiver::State {
   std::unordered_map<const UnpackedPipeline*, Place> place_of;  // live pipelines, for release()
   std::vector<size_t> free_slots;                               // places of released ones
   // Pipelines unpack jobs are creating now, unpatched by name and patched by variant key.
-  std::map<std::string, std::shared_ptr<detail::PipelineSlot>, std::less<>> creating_unmodified;
+  // (Keys view the archives' own names, which live as long as this state.)
+  std::unordered_map<std::string_view, std::shared_ptr<detail::PipelineSlot>> creating_unmodified;
   std::map<std::string, std::shared_ptr<detail::PipelineSlot>> creating_variants;
   std::shared_ptr<detail::SlotSync> sync = std::make_shared<detail::SlotSync>();
   std::vector<std::weak_ptr<UnpackJob::Shared>> jobs;  // stopped before anything here is destroyed

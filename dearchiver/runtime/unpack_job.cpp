@@ -7,12 +7,12 @@
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
-#include <set>
 #include <thread>
 #include <unordered_map>
 #include <unordered_set>
 
 #include "api_guard.hpp"
+#include "archive_access.hpp"
 #include "dearchiver_state.hpp"
 #include "support/suggest.hpp"
 #include "variant_key.hpp"
@@ -353,10 +353,8 @@ std::shared_ptr<UnpackJob::Shared> start_job(Dearchiver& dearchiver, Dearchiver:
             plan_entry(*job, state, options, ArchivedPipeline{a, &p}, job->entries.emplace_back());
       std::erase_if(state.jobs, [](const auto& weak) { return weak.expired(); });
       state.jobs.push_back(job);
-      for (const auto& archive : state.archives)
-        for (auto& object : archive.objects())
-          if (object.kind != ObjectKind::graphics_pipeline && object.kind != ObjectKind::compute_pipeline)
-            others.push_back(std::move(object));
+      for (size_t a = 0; a < state.archives.size(); ++a)
+        detail::append_other_objects(state.contents(a), others);
     } catch (...) {
       for (auto& e : job->entries) job->forget_locked(e);
       for (auto& e : job->entries)
