@@ -212,8 +212,21 @@ Result<void> check_numeric(const std::vector<spirv::Input>& variables, uint32_t 
 }  // namespace
 
 VkFormatProperties DeviceCaps::format(uint32_t f) const {
+  if (f < kCachedFormats) {
+    CachedFormat& c = formats_[f];
+    if (c.known.load(std::memory_order_acquire))
+      return {c.linear.load(std::memory_order_relaxed), c.optimal.load(std::memory_order_relaxed),
+              c.buffer.load(std::memory_order_relaxed)};
+  }
   VkFormatProperties p{};
   vk.vkGetPhysicalDeviceFormatProperties(physical_device, static_cast<VkFormat>(f), &p);
+  if (f < kCachedFormats) {  // two threads may both ask: they store the same values
+    CachedFormat& c = formats_[f];
+    c.linear.store(p.linearTilingFeatures, std::memory_order_relaxed);
+    c.optimal.store(p.optimalTilingFeatures, std::memory_order_relaxed);
+    c.buffer.store(p.bufferFeatures, std::memory_order_relaxed);
+    c.known.store(true, std::memory_order_release);
+  }
   return p;
 }
 

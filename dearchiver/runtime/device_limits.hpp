@@ -6,6 +6,8 @@
 
 #include <vulkan/vulkan.h>
 
+#include <array>
+#include <atomic>
 #include <functional>
 #include <optional>
 #include <string>
@@ -24,8 +26,17 @@ struct DeviceCaps {
   VkPhysicalDeviceProperties properties{};
   VulkanFunctions vk;
 
-  // Thread-safe (Vulkan allows concurrent physical-device queries).
+  // Thread-safe (Vulkan allows concurrent physical-device queries). The core formats are asked once
+  // each: every pipeline checks its targets and vertex formats, a load of 100 asked the driver 100 times.
   VkFormatProperties format(uint32_t format) const;
+
+ private:
+  static constexpr uint32_t kCachedFormats = 185;  // VK_FORMAT_UNDEFINED .. VK_FORMAT_ASTC_12x12_SRGB_BLOCK
+  struct CachedFormat {
+    std::atomic<bool> known{false};  // set (release) after the three fields (relaxed)
+    std::atomic<VkFormatFeatureFlags> linear{0}, optimal{0}, buffer{0};
+  };
+  mutable std::array<CachedFormat, kCachedFormats> formats_;
 };
 
 // A descriptor set layout on its own (signatures, and each set of a pipeline).

@@ -363,6 +363,7 @@ std::shared_ptr<UnpackJob::Shared> start_job(Dearchiver& dearchiver, Dearchiver:
     }
   }
   try {
+    job->by_name.reserve(job->entries.size());
     for (size_t i = 0; i < job->entries.size(); ++i) job->by_name.emplace(job->entries[i].object.name, i);
     // The other named objects, so that everything is ready; each is quick to make.
     for (const auto& object : others) {

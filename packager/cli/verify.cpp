@@ -132,6 +132,13 @@ class Progress {
       done += size_t(n);
     }
   }
+  // After `done`: waits until the supervisor has printed the archive's summary (or is gone).
+  void wait_for_ack() const {
+    if (fd_ < 0) return;
+    char byte = 0;
+    while (::read(kVerifyAckFd, &byte, 1) < 0 && errno == EINTR) {
+    }
+  }
 
  private:
   int fd_;
@@ -250,9 +257,10 @@ int verify_archive(size_t index, const std::filesystem::path& path, size_t first
   }
   out.flush();
   all.add(totals);
-  if (progress.worker())
+  if (progress.worker()) {
     progress.send("done " + std::to_string(index));  // the supervisor counts and prints the summary
-  else
+    progress.wait_for_ack();
+  } else
     out << printable(path.string()) << ": " << totals.summary() << '\n';
   return exit_code;
 }

@@ -37,6 +37,9 @@ struct VerifyOptions {
 
 // The file descriptor a worker reports its progress on (verify_supervisor.cpp has the protocol).
 inline constexpr int kVerifyControlFd = 3;
+// The socket a worker waits on after `done A`: the supervisor sends one byte once it has printed archive
+// A's summary, so that the worker's next lines come after it on the shared stdout.
+inline constexpr int kVerifyAckFd = 4;
 
 // What verify counts per archive and in all: objects, those ok, and the pipelines those created
 // (PipelineCreation's fields, summed).

@@ -12,7 +12,9 @@
 // | `end A O ok P T D F H` / `end A O failed ...` | that object's lines are on stdout; P pipelines |
 // |                              | created (0 or 1), T ns, D ns of the driver's feedback, F with     |
 // |                              | feedback, H from the pipeline cache (VerifyTotals)              |
-// | `done A`                     | archive A's objects are destroyed and its leaks reported          |
+// | `done A`                     | archive A's objects are destroyed and its leaks reported; the     |
+// |                              | worker waits for one byte on fd 4 (the supervisor's, once it has  |
+// |                              | printed A's summary), so the summary is in its place on stdout    |
 //
 // A worker that dies between `begin` and `end`, or says nothing for --timeout seconds, is the driver's
 // fault for that object: FAILED, with the signal or the time, and verify resumes after it.
@@ -20,6 +22,7 @@
 #include <poll.h>
 #include <signal.h>
 #include <spawn.h>
+#include <sys/socket.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -44,6 +47,7 @@ using Position = VerifyOptions::Position;
 struct Worker {
   pid_t pid = -1;
   int control = -1;  // read end of the worker's fd 3
+  int ack = -1;      // our end of the worker's fd 4
 };
 
 std::vector<std::string> worker_arguments(const VerifyOptions& options, Position start) {
@@ -67,9 +71,19 @@ std::optional<Worker> spawn_worker(const VerifyOptions& options, Position start,
     error = std::string("cannot create a pipe: ") + std::strerror(errno);
     return std::nullopt;
   }
-  // Above the control fd, so that the dup2 below always makes a fresh descriptor without CLOEXEC.
-  const int write_end = ::fcntl(ends[1], F_DUPFD_CLOEXEC, kVerifyControlFd + 1);
+  // A socket for the acknowledgements: sent with MSG_NOSIGNAL, so a worker that died is no SIGPIPE.
+  int ack[2];
+  if (::socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, ack) != 0) {
+    error = std::string("cannot create a socket pair: ") + std::strerror(errno);
+    ::close(ends[0]);
+    ::close(ends[1]);
+    return std::nullopt;
+  }
+  // Above both fds, so that the dup2s below always make fresh descriptors without CLOEXEC.
+  const int write_end = ::fcntl(ends[1], F_DUPFD_CLOEXEC, kVerifyAckFd + 1);
   ::close(ends[1]);
+  const int ack_end = ::fcntl(ack[1], F_DUPFD_CLOEXEC, kVerifyAckFd + 1);
+  ::close(ack[1]);
   std::vector<std::string> args = worker_arguments(options, start);
   std::vector<char*> argv;
   for (auto& a : args) argv.push_back(a.data());
@@ -77,16 +91,19 @@ std::optional<Worker> spawn_worker(const VerifyOptions& options, Position start,
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
   posix_spawn_file_actions_adddup2(&actions, write_end, kVerifyControlFd);
+  posix_spawn_file_actions_adddup2(&actions, ack_end, kVerifyAckFd);
   pid_t pid = -1;
   const int failed = ::posix_spawn(&pid, "/proc/self/exe", &actions, nullptr, argv.data(), environ);
   posix_spawn_file_actions_destroy(&actions);
   ::close(write_end);
+  ::close(ack_end);
   if (failed != 0) {
     ::close(ends[0]);
+    ::close(ack[0]);
     error = std::string("cannot start a worker process: ") + std::strerror(failed);
     return std::nullopt;
   }
-  return Worker{pid, ends[0]};
+  return Worker{pid, ends[0], ack[0]};
 }
 
 std::string signal_text(int signal) {
@@ -103,6 +120,7 @@ struct WorkerRun {
   Position resume;                     // where the next worker starts
   bool hung = false;
   int status = 0;  // waitpid's
+  int ack = -1;    // where `done` is acknowledged
 };
 
 class Supervisor {
@@ -167,6 +185,7 @@ class Supervisor {
   WorkerRun watch(const Worker& worker, Position start) {
     WorkerRun run;
     run.resume = start;
+    run.ack = worker.ack;
     std::string buffer;
     for (;;) {
       pollfd fd{worker.control, POLLIN, 0};
@@ -187,6 +206,7 @@ class Supervisor {
         handle(buffer.substr(0, eol), run);
     }
     ::close(worker.control);
+    ::close(worker.ack);
     while (::waitpid(worker.pid, &run.status, 0) < 0 && errno == EINTR) {
     }
     return run;
@@ -221,7 +241,10 @@ class Supervisor {
       run.resume = {archive, object + 1};
     } else if (event == "done" && archive < totals_.size()) {
       out_ << printable(options_.archives[archive].string()) << ": " << totals_[archive].summary() << '\n';
-      out_.flush();  // before the worker's next line
+      out_.flush();  // before the worker's next line, which waits for this byte
+      const char byte = 1;
+      while (::send(run.ack, &byte, 1, MSG_NOSIGNAL) < 0 && errno == EINTR) {
+      }
       run.progressed = true;
       run.resume = {archive + 1, 0};
     }
