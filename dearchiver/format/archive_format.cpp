@@ -458,41 +458,6 @@ struct Section {
   uint32_t offset = 0, size = 0, count = 0;
 };
 
-// The section table by tag, sorted once: every string, list and record read looks a section up, and a
-// binary search over a flat array costs a fraction of a tree's. A tag absent reads as an empty section.
-class SectionTable {
- public:
-  // Adds every entry of the file's table; false (with the index of the second) when a tag repeats.
-  bool assign(std::vector<std::pair<uint32_t, Section>> entries, uint32_t& repeated) {
-    std::vector<uint32_t> order(entries.size());
-    for (uint32_t i = 0; i < order.size(); ++i) order[i] = i;
-    std::stable_sort(order.begin(), order.end(),
-                     [&](uint32_t a, uint32_t b) { return entries[a].first < entries[b].first; });
-    for (size_t i = 1; i < order.size(); ++i)
-      if (entries[order[i]].first == entries[order[i - 1]].first) {
-        repeated = std::max(order[i], order[i - 1]);
-        return false;
-      }
-    entries_.reserve(entries.size());
-    for (uint32_t i : order) entries_.push_back(entries[i]);
-    return true;
-  }
-  const Section* find(uint32_t tag) const {
-    auto it = std::lower_bound(entries_.begin(), entries_.end(), tag,
-                               [](const auto& e, uint32_t t) { return e.first < t; });
-    return it != entries_.end() && it->first == tag ? &it->second : nullptr;
-  }
-  size_t count(uint32_t tag) const { return find(tag) ? 1 : 0; }
-  const Section& operator[](uint32_t tag) const {
-    static const Section kEmpty;
-    const Section* s = find(tag);
-    return s ? *s : kEmpty;
-  }
-
- private:
-  std::vector<std::pair<uint32_t, Section>> entries_;
-};
-
 Error corrupt(std::string message) {
   return Error{ErrorCode::corrupt, "corrupt archive: " + std::move(message)};
 }
@@ -506,7 +471,7 @@ Error corrupt(std::string message) {
 // so a real archive decodes to about its own size) before anything is allocated for it.
 struct Reader {
   std::span<const uint8_t> file;
-  SectionTable sections;
+  std::map<uint32_t, Section> sections;
   const uint8_t* cursor = nullptr;
   std::optional<std::string> problem;
   uint64_t budget = 0;  // encoded bytes still allowed to be materialised
@@ -542,8 +507,9 @@ struct Reader {
   }
   [[gnu::always_inline]] void u32(uint32_t& value) { value = next(); }
   [[gnu::always_inline]] void f32(float& value) { value = std::bit_cast<float>(next()); }
-  // A section by tag, through a small direct-mapped memo: every string, list and record read looks
-  // one up, a few tags over and over.
+  // A section by tag, through a small direct-mapped memo in front of the map: every string, list and
+  // record read looks one up, a few tags over and over. (A tag absent reads as an empty section; the
+  // map's nodes do not move, so the memo's pointers stay good.)
   std::array<std::pair<uint32_t, const Section*>, 16> memo{};
   const Section& section(uint32_t tag) {
     auto& m = memo[(tag ^ (tag >> 8) ^ (tag >> 16) ^ (tag >> 24)) & 15];
@@ -1095,26 +1061,23 @@ Result<void> read_section_table(std::span<const uint8_t> file, Reader& r) {
   uint32_t header_size = get_u32(h + 16), section_count = get_u32(h + 48), table = get_u32(h + 52);
   if (table < header_size || table % 4 != 0 || uint64_t(table) + uint64_t(section_count) * 16 > file.size())
     return corrupt("section table outside the file");
-  std::vector<std::pair<uint32_t, Section>> entries;
-  entries.reserve(section_count);  // at most the file's size / 16, checked above
   for (uint32_t i = 0; i < section_count; ++i) {
     const uint8_t* e = file.data() + table + 16 * i;
     Section s{get_u32(e + 4), get_u32(e + 8), get_u32(e + 12)};
     if (s.offset % 4 != 0 || uint64_t(s.offset) + s.size > file.size())
       return corrupt("section " + std::to_string(i) + " lies outside the file");
-    entries.emplace_back(get_u32(e), s);
+    if (!r.sections.emplace(get_u32(e), s).second)
+      return corrupt("section " + std::to_string(i) + " is repeated");
   }
-  if (uint32_t repeated = 0; !r.sections.assign(std::move(entries), repeated))
-    return corrupt("section " + std::to_string(repeated) + " is repeated");
   return {};
 }
 
 // Section TAG is present and, when it holds records of RECORD bytes, exactly its count of them.
 Result<void> check_section(const Reader& r, uint32_t tag, uint32_t record) {
   char name[5] = {char(tag), char(tag >> 8), char(tag >> 16), char(tag >> 24), 0};
-  const Section* found = r.sections.find(tag);
-  if (!found) return corrupt(std::string("missing section ") + name);
-  if (record != 0 && uint64_t(found->count) * record != found->size)
+  auto it = r.sections.find(tag);
+  if (it == r.sections.end()) return corrupt(std::string("missing section ") + name);
+  if (record != 0 && uint64_t(it->second.count) * record != it->second.size)
     return corrupt(std::string("section ") + name + " size does not match its record count");
   return {};
 }

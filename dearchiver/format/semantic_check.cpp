@@ -60,25 +60,19 @@ Result<void> check_constants(const spirv::Module& module, const std::vector<Spec
   return {};
 }
 
-// A key of 32-bit words, for the sets of checks already made.
-using Key = std::vector<uint32_t>;
-struct KeyHash {
-  size_t operator()(const Key& key) const {
+// Keys of 32-bit words, for the sets of checks already made: a list, or (shader index, set, layout) as a
+// fixed triple, so that looking one up allocates nothing.
+struct WordsHash {
+  template <class Words>
+  size_t operator()(const Words& key) const {
     uint64_t h = 14695981039346656037ull;  // FNV-1a over the words
     for (uint32_t w : key) h = (h ^ w) * 1099511628211ull;
     return size_t(h);
   }
 };
-using KeySet = std::unordered_set<Key, KeyHash>;
-// (shader index, set, layout): a fixed key, so that looking one up allocates nothing.
+using Key = std::vector<uint32_t>;
+using KeySet = std::unordered_set<Key, WordsHash>;
 using Triple = std::array<uint32_t, 3>;
-struct TripleHash {
-  size_t operator()(const Triple& t) const {
-    uint64_t h = 14695981039346656037ull;
-    for (uint32_t w : t) h = (h ^ w) * 1099511628211ull;
-    return size_t(h);
-  }
-};
 
 // What one entry point of a module uses: its descriptors by set number (in module order within a set)
 // and (for a vertex shader) its inputs.
@@ -242,8 +236,8 @@ class InterfaceChecks {
   const std::vector<spirv::Module>& modules_;
   const uint64_t budget_;
   uint64_t work_ = 0;
-  std::map<std::pair<uint32_t, uint32_t>, EntryUse> uses_;    // by (blob, entry point's function id)
-  std::unordered_set<Triple, TripleHash> resources_checked_;  // (shader index, set, layout) that passed
+  std::map<std::pair<uint32_t, uint32_t>, EntryUse> uses_;   // by (blob, entry point's function id)
+  std::unordered_set<Triple, WordsHash> resources_checked_;  // (shader index, set, layout) that passed
   KeySet inputs_checked_;  // (attribute locations, shader index) that passed
 };
 

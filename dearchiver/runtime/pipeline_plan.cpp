@@ -139,12 +139,14 @@ Result<void> Planner::check_compute_size(const ArchivedPipeline& found,
 
 Result<std::unique_ptr<Plan>> Planner::plan_compute(const ArchivedPipeline& found,
                                                     const ModifyCallback& modify) {
-  Result<std::vector<SpecializationConstant>> constants = constants_of(*found.pipeline);
-  if (modify) {  // only the constants apply to a compute pipeline
+  // Only the constants apply to a compute pipeline; without a callback they are the archived ones.
+  auto settle = [&]() -> Result<std::vector<SpecializationConstant>> {
+    if (!modify) return constants_of(*found.pipeline);
     PatchableState settled = to_patchable(*found.pipeline);
     if (auto thrown = run_modify(found.pipeline->name, modify, settled)) return *thrown;
-    constants = settle_constants(*found.pipeline, std::move(settled.constants));
-  }
+    return settle_constants(*found.pipeline, std::move(settled.constants));
+  };
+  auto constants = settle();
   if (!constants) return constants.error();
   if (auto ok = check_compute_size(found, *constants); !ok) return ok.error();
   auto plan = plan_common(found, *constants);
