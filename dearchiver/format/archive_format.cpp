@@ -557,36 +557,33 @@ struct Reader {
     out.resize(count);
     for (uint32_t i = 0; i < count && !problem; ++i) read_at(*first + i, out[i]);
   }
-  // The GFXS record a pipeline refers to, or nullopt (a compute pipeline's kNone, or a problem noted).
+  // Reads the GFXS record a pipeline refers to into its state (and render pass and subpass), straight
+  // from the file: false for none (a compute pipeline's kNone, or a problem noted).
   template <class P>
-  std::optional<GraphicsRecord> graphics_record(const P& p, const char* kind) {
+  bool graphics_record(P& p, const char* kind, uint32_t& render_pass, uint32_t& subpass) {
     uint32_t index = next();
     auto what = [&] { return std::string(kind) + " '" + p.name + "'"; };
     if (p.kind != PipelineKind::graphics) {
       if (index != kNone) fail(what() + " is a compute pipeline with a graphics state");
-      return std::nullopt;
+      return false;
     }
     if (index >= section(kTagGraphics).count) {
       fail(what() + ": graphics state index out of range");
-      return std::nullopt;
+      return false;
     }
-    if (!charge(record_size<GraphicsRecord>())) return std::nullopt;
-    GraphicsRecord record;
-    read_at(index, record);
-    return record;
+    if (!charge(record_size<GraphicsRecord>())) return false;
+    const uint8_t* saved = cursor;
+    cursor = file.data() + section(kTagGraphics).offset + size_t(index) * record_size<GraphicsRecord>();
+    visit(*this, p.graphics);  // a GraphicsRecord's fields, in its order (visit(GraphicsRecord&))
+    u32(render_pass), u32(subpass);
+    cursor = saved;
+    return true;
   }
-  void graphics(Pipeline& p) {
-    if (auto record = graphics_record(p, "pipeline")) {
-      p.graphics = std::move(record->state);
-      p.render_pass = record->render_pass;
-      p.subpass = record->subpass;
-    }
-  }
+  void graphics(Pipeline& p) { graphics_record(p, "pipeline", p.render_pass, p.subpass); }
   void graphics(GlPipeline& p) {
-    if (auto record = graphics_record(p, "OpenGL pipeline")) {
-      if (record->render_pass != kNone) return fail("OpenGL pipeline '" + p.name + "' has a render pass");
-      p.graphics = std::move(record->state);
-    }
+    uint32_t render_pass = kNone, subpass = 0;
+    if (graphics_record(p, "OpenGL pipeline", render_pass, subpass) && render_pass != kNone)
+      fail("OpenGL pipeline '" + p.name + "' has a render pass");
   }
   template <class T>
   std::vector<T> all(const char* kind) {

@@ -60,8 +60,8 @@ Result<void> check_constants(const spirv::Module& module, const std::vector<Spec
   return {};
 }
 
-// Keys of 32-bit words, for the sets of checks already made: a list, or (shader index, set, layout) as a
-// fixed triple, so that looking one up allocates nothing.
+// Keys of 32-bit words, for the sets of checks already made: a list, or a fixed array (a set's resources
+// against a layout), so that looking one up allocates nothing.
 struct WordsHash {
   template <class Words>
   size_t operator()(const Words& key) const {
@@ -72,7 +72,9 @@ struct WordsHash {
 };
 using Key = std::vector<uint32_t>;
 using KeySet = std::unordered_set<Key, WordsHash>;
-using Triple = std::array<uint32_t, 3>;
+// (blob, entry point's function, stage, set, layout): shader records that name the same entry point of
+// the same blob for the same stage use the same resources, so they pass or fail against a layout alike.
+using SetCheck = std::array<uint32_t, 5>;
 
 // What one entry point of a module uses: its descriptors by set number (in module order within a set)
 // and (for a vertex shader) its inputs.
@@ -119,7 +121,7 @@ class InterfaceChecks {
       if (!use) return over_budget(p);
       for (const auto& [set, resources] : use->resources) {
         const uint32_t layout = set < p.set_layouts.size() ? p.set_layouts[set] : kNone;
-        const Triple key = {index, set, layout};
+        const SetCheck key = {shader.blob, entry->function, shader.stage, set, layout};
         if (resources_checked_.count(key)) continue;
         if (!charge(resources.size())) return over_budget(p);
         if (auto ok = check_resources(shader, layout, resources, n); !ok) return ok;
@@ -236,8 +238,8 @@ class InterfaceChecks {
   const std::vector<spirv::Module>& modules_;
   const uint64_t budget_;
   uint64_t work_ = 0;
-  std::map<std::pair<uint32_t, uint32_t>, EntryUse> uses_;   // by (blob, entry point's function id)
-  std::unordered_set<Triple, WordsHash> resources_checked_;  // (shader index, set, layout) that passed
+  std::map<std::pair<uint32_t, uint32_t>, EntryUse> uses_;     // by (blob, entry point's function id)
+  std::unordered_set<SetCheck, WordsHash> resources_checked_;  // those that passed
   KeySet inputs_checked_;  // (attribute locations, shader index) that passed
 };
 

@@ -106,20 +106,52 @@ struct MemberDecorations {
   bool row_major = false, point_size = false;
 };
 
+// Values by result id. Ids are below the module's bound, which a real module keeps near its size, so a
+// vector indexed by id serves them (no allocation per id, no hashing); a bound far beyond the words (a
+// hostile header: up to 4 million) falls back to a hash map, so memory stays in proportion to the words.
+template <class T>
+class IdTable {
+ public:
+  void size_for(uint32_t bound, size_t words) {
+    dense_ = bound <= 4 * words + 64;
+    if (dense_) slots_.resize(bound);
+  }
+  T& operator[](uint32_t id) {  // id below the bound (the caller checked)
+    if (!dense_) return sparse_[id];
+    if (!slots_[id]) slots_[id].emplace();
+    return *slots_[id];
+  }
+  const T* find(uint32_t id) const {
+    if (dense_) return id < slots_.size() && slots_[id] ? &*slots_[id] : nullptr;
+    auto it = sparse_.find(id);
+    return it == sparse_.end() ? nullptr : &it->second;
+  }
+
+ private:
+  bool dense_ = false;
+  std::vector<std::optional<T>> slots_;
+  std::unordered_map<uint32_t, T> sparse_;
+};
+
+struct TypeInfo {
+  uint32_t op = 0;
+  std::span<const uint32_t> operands;  // after the result id
+};
+
 struct Walker {
   std::span<const uint32_t> words;
   Module module;
-  std::unordered_map<uint32_t, std::span<const uint32_t>> types;  // id -> operands after the result id
-  std::unordered_map<uint32_t, uint32_t> constants;               // 32-bit integer constants
-  std::unordered_map<uint32_t, Decorations> decorations;
+  IdTable<TypeInfo> types;
+  IdTable<uint32_t> constants;  // 32-bit integer constants
+  IdTable<Decorations> decorations;
   std::map<std::pair<uint32_t, uint32_t>, MemberDecorations> members;
   struct Variable {
     uint32_t id, pointer_type, storage;
   };
   std::vector<Variable> variables;
-  std::vector<std::pair<uint32_t, uint32_t>> spec_constants;           // (result id, result type)
-  std::unordered_map<uint32_t, uint32_t> spec_defaults;                // OpSpecConstant id -> its (low) word
-  std::unordered_map<uint32_t, std::span<const uint32_t>> composites;  // (spec) constant composites
+  std::vector<std::pair<uint32_t, uint32_t>> spec_constants;  // (result id, result type)
+  IdTable<uint32_t> spec_defaults;                            // OpSpecConstant id -> its (low) word
+  IdTable<std::span<const uint32_t>> composites;              // (spec) constant composites
   // Work-group sizes: LocalSize literals and LocalSizeId ids by entry function, the WorkgroupSize id.
   std::unordered_map<uint32_t, std::array<uint32_t, 3>> local_size, local_size_id;
   std::optional<uint32_t> workgroup_size_builtin;
@@ -185,8 +217,7 @@ struct Walker {
             {kOpTypeArray, 3},  {kOpTypeRuntimeArray, 2}, {kOpTypePointer, 3}};
         for (auto [type_op, n] : kOperands)
           if (type_op == op && !need(n)) return fail(at, "type instruction is too short");
-        types[operands[0]] = operands.subspan(1);
-        types_op[operands[0]] = op;
+        types[operands[0]] = {op, operands.subspan(1)};
         return {};
       }
       case kOpStore:
@@ -248,13 +279,11 @@ struct Walker {
         return {};
     }
   }
-  std::unordered_map<uint32_t, uint32_t> types_op;
-
   // The opcode and operands (after the result id) of a type, or none.
   std::optional<std::pair<uint32_t, std::span<const uint32_t>>> type(uint32_t id) const {
-    auto it = types.find(id);
-    if (it == types.end()) return std::nullopt;
-    return std::pair{types_op.at(id), it->second};
+    const TypeInfo* t = types.find(id);
+    if (!t) return std::nullopt;
+    return std::pair{t->op, t->operands};
   }
 
   // Descriptor types a UniformConstant / Uniform / StorageBuffer variable's (array-stripped) type fits.
@@ -264,10 +293,10 @@ struct Walker {
     auto [op, o] = *t;
     if (storage == kStorageBuffer) return bit(kStorageBuffer_) | bit(kStorageDynamic);
     if (storage == kUniform) {
-      auto d = decorations.find(type_id);
-      if (op != kOpTypeStruct || d == decorations.end()) return 0;
-      if (d->second.block) return bit(kUniformBuffer) | bit(kUniformDynamic);
-      if (d->second.buffer_block) return bit(kStorageBuffer_) | bit(kStorageDynamic);
+      const Decorations* d = decorations.find(type_id);
+      if (op != kOpTypeStruct || !d) return 0;
+      if (d->block) return bit(kUniformBuffer) | bit(kUniformDynamic);
+      if (d->buffer_block) return bit(kStorageBuffer_) | bit(kStorageDynamic);
       return 0;
     }
     if (op == kOpTypeSampler) return bit(kSampler) | bit(kCombined);
@@ -310,10 +339,10 @@ struct Walker {
         return vectors * *member->matrix_stride;
       }
       case kOpTypeArray: {
-        auto length = constants.find(o[1]);
-        auto d = decorations.find(type_id);
-        if (length == constants.end() || d == decorations.end() || !d->second.array_stride) return 0;
-        return uint64_t(length->second) * *d->second.array_stride;
+        const uint32_t* length = constants.find(o[1]);
+        const Decorations* d = decorations.find(type_id);
+        if (!length || !d || !d->array_stride) return 0;
+        return uint64_t(*length) * *d->array_stride;
       }
       case kOpTypeStruct: {
         uint64_t end = 0;
@@ -337,8 +366,8 @@ struct Walker {
     if (!t || depth > kMaxTypeDepth) return 1;
     auto [op, o] = *t;
     if (op == kOpTypeArray) {
-      auto length = constants.find(o[1]);
-      const uint64_t n = length == constants.end() ? 1 : length->second;
+      const uint32_t* length = constants.find(o[1]);
+      const uint64_t n = length ? *length : 1;
       return static_cast<uint32_t>(std::min<uint64_t>(n * locations_of(o[0], depth + 1), 0xFFFFu));
     }
     if (op == kOpTypeMatrix) return o[1];
@@ -363,9 +392,9 @@ struct Walker {
     auto [first, last] = access_chains.equal_range(variable);
     for (auto it = first; it != last; ++it) {
       const auto [id, index_id] = it->second;
-      auto index = constants.find(index_id);
-      if (index == constants.end()) continue;
-      auto member = members.find({pointee, index->second});
+      const uint32_t* index = constants.find(index_id);
+      if (!index) continue;
+      auto member = members.find({pointee, *index});
       if (member != members.end() && member->second.point_size && stores.count(id)) return true;
     }
     return false;
@@ -374,11 +403,11 @@ struct Walker {
   // A work-group dimension from a constant's id: an OpConstant, or a specialization constant's default
   // with its SpecId (one without a SpecId cannot be overridden: its default is the value).
   std::optional<WorkgroupDim> dimension(uint32_t id) const {
-    if (auto c = constants.find(id); c != constants.end()) return WorkgroupDim{c->second, std::nullopt};
-    auto s = spec_defaults.find(id);
-    if (s == spec_defaults.end()) return std::nullopt;
-    auto d = decorations.find(id);
-    return WorkgroupDim{s->second, d != decorations.end() ? d->second.spec_id : std::nullopt};
+    if (const uint32_t* c = constants.find(id)) return WorkgroupDim{*c, std::nullopt};
+    const uint32_t* s = spec_defaults.find(id);
+    if (!s) return std::nullopt;
+    const Decorations* d = decorations.find(id);
+    return WorkgroupDim{*s, d ? d->spec_id : std::nullopt};
   }
   std::optional<std::array<WorkgroupDim, 3>> dimensions(std::span<const uint32_t> ids) const {
     if (ids.size() != 3) return std::nullopt;
@@ -392,8 +421,8 @@ struct Walker {
   }
   std::optional<std::array<WorkgroupDim, 3>> workgroup_size_of(uint32_t function) const {
     if (workgroup_size_builtin) {
-      auto composite = composites.find(*workgroup_size_builtin);
-      return composite == composites.end() ? std::nullopt : dimensions(composite->second);
+      const std::span<const uint32_t>* composite = composites.find(*workgroup_size_builtin);
+      return composite ? dimensions(*composite) : std::nullopt;
     }
     if (auto ids = local_size_id.find(function); ids != local_size_id.end()) return dimensions(ids->second);
     if (auto sizes = local_size.find(function); sizes != local_size.end())
@@ -408,15 +437,15 @@ struct Walker {
       if (entry.execution_model == kExecutionModelGLCompute)
         entry.workgroup_size = workgroup_size_of(entry.function);
     for (auto [id, type_id] : spec_constants) {
-      auto d = decorations.find(id);
-      if (d == decorations.end() || !d->second.spec_id) continue;  // not specializable
+      const Decorations* d = decorations.find(id);
+      if (!d || !d->spec_id) continue;  // not specializable
       auto t = type(type_id);
       uint32_t size = 0;
       if (t && t->first == kOpTypeBool) size = 4;  // VkBool32
       if (t && (t->first == kOpTypeInt || t->first == kOpTypeFloat) &&
           (t->second[0] == 32 || t->second[0] == 64))
         size = t->second[0] / 8;
-      module.spec_constants.push_back({*d->second.spec_id, size});
+      module.spec_constants.push_back({*d->spec_id, size});
     }
     std::sort(module.spec_constants.begin(), module.spec_constants.end(),
               [](const SpecConstant& a, const SpecConstant& b) { return a.constant_id < b.constant_id; });
@@ -424,9 +453,7 @@ struct Walker {
       auto pointer = type(v.pointer_type);
       if (!pointer || pointer->first != kOpTypePointer) continue;  // checked by the driver, not needed here
       uint32_t pointee = pointer->second[1];
-      const Decorations* d = nullptr;
-      if (auto it = decorations.find(v.id); it != decorations.end()) d = &it->second;
-      const std::string what = "variable %" + std::to_string(v.id);
+      const Decorations* d = decorations.find(v.id);
       if (v.storage == kUniformConstant || v.storage == kUniform || v.storage == kStorageBuffer) {
         Resource r;
         r.variable = v.id;
@@ -436,15 +463,16 @@ struct Walker {
           if (!t || (t->first != kOpTypeArray && t->first != kOpTypeRuntimeArray)) break;
           if (t->first == kOpTypeRuntimeArray) {
             elements = 0;
-          } else if (auto length = constants.find(t->second[1]); length != constants.end()) {
-            elements = std::min<uint64_t>(elements * length->second, 0xFFFFFFFFu);
+          } else if (const uint32_t* length = constants.find(t->second[1])) {
+            elements = std::min<uint64_t>(elements * *length, 0xFFFFFFFFu);
           }
           pointee = t->second[0];
         }
         r.array_size = static_cast<uint32_t>(elements);
         r.compatible = classify(pointee, v.storage);
         if (!d || !d->set || !d->binding)
-          return Error{ErrorCode::corrupt, what + " has no descriptor set or binding"};
+          return Error{ErrorCode::corrupt,
+                       "variable %" + std::to_string(v.id) + " has no descriptor set or binding"};
         r.set = *d->set;
         r.binding = *d->binding;
         module.resources.push_back(r);
@@ -503,6 +531,10 @@ Result<Module> walk(std::span<const uint32_t> words) {
   w.words = words;
   w.module.version = version;
   w.module.bound = words[3];
+  for (auto* table : {&w.constants, &w.spec_defaults}) table->size_for(w.module.bound, words.size());
+  w.types.size_for(w.module.bound, words.size());
+  w.decorations.size_for(w.module.bound, words.size());
+  w.composites.size_for(w.module.bound, words.size());
   // Function structure is checked too: a module cut at an instruction boundary (a shortened blob) must
   // not reach the validation layer or the driver, which assume every function and block is closed.
   bool in_function = false, in_block = false;

@@ -66,7 +66,10 @@ Result<VkDescriptorSetLayout> ObjectCache::set_layout(size_t archive, uint32_t i
                                                   : "resource signature '" + stored.name + "'";
     if (auto ok = check_set_layout(stored, caps_, owner); !ok) return ok.error();
     std::vector<VkDescriptorSetLayoutBinding> bindings;
-    std::deque<std::vector<VkSampler>> immutable;  // alive until the layout is created
+    bindings.reserve(stored.bindings.size());
+    // One sampler array per binding with an immutable sampler, alive until the layout is created;
+    // reserved, so that the pointers into it stay good.
+    std::vector<std::vector<VkSampler>> immutable;
     for (const auto& b : stored.bindings) {
       const VkSampler* samplers_of_binding = nullptr;
       if (b.immutable_sampler != format::kNone) {
@@ -74,6 +77,7 @@ Result<VkDescriptorSetLayout> ObjectCache::set_layout(size_t archive, uint32_t i
         // array element of the binding gets it (the layout owns no sampler: we destroy them last).
         auto made = sampler(archive, b.immutable_sampler, b.name);
         if (!made) return made.error();
+        if (immutable.empty()) immutable.reserve(stored.bindings.size());
         samplers_of_binding = immutable.emplace_back(b.count, *made).data();
       }
       bindings.push_back({b.binding, static_cast<VkDescriptorType>(b.descriptor_type), b.count, b.stage_flags,
@@ -190,8 +194,11 @@ Result<VkPipelineLayout> ObjectCache::pipeline_layout(const std::vector<VkDescri
                                                       uint32_t push_constant_size,
                                                       uint32_t push_constant_stages,
                                                       std::string_view pipeline) {
-  auto key = std::tuple{set_layouts, push_constant_size, push_constant_stages};
-  if (auto it = pipeline_layouts_.find(key); it != pipeline_layouts_.end()) return it->second;
+  // Looked up by reference (the map's comparator is transparent): most pipelines share a layout, and
+  // only a new one copies the list.
+  if (auto it = pipeline_layouts_.find(std::tie(set_layouts, push_constant_size, push_constant_stages));
+      it != pipeline_layouts_.end())
+    return it->second;
   VkPushConstantRange range{push_constant_stages, 0, push_constant_size};
   VkPipelineLayoutCreateInfo info{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
   info.setLayoutCount = static_cast<uint32_t>(set_layouts.size());
@@ -202,7 +209,7 @@ Result<VkPipelineLayout> ObjectCache::pipeline_layout(const std::vector<VkDescri
   if (VkResult r = caps_.vk.vkCreatePipelineLayout(context_.device, &info, context_.allocator, &layout);
       r != VK_SUCCESS)
     return vulkan_failure("vkCreatePipelineLayout", r, pipeline);
-  pipeline_layouts_.emplace(std::move(key), layout);
+  pipeline_layouts_.emplace(std::tuple{set_layouts, push_constant_size, push_constant_stages}, layout);
   return layout;
 }
 

@@ -62,7 +62,7 @@ class ObjectCache {
   std::map<Key, VkSampler> samplers_;
   std::map<Key, VkRenderPass> render_passes_;
   VkDescriptorSetLayout empty_set_layout_ = VK_NULL_HANDLE;
-  std::map<std::tuple<std::vector<VkDescriptorSetLayout>, uint32_t, uint32_t>, VkPipelineLayout>
+  std::map<std::tuple<std::vector<VkDescriptorSetLayout>, uint32_t, uint32_t>, VkPipelineLayout, std::less<>>
       pipeline_layouts_;  // (set layouts, push size, push stages)
 };
 

@@ -7,6 +7,7 @@
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
+#include <mutex>
 #include <thread>
 #include <unordered_map>
 #include <unordered_set>
@@ -34,6 +35,8 @@ struct UnpackJob::Shared {
   Dearchiver::State* state = nullptr;  // null once the Dearchiver is gone
   std::shared_ptr<SlotSync> sync;
   std::vector<Entry> entries;
+  // Made on the first wait(name) or ready(name): unpack_all never looks a pipeline up by name.
+  std::once_flag by_name_made;
   std::unordered_map<std::string_view, size_t> by_name;
   std::vector<UnpackFailure> object_failures;  // signatures, render passes, shaders
   ProgressCallback progress;
@@ -229,6 +232,10 @@ struct UnpackJob::Shared {
   }
 
   Entry* entry(std::string_view name) {
+    std::call_once(by_name_made, [this] {
+      by_name.reserve(entries.size());
+      for (size_t i = 0; i < entries.size(); ++i) by_name.emplace(entries[i].object.name, i);
+    });
     auto it = by_name.find(name);
     return it == by_name.end() ? nullptr : &entries[it->second];
   }
@@ -347,6 +354,9 @@ std::shared_ptr<UnpackJob::Shared> start_job(Dearchiver& dearchiver, Dearchiver:
       size_t total = 0;
       for (size_t a = 0; a < state.archives.size(); ++a) total += state.contents(a).pipelines.size();
       job->entries.reserve(total);
+      // Room for every pipeline the job may keep, so that keeping them never rehashes.
+      if (!options.patch) state.unmodified.reserve(state.unmodified.size() + total);
+      state.place_of.reserve(state.place_of.size() + total);
       for (size_t a = 0; a < state.archives.size(); ++a)
         for (const auto& p : state.contents(a).pipelines)
           if (!several || seen.insert(p.name).second)  // the earliest archive wins
@@ -363,8 +373,6 @@ std::shared_ptr<UnpackJob::Shared> start_job(Dearchiver& dearchiver, Dearchiver:
     }
   }
   try {
-    job->by_name.reserve(job->entries.size());
-    for (size_t i = 0; i < job->entries.size(); ++i) job->by_name.emplace(job->entries[i].object.name, i);
     // The other named objects, so that everything is ready; each is quick to make.
     for (const auto& object : others) {
       std::optional<Error> failed;

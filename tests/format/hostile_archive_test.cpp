@@ -232,6 +232,29 @@ TEST(HostileArchive, ManyPipelinesSharingAShaderAndLayoutLoad) {
             "binding 0, which the pipeline's layout lacks");
 }
 
+// A set's check is made once per (SPIR-V blob, entry point, stage, set, layout), not per shader record:
+// pipelines with shader records of their own over one blob and one layout cost one check, and one of
+// them against another layout is still checked, and named.
+TEST(HostileArchive, ShaderRecordsOfOneBlobAreCheckedPerLayout) {
+  Slice slice;
+  format::Contents c = slice.with_compute_copies(1000, 0);
+  const format::Shader shader = c.shaders[c.pipelines[0].shaders[0]];
+  for (auto& p : c.pipelines) {
+    format::Shader own = shader;
+    own.name = "CS of " + p.name;
+    p.shaders = {uint32_t(c.shaders.size())};
+    c.shaders.push_back(own);
+  }
+  EXPECT_EQ(load_error(c), "loaded");
+  format::SetLayout hidden = c.set_layouts[c.pipelines[0].set_layouts[0]];
+  hidden.bindings[0].stage_flags = VK_SHADER_STAGE_VERTEX_BIT;
+  c.pipelines[700].set_layouts[0] = uint32_t(c.set_layouts.size());
+  c.set_layouts.push_back(hidden);
+  EXPECT_EQ(load_error(c),
+            "archive in memory: corrupt archive: pipeline 'P700': binding 'Values' (set 0, binding 0) is not "
+            "visible to the compute stage, which shader 'CS of P700' uses it from");
+}
+
 TEST(HostileArchive, PipelineLayoutLackingASetTheShaderUses) {
   Slice slice;
   slice.pipeline("Fill Buffer PSO").set_layouts.clear();

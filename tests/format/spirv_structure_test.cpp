@@ -230,6 +230,61 @@ std::vector<uint32_t> module_with_body(
   return a.finish(64);
 }
 
+// The walk keeps what it reads by id in a table indexed by id when the bound is near the module's size,
+// and in a hash map when a header claims a bound far beyond it: both must read the same facts.
+TEST(SpirvWalk, ASmallAndAHugeBoundReadTheSameDeclarations) {
+  auto module = [](uint32_t bound) {
+    return compute_module(
+        [](Assembler& a) {
+          a.op(71, {10, 34, 0});  // %10: DescriptorSet 0, Binding 3
+          a.op(71, {10, 33, 3});
+          a.op(71, {13, 34, 0});  // %13: DescriptorSet 0, Binding 4
+          a.op(71, {13, 33, 4});
+          a.op(71, {8, 2});         // %8: Block
+          a.op(72, {8, 0, 35, 0});  // member 0 at offset 0
+          a.op(71, {7, 6, 4});      // %7: ArrayStride 4
+          a.op(71, {14, 1, 7});     // %14: SpecId 7
+          a.op(71, {15, 2});
+          a.op(72, {15, 0, 35, 0});
+          a.op(43, {kUint, 6, 4});  // %6 = 4
+          a.op(28, {7, kUint, 6});  // %7 = uint[4]
+          a.op(30, {8, 7});         // %8 = struct { uint[4] }
+          a.op(32, {9, 2, 8});      // Uniform pointer to %8
+          a.op(59, {9, 10, 2});     // %10: a uniform buffer
+          a.op(28, {11, 8, 6});     // %11 = %8[4]
+          a.op(32, {12, 2, 11});
+          a.op(59, {12, 13, 2});     // %13: four uniform buffers
+          a.op(50, {kUint, 14, 1});  // %14: a specialization constant
+          a.op(30, {15, kUint});     // %15 = struct { uint }
+          a.op(32, {16, 9, 15});     // PushConstant pointer to %15
+          a.op(59, {16, 17, 9});     // %17: push constants
+        },
+        bound);
+  };
+  auto small = spirv::walk(module(64));
+  auto huge = spirv::walk(module(4194303));
+  ASSERT_TRUE(small) << small.error().message;
+  ASSERT_TRUE(huge) << huge.error().message;
+  for (const spirv::Module* m : {&*small, &*huge}) {
+    ASSERT_EQ(m->resources.size(), 2u);
+    const uint32_t uniform_buffer = 1u << 6 | 1u << 8;  // UNIFORM_BUFFER or its dynamic form
+    EXPECT_EQ(m->resources[0].binding, 3u);
+    EXPECT_EQ(m->resources[0].array_size, 1u);
+    EXPECT_EQ(m->resources[0].compatible, uniform_buffer);
+    EXPECT_EQ(m->resources[1].binding, 4u);
+    EXPECT_EQ(m->resources[1].array_size, 4u);
+    EXPECT_EQ(m->resources[1].compatible, uniform_buffer);
+    ASSERT_TRUE(m->push_constants);
+    EXPECT_EQ(m->push_constants->size, 4u);
+    ASSERT_EQ(m->spec_constants.size(), 1u);
+    EXPECT_EQ(m->spec_constants[0].constant_id, 7u);
+    EXPECT_EQ(m->spec_constants[0].size, 4u);
+    ASSERT_EQ(m->entry_points.size(), 1u);
+    ASSERT_TRUE(m->entry_points[0].workgroup_size);
+    EXPECT_EQ((*m->entry_points[0].workgroup_size)[0].value, 1u);
+  }
+}
+
 TEST(SpirvWalk, DemoteContinuesItsBlockAndEmitMeshTasksEndsIt) {
   auto demote = spirv::walk(module_with_body({{5380, {}}, {253, {}}}));  // demote, then OpReturn
   EXPECT_TRUE(demote) << demote.error().message;

@@ -2,6 +2,8 @@
 // (DeviceContext::enabled_feature_chain): one that nothing enables is an `unsupported` error naming the
 // features that would allow it, before vkCreateShaderModule (the fixture fails on any validation
 // message); with the features on, the same pipelines unpack.
+#include <cstddef>
+
 #include "common/vulkan_test_fixture.hpp"
 
 namespace statepack::testing {
@@ -120,6 +122,40 @@ TEST_F(CapabilityFeaturesTest, CapabilitiesThatNeedAnExtensionNameIt) {
                 "VkPhysicalDeviceShaderAtomicFloatFeaturesEXT::shaderBufferFloat32AtomicAdd"),
             std::string::npos)
       << no_atomic.error().message;
+}
+
+// Blend states compare by their fields: two render targets blended alike need no independentBlend,
+// whatever the bytes between a BlendAttachmentState's fields hold (they were once compared as raw memory,
+// so a callback's copy could be refused on a device without the feature).
+TEST_F(CapabilityFeaturesTest, RenderTargetsBlendedAlikeNeedNoIndependentBlend) {
+  std::string path;
+  for (const auto& p : corpus_archives())
+    if (p.find("imports_and_defaults") != std::string::npos) path = p;
+  ASSERT_FALSE(path.empty());
+  Chain chain = device_chain();
+  chain.f2.features.independentBlend = VK_FALSE;
+  DeviceContext context = vk_->device_context();
+  context.enabled_feature_chain = &chain.f2;
+  context.enabled_features = nullptr;
+  auto archive = Archive::from_file(path);
+  ASSERT_TRUE(archive) << archive.error().message;
+  auto dearchiver = Dearchiver::create(context);
+  ASSERT_TRUE(dearchiver) << dearchiver.error().message;
+  ASSERT_TRUE(dearchiver->add_archive(std::move(*archive)));
+  static_assert(offsetof(BlendAttachmentState, src_color) > sizeof(bool), "padding after `enable`");
+  auto alike = dearchiver->unpack_graphics("Two Targets PSO", [](PatchableState& s) {
+    s.blend[1] = s.blend[0];
+    auto* bytes = reinterpret_cast<unsigned char*>(&s.blend[1]);
+    for (size_t i = sizeof(bool); i < offsetof(BlendAttachmentState, src_color); ++i) bytes[i] = 0xA5;
+  });
+  EXPECT_TRUE(alike) << alike.error().message;
+  auto different = dearchiver->unpack_graphics(
+      "Two Targets PSO", [](PatchableState& s) { s.blend[1].enable = !s.blend[0].enable; });
+  ASSERT_FALSE(different);
+  EXPECT_EQ(different.error().code, ErrorCode::unsupported);
+  EXPECT_EQ(different.error().message,
+            "pipeline 'Two Targets PSO' needs the device feature 'independentBlend', which is not enabled "
+            "(DeviceContext::enabled_features says what the device was created with)");
 }
 
 // Null means what it means to vkCreateDevice: nothing enabled. A device that supports shaderInt8 (as
