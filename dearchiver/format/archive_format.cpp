@@ -516,8 +516,12 @@ struct Reader {
     if (!m.second || m.first != tag) m = {tag, &sections[tag]};
     return *m.second;
   }
+  // The two sections every record reads from, looked up once.
+  const Section* strings_section = nullptr;
+  const Section* indices_section = nullptr;
   void str(std::string& s) {
-    const Section& strings = section(kTagStrings);
+    if (!strings_section) strings_section = &section(kTagStrings);
+    const Section& strings = *strings_section;
     uint32_t offset = next(), length = next();
     if (uint64_t(offset) + length >= strings.size) return fail("string reference outside the string pool");
     const uint8_t* p = file.data() + strings.offset + offset;
@@ -535,11 +539,12 @@ struct Reader {
     return first;
   }
   void indices(std::vector<uint32_t>& out) {
-    uint32_t count = 0;
-    auto first = range(kTagIndices, count, "index");
-    if (!first || !charge(uint64_t(count) * 4)) return;
+    if (!indices_section) indices_section = &section(kTagIndices);
+    const uint32_t first = next(), count = next();
+    if (uint64_t(first) + count > indices_section->count) return fail("index list outside its section");
+    if (!charge(uint64_t(count) * 4)) return;
     out.resize(count);
-    const uint8_t* p = file.data() + section(kTagIndices).offset + size_t(*first) * 4;
+    const uint8_t* p = file.data() + indices_section->offset + size_t(first) * 4;
     for (uint32_t i = 0; i < count; ++i) out[i] = get_u32(p + 4 * i);
   }
   template <class T>

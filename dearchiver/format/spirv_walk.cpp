@@ -106,30 +106,41 @@ struct MemberDecorations {
   bool row_major = false, point_size = false;
 };
 
-// Values by result id. Ids are below the module's bound, which a real module keeps near its size, so a
-// vector indexed by id serves them (no allocation per id, no hashing); a bound far beyond the words (a
-// hostile header: up to 4 million) falls back to a hash map, so memory stays in proportion to the words.
+// Values by result id. Ids are below the module's bound, which a real module keeps to a fifth of its
+// words or less, so a table indexed by id (4 bytes an id, made on the first value) finds a value
+// without hashing, and the values sit side by side without an allocation each; a bound beyond the
+// words (a hostile header: up to 4 million) falls back to a hash map, so that memory stays in proportion
+// to the words. A reference from operator[] lasts until the next value is added.
 template <class T>
 class IdTable {
  public:
   void size_for(uint32_t bound, size_t words) {
-    dense_ = bound <= 4 * words + 64;
-    if (dense_) slots_.resize(bound);
+    bound_ = bound;
+    dense_ = bound <= words + 64;
   }
   T& operator[](uint32_t id) {  // id below the bound (the caller checked)
     if (!dense_) return sparse_[id];
-    if (!slots_[id]) slots_[id].emplace();
-    return *slots_[id];
+    if (slot_.empty()) slot_.assign(bound_, 0);
+    uint32_t& slot = slot_[id];
+    if (slot == 0) {
+      values_.emplace_back();
+      slot = static_cast<uint32_t>(values_.size());
+    }
+    return values_[slot - 1];
   }
   const T* find(uint32_t id) const {
-    if (dense_) return id < slots_.size() && slots_[id] ? &*slots_[id] : nullptr;
-    auto it = sparse_.find(id);
-    return it == sparse_.end() ? nullptr : &it->second;
+    if (!dense_) {
+      auto it = sparse_.find(id);
+      return it == sparse_.end() ? nullptr : &it->second;
+    }
+    return id < slot_.size() && slot_[id] != 0 ? &values_[slot_[id] - 1] : nullptr;
   }
 
  private:
+  uint32_t bound_ = 0;
   bool dense_ = false;
-  std::vector<std::optional<T>> slots_;
+  std::vector<uint32_t> slot_;  // by id: 1 + the value's index, or 0 for none
+  std::vector<T> values_;
   std::unordered_map<uint32_t, T> sparse_;
 };
 
