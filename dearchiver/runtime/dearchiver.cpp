@@ -100,6 +100,10 @@ Result<void> Dearchiver::State::create(Plan& plan) const {
   return {};
 }
 
+Dearchiver::State::Record& Dearchiver::State::record_of(const ArchivedPipeline& p) {
+  return records[p.archive][size_t(p.pipeline - contents(p.archive).pipelines.data())];
+}
+
 const UnpackedPipeline* Dearchiver::State::keep(Plan& plan, std::string key) {
   size_t slot = pipelines.size();
   if (!free_slots.empty()) {
@@ -110,13 +114,20 @@ const UnpackedPipeline* Dearchiver::State::keep(Plan& plan, std::string key) {
     pipelines.push_back(std::move(plan.out));
   }
   const UnpackedPipeline* kept = &pipelines[slot];
-  if (plan.cacheable) unmodified.emplace(kept->name, kept);
+  Record* record = nullptr;
+  if (plan.cacheable) {
+    record = &record_of(plan.source);
+    if (record->unmodified)
+      record = nullptr;  // made twice (a cancelled job's): the first stays cached
+    else
+      record->unmodified = kept;
+  }
   auto variant = variants.end();
   if (!key.empty()) {
     if (recorded_keys.insert(key).second) recorded.push_back({plan.source, kept->bind_point, plan.state});
     variant = variants.emplace(std::move(key), kept).first;
   }
-  place_of.emplace(kept, Place{slot, variant});
+  place_of.emplace(kept, Place{slot, variant, record});
   return kept;
 }
 
@@ -133,8 +144,7 @@ Result<void> Dearchiver::State::release(const UnpackedPipeline* pipeline) {
                  "from another Dearchiver)"};
   const Place place = it->second;
   place_of.erase(it);
-  if (auto u = unmodified.find(pipeline->name); u != unmodified.end() && u->second == pipeline)
-    unmodified.erase(u);
+  if (place.record) place.record->unmodified = nullptr;
   if (place.variant != variants.end()) variants.erase(place.variant);
   const size_t slot = place.slot;
   caps.vk.vkDestroyPipeline(context.device, pipelines[slot].pipeline, context.allocator);
@@ -164,18 +174,14 @@ std::optional<Result<const UnpackedPipeline*>> wait_for(std::unique_lock<std::mu
 Result<const UnpackedPipeline*> Dearchiver::State::unpack(std::unique_lock<std::mutex>& lock,
                                                           std::string_view name, format::PipelineKind kind,
                                                           const ModifyCallback& modify) {
-  const VkPipelineBindPoint bind_point = kind == format::PipelineKind::compute
-                                             ? VK_PIPELINE_BIND_POINT_COMPUTE
-                                             : VK_PIPELINE_BIND_POINT_GRAPHICS;
   for (;;) {  // again when a job this waited for was cancelled
     if (!modify) {
-      if (auto it = unmodified.find(name); it != unmodified.end() && it->second->bind_point == bind_point)
-        return it->second;
-      if (auto it = creating_unmodified.find(name); it != creating_unmodified.end()) {
-        if (auto made = wait_for(lock, *sync, it->second)) {
-          if (*made && (**made)->bind_point != bind_point) break;  // find() says what is wrong
-          return *made;
-        }
+      auto found = find(name, kind);
+      if (!found) return found.error();
+      Record& record = record_of(*found);
+      if (record.unmodified) return record.unmodified;
+      if (record.creating) {
+        if (auto made = wait_for(lock, *sync, record.creating)) return *made;
         continue;
       }
     }
@@ -229,6 +235,10 @@ Result<Dearchiver> Dearchiver::create(const DeviceContext& context) {
 Result<void> Dearchiver::add_archive(Archive archive) {
   return api_guard("Dearchiver::add_archive", [&]() -> Result<void> {
     std::lock_guard lock(state_->mutex);
+    // Room first, so that the two lists grow together or not at all.
+    state_->archives.reserve(state_->archives.size() + 1);
+    state_->records.reserve(state_->records.size() + 1);
+    state_->records.emplace_back(detail::ArchiveAccess::contents(archive).pipelines.size());
     state_->archives.push_back(std::move(archive));
     return {};
   });

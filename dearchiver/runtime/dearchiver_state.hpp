@@ -57,19 +57,25 @@ struct Dearchiver::State {
   std::deque<UnpackedSignature> signatures;
   std::map<std::pair<size_t, uint32_t>, const UnpackedSignature*> signature_by_layout;
   std::deque<UnpackedPipeline> pipelines;  // stable addresses
-  // Cache by name. Each key views its own pipeline's name (stable in the deque; erased before its slot is
-  // reused): hashed, with nothing copied, for every unpack_all.
-  std::unordered_map<std::string_view, const UnpackedPipeline*> unmodified;
+  // One per archived pipeline, by archive and then by its place in the archive's (sorted) list: the
+  // pipeline made from it without a callback and kept, and the slot of an unpack job creating it so.
+  // A name is always taken from the earliest archive that holds it (find, unpack_all), so these are the
+  // pipelines by name, reached without hashing one: an unpack job touches one of them per pipeline.
+  struct Record {
+    const UnpackedPipeline* unmodified = nullptr;
+    std::shared_ptr<detail::PipelineSlot> creating;
+  };
+  std::vector<std::vector<Record>> records;  // parallel to `archives`; an inner list never moves
+  Record& record_of(const detail::ArchivedPipeline& p);
   std::map<std::string, const UnpackedPipeline*> variants;  // patched, by variant_key
   struct Place {
     size_t slot;                                                       // in `pipelines`
     std::map<std::string, const UnpackedPipeline*>::iterator variant;  // variants.end(): not a variant
+    Record* record;  // the record whose unmodified pipeline it is, or null
   };
   std::unordered_map<const UnpackedPipeline*, Place> place_of;  // live pipelines, for release()
   std::vector<size_t> free_slots;                               // places of released ones
-  // Pipelines unpack jobs are creating now, unpatched by name and patched by variant key.
-  // (Keys view the archives' own names, which live as long as this state.)
-  std::unordered_map<std::string_view, std::shared_ptr<detail::PipelineSlot>> creating_unmodified;
+  // Patched pipelines unpack jobs are creating now, by variant key (unpatched ones: Record::creating).
   std::map<std::string, std::shared_ptr<detail::PipelineSlot>> creating_variants;
   std::shared_ptr<detail::SlotSync> sync = std::make_shared<detail::SlotSync>();
   std::vector<std::weak_ptr<UnpackJob::Shared>> jobs;  // stopped before anything here is destroyed

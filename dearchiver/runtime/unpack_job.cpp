@@ -24,6 +24,7 @@ using namespace detail;
 struct UnpackJob::Shared {
   struct Entry {
     ObjectInfo object;
+    ArchivedPipeline source{0, nullptr};  // the archived pipeline it is made from
     std::unique_ptr<Plan> plan;  // this job's plan of it (patched, or to create), until it is created
     std::string key;             // its variant key when patched
     std::shared_ptr<PipelineSlot> slot;
@@ -134,7 +135,7 @@ struct UnpackJob::Shared {
     std::unique_lock lock(state->mutex);
     Result<const UnpackedPipeline*> made = Error{ErrorCode::cancelled, ""};
     if (!e.plan) {  // unpatched: planned without a callback, so the single-object path does it all
-      const bool existed = state->unmodified.count(e.object.name) != 0;
+      const bool existed = state->record_of(e.source).unmodified != nullptr;
       made = state->unpack(lock, e.object.name,
                            e.object.kind == ObjectKind::compute_pipeline ? format::PipelineKind::compute
                                                                          : format::PipelineKind::graphics,
@@ -183,9 +184,9 @@ struct UnpackJob::Shared {
   void forget_locked(const Entry& e) {
     if (e.borrowed) return;
     if (e.key.empty()) {
-      auto it = state->creating_unmodified.find(e.object.name);
-      if (it != state->creating_unmodified.end() && it->second == e.slot)
-        state->creating_unmodified.erase(it);
+      if (!e.source.pipeline) return;  // nothing was planned (out of memory before)
+      auto& record = state->record_of(e.source);
+      if (record.creating == e.slot) record.creating.reset();
     } else {
       auto it = state->creating_variants.find(e.key);
       if (it != state->creating_variants.end() && it->second == e.slot) state->creating_variants.erase(it);
@@ -294,6 +295,7 @@ void plan_entry(UnpackJob::Shared& job, Dearchiver::State& state, const UnpackAl
   const format::Pipeline& p = *found.pipeline;
   const bool compute = p.kind == format::PipelineKind::compute;
   e.object = {p.name, compute ? ObjectKind::compute_pipeline : ObjectKind::graphics_pipeline};
+  e.source = found;
   auto settle = [&](const UnpackedPipeline* made, std::optional<Error> error) {
     e.slot = std::make_shared<PipelineSlot>();
     e.slot->finished = true;
@@ -302,10 +304,11 @@ void plan_entry(UnpackJob::Shared& job, Dearchiver::State& state, const UnpackAl
     e.settled = true;
     ++job.settled;
   };
+  Dearchiver::State::Record& record = state.record_of(found);
   if (!options.patch) {  // a patch callback sees every pipeline, so nothing made before is reused then
-    if (auto it = state.unmodified.find(p.name); it != state.unmodified.end()) return settle(it->second, {});
-    if (auto it = state.creating_unmodified.find(p.name); it != state.creating_unmodified.end()) {
-      e.slot = it->second;  // another job's
+    if (record.unmodified) return settle(record.unmodified, {});
+    if (record.creating) {
+      e.slot = record.creating;  // another job's
       e.borrowed = true;
       return;
     }
@@ -329,7 +332,7 @@ void plan_entry(UnpackJob::Shared& job, Dearchiver::State& state, const UnpackAl
   }
   e.plan = std::move(plan.value());
   e.slot = std::make_shared<PipelineSlot>();
-  (e.key.empty() ? state.creating_unmodified[p.name] : state.creating_variants[e.key]) = e.slot;
+  (e.key.empty() ? record.creating : state.creating_variants[e.key]) = e.slot;
 }
 
 // Plans every pipeline not yet made (the callbacks run here), makes the other objects, and starts
@@ -355,7 +358,6 @@ std::shared_ptr<UnpackJob::Shared> start_job(Dearchiver& dearchiver, Dearchiver:
       for (size_t a = 0; a < state.archives.size(); ++a) total += state.contents(a).pipelines.size();
       job->entries.reserve(total);
       // Room for every pipeline the job may keep, so that keeping them never rehashes.
-      if (!options.patch) state.unmodified.reserve(state.unmodified.size() + total);
       state.place_of.reserve(state.place_of.size() + total);
       for (size_t a = 0; a < state.archives.size(); ++a)
         for (const auto& p : state.contents(a).pipelines)
