@@ -105,29 +105,44 @@ Dearchiver::State::Record& Dearchiver::State::record_of(const ArchivedPipeline& 
 }
 
 const UnpackedPipeline* Dearchiver::State::keep(Plan& plan, std::string key) {
-  size_t slot = pipelines.size();
-  if (!free_slots.empty()) {
-    slot = free_slots.back();
-    free_slots.pop_back();
-    pipelines[slot] = std::move(plan.out);
-  } else {
-    pipelines.push_back(std::move(plan.out));
-  }
+  // Whatever may throw (every allocation) comes first, each step undone if a later one throws, and the
+  // pipeline is published (moved into its place, cached) only once nothing can fail: the caller destroys
+  // the VkPipeline when this throws, so nothing may be left pointing at it.
+  const bool reuse = !free_slots.empty();
+  const size_t slot = reuse ? free_slots.back() : pipelines.size();
+  if (!reuse) pipelines.emplace_back();  // an empty place (VK_NULL_HANDLE: the destructor skips it)
   const UnpackedPipeline* kept = &pipelines[slot];
-  Record* record = nullptr;
-  if (plan.cacheable) {
-    record = &record_of(plan.source);
-    if (record->unmodified)
-      record = nullptr;  // made twice (a cancelled job's): the first stays cached
-    else
-      record->unmodified = kept;
-  }
   auto variant = variants.end();
-  if (!key.empty()) {
-    if (recorded_keys.insert(key).second) recorded.push_back({plan.source, kept->bind_point, plan.state});
-    variant = variants.emplace(std::move(key), kept).first;
+  std::optional<std::set<std::string>::iterator> new_key;
+  bool state_recorded = false;
+  std::unordered_map<const UnpackedPipeline*, Place>::iterator place;
+  try {
+    if (!key.empty()) {
+      if (auto [at, inserted] = recorded_keys.insert(key); inserted) new_key = at;
+      if (new_key) {
+        recorded.push_back({plan.source, plan.out.bind_point, plan.state});
+        state_recorded = true;
+      }
+      variant = variants.emplace(std::move(key), kept).first;
+    }
+    place = place_of.emplace(kept, Place{slot, variant, nullptr}).first;
+  } catch (...) {
+    if (variant != variants.end()) variants.erase(variant);
+    if (state_recorded) recorded.pop_back();
+    if (new_key) recorded_keys.erase(*new_key);
+    if (!reuse) pipelines.pop_back();
+    throw;
   }
-  place_of.emplace(kept, Place{slot, variant, record});
+  // Nothing below allocates.
+  if (reuse) free_slots.pop_back();
+  pipelines[slot] = std::move(plan.out);
+  if (plan.cacheable) {
+    Record& record = record_of(plan.source);
+    if (!record.unmodified) {  // made twice (a cancelled job's): the first stays cached
+      record.unmodified = kept;
+      place->second.record = &record;
+    }
+  }
   return kept;
 }
 
