@@ -72,8 +72,8 @@ struct WordsHash {
 };
 using Key = std::vector<uint32_t>;
 using KeySet = std::unordered_set<Key, WordsHash>;
-// (blob, entry point's function, stage, set, layout): shader records that name the same entry point of
-// the same blob for the same stage use the same resources, so they pass or fail against a layout alike.
+// (blob, entry point, stage, set, layout): shader records that name the same entry point of the same blob
+// for the same stage use the same resources, so they pass or fail against a layout alike.
 using SetCheck = std::array<uint32_t, 5>;
 
 // What one entry point of a module uses: its descriptors by set number (in module order within a set)
@@ -121,7 +121,7 @@ class InterfaceChecks {
       if (!use) return over_budget(p);
       for (const auto& [set, resources] : use->resources) {
         const uint32_t layout = set < p.set_layouts.size() ? p.set_layouts[set] : kNone;
-        const SetCheck key = {shader.blob, entry->function, shader.stage, set, layout};
+        const SetCheck key = {shader.blob, entry_index(module, *entry), shader.stage, set, layout};
         if (resources_checked_.count(key)) continue;
         if (!charge(resources.size())) return over_budget(p);
         if (auto ok = check_resources(shader, layout, resources, n); !ok) return ok;
@@ -164,7 +164,7 @@ class InterfaceChecks {
 
   // What the entry point uses, found once per (module, entry point); null when the budget is spent.
   const EntryUse* uses(uint32_t blob, const spirv::Module& module, const spirv::EntryPoint& entry) {
-    auto [it, fresh] = uses_.try_emplace({blob, entry.function});
+    auto [it, fresh] = uses_.try_emplace({blob, entry_index(module, entry)});
     if (!fresh) return &it->second;
     if (!charge(module.resources.size() + module.inputs.size())) return nullptr;
     for (const spirv::Resource& r : module.resources)
@@ -238,7 +238,12 @@ class InterfaceChecks {
   const std::vector<spirv::Module>& modules_;
   const uint64_t budget_;
   uint64_t work_ = 0;
-  std::map<std::pair<uint32_t, uint32_t>, EntryUse> uses_;     // by (blob, entry point's function id)
+  // By (blob, entry point): an entry point, not its function, says what it uses (from SPIR-V 1.4 on, two
+  // OpEntryPoints may name one function with different interfaces).
+  std::map<std::pair<uint32_t, uint32_t>, EntryUse> uses_;
+  static uint32_t entry_index(const spirv::Module& module, const spirv::EntryPoint& entry) {
+    return static_cast<uint32_t>(&entry - module.entry_points.data());
+  }
   std::unordered_set<SetCheck, WordsHash> resources_checked_;  // those that passed
   KeySet inputs_checked_;  // (attribute locations, shader index) that passed
 };
