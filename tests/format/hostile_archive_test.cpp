@@ -14,6 +14,7 @@
 #include "common/forged_archive.hpp"
 #include "common/vulkan_test_fixture.hpp"
 #include "format/archive_file.hpp"
+#include "format/spirv_walk.hpp"
 #include "runtime/archive_access.hpp"
 #include "support/file_io.hpp"
 
@@ -253,6 +254,63 @@ TEST(HostileArchive, ShaderRecordsOfOneBlobAreCheckedPerLayout) {
   EXPECT_EQ(load_error(c),
             "archive in memory: corrupt archive: pipeline 'P700': binding 'Values' (set 0, binding 0) is not "
             "visible to the compute stage, which shader 'CS of P700' uses it from");
+}
+
+// From SPIR-V 1.4 on, an entry point's interface lists every global it uses, and two OpEntryPoints may
+// name one function with different lists: each is checked by its own. Here "a" lists a storage buffer
+// (set 0, binding 0) its function never touches, and "b" lists nothing, so a pipeline of "b" needs no
+// set at all, even after a pipeline of "a" was checked against its layout.
+TEST(HostileArchive, TwoEntryPointsOnOneFunctionAreCheckedByTheirOwnInterfaces) {
+  std::vector<uint32_t> module{0x07230203u, 0x00010400u, 0, 64, 0};
+  auto op = [&](uint32_t opcode, std::vector<uint32_t> operands) {
+    module.push_back(uint32_t(operands.size() + 1) << 16 | opcode);
+    module.insert(module.end(), operands.begin(), operands.end());
+  };
+  enum : uint32_t { kVoid = 1, kFunctionType, kMain, kLabel, kUint, kBlock, kPointer, kBuffer };
+  const uint32_t name_a = 'a', name_b = 'b';  // one byte and its NUL: one word
+  op(17, {1});                                // OpCapability Shader
+  op(14, {0, 1});                             // OpMemoryModel Logical GLSL450
+  op(15, {5, kMain, name_a, kBuffer});        // OpEntryPoint GLCompute %main "a" %buffer
+  op(15, {5, kMain, name_b});                 // OpEntryPoint GLCompute %main "b"
+  op(16, {kMain, 17, 1, 1, 1});               // LocalSize 1 1 1
+  op(71, {kBuffer, 34, 0});                   // DescriptorSet 0
+  op(71, {kBuffer, 33, 0});                   // Binding 0
+  op(71, {kBlock, 2});                        // Block
+  op(72, {kBlock, 0, 35, 0});                 // member 0 at offset 0
+  op(19, {kVoid});
+  op(33, {kFunctionType, kVoid});
+  op(21, {kUint, 32, 0});
+  op(30, {kBlock, kUint});
+  op(32, {kPointer, 12, kBlock});  // StorageBuffer
+  op(59, {kPointer, kBuffer, 12});
+  op(54, {kVoid, kMain, 0, kFunctionType});
+  op(248, {kLabel});
+  op(253, {});  // OpReturn
+  op(56, {});
+  ASSERT_TRUE(spirv::walk(module)) << spirv::walk(module).error().message;
+
+  Slice slice;
+  format::Contents c = slice.with_compute_copies(2, 0);
+  c.spirv.push_back(std::span<const uint32_t>(module));
+  format::Shader a = c.shaders[c.pipelines[0].shaders[0]];
+  a.blob = uint32_t(c.spirv.size() - 1);
+  a.name = "A CS";
+  a.entry_point = "a";
+  format::Shader b = a;
+  b.name = "B CS";
+  b.entry_point = "b";
+  c.pipelines[0].shaders = {uint32_t(c.shaders.size())};
+  c.shaders.push_back(a);
+  c.pipelines[1].shaders = {uint32_t(c.shaders.size())};
+  c.shaders.push_back(b);
+  c.pipelines[1].set_layouts.clear();
+  EXPECT_EQ(load_error(c), "loaded");
+  // And "a" still needs its set.
+  c.pipelines[0].set_layouts.clear();
+  EXPECT_EQ(
+      load_error(c),
+      "archive in memory: corrupt archive: pipeline 'P0': shader 'A CS' uses set 0, binding 0, which the "
+      "pipeline's layout lacks");
 }
 
 TEST(HostileArchive, PipelineLayoutLackingASetTheShaderUses) {
