@@ -530,9 +530,12 @@ struct Reader {
     s.assign(reinterpret_cast<const char*>(p), length);
   }
   std::optional<uint32_t> range(uint32_t tag, uint32_t& count, const char* what) {
+    return range(section(tag), count, what);
+  }
+  std::optional<uint32_t> range(const Section& in, uint32_t& count, const char* what) {
     uint32_t first = next();
     count = next();
-    if (uint64_t(first) + count > section(tag).count) {
+    if (uint64_t(first) + count > in.count) {
       fail(std::string(what) + " list outside its section");
       return std::nullopt;
     }
@@ -540,11 +543,11 @@ struct Reader {
   }
   void indices(std::vector<uint32_t>& out) {
     if (!indices_section) indices_section = &section(kTagIndices);
-    const uint32_t first = next(), count = next();
-    if (uint64_t(first) + count > indices_section->count) return fail("index list outside its section");
-    if (!charge(uint64_t(count) * 4)) return;
+    uint32_t count = 0;
+    auto first = range(*indices_section, count, "index");
+    if (!first || !charge(uint64_t(count) * 4)) return;
     out.resize(count);
-    const uint8_t* p = file.data() + indices_section->offset + size_t(first) * 4;
+    const uint8_t* p = file.data() + indices_section->offset + size_t(*first) * 4;
     for (uint32_t i = 0; i < count; ++i) out[i] = get_u32(p + 4 * i);
   }
   template <class T>

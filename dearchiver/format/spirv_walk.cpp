@@ -542,9 +542,10 @@ Result<Module> walk(std::span<const uint32_t> words) {
   w.words = words;
   w.module.version = version;
   w.module.bound = words[3];
-  for (auto* table : {&w.constants, &w.spec_defaults}) table->size_for(w.module.bound, words.size());
   w.types.size_for(w.module.bound, words.size());
+  w.constants.size_for(w.module.bound, words.size());
   w.decorations.size_for(w.module.bound, words.size());
+  w.spec_defaults.size_for(w.module.bound, words.size());
   w.composites.size_for(w.module.bound, words.size());
   // Function structure is checked too: a module cut at an instruction boundary (a shortened blob) must
   // not reach the validation layer or the driver, which assume every function and block is closed.

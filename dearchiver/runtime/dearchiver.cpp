@@ -250,11 +250,14 @@ Result<Dearchiver> Dearchiver::create(const DeviceContext& context) {
 Result<void> Dearchiver::add_archive(Archive archive) {
   return api_guard("Dearchiver::add_archive", [&]() -> Result<void> {
     std::lock_guard lock(state_->mutex);
-    // Room first, so that the two lists grow together or not at all.
-    state_->archives.reserve(state_->archives.size() + 1);
-    state_->records.reserve(state_->records.size() + 1);
+    // The two lists grow together or not at all.
     state_->records.emplace_back(detail::ArchiveAccess::contents(archive).pipelines.size());
-    state_->archives.push_back(std::move(archive));
+    try {
+      state_->archives.push_back(std::move(archive));
+    } catch (...) {
+      state_->records.pop_back();
+      throw;
+    }
     return {};
   });
 }

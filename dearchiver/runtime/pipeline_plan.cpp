@@ -425,13 +425,7 @@ std::optional<Error> Planner::check_features(const std::string& name, const Patc
     if ((dual(b.src_color) || dual(b.dst_color) || dual(b.src_alpha) || dual(b.dst_alpha)) &&
         !features_.dualSrcBlend)
       return missing_feature(name, "dualSrcBlend");
-    // Field by field: the bytes between a state's fields are anybody's (a callback's copy, a temporary).
-    auto alike = [](const BlendAttachmentState& x, const BlendAttachmentState& y) {
-      return x.enable == y.enable && x.src_color == y.src_color && x.dst_color == y.dst_color &&
-             x.color_op == y.color_op && x.src_alpha == y.src_alpha && x.dst_alpha == y.dst_alpha &&
-             x.alpha_op == y.alpha_op && x.write_mask == y.write_mask;
-    };
-    if (i > 0 && !features_.independentBlend && !alike(s.blend[i], s.blend[0]))
+    if (i > 0 && !features_.independentBlend && s.blend[i] != s.blend[0])
       return missing_feature(name, "independentBlend");
   }
   const VkPhysicalDeviceLimits& limits = caps_.properties.limits;  // queried once, at Dearchiver::create

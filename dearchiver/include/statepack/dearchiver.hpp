@@ -87,6 +87,8 @@ struct BlendAttachmentState {
   VkBlendFactor src_alpha = VK_BLEND_FACTOR_ONE, dst_alpha = VK_BLEND_FACTOR_ZERO;
   VkBlendOp alpha_op = VK_BLEND_OP_ADD;
   VkColorComponentFlags write_mask = 0xF;
+  // Field by field: the bytes between the fields are nobody's (a copy need not carry them).
+  bool operator==(const BlendAttachmentState&) const = default;
 };
 
 struct RasterizerState {
