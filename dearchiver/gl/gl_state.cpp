@@ -326,16 +326,20 @@ void VertexInput::configure(GLuint vertex_array) const {
   for (const BufferBinding& b : bindings) glVertexArrayBindingDivisor(vertex_array, b.binding, b.divisor);
 }
 
-void FixedFunctionState::apply() const {
-  // Vulkan's depth range and a lower-left origin (the rows land as on Vulkan: see gl_dearchiver.hpp).
-  glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
+void FixedFunctionState::apply(ClipY clip_y) const {
+  // Vulkan's depth range and a lower-left origin (the rows land as on Vulkan: see gl_dearchiver.hpp); an
+  // upper-left one lands them as a Vulkan viewport of negative height does. GL decides a polygon's facing
+  // with the origin's y, so the facing Vulkan computes in framebuffer rows is the archive's inverted
+  // (front_face) with the lower-left origin and the archive's own with the upper-left one.
+  const bool up = clip_y == ClipY::up;
+  glClipControl(up ? GL_UPPER_LEFT : GL_LOWER_LEFT, GL_ZERO_TO_ONE);
   glEnable(GL_FRAMEBUFFER_SRGB);
   if (primitive_mode == GL_PATCHES && patch_vertices > 0)
     glPatchParameteri(GL_PATCH_VERTICES, patch_vertices);
 
   enable(GL_CULL_FACE, cull_enable);
   glCullFace(cull_face);
-  glFrontFace(front_face);
+  glFrontFace(up ? (front_face == GL_CW ? GL_CCW : GL_CW) : front_face);
   glPolygonMode(GL_FRONT_AND_BACK, polygon_mode);
   enable(GL_DEPTH_CLAMP, depth_clamp);
   enable(GL_POLYGON_OFFSET_FILL, depth_bias_enable);

@@ -61,7 +61,8 @@ struct PackCommand {
   CLI::Option* output_option = nullptr;
   PackOptions options;
   std::vector<std::string> inputs, render_state_dirs, shader_dirs, defines;
-  std::string output, vulkan_version = "1.0", depfile, dump_dir, optimize = "none", cache_dir;
+  std::string output, vulkan_version = "1.0", depfile, dump_dir, optimize = "none", cache_dir,
+                      shader_environment = "diligent";
   bool strip_debug = false;
   uint64_t max_input_size = kMaxInputBytes;
   bool vulkan = false, opengl = false, opengles = false, dx11 = false, dx12 = false, metal_macos = false,
@@ -105,9 +106,17 @@ struct PackCommand {
         "Write each pipeline's final SPIR-V and its disassembly under DIR/Vulkan/<kind>/<pipeline>/");
     app->add_option("--optimize", optimize, "SPIR-V optimisation: none, speed or size")
         ->capture_default_str();
+    app->add_option("--shader-environment", shader_environment,
+                    "What every shader is compiled with besides its own macros: diligent (Diligent's "
+                    "definitions and its compiler, backend and stage macros, as Diligent compiles shaders) "
+                    "or none")
+        ->capture_default_str();
     app->add_flag(
         "--strip_debug,--strip_reflection", strip_debug,
         "Strip debug information (names, lines) from the SPIR-V; binding names stay in the archive");
+    app->add_flag("--strict", options.strict,
+                  "Make errors of what Diligent only warns about: ResourceLayout variables and immutable "
+                  "samplers that name nothing the shaders use");
     app->add_flag("--print_contents", options.print_contents, "Print the archive's contents");
     app->add_flag("--time-report", options.time_report,
                   "Print the wall time of each stage of the pack (and the compile cache's hits)");
@@ -158,8 +167,8 @@ struct PackCommand {
     options.opengl = opengl;
     auto version = parse_vulkan_version(vulkan_version);
     if (!version) {
-      err << "statepack: error: --vulkan_version must be 1.0, 1.1, 1.2 or 1.3, not '" << vulkan_version
-          << "'\n";
+      err << "statepack: error: --vulkan_version must be 1.0, 1.1, 1.2 or 1.3, not '"
+          << printable(vulkan_version) << "'\n";
       return false;
     }
     options.compile.vulkan_version = *version;
@@ -181,9 +190,16 @@ struct PackCommand {
     else if (optimize == "size")
       options.compile.optimization = Optimization::size;
     else if (optimize != "none") {
-      err << "statepack: error: --optimize must be none, speed or size, not '" << optimize << "'\n";
+      err << "statepack: error: --optimize must be none, speed or size, not '" << printable(optimize)
+          << "'\n";
       return false;
     }
+    if (shader_environment != "diligent" && shader_environment != "none") {
+      err << "statepack: error: --shader-environment must be diligent or none, not '"
+          << printable(shader_environment) << "'\n";
+      return false;
+    }
+    options.compile.shader_environment = shader_environment == "diligent";
     if (!depfile.empty()) options.depfile = depfile;
     if (!cache_dir.empty()) options.cache_dir = cache_dir;
     return true;

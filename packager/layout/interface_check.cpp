@@ -95,7 +95,7 @@ std::string kind_text(const InterfaceVariable& v) {
 // "'float3 vs_main().normal'".
 std::string describe(const InterfaceVariable& v, const StageInput& s) {
   std::string name = v.name;
-  if (name.starts_with("@entryPointOutput")) name.replace(0, 17, s.desc->entry_point + "()");
+  if (name.starts_with("@entryPointOutput")) name.replace(0, 17, std::string(s.entry_point) + "()");
   return "'" + type_text(v, s.desc->language) + " " + name + "'";
 }
 
@@ -462,7 +462,7 @@ void warn_compute_work_group(const PipelineDesc& p, const StageInput& stage,
     module = &*it->second;
   }
   const spirv::EntryPoint* entry =
-      module->find(*spirv::execution_model_of_stage(VK_SHADER_STAGE_COMPUTE_BIT), stage.desc->entry_point);
+      module->find(*spirv::execution_model_of_stage(VK_SHADER_STAGE_COMPUTE_BIT), stage.entry_point);
   if (!entry || !entry->workgroup_size) return;
   // The pipeline's 4-byte compute constant with that SpecId, as the dearchiver applies it.
   auto specialized = [&](uint32_t spec_id) -> std::optional<uint32_t> {

@@ -5,6 +5,7 @@
 #include <map>
 #include <set>
 
+#include "inline_constants.hpp"
 #include "notation/enum_tables.hpp"
 #include "support/suggest.hpp"
 
@@ -179,13 +180,16 @@ void pair_combined_image_samplers(std::vector<Slot>& slots, std::map<std::string
 }
 
 bool implicit_layout(const PipelineDesc& p, const std::vector<StageInput>& stages, ContentsBuilder& builder,
-                     const SourceTexts& sources, PipelineLayout& out, Diagnostics& diag) {
-  // Merge uses by name across stages; the first use decides type and wished-for slot.
+                     const SourceTexts& sources, const LayoutOptions& options, const std::string& pushed,
+                     PipelineLayout& out, Diagnostics& diag) {
+  // Merge uses by name across stages; the first use decides type and wished-for slot. Inline constants
+  // (`pushed`) take no descriptor: they become push constants.
   std::vector<Slot> slots;
   std::map<std::string, size_t> by_name;
   bool ok = true;
   for (const StageInput& stage : stages) {
     for (const ReflectedBinding& r : stage.reflection->bindings) {
+      if (r.name == pushed) continue;
       auto [it, inserted] = by_name.emplace(r.name, slots.size());
       if (inserted) {
         slots.push_back({format::Binding{r.name, r.binding, r.descriptor_type, r.count, r.stage}, r.set,
@@ -228,22 +232,33 @@ bool implicit_layout(const PipelineDesc& p, const std::vector<StageInput>& stage
     slot.binding.binding = binding;
     taken.insert({slot.set, binding});
   }
-  // ResourceLayout variables and immutable samplers must name resources the shaders use.
+  // ResourceLayout variables and immutable samplers that name nothing the shaders use are warnings, as
+  // in Diligent (which ignores them; IGNORE_MISSING_* silences the warning), or errors with --strict: a
+  // typo, or a resource used only under a macro the pipeline does not define (Diligent's Tutorial29).
+  auto mismatch = [&](const Location& where, const std::string& message) {
+    if (options.strict) {
+      diag.error(where, message + " (an error with --strict)");
+      ok = false;
+    } else {
+      diag.warning(where, message +
+                              " (IGNORE_MISSING_VARIABLES or IGNORE_MISSING_IMMUTABLE_SAMPLERS "
+                              "in the pipeline's Flags silences this)");
+    }
+  };
   std::vector<std::string> names;
   for (const Slot& slot : slots) names.push_back(slot.binding.name);
   for (const ResourceVariable& v : p.variables) {
+    if (p.flags & kIgnoreMissingVariables) break;
+    if (v.name == pushed) continue;  // push constants now (inline_constants.hpp checks their use)
     auto it = by_name.find(v.name);
-    if (it == by_name.end()) {
-      if (p.flags & kIgnoreMissingVariables) continue;
-      diag.error(sources.at(p.where, v.pointer), "pipeline '" + p.name + "': ResourceLayout variable '" +
-                                                     v.name + "' is not used by any of its shaders" +
-                                                     detail::did_you_mean(v.name, names));
-      ok = false;
-    } else if (v.stages != 0 && (slots[it->second].binding.stage_flags & v.stages) == 0) {
-      diag.error(sources.at(p.where, v.pointer), "pipeline '" + p.name + "': variable '" + v.name +
-                                                     "' is declared for stages its shaders do not use it in");
-      ok = false;
-    }
+    if (it == by_name.end())
+      mismatch(sources.at(p.where, v.pointer), "pipeline '" + p.name + "': ResourceLayout variable '" +
+                                                   v.name + "' is not used by any of its shaders" +
+                                                   detail::did_you_mean(v.name, names));
+    else if (v.stages != 0 && (slots[it->second].binding.stage_flags & v.stages) == 0)
+      mismatch(sources.at(p.where, v.pointer), "pipeline '" + p.name + "': ResourceLayout variable '" +
+                                                   v.name +
+                                                   "' is declared for stages its shaders do not use it in");
   }
   std::vector<Slot*> candidates;
   for (Slot& slot : slots) candidates.push_back(&slot);
@@ -252,12 +267,16 @@ bool implicit_layout(const PipelineDesc& p, const std::vector<StageInput>& stage
     if (attach_sampler(candidates, s, p.combined_sampler_suffix, builder) ||
         (p.flags & kIgnoreMissingImmutableSamplers))
       continue;
-    diag.error(i < p.immutable_sampler_pointers.size() ? sources.at(p.where, p.immutable_sampler_pointers[i])
-                                                       : p.where,
-               "pipeline '" + p.name + "': immutable sampler '" + s.name +
-                   "' matches no sampler or combined texture of its shaders" +
-                   detail::did_you_mean(s.name, names));
-    ok = false;
+    mismatch(i < p.immutable_sampler_pointers.size() ? sources.at(p.where, p.immutable_sampler_pointers[i])
+                                                     : p.where,
+             "pipeline '" + p.name + "': immutable sampler '" + s.name +
+                 "' matches no sampler or combined texture of its shaders" +
+                 (p.combined_sampler_suffix.empty() && by_name.count(s.name + "_sampler")
+                      ? " ('" + s.name +
+                            "_sampler' would match if the shaders' Desc said "
+                            "\"UseCombinedTextureSamplers\": true)"
+                      : std::string()) +
+                 detail::did_you_mean(s.name, names));
   }
   if (!ok) return false;
 
@@ -275,6 +294,7 @@ bool implicit_layout(const PipelineDesc& p, const std::vector<StageInput>& stage
   }
   for (size_t s = 0; s < stages.size(); ++s)
     for (const ReflectedBinding& r : stages[s].reflection->bindings) {
+      if (r.name == pushed) continue;
       const Slot& slot = slots[by_name[r.name]];
       patch(out.patched_spirv[s], r, slot.set, slot.binding.binding);
     }
@@ -317,8 +337,9 @@ format::SetLayout signature_set_layout(const SignatureDesc& signature, bool name
 }
 
 bool build_pipeline_layout(const PipelineDesc& pipeline, const std::vector<StageInput>& stages,
-                           const Notation& notation, ContentsBuilder& builder, PipelineLayout& out,
-                           Diagnostics& diag) {
+                           const Notation& notation, ContentsBuilder& builder, const LayoutOptions& options,
+                           PipelineLayout& out, Diagnostics& diag) {
+  const InlineConstants pushed = pushed_inline_constants(pipeline, notation);
   out.patched_spirv.clear();
   for (const StageInput& stage : stages) {
     out.patched_spirv.push_back(*stage.spirv);
@@ -339,13 +360,20 @@ bool build_pipeline_layout(const PipelineDesc& pipeline, const std::vector<Stage
     if (stage.reflection->push_constant_size > 0) out.push_constant_stages |= stage.desc->stage;
   }
   if (!pipeline.signatures.empty()) {
-    if (!pipeline.variables.empty() || !pipeline.immutable_samplers.empty())
-      diag.warning(pipeline.where,
-                   "pipeline '" + pipeline.name +
-                       "' uses resource signatures; its ResourceLayout is ignored, as in DRSN");
-    return layout_from_signatures(pipeline, stages, notation, builder, out, diag);
+    if (!pipeline.variables.empty() || !pipeline.immutable_samplers.empty()) {
+      // Diligent refuses such a pipeline at creation: the signatures are the whole layout.
+      diag.error(pipeline.where, "pipeline '" + pipeline.name +
+                                     "' uses resource signatures and also lists ResourceLayout " +
+                                     (pipeline.variables.empty() ? "immutable samplers" : "variables") +
+                                     ", which Diligent refuses: with signatures, the signatures are the "
+                                     "layout (put the variables and samplers there)");
+      return false;
+    }
+    return layout_from_signatures(pipeline, stages, notation, builder, out, diag) &&
+           push_inline_constants(pipeline, pushed, stages, out, diag);
   }
-  return implicit_layout(pipeline, stages, builder, notation.sources, out, diag);
+  return implicit_layout(pipeline, stages, builder, notation.sources, options, pushed.name, out, diag) &&
+         push_inline_constants(pipeline, pushed, stages, out, diag);
 }
 
 }  // namespace statepack::packager

@@ -10,6 +10,7 @@
 #include "format/spirv_walk.hpp"
 #include "notation/diagnostics.hpp"
 #include "notation/notation.hpp"
+#include "shaders/hlsl_vertex_inputs.hpp"
 #include "shaders/spirv_reflect.hpp"
 
 namespace statepack::packager {
@@ -19,6 +20,10 @@ struct StageInput {
   const std::vector<uint32_t>* spirv;
   const Reflection* reflection;
   const spirv::Module* module = nullptr;  // `spirv` walked (on the compile's threads), when it could be
+  // An HLSL vertex shader's inputs and their semantics (hlsl_vertex_inputs.hpp); null for the others.
+  const std::vector<VertexInputSemantic>* semantics = nullptr;
+  // The module's entry point: the shader's EntryPoint, or the one a BYTECODE module was cut to.
+  std::string_view entry_point;
 };
 
 struct PipelineLayout {
@@ -31,9 +36,15 @@ struct PipelineLayout {
 // The set layout a signature becomes (stored named, unless it is in Ignore.Signatures).
 format::SetLayout signature_set_layout(const SignatureDesc& signature, bool named, ContentsBuilder& builder);
 
+struct LayoutOptions {
+  // --strict: ResourceLayout variables and immutable samplers that name nothing the shaders use are
+  // errors instead of Diligent's warnings.
+  bool strict = false;
+};
+
 // Builds the layout of `pipeline` and patches its stages; false (with diagnostics) on any mismatch.
 bool build_pipeline_layout(const PipelineDesc& pipeline, const std::vector<StageInput>& stages,
-                           const Notation& notation, ContentsBuilder& builder, PipelineLayout& out,
-                           Diagnostics& diag);
+                           const Notation& notation, ContentsBuilder& builder, const LayoutOptions& options,
+                           PipelineLayout& out, Diagnostics& diag);
 
 }  // namespace statepack::packager

@@ -142,6 +142,24 @@ inline constexpr EnumEntry kSourceLanguages[] = {
 
 inline constexpr EnumEntry kShaderCompilers[] = {{"DEFAULT", 0}, {"GLSLANG", 1}, {"DXC", 2}, {"FXC", 3}};
 
+// Diligent's SHADER_COMPILE_FLAGS. Each does what it does in Diligent's Vulkan backend with glslang, or
+// has no meaning there (docs/notation.md, "Compile flags").
+enum CompileFlag : uint32_t {
+  kCompileEnableUnboundedArrays = 1,  // Direct3D's compilers only
+  kCompileSkipReflection = 2,         // Diligent's run-time reflection; statepack reflects at pack time
+  kCompileAsynchronous = 4,           // Diligent compiles on a thread pool; statepack always does
+  kPackMatrixRowMajor = 8,            // #pragma pack_matrix(row_major) / layout(row_major) uniform;
+  kHlslToSpirvViaGlsl = 16,           // Diligent's HLSL-to-GLSL converter first; statepack compiles directly
+};
+inline constexpr EnumEntry kCompileFlags[] = {
+    {"NONE", 0},
+    {"ENABLE_UNBOUNDED_ARRAYS", kCompileEnableUnboundedArrays},
+    {"SKIP_REFLECTION", kCompileSkipReflection},
+    {"ASYNCHRONOUS", kCompileAsynchronous},
+    {"PACK_MATRIX_ROW_MAJOR", kPackMatrixRowMajor},
+    {"HLSL_TO_SPIRV_VIA_GLSL", kHlslToSpirvViaGlsl},
+};
+
 // Diligent's N_CONTROL_POINT_PATCHLIST: read as kPatchListTopology + N, then split into
 // VK_PRIMITIVE_TOPOLOGY_PATCH_LIST and N patch control points.
 inline constexpr uint32_t kPatchListTopology = 0x10000;
@@ -284,6 +302,7 @@ enum ResourceFlag : uint32_t {
   kFormattedBuffer = 4,
   kRuntimeArray = 8,
   kGeneralInputAttachment = 16,
+  kInlineConstants = 32,
 };
 inline constexpr EnumEntry kResourceFlags[] = {
     {"NONE", 0},
@@ -292,13 +311,16 @@ inline constexpr EnumEntry kResourceFlags[] = {
     {"FORMATTED_BUFFER", kFormattedBuffer},
     {"RUNTIME_ARRAY", kRuntimeArray},
     {"GENERAL_INPUT_ATTACHMENT", kGeneralInputAttachment},
+    {"INLINE_CONSTANTS", kInlineConstants},
 };
 
-// Variable flags of ResourceLayout.Variables: accepted; none changes the Vulkan layout.
+// Variable flags of ResourceLayout.Variables: INLINE_CONSTANTS makes the uniform buffer push constants;
+// the others do not change the Vulkan layout.
+inline constexpr uint32_t kVariableInlineConstants = 2;
 inline constexpr EnumEntry kVariableFlags[] = {
     {"NONE", 0},
     {"NO_DYNAMIC_BUFFERS", 1},
-    {"INLINE_CONSTANTS", 2},
+    {"INLINE_CONSTANTS", kVariableInlineConstants},
     {"GENERAL_INPUT_ATTACHMENT_VK", 4},
     {"UNFILTERABLE_FLOAT_TEXTURE_WEBGPU", 8},
     {"NON_FILTERING_SAMPLER_WEBGPU", 16},
@@ -494,6 +516,7 @@ inline constexpr EnumTableInfo kEnumTableInfo[] = {
      "ResourceLayout.DefaultVariableType, Variables[].Type, Resources[].VarType"},
     {"SHADER_SOURCE_LANGUAGE", kSourceLanguages, false, "SourceLanguage"},
     {"SHADER_COMPILER", kShaderCompilers, false, "ShaderCompiler"},
+    {"SHADER_COMPILE_FLAGS", kCompileFlags, true, "CompileFlags"},
     {"PRIMITIVE_TOPOLOGY", kTopologies, false, "GraphicsPipeline.PrimitiveTopology"},
     {"FILL_MODE", kFillModes, false, "RasterizerDesc.FillMode"},
     {"CULL_MODE", kCullModes, false, "RasterizerDesc.CullMode"},

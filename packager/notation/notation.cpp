@@ -188,7 +188,8 @@ class FileReader {
       if (auto g = j.find("GraphicsPipeline"); g != j.end()) {
         format::GraphicsState scratch;
         uint32_t subpass = 0;
-        read_graphics_state(lenient, *g, p + "/GraphicsPipeline", scratch, subpass);
+        std::vector<std::string> semantics;
+        read_graphics_state(lenient, *g, p + "/GraphicsPipeline", scratch, subpass, semantics);
         if (g->contains("pRenderPass"))
           json_.error(p + "/GraphicsPipeline/pRenderPass", "a render pass cannot be a default");
       }
@@ -304,7 +305,13 @@ class FileReader {
       if (var.name.empty()) json_.error(vp, "a variable needs a 'Name'");
       json_.stage_flags_field(v, "ShaderStages", vp, var.stages);
       json_.enum_field(v, "Type", vp, kVariableTypes, "variable type", unused);
-      json_.flags_field(v, "Flags", vp, kVariableFlags, "variable flag", unused);
+      uint32_t flags = 0;
+      json_.flags_field(v, "Flags", vp, kVariableFlags, "variable flag", flags);
+      var.inline_constants = (flags & kVariableInlineConstants) != 0;
+      if (var.inline_constants && flags != kVariableInlineConstants)
+        json_.error(vp + "/Flags",
+                    "variable '" + var.name +
+                        "': INLINE_CONSTANTS cannot be combined with other flags (as in Diligent)");
       p.variables.push_back(std::move(var));
     }
   }
@@ -460,7 +467,7 @@ class FileReader {
       resource_layout(*layout, pointer + "/PSODesc/ResourceLayout", p);
     specialization_constants(j, pointer, p);
     if (auto g = j.find("GraphicsPipeline"); g != j.end()) {
-      read_graphics_state(ctx_, *g, pointer + "/GraphicsPipeline", p.graphics, p.subpass);
+      read_graphics_state(ctx_, *g, pointer + "/GraphicsPipeline", p.graphics, p.subpass, p.input_semantics);
       uint32_t extra = 0;
       json_.flags_field(*g, "DynamicStates", pointer + "/GraphicsPipeline", kDynamicStates, "dynamic state",
                         extra);
@@ -652,6 +659,24 @@ void resolve_references(Notation& notation, Diagnostics& diag) {
       Location where = shader.where;
       shader = *found;
       shader.where = where;
+    }
+    // An immutable sampler named after a texture applies to its sampler (the name plus the suffix) when
+    // the shaders say they use combined samplers (Desc.UseCombinedTextureSamplers), as Diligent marks the
+    // implicit layout; they must agree on the suffix.
+    pipeline.combined_sampler_suffix.clear();
+    const ShaderDesc* suffix_from = nullptr;
+    for (const auto& shader : pipeline.shaders) {
+      if (shader.combined_sampler_suffix.empty()) continue;
+      if (!suffix_from) {
+        suffix_from = &shader;
+        pipeline.combined_sampler_suffix = shader.combined_sampler_suffix;
+      } else if (shader.combined_sampler_suffix != suffix_from->combined_sampler_suffix) {
+        diag.error(shader.where, "pipeline '" + pipeline.name + "': shader '" + shader.name +
+                                     "' has CombinedSamplerSuffix '" + shader.combined_sampler_suffix +
+                                     "' and shader '" + suffix_from->name + "' has '" +
+                                     suffix_from->combined_sampler_suffix +
+                                     "': the shaders of a pipeline share one suffix");
+      }
     }
     for (const auto& name : pipeline.signatures)
       if (!notation.signature_index.count(name))

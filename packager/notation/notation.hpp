@@ -21,24 +21,36 @@
 
 namespace statepack::packager {
 
-enum class SourceLanguage { glsl, hlsl };
+// spirv: SourceLanguage BYTECODE, a SPIR-V module made by another compiler, taken as it is.
+enum class SourceLanguage { glsl, hlsl, spirv };
 
 struct ShaderDesc {
   std::string name;
   uint32_t stage = 0;  // VkShaderStageFlagBits
   SourceLanguage language = SourceLanguage::glsl;
+  bool verbatim = false;       // GLSL_VERBATIM: compiled without Diligent's GLSL environment
   std::filesystem::path file;  // resolved path of FilePath, empty for inline Source
-  std::string source;          // inline Source
+  std::string source;          // inline Source (cut to SourceLength when given)
   std::string entry_point = "main";
   std::vector<std::pair<std::string, std::string>> macros;
+  uint32_t compile_flags = 0;   // CompileFlags: CompileFlag bits (enum_tables.hpp)
+  std::string glsl_extensions;  // GLSLExtensions: text put after #version (GLSL)
+  uint32_t glsl_version = 0;    // GLSLVersion as #version spells it (450); 0: not given
+  // Desc.CombinedSamplerSuffix when Desc.UseCombinedTextureSamplers is true, else empty: an immutable
+  // sampler named after a texture T then applies to the sampler T + suffix (implicit layouts).
+  std::string combined_sampler_suffix;
+  bool optimize = true;       // false: ShaderOptimizationLevel DISABLED (never optimised)
   bool is_reference = false;  // a pipeline slot that names a shader of the Shaders section
   bool broken = false;        // read with errors (already reported): never compiled
   Location where;
 
   // Same compilation input (the location does not count): identical redefinitions are allowed.
   bool same_as(const ShaderDesc& o) const {
-    return name == o.name && stage == o.stage && language == o.language && file == o.file &&
-           source == o.source && entry_point == o.entry_point && macros == o.macros;
+    return name == o.name && stage == o.stage && language == o.language && verbatim == o.verbatim &&
+           file == o.file && source == o.source && entry_point == o.entry_point && macros == o.macros &&
+           compile_flags == o.compile_flags && glsl_extensions == o.glsl_extensions &&
+           glsl_version == o.glsl_version && combined_sampler_suffix == o.combined_sampler_suffix &&
+           optimize == o.optimize;
   }
 };
 
@@ -49,11 +61,18 @@ struct ImmutableSamplerDesc {
   bool operator==(const ImmutableSamplerDesc&) const = default;
 };
 
+// Vulkan guarantees 128 bytes of push constants (maxPushConstantsSize): 32 values of INLINE_CONSTANTS.
+inline constexpr uint32_t kGuaranteedInlineConstants = 32;
+
 struct SignatureResource {
   std::string name;
   uint32_t stages = 0;  // VkShaderStageFlags
   uint32_t array_size = 1;
   uint32_t descriptor_type = 0;  // VkDescriptorType
+  // INLINE_CONSTANTS: a CONSTANT_BUFFER of this many 32-bit values (its ArraySize), pushed rather than
+  // bound; 0 for other resources. Its descriptor (array_size 1) stays in the set layout, as in Diligent.
+  uint32_t inline_constants = 0;
+  uint32_t var_type = 0;  // STATIC, MUTABLE, DYNAMIC: Diligent orders a signature's resources by it
   bool operator==(const SignatureResource&) const = default;
 };
 
@@ -80,8 +99,9 @@ struct RenderPassDesc {
 
 struct ResourceVariable {
   std::string name;
-  uint32_t stages = 0;  // VkShaderStageFlags; 0 = all stages of the pipeline
-  std::string pointer;  // JSON pointer of the element, for errors found after compiling
+  uint32_t stages = 0;            // VkShaderStageFlags; 0 = all stages of the pipeline
+  std::string pointer;            // JSON pointer of the element, for errors found after compiling
+  bool inline_constants = false;  // Flags INLINE_CONSTANTS: the uniform buffer becomes push constants
 };
 
 // A JSON scalar kept for later typing (a specialization constant's value is typed by the shader).
@@ -108,13 +128,16 @@ struct PipelineDesc {
   format::PipelineKind kind = format::PipelineKind::graphics;
   std::vector<ShaderDesc> shaders;  // one per stage
   format::GraphicsState graphics;
-  std::string render_pass;              // name; empty: dynamic rendering
-  uint32_t subpass = 0;                 // SubpassIndex, with a render pass only
-  std::vector<std::string> signatures;  // names; empty: implicit layout
+  std::vector<std::string> input_semantics;  // per graphics.vertex_attributes: its HLSLSemantic
+  std::string render_pass;                   // name; empty: dynamic rendering
+  uint32_t subpass = 0;                      // SubpassIndex, with a render pass only
+  std::vector<std::string> signatures;       // names; empty: implicit layout
   std::vector<ResourceVariable> variables;
   std::vector<ImmutableSamplerDesc> immutable_samplers;
   std::vector<std::string> immutable_sampler_pointers;  // JSON pointer of each, for errors
-  std::string combined_sampler_suffix = "_sampler";
+  // The shaders' CombinedSamplerSuffix when they use combined samplers (set by resolve_references), else
+  // empty: an immutable sampler named T then also matches the sampler T + suffix.
+  std::string combined_sampler_suffix;
   uint32_t flags = 0;                                 // PipelineFlag bits
   uint32_t dynamic_states = format::kDynamicDefault;  // graphics only: the archive's bit mask
   std::vector<SpecConstantDesc> constants;

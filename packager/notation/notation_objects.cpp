@@ -2,6 +2,7 @@
 
 #include "notation_schema.hpp"
 
+#include <algorithm>
 #include <array>
 #include <bit>
 #include <cfloat>
@@ -64,8 +65,8 @@ uint32_t component_size(uint32_t value_type) {
   return value_type < 9 ? kSizes[value_type] : 0;
 }
 
-void read_input_layout(ReadContext& ctx, const Json& j, const std::string& pointer,
-                       format::GraphicsState& g) {
+void read_input_layout(ReadContext& ctx, const Json& j, const std::string& pointer, format::GraphicsState& g,
+                       std::vector<std::string>& semantics) {
   JsonReader& json = ctx.json;
   if (!json.expect_object(j, pointer, "'InputLayout'")) return;
   json.check_keys(j, pointer, schema::kInputLayout, "InputLayout");
@@ -78,6 +79,7 @@ void read_input_layout(ReadContext& ctx, const Json& j, const std::string& point
   std::map<uint32_t, uint32_t> slot_rate;
   g.vertex_attributes.clear();
   g.vertex_bindings.clear();
+  semantics.clear();
   for (size_t i = 0; i < elements->size(); ++i) {
     std::string ep = pointer + "/LayoutElements/" + std::to_string(i);
     const Json& e = (*elements)[i];
@@ -85,7 +87,16 @@ void read_input_layout(ReadContext& ctx, const Json& j, const std::string& point
     json.check_keys(e, ep, schema::kLayoutElement, "layout element");
     uint32_t location = 0, slot = 0, components = 0, value_type = 8, normalized = 1, offset = kAuto,
              stride = kAuto, rate = VK_VERTEX_INPUT_RATE_VERTEX, step = 1;
-    json.string(e, "HLSLSemantic", ep);
+    // Diligent's Vulkan backend reads an HLSL input of semantic ATTRIBn at location n; another name is
+    // matched as Direct3D matches it (the semantic with InputIndex), at pack time
+    // (layout/vertex_semantics.hpp).
+    std::string semantic = json.string(e, "HLSLSemantic", ep).value_or("ATTRIB");
+    if (semantic.empty() || !std::all_of(semantic.begin(), semantic.end(), [](char c) {
+          return std::isalnum(static_cast<unsigned char>(c)) || c == '_';
+        })) {
+      json.error(ep + "/HLSLSemantic", "'HLSLSemantic' must be a semantic name (letters, digits, '_')");
+      semantic = "ATTRIB";
+    }
     json.unsigned_number(e, "InputIndex", ep, location);
     json.unsigned_number(e, "BufferSlot", ep, slot);
     json.unsigned_number(e, "NumComponents", ep, components);
@@ -115,6 +126,7 @@ void read_input_layout(ReadContext& ctx, const Json& j, const std::string& point
                  "buffer slot " + std::to_string(slot) + " mixes per-vertex and per-instance data");
     g.vertex_attributes.push_back(
         {location, slot, vertex_format(value_type, components, normalized != 0), offset});
+    semantics.push_back(std::move(semantic));
   }
   for (const auto& [slot, size] : slot_size) {
     auto stride = explicit_stride.find(slot);
@@ -172,6 +184,113 @@ bool is_depth_stencil_format(uint32_t format) {
   }
 }
 
+// A shader's Desc: its name, stage (which must match the slot's) and combined-sampler suffix.
+void read_shader_desc(JsonReader& json, const Json& desc, const std::string& pointer, uint32_t slot_stage,
+                      ShaderDesc& shader) {
+  if (!json.expect_object(desc, pointer, "'Desc'")) return;
+  json.check_keys(desc, pointer, schema::kShaderDesc, "shader Desc");
+  shader.name = json.string(desc, "Name", pointer).value_or("");
+  uint32_t combined = 0;
+  json.boolean(desc, "UseCombinedTextureSamplers", pointer, combined);
+  const std::string suffix = json.string(desc, "CombinedSamplerSuffix", pointer).value_or("_sampler");
+  if (combined) shader.combined_sampler_suffix = suffix.empty() ? "_sampler" : suffix;
+  if (auto type = desc.find("ShaderType"); type != desc.end()) {
+    if (auto stage = json.enum_value(*type, pointer + "/ShaderType", kShaderTypes, "shader type")) {
+      if (slot_stage != 0 && *stage != slot_stage)
+        json.error(pointer + "/ShaderType", "the shader type does not match the pipeline slot it is in");
+      shader.stage = *stage;
+    }
+  }
+}
+
+void read_macros(JsonReader& json, const Json& macros, const std::string& pointer, ShaderDesc& shader) {
+  if (!json.expect_array(macros, pointer, "'Macros'")) return;
+  for (size_t i = 0; i < macros.size(); ++i) {
+    std::string mp = pointer + "/" + std::to_string(i);
+    const Json& m = macros[i];
+    if (!json.expect_object(m, mp, "a macro")) continue;
+    json.check_keys(m, mp, schema::kMacro, "macro");
+    auto name = json.string(m, "Name", mp);
+    if (!name || name->empty()) {
+      json.error(mp, "a macro needs a 'Name'");
+      continue;
+    }
+    shader.macros.emplace_back(*name, json.string(m, "Definition", mp).value_or(""));
+  }
+}
+
+// A {Major, Minor} version object; nullopt when absent or wrong (reported).
+std::optional<std::pair<uint32_t, uint32_t>> read_version(JsonReader& json, const Json& j, const char* key,
+                                                          const std::string& pointer) {
+  auto it = j.find(key);
+  const std::string vp = pointer + "/" + key;
+  if (it == j.end() || !json.expect_object(*it, vp, key)) return std::nullopt;
+  json.check_keys(*it, vp, schema::kShaderVersion, "shader version");
+  uint32_t major = 0, minor = 0;
+  json.unsigned_number(*it, "Major", vp, major);
+  json.unsigned_number(*it, "Minor", vp, minor);
+  return std::pair{major, minor};
+}
+
+// CompileFlags, GLSLExtensions, the language versions and ShaderOptimizationLevel: each either does what
+// it does in Diligent's Vulkan backend, or means nothing for a Vulkan module (docs/notation.md).
+void read_compile_settings(JsonReader& json, const Json& j, const std::string& pointer, ShaderDesc& shader) {
+  json.flags_field(j, "CompileFlags", pointer, kCompileFlags, "shader compile flag", shader.compile_flags);
+  const bool bytecode = shader.language == SourceLanguage::spirv;
+  if (bytecode && (shader.compile_flags & (kPackMatrixRowMajor | kHlslToSpirvViaGlsl)))
+    json.error(pointer + "/CompileFlags", "shader '" + shader.name +
+                                              "': PACK_MATRIX_ROW_MAJOR and HLSL_TO_SPIRV_VIA_GLSL are "
+                                              "compile flags, and BYTECODE is not compiled: a SPIR-V "
+                                              "module's matrices are laid out as its compiler decided");
+  if ((shader.compile_flags & kHlslToSpirvViaGlsl) && shader.language == SourceLanguage::glsl)
+    json.error(pointer + "/CompileFlags",
+               "shader '" + shader.name + "': HLSL_TO_SPIRV_VIA_GLSL applies to HLSL sources only");
+  else if ((shader.compile_flags & kHlslToSpirvViaGlsl) && shader.language == SourceLanguage::hlsl)
+    json.warning(
+        pointer + "/CompileFlags",
+        "shader '" + shader.name +
+            "': HLSL_TO_SPIRV_VIA_GLSL: statepack compiles HLSL with glslang's HLSL front end, not "
+            "through Diligent's HLSL-to-GLSL converter: the shader computes the same, but its "
+            "descriptors are glslang's (a texture and its sampler stay two) and its entry point keeps "
+            "its name");
+  if (auto extensions = json.string(j, "GLSLExtensions", pointer)) {
+    if (shader.language == SourceLanguage::glsl && !shader.verbatim)
+      shader.glsl_extensions = *extensions;
+    else if (!extensions->empty())  // Diligent ignores it there too: say so rather than drop it silently
+      json.warning(pointer + "/GLSLExtensions",
+                   "'GLSLExtensions' applies to GLSL sources (not GLSL_VERBATIM, HLSL or BYTECODE), as in "
+                   "Diligent; it is ignored here");
+  }
+  if (auto version = read_version(json, j, "GLSLVersion", pointer)) {
+    const uint32_t v = version->first * 100 + version->second * 10;
+    static constexpr uint32_t kDesktopVersions[] = {0,   110, 120, 130, 140, 150, 330,
+                                                    400, 410, 420, 430, 440, 450, 460};
+    if (std::find(std::begin(kDesktopVersions), std::end(kDesktopVersions), v) == std::end(kDesktopVersions))
+      json.error(pointer + "/GLSLVersion", "GLSL " + std::to_string(version->first) + "." +
+                                               std::to_string(version->second) +
+                                               " does not exist (desktop GLSL is 1.10 to 4.60)");
+    else if (v != 0 && v < 140 && shader.language == SourceLanguage::glsl && !shader.verbatim)
+      json.error(pointer + "/GLSLVersion", "shader '" + shader.name + "': GLSL " +
+                                               std::to_string(version->first) + "." +
+                                               std::to_string(version->second) +
+                                               " cannot be compiled for Vulkan (GL_KHR_vulkan_glsl needs "
+                                               "1.40 or later)");
+    else if (shader.language == SourceLanguage::glsl && !shader.verbatim)
+      shader.glsl_version = v;
+  }
+  read_version(json, j, "HLSLVersion", pointer);    // DXC's shader model; glslang has none
+  read_version(json, j, "GLESSLVersion", pointer);  // OpenGL ES and mobile Vulkan
+  read_version(json, j, "MSLVersion", pointer);     // Metal
+  // Diligent's SHADER_OPTIMIZATION_LEVEL (an integer in the notation): DEFAULT 0, DISABLED 1,
+  // LEVEL_0..LEVEL_3 2..5. Only DISABLED means something to glslang's pipeline, in Diligent as here.
+  uint32_t level = 0;
+  json.unsigned_number(j, "ShaderOptimizationLevel", pointer, level);
+  if (level > 5)
+    json.error(pointer + "/ShaderOptimizationLevel",
+               "'ShaderOptimizationLevel' is 0 (DEFAULT), 1 (DISABLED) or 2 to 5 (LEVEL_0 to LEVEL_3)");
+  shader.optimize = level != 1;
+}
+
 }  // namespace
 
 std::optional<ShaderDesc> read_shader(ReadContext& ctx, const Json& j, const std::string& pointer,
@@ -187,23 +306,12 @@ std::optional<ShaderDesc> read_shader(ReadContext& ctx, const Json& j, const std
   const size_t errors_before = json.error_count();
   json.check_keys(j, pointer, schema::kShader, "shader");
   if (j.contains("ByteCode"))
-    json.error(pointer + "/ByteCode", "'ByteCode' is not supported: give GLSL or HLSL source");
+    json.error(pointer + "/ByteCode",
+               "'ByteCode' (bytes in the JSON) is not supported: put the SPIR-V in a file and give it as "
+               "'FilePath' with \"SourceLanguage\": \"BYTECODE\"");
 
-  if (auto desc = j.find("Desc"); desc != j.end() && json.expect_object(*desc, pointer + "/Desc", "'Desc'")) {
-    json.check_keys(*desc, pointer + "/Desc", schema::kShaderDesc, "shader Desc");
-    shader.name = json.string(*desc, "Name", pointer + "/Desc").value_or("");
-    uint32_t ignored = 0;
-    json.boolean(*desc, "UseCombinedTextureSamplers", pointer + "/Desc", ignored);
-    json.string(*desc, "CombinedSamplerSuffix", pointer + "/Desc");
-    if (auto type = desc->find("ShaderType"); type != desc->end()) {
-      if (auto stage = json.enum_value(*type, pointer + "/Desc/ShaderType", kShaderTypes, "shader type")) {
-        if (slot_stage != 0 && *stage != slot_stage)
-          json.error(pointer + "/Desc/ShaderType",
-                     "the shader type does not match the pipeline slot it is in");
-        shader.stage = *stage;
-      }
-    }
-  }
+  if (auto desc = j.find("Desc"); desc != j.end())
+    read_shader_desc(json, *desc, pointer + "/Desc", slot_stage, shader);
   shader.entry_point = json.string(j, "EntryPoint", pointer).value_or("main");
   auto file_path = json.string(j, "FilePath", pointer);
   auto source = json.string(j, "Source", pointer);
@@ -216,6 +324,20 @@ std::optional<ShaderDesc> read_shader(ReadContext& ctx, const Json& j, const std
       json.error(pointer, "shader '" + shader.name + "' needs 'FilePath' or 'Source'");
   }
   if (source) shader.source = *source;
+  if (auto length = j.find("SourceLength"); length != j.end() && source) {
+    // Diligent's SourceLength: the first that many bytes of Source (0: all of it).
+    uint32_t bytes = 0;
+    json.unsigned_number(j, "SourceLength", pointer, bytes);
+    if (bytes > source->size())
+      json.error(pointer + "/SourceLength", "'SourceLength' is " + std::to_string(bytes) +
+                                                " but 'Source' has only " + std::to_string(source->size()) +
+                                                " bytes");
+    else if (bytes != 0)
+      shader.source.resize(bytes);
+  } else if (length != j.end()) {
+    uint32_t unused = 0;
+    json.unsigned_number(j, "SourceLength", pointer, unused);
+  }
   if (file_path && !ctx.defaults_mode) {
     auto found = ctx.resolved_files.find(*file_path);
     if (found == ctx.resolved_files.end())
@@ -235,34 +357,29 @@ std::optional<ShaderDesc> read_shader(ReadContext& ctx, const Json& j, const std
     shader.language = SourceLanguage::hlsl;
   } else if (language == 2 || language == 3) {
     shader.language = SourceLanguage::glsl;
+    shader.verbatim = language == 3;
   } else if (language == 0) {
     shader.language = language_from_extension(file_path.value_or(""));
+  } else if (language == 8) {
+    shader.language = SourceLanguage::spirv;
+    if (source && !ctx.defaults_mode)
+      json.error(
+          pointer + "/Source",
+          "shader '" + shader.name + "': BYTECODE is a SPIR-V file: give it as 'FilePath', not 'Source'");
   } else {
     json.error(pointer + "/SourceLanguage",
                "source language '" + j["SourceLanguage"].get<std::string>() +
-                   "' is not supported by the Vulkan backend (use GLSL or HLSL)");
+                   "' is not supported by the Vulkan backend (use GLSL, HLSL, or BYTECODE for SPIR-V)");
   }
   uint32_t compiler = 0;
   json.enum_field(j, "ShaderCompiler", pointer, kShaderCompilers, "shader compiler", compiler);
-  if (compiler >= 2)
+  if (compiler >= 2 && shader.language != SourceLanguage::spirv)
     json.warning(pointer + "/ShaderCompiler",
                  "statepack compiles with glslang; the compiler choice is ignored");
+  read_compile_settings(json, j, pointer, shader);
 
-  if (auto macros = j.find("Macros");
-      macros != j.end() && json.expect_array(*macros, pointer + "/Macros", "'Macros'")) {
-    for (size_t i = 0; i < macros->size(); ++i) {
-      std::string mp = pointer + "/Macros/" + std::to_string(i);
-      const Json& m = (*macros)[i];
-      if (!json.expect_object(m, mp, "a macro")) continue;
-      json.check_keys(m, mp, schema::kMacro, "macro");
-      auto name = json.string(m, "Name", mp);
-      if (!name || name->empty()) {
-        json.error(mp, "a macro needs a 'Name'");
-        continue;
-      }
-      shader.macros.emplace_back(*name, json.string(m, "Definition", mp).value_or(""));
-    }
-  }
+  if (auto macros = j.find("Macros"); macros != j.end())
+    read_macros(json, *macros, pointer + "/Macros", shader);
   // With errors the object is still returned, marked broken, when it has a name: references to it
   // then resolve (one cause, one message) and a different redefinition is still reported.
   if (json.error_count() != errors_before) {
@@ -273,7 +390,7 @@ std::optional<ShaderDesc> read_shader(ReadContext& ctx, const Json& j, const std
 }
 
 void read_graphics_state(ReadContext& ctx, const Json& j, const std::string& pointer,
-                         format::GraphicsState& g, uint32_t& subpass) {
+                         format::GraphicsState& g, uint32_t& subpass, std::vector<std::string>& semantics) {
   JsonReader& json = ctx.json;
   if (!json.expect_object(j, pointer, "'GraphicsPipeline'")) return;
   json.check_keys(j, pointer, schema::kGraphicsPipelineDesc, "GraphicsPipeline");
@@ -285,7 +402,7 @@ void read_graphics_state(ReadContext& ctx, const Json& j, const std::string& poi
   json.unsigned_number(j, "SampleMask", pointer, g.sample_mask);
   json.unsigned_number(j, "SubpassIndex", pointer, subpass);
   if (auto it = j.find("InputLayout"); it != j.end())
-    read_input_layout(ctx, *it, pointer + "/InputLayout", g);
+    read_input_layout(ctx, *it, pointer + "/InputLayout", g, semantics);
   uint32_t viewports = 1, unused = 0;
   json.unsigned_number(j, "NumViewports", pointer, viewports);
   if (viewports != 1) json.error(pointer + "/NumViewports", "only one viewport is supported");
@@ -457,6 +574,83 @@ std::vector<ImmutableSamplerDesc> read_immutable_samplers(ReadContext& ctx, cons
   return out;
 }
 
+// One entry of a signature's Resources (its object checked by the caller); `inline_values` counts the
+// values of every INLINE_CONSTANTS resource of the signature.
+SignatureResource read_signature_resource(JsonReader& json, const Json& r, const std::string& rp,
+                                          uint32_t& inline_values) {
+  SignatureResource res;
+  res.name = json.string(r, "Name", rp).value_or("");
+  if (res.name.empty()) json.error(rp, "a resource needs a 'Name'");
+  const size_t before_stages = json.error_count();
+  json.stage_flags_field(r, "ShaderStages", rp, res.stages);
+  if (res.stages == 0 && json.error_count() == before_stages)
+    json.error(rp, "resource '" + res.name + "' needs 'ShaderStages'");
+  json.unsigned_number(r, "ArraySize", rp, res.array_size);
+  if (res.array_size == 0) json.error(rp + "/ArraySize", "'ArraySize' must be at least 1");
+  uint32_t var_type = 0, flags = 0, type = kUnsupportedValue;
+  json.enum_field(r, "VarType", rp, kVariableTypes, "variable type", var_type);
+  res.var_type = var_type;
+  json.flags_field(r, "Flags", rp, kResourceFlags, "resource flag", flags);
+  if (!r.contains("ResourceType")) json.error(rp, "resource '" + res.name + "' needs 'ResourceType'");
+  json.enum_field(r, "ResourceType", rp, kResourceTypes, "resource type", type);
+  if (flags & kInlineConstants) {
+    // Diligent's inline constants: ArraySize 32-bit values, set with vkCmdPushConstants.
+    if (type != kConstantBuffer)
+      json.error(rp + "/Flags", "resource '" + res.name +
+                                    "': INLINE_CONSTANTS applies to CONSTANT_BUFFER "
+                                    "resources only");
+    else if (flags != kInlineConstants)
+      json.error(rp + "/Flags", "resource '" + res.name +
+                                    "': INLINE_CONSTANTS cannot be combined with other flags (as in "
+                                    "Diligent)");
+    else if (res.array_size > kGuaranteedInlineConstants)
+      json.error(rp + "/ArraySize", "resource '" + res.name + "': " + std::to_string(res.array_size) +
+                                        " inline constants are " + std::to_string(res.array_size * 4) +
+                                        " bytes of push constants, more than the 128 bytes Vulkan guarantees "
+                                        "(maxPushConstantsSize): at most " +
+                                        std::to_string(kGuaranteedInlineConstants));
+    res.inline_constants = res.array_size;
+    res.array_size = 1;  // its descriptor: ArraySize counts values here, not array elements
+    inline_values += res.inline_constants;
+  }
+  if (flags & kRuntimeArray)
+    json.error(rp + "/Flags", "runtime-sized arrays are not supported by statepack yet");
+  switch (type) {
+    case kConstantBuffer:
+      res.descriptor_type = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+      break;
+    case kTextureSrv:
+      res.descriptor_type = (flags & kCombinedSampler) ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER
+                                                       : VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE;
+      break;
+    case kBufferSrv:
+      res.descriptor_type = (flags & kFormattedBuffer) ? VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER
+                                                       : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+      break;
+    case kTextureUav:
+      res.descriptor_type = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
+      break;
+    case kBufferUav:
+      res.descriptor_type = (flags & kFormattedBuffer) ? VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER
+                                                       : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+      break;
+    case kSamplerResource:
+      res.descriptor_type = VK_DESCRIPTOR_TYPE_SAMPLER;
+      break;
+    case kInputAttachment:
+      res.descriptor_type = VK_DESCRIPTOR_TYPE_INPUT_ATTACHMENT;
+      break;
+    default:
+      break;
+  }
+  if (res.descriptor_type == VK_DESCRIPTOR_TYPE_INPUT_ATTACHMENT &&
+      (res.stages & ~VK_SHADER_STAGE_FRAGMENT_BIT))
+    json.error(rp + "/ShaderStages", "input attachment '" + res.name +
+                                         "' may only be in the PIXEL stage "
+                                         "(VUID-VkDescriptorSetLayoutBinding-descriptorType-01510)");
+  return res;
+}
+
 std::optional<SignatureDesc> read_signature(ReadContext& ctx, const Json& j, const std::string& pointer) {
   JsonReader& json = ctx.json;
   if (!json.expect_object(j, pointer, "a resource signature")) return std::nullopt;
@@ -480,66 +674,23 @@ std::optional<SignatureDesc> read_signature(ReadContext& ctx, const Json& j, con
 
   auto resources = j.find("Resources");
   std::set<std::string> resource_names;
+  uint32_t inline_values = 0;  // of every INLINE_CONSTANTS resource
   if (resources != j.end() && json.expect_array(*resources, pointer + "/Resources", "'Resources'")) {
     for (size_t i = 0; i < resources->size(); ++i) {
       std::string rp = pointer + "/Resources/" + std::to_string(i);
       const Json& r = (*resources)[i];
       if (!json.expect_object(r, rp, "a resource")) continue;
       json.check_keys(r, rp, schema::kResource, "resource");
-      SignatureResource res;
-      res.name = json.string(r, "Name", rp).value_or("");
-      if (res.name.empty()) json.error(rp, "a resource needs a 'Name'");
-      const size_t before_stages = json.error_count();
-      json.stage_flags_field(r, "ShaderStages", rp, res.stages);
-      if (res.stages == 0 && json.error_count() == before_stages)
-        json.error(rp, "resource '" + res.name + "' needs 'ShaderStages'");
-      json.unsigned_number(r, "ArraySize", rp, res.array_size);
-      if (res.array_size == 0) json.error(rp + "/ArraySize", "'ArraySize' must be at least 1");
-      uint32_t var_type = 0, flags = 0, type = kUnsupportedValue;
-      json.enum_field(r, "VarType", rp, kVariableTypes, "variable type", var_type);
-      json.flags_field(r, "Flags", rp, kResourceFlags, "resource flag", flags);
-      if (!r.contains("ResourceType")) json.error(rp, "resource '" + res.name + "' needs 'ResourceType'");
-      json.enum_field(r, "ResourceType", rp, kResourceTypes, "resource type", type);
-      if (flags & kRuntimeArray)
-        json.error(rp + "/Flags", "runtime-sized arrays are not supported by statepack yet");
-      switch (type) {
-        case kConstantBuffer:
-          res.descriptor_type = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
-          break;
-        case kTextureSrv:
-          res.descriptor_type = (flags & kCombinedSampler) ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER
-                                                           : VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE;
-          break;
-        case kBufferSrv:
-          res.descriptor_type = (flags & kFormattedBuffer) ? VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER
-                                                           : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-          break;
-        case kTextureUav:
-          res.descriptor_type = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
-          break;
-        case kBufferUav:
-          res.descriptor_type = (flags & kFormattedBuffer) ? VK_DESCRIPTOR_TYPE_STORAGE_TEXEL_BUFFER
-                                                           : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-          break;
-        case kSamplerResource:
-          res.descriptor_type = VK_DESCRIPTOR_TYPE_SAMPLER;
-          break;
-        case kInputAttachment:
-          res.descriptor_type = VK_DESCRIPTOR_TYPE_INPUT_ATTACHMENT;
-          break;
-        default:
-          break;
-      }
-      if (res.descriptor_type == VK_DESCRIPTOR_TYPE_INPUT_ATTACHMENT &&
-          (res.stages & ~VK_SHADER_STAGE_FRAGMENT_BIT))
-        json.error(rp + "/ShaderStages", "input attachment '" + res.name +
-                                             "' may only be in the PIXEL stage "
-                                             "(VUID-VkDescriptorSetLayoutBinding-descriptorType-01510)");
+      SignatureResource res = read_signature_resource(json, r, rp, inline_values);
       if (!resource_names.insert(res.name).second)
         json.error(rp + "/Name", "resource '" + res.name + "' is listed twice");
       sig.resources.push_back(std::move(res));
     }
   }
+  if (inline_values > 64)  // Diligent's limit per signature (DILIGENT_MAX_INLINE_CONSTANTS)
+    json.error(pointer + "/Resources", "resource signature '" + sig.name + "' has " +
+                                           std::to_string(inline_values) +
+                                           " inline constants in all; Diligent allows 64 per signature");
   // An immutable sampler named like a resource that takes no sampler: with combined samplers and a
   // texture, it becomes the texture's sampler (NAME + CombinedSamplerSuffix, as the shader declares it);
   // anything else would be a second binding under the same name, so it is an error.

@@ -26,9 +26,10 @@ struct ReadContext {
 std::optional<ShaderDesc> read_shader(ReadContext& ctx, const Json& j, const std::string& pointer,
                                       uint32_t slot_stage);
 
-// The GraphicsPipeline object, except pRenderPass, which the pipeline reader resolves.
+// The GraphicsPipeline object, except pRenderPass, which the pipeline reader resolves. `semantics`:
+// each InputLayout element's HLSLSemantic (Diligent's default "ATTRIB"), beside g.vertex_attributes.
 void read_graphics_state(ReadContext& ctx, const Json& j, const std::string& pointer,
-                         format::GraphicsState& g, uint32_t& subpass);
+                         format::GraphicsState& g, uint32_t& subpass, std::vector<std::string>& semantics);
 
 std::optional<format::Sampler> read_sampler(ReadContext& ctx, const Json& j, const std::string& pointer);
 std::vector<ImmutableSamplerDesc> read_immutable_samplers(ReadContext& ctx, const Json& j,

@@ -161,11 +161,12 @@ inline constexpr Property kShader[] = {
     {"Macros", object_array, {}, "Macro"},
     {"SourceLanguage", enumerant, kSourceLanguages},
     {"ShaderCompiler", enumerant, kShaderCompilers},
-    {"HLSLVersion", any},
-    {"GLSLVersion", any},
-    {"GLESSLVersion", any},
-    {"MSLVersion", any},
-    {"CompileFlags", any},
+    {"HLSLVersion", object, {}, "ShaderVersion"},
+    {"GLSLVersion", object, {}, "ShaderVersion"},
+    {"GLESSLVersion", object, {}, "ShaderVersion"},
+    {"MSLVersion", object, {}, "ShaderVersion"},
+    {"CompileFlags", flags, kCompileFlags},
+    {"ShaderOptimizationLevel", unsigned_integer},
     {"LoadConstantBufferReflection", boolean},
     {"GLSLExtensions", string},
     {"WebGPUEmulatedArrayIndexSuffix", string},
@@ -178,6 +179,7 @@ inline constexpr Property kShaderDesc[] = {
     {"CombinedSamplerSuffix", string},
 };
 inline constexpr Property kMacro[] = {{"Name", string}, {"Definition", string}};
+inline constexpr Property kShaderVersion[] = {{"Major", unsigned_integer}, {"Minor", unsigned_integer}};
 inline constexpr Property kGraphicsPipelineDesc[] = {
     {"BlendDesc", object, {}, "BlendDesc"},
     {"SampleMask", unsigned_integer},
@@ -327,6 +329,7 @@ inline constexpr ObjectSchema kObjects[] = {
     {"Shader", kShader},
     {"ShaderDesc", kShaderDesc},
     {"Macro", kMacro},
+    {"ShaderVersion", kShaderVersion},
     {"GraphicsPipelineDesc", kGraphicsPipelineDesc},
     {"RasterizerDesc", kRasterizerDesc},
     {"DepthStencilDesc", kDepthStencilDesc},

@@ -21,6 +21,7 @@
 #include "layout/interface_check.hpp"
 #include "layout/pipeline_layout.hpp"
 #include "layout/specialization.hpp"
+#include "layout/vertex_semantics.hpp"
 #include "notation/input_file.hpp"
 #include "shaders/compile_cache.hpp"
 #include "shaders/gl_translate.hpp"
@@ -57,7 +58,9 @@ class PhaseTimes {
 // Two slots compile to the same module when everything that feeds glslang is equal.
 std::string compile_key(const ShaderDesc& s) {
   std::string key = std::to_string(s.stage) + '\0' + std::to_string(int(s.language)) + '\0' + s.entry_point +
-                    '\0' + s.file.string() + '\0' + s.source;
+                    '\0' + s.file.string() + '\0' + s.source + '\0' + std::to_string(s.verbatim) + '\0' +
+                    std::to_string(s.compile_flags) + '\0' + s.glsl_extensions + '\0' +
+                    std::to_string(s.glsl_version) + '\0' + std::to_string(s.optimize);
   for (const auto& [name, value] : s.macros) key += '\0' + name + '=' + value;
   return key;
 }
@@ -130,15 +133,20 @@ std::string finalize_cached(std::vector<uint32_t>& words, const CompileOptions& 
 class Finalizer {
  public:
   Finalizer(const CompileOptions& options, CompileCache* cache) : options_(options), cache_(cache) {}
-  size_t request(std::vector<uint32_t> words) {
+  // `optimize` false: the shader said ShaderOptimizationLevel DISABLED; it is validated (and stripped)
+  // but never optimised.
+  size_t request(std::vector<uint32_t> words, bool optimize) {
     std::string key(reinterpret_cast<const char*>(words.data()), words.size() * 4);
+    key += optimize ? 'o' : '-';
     auto [it, inserted] = job_by_content_.try_emplace(std::move(key), jobs_.size());
-    if (inserted) jobs_.push_back({std::move(words), {}});
+    if (inserted) jobs_.push_back({std::move(words), {}, optimize});
     return it->second;
   }
   void run(uint32_t threads) {
+    CompileOptions unoptimized = options_;
+    unoptimized.optimization = Optimization::none;
     detail::parallel_for(jobs_.size(), threads, [&](size_t i) {
-      jobs_[i].error = finalize_cached(jobs_[i].words, options_, cache_);
+      jobs_[i].error = finalize_cached(jobs_[i].words, jobs_[i].optimize ? options_ : unoptimized, cache_);
     });
   }
   const std::vector<uint32_t>& words(size_t job) const { return jobs_[job].words; }
@@ -148,6 +156,7 @@ class Finalizer {
   struct Job {
     std::vector<uint32_t> words;
     std::string error;
+    bool optimize = true;
   };
   const CompileOptions& options_;
   CompileCache* cache_;
@@ -207,7 +216,9 @@ struct CompiledShaders {
       const CompiledUnit& unit = units[pipeline_units[i][k]];
       if (!unit.compiled.ok) return std::nullopt;
       stages.push_back({pipeline_descs.empty() ? &unit.desc : pipeline_descs[i][k], &unit.compiled.spirv,
-                        &unit.reflection, unit.module ? &*unit.module : nullptr});
+                        &unit.reflection, unit.module ? &*unit.module : nullptr,
+                        unit.compiled.vertex_semantics.empty() ? nullptr : &unit.compiled.vertex_semantics,
+                        unit.compiled.entry_point});
     }
     return stages;
   }
@@ -260,11 +271,31 @@ CompiledShaders compile_shaders(const Notation& notation, const PackOptions& opt
   return out;
 }
 
+// The stages as the pipeline's checks see them: an HLSL vertex shader whose inputs InputLayout places by
+// semantic is checked with its inputs where they are moved to (in `patched`, the pipeline's copy of the
+// module, and in `vs_reflection`). nullopt, with an error, when they cannot be placed.
+std::optional<std::vector<StageInput>> place_vertex_inputs(const PipelineDesc& p,
+                                                           const std::vector<StageInput>& stages,
+                                                           std::vector<std::vector<uint32_t>>& patched,
+                                                           Reflection& vs_reflection,
+                                                           const SourceTexts& sources, Diagnostics& diag) {
+  std::vector<StageInput> out = stages;
+  for (size_t s = 0; s < stages.size(); ++s) {
+    if (stages[s].desc->stage != VK_SHADER_STAGE_VERTEX_BIT || !stages[s].semantics) continue;
+    vs_reflection = *stages[s].reflection;
+    if (!place_inputs_by_semantic(p, stages[s], patched[s], vs_reflection, sources, diag))
+      return std::nullopt;
+    out[s].reflection = &vs_reflection;
+  }
+  return out;
+}
+
 // A pipeline laid out and checked, its patched modules queued for finalising.
 struct PendingPipeline {
   format::Pipeline pipeline;
   std::vector<const ShaderDesc*> stages;
-  std::vector<size_t> jobs;  // Finalizer jobs, per stage
+  std::vector<std::string> entry_points;  // per stage, its module's
+  std::vector<size_t> jobs;               // Finalizer jobs, per stage
   const PipelineDesc* desc;
 };
 
@@ -277,8 +308,9 @@ struct Plan {
 // against its shaders (serial and cheap); the modules to optimise and validate go to `finalizer`. A
 // shader that failed to compile stops only the pipelines that use it, so the others are still laid out
 // and checked and their errors reported.
-Plan plan_archive(const Notation& notation, const CompiledShaders& compiled, ContentsBuilder& builder,
-                  Finalizer& finalizer, Diagnostics& diag) {
+Plan plan_archive(const Notation& notation, const CompiledShaders& compiled,
+                  const LayoutOptions& layout_options, ContentsBuilder& builder, Finalizer& finalizer,
+                  Diagnostics& diag) {
   Plan plan;
   // Every signature and render pass is archived by name, used or not; Ignore.Signatures are not.
   for (const auto& sig : notation.signatures)
@@ -293,18 +325,23 @@ Plan plan_archive(const Notation& notation, const CompiledShaders& compiled, Con
   WalkedModules walked;  // compute shaders, for their work-group size
   const auto& units = compiled.units;
   for (size_t u : compiled.standalone_units)
-    plan.standalone_jobs.push_back(units[u].compiled.ok ? finalizer.request(units[u].compiled.spirv)
-                                                        : kNoJob);
+    plan.standalone_jobs.push_back(
+        units[u].compiled.ok ? finalizer.request(units[u].compiled.spirv, units[u].desc.optimize) : kNoJob);
   for (size_t i = 0; i < notation.pipelines.size(); ++i) {
     const PipelineDesc& p = notation.pipelines[i];
     const auto compiled_stages = compiled.stages_of(i);
     if (!compiled_stages) continue;  // its compile errors are reported; the other pipelines go on
-    const std::vector<StageInput>& stages = *compiled_stages;
     PipelineLayout layout;
-    if (!build_pipeline_layout(p, stages, notation, builder, layout, diag)) continue;
+    if (!build_pipeline_layout(p, *compiled_stages, notation, builder, layout_options, layout, diag))
+      continue;
+    Reflection vs_reflection;
+    const auto placed =
+        place_vertex_inputs(p, *compiled_stages, layout.patched_spirv, vs_reflection, notation.sources, diag);
+    if (!placed) continue;
+    const std::vector<StageInput>& stages = *placed;
     std::vector<format::SpecConstant> constants;
     if (!resolve_constants(p, stages, constants, diag)) continue;
-    PendingPipeline pp{{}, {}, {}, &p};
+    PendingPipeline pp{{}, {}, {}, {}, &p};
     format::Pipeline& out_pipeline = pp.pipeline;
     out_pipeline.name = p.name;
     out_pipeline.kind = p.kind;
@@ -325,7 +362,8 @@ Plan plan_archive(const Notation& notation, const CompiledShaders& compiled, Con
       warn_compute_work_group(p, stages.front(), out_pipeline.constants, walked, diag);
     for (size_t s = 0; s < stages.size(); ++s) {
       pp.stages.push_back(stages[s].desc);
-      pp.jobs.push_back(finalizer.request(std::move(layout.patched_spirv[s])));
+      pp.entry_points.emplace_back(stages[s].entry_point);
+      pp.jobs.push_back(finalizer.request(std::move(layout.patched_spirv[s]), stages[s].desc->optimize));
     }
     plan.pipelines.push_back(std::move(pp));
   }
@@ -397,9 +435,15 @@ void make_opengl_unit(const CompiledUnit& vulkan, const PackOptions& options, Co
                                         log);
       return;
     }
-    out.desc.entry_point = "main";  // SPIRV-Cross names the entry point main
+    out.desc.entry_point = out.compiled.entry_point = "main";  // SPIRV-Cross names the entry point main
     out.compiled.ok = true;
     out.reflection = reflect_spirv(out.compiled.spirv, out.desc.stage);  // (compile_cached reflects its own)
+    // The translation keeps each input's location: its semantic follows it there.
+    for (const VertexInputSemantic& s : vulkan.compiled.vertex_semantics)
+      for (const InterfaceVariable& v : vulkan.reflection.inputs)
+        if (v.variable == s.variable)
+          for (const InterfaceVariable& g : out.reflection.inputs)
+            if (g.location == v.location) out.compiled.vertex_semantics.push_back({g.variable, s.semantic});
     name_of_binding = std::move(t.name_of_binding);
   }
   if (!out.compiled.ok) return;
@@ -437,14 +481,20 @@ void add_opengl(const Notation& notation, const CompiledShaders& compiled, const
                 ContentsBuilder& builder, Diagnostics& diag, CompileCache* cache) {
   CompileOptions gl_options = options.compile;
   gl_options.opengl = true;
+  CompileOptions gl_unoptimized = gl_options;
+  gl_unoptimized.optimization = Optimization::none;
   Diagnostics reported_by_vulkan(0);
   for (size_t i = 0; i < notation.pipelines.size(); ++i) {
     const PipelineDesc& p = notation.pipelines[i];
     const auto compiled_stages = compiled.stages_of(i);
     if (!compiled_stages) continue;  // its compile errors are reported
-    const std::vector<StageInput>& stages = *compiled_stages;
     GlLayout layout;
-    if (!build_gl_layout(p, stages, layout, diag)) continue;
+    if (!build_gl_layout(p, *compiled_stages, layout, diag)) continue;
+    Reflection vs_reflection;  // with Vulkan packed too, its stage has reported what this finds
+    const auto placed = place_vertex_inputs(p, *compiled_stages, layout.patched_spirv, vs_reflection,
+                                            notation.sources, options.vulkan ? reported_by_vulkan : diag);
+    if (!placed) continue;
+    const std::vector<StageInput>& stages = *placed;
     std::vector<format::SpecConstant> constants;
     if (!resolve_constants(p, stages, constants, options.vulkan ? reported_by_vulkan : diag)) continue;
     if (auto wide =
@@ -474,14 +524,16 @@ void add_opengl(const Notation& notation, const CompiledShaders& compiled, const
     bool ok = true;
     for (size_t s = 0; s < stages.size(); ++s) {
       std::vector<uint32_t>& spirv = layout.patched_spirv[s];
-      if (std::string error = finalize_cached(spirv, gl_options, cache); !error.empty()) {
+      if (std::string error =
+              finalize_cached(spirv, stages[s].desc->optimize ? gl_options : gl_unoptimized, cache);
+          !error.empty()) {
         diag.error(stages[s].desc->where,
                    "shader '" + stages[s].desc->name + "' (OpenGL): SPIR-V validation failed: " + error);
         ok = false;
         continue;
       }
       out.shaders.push_back({stages[s].desc->name, stages[s].desc->stage, builder.add_blob(spirv),
-                             stages[s].desc->entry_point});
+                             std::string(stages[s].entry_point)});
     }
     if (ok) builder.contents.gl_pipelines.push_back(std::move(out));
   }
@@ -503,7 +555,7 @@ void assemble_archive(const Notation& notation, const CompiledShaders& compiled,
     dumper.write(fs::path("shaders") / file_name_of(unit.desc.name), finalizer.words(job), io_error);
     uint32_t blob = builder.add_blob(finalizer.words(job));
     builder.contents.standalone_shaders.push_back(
-        builder.add_shader({unit.desc.name, unit.desc.stage, blob, unit.desc.entry_point}));
+        builder.add_shader({unit.desc.name, unit.desc.stage, blob, unit.compiled.entry_point}));
   }
   for (PendingPipeline& pp : plan.pipelines) {
     const PipelineDesc& p = *pp.desc;
@@ -523,7 +575,7 @@ void assemble_archive(const Notation& notation, const CompiledShaders& compiled,
                    finalizer.words(job), io_error);
       uint32_t blob = builder.add_blob(finalizer.words(job));
       pp.pipeline.shaders.push_back(
-          builder.add_shader({pp.stages[s]->name, pp.stages[s]->stage, blob, pp.stages[s]->entry_point}));
+          builder.add_shader({pp.stages[s]->name, pp.stages[s]->stage, blob, pp.entry_points[s]}));
     }
     if (ok) builder.contents.pipelines.push_back(std::move(pp.pipeline));
   }
@@ -639,7 +691,7 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err) {
   Dumper dumper(options.dump_dir, options.compile, inputs);
   std::string io_error;
   if (notation_ok && options.vulkan) {
-    Plan plan = plan_archive(notation, compiled, builder, finalizer, diag);
+    Plan plan = plan_archive(notation, compiled, {options.strict}, builder, finalizer, diag);
     times.done("lay out and check");
     finalizer.run(options.threads);  // optimise and validate every distinct module in parallel
     times.done("optimise and validate");

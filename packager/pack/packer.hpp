@@ -37,6 +37,9 @@ struct PackOptions {
   bool print_contents = false;
   bool check_only = false;
   bool time_report = false;  // --time-report: each stage's wall time to `err`
+  // --strict: what Diligent only warns about (ResourceLayout variables and immutable samplers that name
+  // nothing the shaders use) is an error.
+  bool strict = false;
   // --cache-dir: compiled and finalised SPIR-V kept between runs (compile_cache.hpp); its size bound.
   std::optional<std::filesystem::path> cache_dir;
   uint64_t cache_max_bytes = uint64_t(1) << 30;

@@ -16,6 +16,7 @@
 #include <set>
 
 #include "notation/notation.hpp"
+#include "shader_environment.hpp"
 #include "support/printable.hpp"
 
 namespace statepack::packager {
@@ -140,8 +141,12 @@ CacheKey compile_key(const ShaderDesc& shader, const CompileOptions& options,
   std::error_code ec;
   k.add(fs::current_path(ec).string());  // relative -s directories and file names resolve against it
   k.add(uint64_t(shader.stage)).add(uint64_t(shader.language)).add(shader.entry_point);
-  k.add(uint64_t(shader.macros.size()));
-  for (const auto& [name, value] : shader.macros) k.add(name).add(value);
+  // The environment (definitions, macros, compile flags' pragmas, GLSLExtensions) and the #version a
+  // source without one gets: everything glslang reads besides the source and its includes.
+  k.add(uint64_t(options.shader_environment));
+  const ShaderEnvironment environment = shader_environment(shader, options);
+  k.add(environment.preamble).add(uint64_t(environment.default_glsl_version));
+  k.add(uint64_t(shader.verbatim)).add(uint64_t(shader.glsl_version));
   if (shader.file.empty())
     k.add(uint64_t(0)).add(shader.name);  // the inline source's name is its file name for glslang
   else
@@ -224,7 +229,8 @@ void write_reflection(PayloadWriter& w, const Reflection& r) {
   w.u32(uint32_t(r.bindings.size()));
   for (const ReflectedBinding& b : r.bindings) {
     w.str(b.name);
-    for (uint32_t v : {b.set, b.binding, b.descriptor_type, b.count, b.stage, b.set_word, b.binding_word})
+    for (uint32_t v : {b.variable, b.block_size, b.set, b.binding, b.descriptor_type, b.count, b.stage,
+                       b.set_word, b.binding_word})
       w.u32(v);
     w.str(b.block_layout);
     w.u32(b.combined_attribute ? 1 : 0);
@@ -233,8 +239,8 @@ void write_reflection(PayloadWriter& w, const Reflection& r) {
     w.u32(uint32_t(list->size()));
     for (const InterfaceVariable& v : *list) {
       w.str(v.name);
-      for (uint32_t x : {uint32_t(v.base), v.location, v.component, v.bit_width, v.vector_size, v.columns,
-                         v.array_size, uint32_t(v.flat), uint32_t(v.patch)})
+      for (uint32_t x : {v.variable, uint32_t(v.base), v.location, v.component, v.bit_width, v.vector_size,
+                         v.columns, v.array_size, uint32_t(v.flat), uint32_t(v.patch)})
         w.u32(x);
     }
   }
@@ -244,6 +250,7 @@ void write_reflection(PayloadWriter& w, const Reflection& r) {
     for (uint32_t x : {uint32_t(c.kind), c.constant_id, c.size}) w.u32(x);
   }
   w.u32(r.push_constant_size);
+  w.str(r.push_constant_name);
   w.str(r.error);
   w.str(r.unsupported);
 }
@@ -252,22 +259,22 @@ bool read_reflection(PayloadReader& r, Reflection& out) {
   // Each count is checked against the bytes left (an item takes at least that many) before it sizes
   // anything: a damaged count is a miss, not an allocation.
   uint32_t n = 0;
-  if (!r.u32(n) || !r.room_for(n, 40)) return false;
+  if (!r.u32(n) || !r.room_for(n, 48)) return false;
   out.bindings.resize(n);
   for (ReflectedBinding& b : out.bindings) {
     uint32_t combined = 0;
-    if (!r.str(b.name) || !r.u32(b.set) || !r.u32(b.binding) || !r.u32(b.descriptor_type) ||
-        !r.u32(b.count) || !r.u32(b.stage) || !r.u32(b.set_word) || !r.u32(b.binding_word) ||
-        !r.str(b.block_layout) || !r.u32(combined))
+    if (!r.str(b.name) || !r.u32(b.variable) || !r.u32(b.block_size) || !r.u32(b.set) || !r.u32(b.binding) ||
+        !r.u32(b.descriptor_type) || !r.u32(b.count) || !r.u32(b.stage) || !r.u32(b.set_word) ||
+        !r.u32(b.binding_word) || !r.str(b.block_layout) || !r.u32(combined))
       return false;
     b.combined_attribute = combined != 0;
   }
   for (auto* list : {&out.inputs, &out.outputs}) {
-    if (!r.u32(n) || !r.room_for(n, 40)) return false;
+    if (!r.u32(n) || !r.room_for(n, 44)) return false;
     list->resize(n);
     for (InterfaceVariable& v : *list) {
       uint32_t base = 0, flat = 0, patch = 0;
-      if (!r.str(v.name) || !r.u32(base) || !r.u32(v.location) || !r.u32(v.component) ||
+      if (!r.str(v.name) || !r.u32(v.variable) || !r.u32(base) || !r.u32(v.location) || !r.u32(v.component) ||
           !r.u32(v.bit_width) || !r.u32(v.vector_size) || !r.u32(v.columns) || !r.u32(v.array_size) ||
           !r.u32(flat) || !r.u32(patch) || base > uint32_t(InterfaceVariable::Base::other))
         return false;
@@ -283,7 +290,8 @@ bool read_reflection(PayloadReader& r, Reflection& out) {
       return false;
     c.kind = ReflectedConstant::Kind(kind);
   }
-  return r.u32(out.push_constant_size) && r.str(out.error) && r.str(out.unsupported);
+  return r.u32(out.push_constant_size) && r.str(out.push_constant_name) && r.str(out.error) &&
+         r.str(out.unsupported);
 }
 
 uint32_t get_u32(const uint8_t* p) {
@@ -504,6 +512,12 @@ std::optional<CompileCache::Compile> CompileCache::find_compile(const ShaderDesc
   out.combined_image_samplers.resize(names);
   for (auto& n : out.combined_image_samplers)
     if (!r.str(n)) return ++damaged_, ++misses_, std::nullopt;
+  uint32_t semantics = 0;
+  if (!r.u32(semantics) || !r.room_for(semantics, 8)) return ++damaged_, ++misses_, std::nullopt;
+  out.vertex_semantics.resize(semantics);
+  for (auto& v : out.vertex_semantics)
+    if (!r.u32(v.variable) || !r.str(v.semantic)) return ++damaged_, ++misses_, std::nullopt;
+  if (!r.str(out.entry_point)) return ++damaged_, ++misses_, std::nullopt;
   if (!r.words(out.spirv) || out.spirv.empty()) return ++damaged_, ++misses_, std::nullopt;
   if (flags & 2) {
     if (!read_reflection(r, found.reflection.emplace())) return ++damaged_, ++misses_, std::nullopt;
@@ -530,6 +544,9 @@ void CompileCache::keep_compile(const ShaderDesc& shader, const CompileOptions& 
   }
   w.u32(uint32_t(compiled.combined_image_samplers.size()));
   for (const auto& n : compiled.combined_image_samplers) w.str(n);
+  w.u32(uint32_t(compiled.vertex_semantics.size()));
+  for (const auto& v : compiled.vertex_semantics) w.u32(v.variable), w.str(v.semantic);
+  w.str(compiled.entry_point);
   w.words(compiled.spirv);
   if (reflection) write_reflection(w, *reflection);
   keep(compile_key(shader, options, compiled.source_hash), std::move(w.bytes));

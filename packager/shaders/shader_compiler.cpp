@@ -12,9 +12,13 @@
 #include <xxhash.h>
 
 #include "allocation_budget.hpp"
+#include "glslang_tree.hpp"
 #include "hlsl_combined_image_samplers.hpp"
 #include "hlsl_push_constants.hpp"
 #include "hlsl_system_values.hpp"
+#include "shader_environment.hpp"
+#include "spirv_module_input.hpp"
+#include "spirv_passes.hpp"
 
 #include <algorithm>
 #include <map>
@@ -214,9 +218,26 @@ std::vector<std::string> combined_image_samplers_of(glslang::TShader& ts, const 
   });
 }
 
+// A shader that defines a name the environment defines differently: say where the other definition
+// comes from ("'#define' : Macro redefined; different substitutions: HLSL").
+std::string environment_hint(const std::string& message, const ShaderDesc& shader,
+                             const CompileOptions& options) {
+  constexpr std::string_view kRedefined = "Macro redefined; different substitutions: ";
+  const size_t at = message.find(kRedefined);
+  if (at == std::string::npos) return "";
+  std::string name = message.substr(at + kRedefined.size());
+  while (!name.empty() && (name.back() == ' ' || name.back() == '\r')) name.pop_back();
+  if (!environment_defines(shader, options, name)) return "";
+  if (name == "VULKAN")
+    return " (glslang defines VULKAN as 100 when it compiles for Vulkan; test it with #ifdef)";
+  return " (statepack defines " + name +
+         " before every shader, as Diligent does: docs/notation.md, \"The shader environment\"; "
+         "--shader-environment none leaves it out)";
+}
+
 // Turns each error of glslang's log into a diagnostic at its file and line.
 void report_log(const std::string& log, const ShaderDesc& shader, ShaderMessages& messages,
-                const std::string& fallback_file) {
+                const std::string& fallback_file, const CompileOptions& options) {
   std::vector<LogEntry> errors;
   std::istringstream lines(log);
   for (std::string line; std::getline(lines, line);)
@@ -239,7 +260,7 @@ void report_log(const std::string& log, const ShaderDesc& shader, ShaderMessages
       continue;
     if (e.message.starts_with("'#extension' : extension not supported")) last_extension = e.where;
     if (other_errors && e.message.find("missing #endif") != std::string::npos) continue;
-    messages.error(e.where, shader.name, e.message, order++);
+    messages.error(e.where, shader.name, e.message + environment_hint(e.message, shader, options), order++);
     any = true;
   }
   if (!any) {
@@ -290,11 +311,11 @@ struct LinkedSpirv {
 // Parses (preprocesses) `ts` under an allocation budget for `source_bytes` of source (each #include
 // adds its own share). Returns the error when the budget ran out, else "" with `parsed` set.
 std::string parse_within_budget(glslang::TShader& ts, EShMessages messages, Includer& includer,
-                                size_t source_bytes, bool& parsed) {
+                                size_t source_bytes, int default_version, bool& parsed) {
   AllocationBudget budget(kCompileAllocationFloor + kCompileAllocationPerByte * source_bytes);
   includer.set_budget(&budget);
   try {
-    parsed = ts.parse(GetDefaultResources(), 450, false, messages, includer);
+    parsed = ts.parse(GetDefaultResources(), default_version, false, messages, includer);
   } catch (const std::bad_alloc&) {
     if (!budget.exhausted()) throw;
   }
@@ -321,43 +342,6 @@ LinkedSpirv link_to_spirv(glslang::TShader& ts, EShLanguage stage, EShMessages m
   glslang::GlslangToSpv(*program.getIntermediate(stage), out.spirv, &logger, &spv_options);
   if (out.spirv.empty()) out.generation_error = "SPIR-V generation failed: " + logger.getAllMessages();
   return out;
-}
-
-spv_target_env target_env(const CompileOptions& options) {
-  if (options.opengl) return SPV_ENV_OPENGL_4_5;
-  switch (options.vulkan_version >> 12 & 0x3FF) {  // minor of VK_MAKE_API_VERSION
-    case 0:
-      return SPV_ENV_VULKAN_1_0;
-    case 1:
-      return SPV_ENV_VULKAN_1_1;
-    case 2:
-      return SPV_ENV_VULKAN_1_2;
-    default:
-      return SPV_ENV_VULKAN_1_3;
-  }
-}
-
-std::string remove_unused_globals(std::vector<uint32_t>& spirv, const CompileOptions& options) {
-  const uint32_t vulkan_version = options.opengl ? 0x00400000u : options.vulkan_version;  // GL: SPIR-V 1.0
-  std::string messages;
-  spvtools::Optimizer optimizer(target_env(options));
-  optimizer.SetMessageConsumer([&](spv_message_level_t, const char*, const spv_position_t&, const char* m) {
-    messages += m;
-    messages += '\n';
-  });
-  // Before SPIR-V 1.4 an entry point's interface lists only its inputs and outputs, so dead-variable
-  // elimination removes unused resources and keeps every declared input and output (an input a stage
-  // declares but does not read still matches the previous stage's output). From 1.4 on every global is
-  // in the interface, so unused ones must first leave it.
-  const uint32_t minor = vulkan_version >> 12 & 0x3FF;
-  if (minor >= 2) optimizer.RegisterPass(spvtools::CreateRemoveUnusedInterfaceVariablesPass());
-  optimizer.RegisterPass(spvtools::CreateDeadVariableEliminationPass());
-  std::vector<uint32_t> out;
-  // No validation here: the finalised module is validated once, with the layout applied.
-  if (!optimizer.Run(spirv.data(), spirv.size(), &out, spvtools::ValidatorOptions(), true))
-    return "removing unused globals failed: " + messages;
-  spirv = std::move(out);
-  return "";
 }
 
 }  // namespace
@@ -402,25 +386,20 @@ bool report_hlsl_tree_problems(const glslang::TShader& ts, const ShaderDesc& sha
   return any;
 }
 
-CompiledShader compile_shader(const ShaderDesc& original, const CompileOptions& options,
-                              ShaderMessages& errors) {
-  initialize_glslang();
+namespace {
 
-  CompiledShader result;
-  // The OpenGL compile's messages say so: the same source may compile for Vulkan and fail for OpenGL.
-  ShaderDesc renamed;
-  if (options.opengl) {
-    renamed = original;
-    renamed.name += kOpenGlCompile;
-  }
-  const ShaderDesc& shader = options.opengl ? renamed : original;
-  std::string source = shader.source;
-  std::string file_name = "<inline source of '" + original.name + "'>";
+// The shader's text (its file's, or its inline Source) and the name messages give it; false when the
+// file cannot be read (reported).
+bool read_shader_source(const ShaderDesc& shader, const std::string& inline_name,
+                        const CompileOptions& options, CompiledShader& result, std::string& source,
+                        std::string& file_name, ShaderMessages& errors) {
+  source = shader.source;
+  file_name = "<inline source of '" + inline_name + "'>";
   if (!shader.file.empty()) {
     InputText input = read_input_file(shader.file, display_path(shader.file), options.max_input_bytes);
     if (!input.error.empty()) {
       errors.error(shader.where, shader.name, input.error);
-      return result;
+      return false;
     }
     source = std::move(input.text);
     file_name = display_path(shader.file);
@@ -429,9 +408,78 @@ CompiledShader compile_shader(const ShaderDesc& original, const CompileOptions& 
   }
   if (source.size() > size_t(INT32_MAX)) {  // glslang takes int lengths
     errors.error(shader.where, shader.name, "the source is too large");
-    return result;
+    return false;
   }
+  return true;
+}
 
+// Everything glslang is told besides the text: entry point, environment, target, HLSL's conventions.
+void configure(glslang::TShader& ts, const ShaderDesc& shader, const CompileOptions& options,
+               EShLanguage stage, const std::string& preamble) {
+  const bool hlsl = shader.language == SourceLanguage::hlsl;
+  ts.setEntryPoint(shader.entry_point.c_str());
+  ts.setSourceEntryPoint(shader.entry_point.c_str());
+  ts.setPreamble(preamble.c_str());
+  set_target(ts, stage, hlsl, options);
+  if (hlsl) {
+    ts.setHlslIoMapping(true);
+    // SV_Position.w in a pixel shader is the clip-space w, as in Direct3D (and Diligent), not 1/w.
+    ts.setDxPositionW(true);
+    // Its UserSemantic decorations tell the vertex inputs' semantics (hlsl_vertex_inputs.hpp); the
+    // extension is stripped once they are read, as no driver needs it.
+    ts.setEnvTargetHlslFunctionality1();
+  }
+  ts.setAutoMapBindings(true);  // resources without explicit bindings get one; the layout step finalises them
+}
+
+// A parse that failed: the #include problem that stopped it, at the #include, or glslang's errors.
+void report_parse_failure(glslang::TShader& ts, const Includer& includer, const ShaderDesc& shader,
+                          const std::string& file_name, const CompileOptions& options,
+                          ShaderMessages& errors) {
+  if (includer.problem().empty()) return report_log(ts.getInfoLog(), shader, errors, file_name, options);
+  // The cause, at the #include glslang stopped at (its first error), and nothing that followed.
+  Location where = shader.where;
+  std::istringstream lines(ts.getInfoLog());
+  for (std::string line; std::getline(lines, line);)
+    if (auto e = parse_log_line(line, file_name); e && !e->warning) {
+      where = e->where;
+      break;
+    }
+  errors.error(where, shader.name, includer.problem());
+}
+
+// GLSLVersion and a #version in the file that says otherwise: Diligent writes "#version" from
+// GLSLVersion itself, so a file with another one would not compile there. True when they disagree.
+bool version_clash(glslang::TShader& ts, const ShaderDesc& shader, const std::string& file_name,
+                   ShaderMessages& errors) {
+  if (shader.language != SourceLanguage::glsl || shader.glsl_version == 0) return false;
+  const int version = ts.getIntermediate()->getVersion();
+  if (version == int(shader.glsl_version)) return false;
+  errors.error(shader.where, shader.name,
+               "'GLSLVersion' asks for GLSL " + std::to_string(shader.glsl_version / 100) + "." +
+                   std::to_string(shader.glsl_version / 10 % 10) + "0, but " + file_name + " says #version " +
+                   std::to_string(version) +
+                   " (Diligent adds the #version line itself; drop one of the two)");
+  return true;
+}
+
+// A BYTECODE shader: the file's SPIR-V, taken as a compile's result (spirv_module_input.hpp).
+bool take_bytecode(const ShaderDesc& shader, const CompileOptions& options, const std::string& bytes,
+                   const std::string& file_name, CompiledShader& result, ShaderMessages& errors) {
+  SpirvModuleInput module;
+  if (std::string problem = take_spirv_module(bytes, shader, options, module); !problem.empty()) {
+    errors.error(shader.where, shader.name, file_name + " " + problem);
+    return false;
+  }
+  result.spirv = std::move(module.words);
+  result.entry_point = std::move(module.entry_point);
+  result.vertex_semantics = std::move(module.semantics);
+  return true;
+}
+
+// glslang from source to linked, legalized SPIR-V in `result`; false with the errors reported.
+bool compile_source(const ShaderDesc& shader, const CompileOptions& options, const std::string& source,
+                    const std::string& file_name, CompiledShader& result, ShaderMessages& errors) {
   const EShLanguage stage = to_glslang_stage(shader.stage);
   const bool hlsl = shader.language == SourceLanguage::hlsl;
   glslang::TShader ts(stage);
@@ -439,17 +487,12 @@ CompiledShader compile_shader(const ShaderDesc& original, const CompileOptions& 
   const int lengths[] = {static_cast<int>(source.size())};
   const char* names[] = {file_name.c_str()};
   ts.setStringsWithLengthsAndNames(strings, lengths, names, 1);
-  ts.setEntryPoint(shader.entry_point.c_str());
-  ts.setSourceEntryPoint(shader.entry_point.c_str());
-  std::string preamble;
-  for (const auto& [name, value] : options.global_macros) preamble += "#define " + name + " " + value + "\n";
-  for (const auto& [name, value] : shader.macros) preamble += "#define " + name + " " + value + "\n";
-  ts.setPreamble(preamble.c_str());
-  set_target(ts, stage, hlsl, options);
-  // No setEnvTargetHlslFunctionality1: its SPV_GOOGLE_hlsl_functionality1 decorations need a device
-  // extension that many drivers (lavapipe included) lack, and Vulkan does not use them.
-  if (hlsl) ts.setHlslIoMapping(true);
-  ts.setAutoMapBindings(true);  // resources without explicit bindings get one; the layout step finalises them
+  ShaderEnvironment environment = shader_environment(shader, options);
+  // GLSL that enables #include as GL_ARB_shading_language_include (Diligent's spelling) gets the name
+  // this glslang knows too; its own #extension line stays a warning glslang does not report here.
+  if (!hlsl && source.find("GL_ARB_shading_language_include") != std::string::npos)
+    environment.preamble.insert(0, "#extension GL_GOOGLE_include_directive : enable\n");
+  configure(ts, shader, options, stage, environment.preamble);
   // EShMsgEnhanced: the first error only. glslang stops at the first error of a file but not of an
   // #include: after an error in the included file it went on to report a confused second one at the
   // includer's line after the #include; HLSL also adds follow-on errors ("Could not perform requested
@@ -461,42 +504,63 @@ CompiledShader compile_shader(const ShaderDesc& original, const CompileOptions& 
                     shader.file.empty() ? fs::path() : fs::weakly_canonical(shader.file, ec),
                     options.max_input_bytes);
   bool parsed = false;
-  if (std::string exhausted =
-          parse_within_budget(ts, messages, includer, source.size() + preamble.size(), parsed);
+  const size_t budgeted = source.size() + environment.preamble.size() - environment.fixed_bytes;
+  if (std::string exhausted = parse_within_budget(ts, messages, includer, budgeted,
+                                                  hlsl ? 450 : environment.default_glsl_version, parsed);
       !exhausted.empty()) {
     errors.error(shader.where, shader.name, exhausted);
-    return result;
+    return false;
   }
   if (!parsed) {
-    if (!includer.problem().empty()) {
-      // The cause, at the #include glslang stopped at (its first error), and nothing that followed.
-      Location where = shader.where;
-      std::istringstream lines(ts.getInfoLog());
-      for (std::string line; std::getline(lines, line);)
-        if (auto e = parse_log_line(line, file_name); e && !e->warning) {
-          where = e->where;
-          break;
-        }
-      errors.error(where, shader.name, includer.problem());
-    } else
-      report_log(ts.getInfoLog(), shader, errors, file_name);
-    return result;
+    report_parse_failure(ts, includer, shader, file_name, options, errors);
+    return false;
   }
-  if (hlsl && report_hlsl_tree_problems(ts, shader, errors, file_name, source)) return result;
+  if (hlsl && report_hlsl_tree_problems(ts, shader, errors, file_name, source)) return false;
+  if (version_clash(ts, shader, file_name, errors)) return false;
   if (hlsl) result.combined_image_samplers = combined_image_samplers_of(ts, file_name, source, includer);
   LinkedSpirv linked = link_to_spirv(ts, stage, messages);
   if (!linked.link_log.empty()) {
-    report_log(linked.link_log, shader, errors, file_name);
-    return result;
+    report_log(linked.link_log, shader, errors, file_name, options);
+    return false;
   }
   if (!linked.generation_error.empty()) {
     errors.error(shader.where, shader.name, linked.generation_error);
-    return result;
+    return false;
   }
   result.spirv = std::move(linked.spirv);
+  result.entry_point = shader.entry_point;
+  if (hlsl)
+    if (std::string error =
+            legalize_hlsl(result.spirv, options, stage == EShLangVertex, result.vertex_semantics);
+        !error.empty()) {
+      errors.error(shader.where, shader.name, error);
+      return false;
+    }
   result.backend_specific = !hlsl && (tests_backend_macros(source) || includer.backend_specific());
-  result.source_hash = text_hash(source);
   result.includes = std::move(includer.includes());
+  return true;
+}
+
+}  // namespace
+
+CompiledShader compile_shader(const ShaderDesc& original, const CompileOptions& options,
+                              ShaderMessages& errors) {
+  initialize_glslang();
+  CompiledShader result;
+  // The OpenGL compile's messages say so: the same source may compile for Vulkan and fail for OpenGL.
+  ShaderDesc renamed;
+  if (options.opengl) {
+    renamed = original;
+    renamed.name += kOpenGlCompile;
+  }
+  const ShaderDesc& shader = options.opengl ? renamed : original;
+  std::string source, file_name;
+  if (!read_shader_source(shader, original.name, options, result, source, file_name, errors)) return result;
+  const bool taken = shader.language == SourceLanguage::spirv
+                         ? take_bytecode(shader, options, source, file_name, result, errors)
+                         : compile_source(shader, options, source, file_name, result, errors);
+  if (!taken) return result;
+  result.source_hash = text_hash(source);
   // A resource counts as used by what the entry point statically uses: glslang keeps every global of
   // the source (one HLSL file often holds VSMain and PSMain with disjoint resources), so module-scope
   // variables nothing references are removed before reflection decides the layout.
@@ -504,7 +568,6 @@ CompiledShader compile_shader(const ShaderDesc& original, const CompileOptions& 
     errors.error(shader.where, shader.name, error);
     return result;
   }
-
   result.ok = true;
   return result;
 }

@@ -8,6 +8,7 @@
 #include <string_view>
 #include <vector>
 
+#include "hlsl_vertex_inputs.hpp"
 #include "notation/diagnostics.hpp"
 #include "notation/input_file.hpp"
 #include "notation/notation.hpp"
@@ -27,6 +28,10 @@ struct CompileOptions {
   // for OpenGL 4.5): GL_SPIRV is defined and VULKAN is not. Used for GLSL that tests those macros;
   // every other shader reaches OpenGL translated from its Vulkan SPIR-V (gl_translate.hpp).
   bool opengl = false;
+  // Diligent's shader environment (shader_environment.hpp): its definitions and its compiler, backend
+  // and stage macros. Off (--shader-environment none): only the -D macros, the shader's Macros and the
+  // compile flags' effects.
+  bool shader_environment = true;
   // --max-input-size: each shader file and #include at most this, and a shader's includes in all.
   uint64_t max_input_bytes = kMaxInputBytes;
 };
@@ -48,6 +53,10 @@ struct CompiledShader {
   bool backend_specific = false;          // GLSL whose text (or an #include's) tests_backend_macros
   // HLSL textures and samplers declared [[vk::combinedImageSampler]] (hlsl_combined_image_samplers.hpp)
   std::vector<std::string> combined_image_samplers;
+  // An HLSL vertex shader's inputs and their semantics (ATTRIBn already placed at location n), for an
+  // InputLayout that names another HLSLSemantic.
+  std::vector<VertexInputSemantic> vertex_semantics;
+  std::string entry_point;  // the module's: EntryPoint, or the one a BYTECODE module was cut to
   bool ok = false;
 };
 

@@ -53,12 +53,16 @@ void add_interface(spvc_compiler compiler, const spvc_reflected_resource* list, 
     if (spvc_compiler_has_decoration(compiler, id, SpvDecorationBuiltIn)) continue;
     InterfaceVariable v;
     v.name = list[i].name;
+    v.variable = id;
     v.patch = spvc_compiler_has_decoration(compiler, id, SpvDecorationPatch);
     v.flat = spvc_compiler_has_decoration(compiler, id, SpvDecorationFlat);
     const bool has_location = spvc_compiler_has_decoration(compiler, id, SpvDecorationLocation);
     v.location = spvc_compiler_get_decoration(compiler, id, SpvDecorationLocation);
     v.component = spvc_compiler_get_decoration(compiler, id, SpvDecorationComponent);
-    const bool skip_outer = per_vertex_arrays && !v.patch;
+    // A fragment input declared pervertexEXT (PerVertexKHR, barycentric interpolation) is an array over
+    // the triangle's vertices, like a geometry shader's inputs: it takes the locations of one element.
+    const bool skip_outer = (per_vertex_arrays && !v.patch) ||
+                            spvc_compiler_has_decoration(compiler, id, SpvDecorationPerVertexKHR);
     spvc_type type = spvc_compiler_get_type_handle(compiler, list[i].type_id);
     spvc_type base = spvc_compiler_get_type_handle(compiler, list[i].base_type_id);
     if (spvc_type_get_basetype(base) != SPVC_BASETYPE_STRUCT) {
@@ -154,6 +158,7 @@ ReflectedBinding reflect_binding(spvc_compiler compiler, const spvc_reflected_re
                                  const DescriptorKind& kind, uint32_t stage) {
   ReflectedBinding b;
   b.name = resource.name;
+  b.variable = resource.id;
   b.set = spvc_compiler_get_decoration(compiler, resource.id, SpvDecorationDescriptorSet);
   b.binding = spvc_compiler_get_decoration(compiler, resource.id, SpvDecorationBinding);
   b.stage = stage;
@@ -170,8 +175,13 @@ ReflectedBinding reflect_binding(spvc_compiler compiler, const spvc_reflected_re
   b.descriptor_type = (is_image && spvc_type_get_image_dimension(type) == SpvDimBuffer)
                           ? kind.buffer_descriptor
                           : kind.descriptor;
-  if (kind.type == SPVC_RESOURCE_TYPE_UNIFORM_BUFFER || kind.type == SPVC_RESOURCE_TYPE_STORAGE_BUFFER)
+  if (kind.type == SPVC_RESOURCE_TYPE_UNIFORM_BUFFER || kind.type == SPVC_RESOURCE_TYPE_STORAGE_BUFFER) {
     b.block_layout = describe_block(compiler, resource.base_type_id);
+    size_t size = 0;
+    spvc_compiler_get_declared_struct_size(
+        compiler, spvc_compiler_get_type_handle(compiler, resource.base_type_id), &size);
+    b.block_size = static_cast<uint32_t>(size);
+  }
   b.count = 1;
   for (unsigned d = 0; d < spvc_type_get_num_array_dimensions(type); ++d)
     b.count *= spvc_type_get_array_dimension(type, d);  // 0 for runtime arrays: caught by the packer
@@ -238,11 +248,12 @@ ReflectedConstant reflect_constant(spvc_compiler compiler, const spvc_specializa
   return k;
 }
 
-uint32_t push_constant_size(spvc_compiler compiler, spvc_resources resources) {
+uint32_t push_constant_size(spvc_compiler compiler, spvc_resources resources, std::string& name) {
   const spvc_reflected_resource* push = nullptr;
   size_t push_count = 0;
   spvc_resources_get_resource_list_for_type(resources, SPVC_RESOURCE_TYPE_PUSH_CONSTANT, &push, &push_count);
   if (push_count == 0) return 0;
+  name = push[0].name ? push[0].name : "";
   size_t size = 0;
   spvc_compiler_get_declared_struct_size(
       compiler, spvc_compiler_get_type_handle(compiler, push[0].base_type_id), &size);
@@ -286,7 +297,7 @@ Reflection reflect_spirv(std::span<const uint32_t> spirv, uint32_t stage) {
   spvc_compiler_get_specialization_constants(compiler, &constants, &constant_count);
   for (size_t i = 0; i < constant_count; ++i)
     out.constants.push_back(reflect_constant(compiler, constants[i]));
-  out.push_constant_size = push_constant_size(compiler, resources);
+  out.push_constant_size = push_constant_size(compiler, resources, out.push_constant_name);
   return out;
 }
 

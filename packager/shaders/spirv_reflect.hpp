@@ -10,6 +10,8 @@ namespace statepack::packager {
 
 struct ReflectedBinding {
   std::string name;
+  uint32_t variable = 0;    // result id of its OpVariable
+  uint32_t block_size = 0;  // uniform and storage blocks: their declared size in bytes
   uint32_t set = 0;
   uint32_t binding = 0;
   uint32_t descriptor_type = 0;  // VkDescriptorType
@@ -39,6 +41,7 @@ struct ReflectedConstant {
 struct InterfaceVariable {
   enum class Base { floating, signed_int, unsigned_int, other } base = Base::other;  // other: structs, bools
   std::string name;
+  uint32_t variable = 0;  // result id of its OpVariable (block members share their block's)
   uint32_t location = 0, component = 0;
   uint32_t bit_width = 32, vector_size = 1, columns = 1;
   uint32_t array_size = 1;  // elements, each taking `locations_per_element()` locations
@@ -55,7 +58,8 @@ struct Reflection {
   std::vector<InterfaceVariable> inputs, outputs;
   std::vector<ReflectedConstant> constants;
   uint32_t push_constant_size = 0;
-  std::string error;  // non-empty when reflection failed
+  std::string push_constant_name;  // the push-constant block's name, when it has one
+  std::string error;               // non-empty when reflection failed
   // Non-empty when the module declares a resource of a kind statepack does not pack (an acceleration
   // structure): what it is, by name, set and binding.
   std::string unsupported;

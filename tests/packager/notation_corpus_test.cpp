@@ -1,6 +1,7 @@
 // The notation corpus: every file under tests/corpus/valid packs, and its archive's
 // `statepack inspect --json` matches the golden beside it; every file under tests/corpus/invalid
-// with a .expected sidecar fails with exit code 1 and prints each line of that sidecar exactly once
+// with a .expected sidecar (packed with the options of its .args sidecar, if any) fails with exit code 1
+// and prints each line of that sidecar exactly once
 // (the sidecar may end with the "statepack: N error(s)" summary, which pins the count).
 // Regenerate goldens after an intended change with: STATEPACK_UPDATE_GOLDENS=1 ctest -R NotationCorpus
 #include <gtest/gtest.h>
@@ -89,9 +90,14 @@ TEST(NotationCorpus, InvalidFilesFailWithTheExpectedErrors) {
     fs::path input = expected;
     input.replace_extension(".json");
     SCOPED_TRACE(input.filename().string());
+    // A NAME.args sidecar adds options (--strict for what is otherwise a warning).
+    fs::path args_file = expected;
+    args_file.replace_extension(".args");
+    std::string args = fs::exists(args_file) ? read_file(args_file) : "";
+    while (!args.empty() && (args.back() == '\n' || args.back() == ' ')) args.pop_back();
     CliRun pack =
         run_in(input.parent_path(), "pack -i '" + input.filename().string() + "' -s ../shaders -o '" +
-                                        (kOutput / "invalid.spk").string() + "' --vulkan");
+                                        (kOutput / "invalid.spk").string() + "' --vulkan " + args);
     EXPECT_EQ(pack.exit_code, 1) << pack.output;
     std::istringstream lines(read_file(expected));
     std::string line;

@@ -107,10 +107,16 @@ struct FixedFunctionState {
   std::array<BlendTarget, kMaxColorTargets> blend{};
   std::array<float, 4> blend_color{0, 0, 0, 0};  // dynamic on Vulkan: set it before apply()
 
+  // Which way clip-space y points for the shaders. vulkan: the archive's own convention, the same rows as
+  // a Vulkan viewport of positive height. up: Direct3D's, which Diligent's shaders are written for (its
+  // Vulkan backend gives them a viewport of negative height): the OpenGL equal of that flipped viewport.
+  enum class ClipY { vulkan, up };
+
   // Sets all of the above in the current context (glEnable/glDisable, glBlendFuncSeparatei, ...), plus
-  // glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE) and GL_FRAMEBUFFER_SRGB (sRGB targets encode, as on
-  // Vulkan). Leaves viewport, scissor, bound objects and targets >= color_count alone.
-  void apply() const;
+  // glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE) (GL_UPPER_LEFT for ClipY::up, with front faces as that
+  // origin sees them) and GL_FRAMEBUFFER_SRGB (sRGB targets encode, as on Vulkan). Leaves viewport,
+  // scissor, bound objects and targets >= color_count alone.
+  void apply(ClipY clip_y = ClipY::vulkan) const;
 };
 
 // A graphics pipeline's vertex input as a vertex array object's format (GL 4.3 vertex attribute
