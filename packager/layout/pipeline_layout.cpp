@@ -179,6 +179,62 @@ void pair_combined_image_samplers(std::vector<Slot>& slots, std::map<std::string
   slots = std::move(kept);
 }
 
+// ResourceLayout variables and immutable samplers (attached here) against what the shaders use; false
+// when a mismatch is an error (--strict).
+bool check_layout_names(const PipelineDesc& p, std::vector<Slot>& slots,
+                        const std::map<std::string, size_t>& by_name, ContentsBuilder& builder,
+                        const SourceTexts& sources, const LayoutOptions& options, const std::string& pushed,
+                        Diagnostics& diag) {
+  bool ok = true;
+  // ResourceLayout variables and immutable samplers that name nothing the shaders use are warnings, as
+  // in Diligent (which ignores them; IGNORE_MISSING_* silences the warning), or errors with --strict: a
+  // typo, or a resource used only under a macro the pipeline does not define (Diligent's Tutorial29).
+  auto mismatch = [&](const Location& where, const std::string& message) {
+    if (options.strict) {
+      diag.error(where, message + " (an error with --strict)");
+      ok = false;
+    } else {
+      diag.warning(where, message +
+                              " (IGNORE_MISSING_VARIABLES or IGNORE_MISSING_IMMUTABLE_SAMPLERS "
+                              "in the pipeline's Flags silences this)");
+    }
+  };
+  std::vector<std::string> names;
+  for (const Slot& slot : slots) names.push_back(slot.binding.name);
+  for (const ResourceVariable& v : p.variables) {
+    if (p.flags & kIgnoreMissingVariables) break;
+    if (v.name == pushed) continue;  // push constants now (inline_constants.hpp checks their use)
+    auto it = by_name.find(v.name);
+    if (it == by_name.end())
+      mismatch(sources.at(p.where, v.pointer), "pipeline '" + p.name + "': ResourceLayout variable '" +
+                                                   v.name + "' is not used by any of its shaders" +
+                                                   detail::did_you_mean(v.name, names));
+    else if (v.stages != 0 && (slots[it->second].binding.stage_flags & v.stages) == 0)
+      mismatch(sources.at(p.where, v.pointer), "pipeline '" + p.name + "': ResourceLayout variable '" +
+                                                   v.name +
+                                                   "' is declared for stages its shaders do not use it in");
+  }
+  std::vector<Slot*> candidates;
+  for (Slot& slot : slots) candidates.push_back(&slot);
+  for (size_t i = 0; i < p.immutable_samplers.size(); ++i) {
+    const ImmutableSamplerDesc& s = p.immutable_samplers[i];
+    if (attach_sampler(candidates, s, p.combined_sampler_suffix, builder) ||
+        (p.flags & kIgnoreMissingImmutableSamplers))
+      continue;
+    mismatch(i < p.immutable_sampler_pointers.size() ? sources.at(p.where, p.immutable_sampler_pointers[i])
+                                                     : p.where,
+             "pipeline '" + p.name + "': immutable sampler '" + s.name +
+                 "' matches no sampler or combined texture of its shaders" +
+                 (p.combined_sampler_suffix.empty() && by_name.count(s.name + "_sampler")
+                      ? " ('" + s.name +
+                            "_sampler' would match if the shaders' Desc said "
+                            "\"UseCombinedTextureSamplers\": true)"
+                      : std::string()) +
+                 detail::did_you_mean(s.name, names));
+  }
+  return ok;
+}
+
 bool implicit_layout(const PipelineDesc& p, const std::vector<StageInput>& stages, ContentsBuilder& builder,
                      const SourceTexts& sources, const LayoutOptions& options, const std::string& pushed,
                      PipelineLayout& out, Diagnostics& diag) {
@@ -232,52 +288,7 @@ bool implicit_layout(const PipelineDesc& p, const std::vector<StageInput>& stage
     slot.binding.binding = binding;
     taken.insert({slot.set, binding});
   }
-  // ResourceLayout variables and immutable samplers that name nothing the shaders use are warnings, as
-  // in Diligent (which ignores them; IGNORE_MISSING_* silences the warning), or errors with --strict: a
-  // typo, or a resource used only under a macro the pipeline does not define (Diligent's Tutorial29).
-  auto mismatch = [&](const Location& where, const std::string& message) {
-    if (options.strict) {
-      diag.error(where, message + " (an error with --strict)");
-      ok = false;
-    } else {
-      diag.warning(where, message +
-                              " (IGNORE_MISSING_VARIABLES or IGNORE_MISSING_IMMUTABLE_SAMPLERS "
-                              "in the pipeline's Flags silences this)");
-    }
-  };
-  std::vector<std::string> names;
-  for (const Slot& slot : slots) names.push_back(slot.binding.name);
-  for (const ResourceVariable& v : p.variables) {
-    if (p.flags & kIgnoreMissingVariables) break;
-    if (v.name == pushed) continue;  // push constants now (inline_constants.hpp checks their use)
-    auto it = by_name.find(v.name);
-    if (it == by_name.end())
-      mismatch(sources.at(p.where, v.pointer), "pipeline '" + p.name + "': ResourceLayout variable '" +
-                                                   v.name + "' is not used by any of its shaders" +
-                                                   detail::did_you_mean(v.name, names));
-    else if (v.stages != 0 && (slots[it->second].binding.stage_flags & v.stages) == 0)
-      mismatch(sources.at(p.where, v.pointer), "pipeline '" + p.name + "': ResourceLayout variable '" +
-                                                   v.name +
-                                                   "' is declared for stages its shaders do not use it in");
-  }
-  std::vector<Slot*> candidates;
-  for (Slot& slot : slots) candidates.push_back(&slot);
-  for (size_t i = 0; i < p.immutable_samplers.size(); ++i) {
-    const ImmutableSamplerDesc& s = p.immutable_samplers[i];
-    if (attach_sampler(candidates, s, p.combined_sampler_suffix, builder) ||
-        (p.flags & kIgnoreMissingImmutableSamplers))
-      continue;
-    mismatch(i < p.immutable_sampler_pointers.size() ? sources.at(p.where, p.immutable_sampler_pointers[i])
-                                                     : p.where,
-             "pipeline '" + p.name + "': immutable sampler '" + s.name +
-                 "' matches no sampler or combined texture of its shaders" +
-                 (p.combined_sampler_suffix.empty() && by_name.count(s.name + "_sampler")
-                      ? " ('" + s.name +
-                            "_sampler' would match if the shaders' Desc said "
-                            "\"UseCombinedTextureSamplers\": true)"
-                      : std::string()) +
-                 detail::did_you_mean(s.name, names));
-  }
+  ok = check_layout_names(p, slots, by_name, builder, sources, options, pushed, diag) && ok;
   if (!ok) return false;
 
   uint32_t set_count = 0;
