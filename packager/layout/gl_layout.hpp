@@ -25,4 +25,12 @@ struct GlLayout {
 bool build_gl_layout(const PipelineDesc& pipeline, const std::vector<StageInput>& stages, GlLayout& out,
                      Diagnostics& diag);
 
+// What OpenGL 4.5 guarantees of a namespace's binding points in a program (GL_MAX_UNIFORM_BUFFER_BINDINGS
+// 84, GL_MAX_SHADER_STORAGE_BUFFER_BINDINGS 8, GL_MAX_COMBINED_TEXTURE_IMAGE_UNITS 80, GL_MAX_IMAGE_UNITS 8).
+uint32_t gl_guaranteed_units(format::GlNamespace kind);
+
+// "" when `bindings` (a shader's or a pipeline's, by descriptor type and count) fit what OpenGL 4.5
+// guarantees; else what they need, in the user's words ("80 texture units ... 'tex' is an array of 100").
+std::string gl_units_exceeded(const std::vector<ReflectedBinding>& bindings);
+
 }  // namespace statepack::packager

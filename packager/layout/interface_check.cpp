@@ -34,7 +34,7 @@ const char* stage_noun(uint32_t stage) {
 }
 
 std::string shader_text(const StageInput& s) {
-  return std::string(stage_noun(s.desc->stage)) + " '" + s.desc->name + "'";
+  return stage_text(*s.desc);
 }
 
 // The variable's type as its source language spells it: "vec3", "flat ivec4", "float4", "uint2[3]".
@@ -391,6 +391,10 @@ bool check_render_targets(const PipelineDesc& p, const format::GraphicsState& g,
 }
 
 }  // namespace
+
+std::string stage_text(const ShaderDesc& shader) {
+  return std::string(stage_noun(shader.stage)) + " '" + shader.name + "'";
+}
 
 bool check_graphics_interfaces(const PipelineDesc& p, const format::GraphicsState& g,
                                const std::vector<StageInput>& stages, const SourceTexts& sources,

@@ -20,6 +20,9 @@ namespace statepack::packager {
 // `g` is the pipeline's state with its render pass applied (formats of the subpass). Returns false
 // when an error was reported; warnings (unused input-layout elements, formats some devices do not
 // support for their use) do not fail.
+// "vertex shader 'Name'": a shader as messages name it, by Diligent's stage words (the notation's slots).
+std::string stage_text(const ShaderDesc& shader);
+
 bool check_graphics_interfaces(const PipelineDesc& p, const format::GraphicsState& g,
                                const std::vector<StageInput>& stages, const SourceTexts& sources,
                                Diagnostics& diag);

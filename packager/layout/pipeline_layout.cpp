@@ -5,7 +5,9 @@
 #include <map>
 #include <set>
 
+#include "block_views.hpp"
 #include "inline_constants.hpp"
+#include "interface_check.hpp"
 #include "notation/enum_tables.hpp"
 #include "support/suggest.hpp"
 
@@ -235,6 +237,44 @@ bool check_layout_names(const PipelineDesc& p, std::vector<Slot>& slots,
   return ok;
 }
 
+// Stages that declare one block name with members that conflict, or at other slots: statepack, as
+// Diligent, merges resources by name, so they read one buffer. Often right (a block each stage declares
+// in part), sometimes two buffers that happen to share a name: a warning says which.
+void warn_conflicting_views(const PipelineDesc& p, const std::vector<StageInput>& stages,
+                            const std::string& pushed, Diagnostics& diag) {
+  std::map<std::string, std::vector<std::pair<const StageInput*, const ReflectedBinding*>>> blocks;
+  for (const StageInput& stage : stages)
+    for (const ReflectedBinding& r : stage.reflection->bindings)
+      if (!r.block_layout.empty() && r.name != pushed) blocks[r.name].push_back({&stage, &r});
+  for (const auto& [name, uses] : blocks) {
+    if (uses.size() < 2) continue;
+    const ReflectedBinding& first = *uses.front().second;
+    const bool same_layout = std::all_of(uses.begin(), uses.end(), [&](const auto& u) {
+      return u.second->block_layout == first.block_layout;
+    });
+    if (same_layout) continue;
+    std::vector<std::vector<uint32_t>> copies;
+    for (const auto& [stage, r] : uses) copies.push_back(*stage->spirv);
+    std::vector<BlockView> views;
+    for (size_t i = 0; i < uses.size(); ++i)
+      views.push_back({&copies[i], uses[i].second->variable, stage_text(*uses[i].first->desc)});
+    std::string reason = block_views_conflict(views);
+    const auto other_slot = std::find_if(uses.begin(), uses.end(), [&](const auto& u) {
+      return u.second->set != first.set || u.second->binding != first.binding;
+    });
+    if (reason.empty() && other_slot != uses.end())
+      reason = views.front().shader + " declares it at set " + std::to_string(first.set) + ", binding " +
+               std::to_string(first.binding) + " and " + stage_text(*other_slot->first->desc) + " at set " +
+               std::to_string(other_slot->second->set) + ", binding " +
+               std::to_string(other_slot->second->binding);
+    if (reason.empty()) continue;
+    diag.warning(p.where,
+                 "pipeline '" + p.name + "': its stages declare block '" + name + "' differently (" + reason +
+                     "); resources are merged by name, as in Diligent, so they read one buffer: if they "
+                     "are two buffers, give them two names");
+  }
+}
+
 bool implicit_layout(const PipelineDesc& p, const std::vector<StageInput>& stages, ContentsBuilder& builder,
                      const SourceTexts& sources, const LayoutOptions& options, const std::string& pushed,
                      PipelineLayout& out, Diagnostics& diag) {
@@ -266,6 +306,7 @@ bool implicit_layout(const PipelineDesc& p, const std::vector<StageInput>& stage
       slot.binding.stage_flags |= r.stage;
     }
   }
+  warn_conflicting_views(p, stages, pushed, diag);
   pair_combined_image_samplers(slots, by_name);
   // Keep each resource's own set and binding where free; move the rest (e.g. HLSL b0 and t0, which
   // glslang both maps to binding 0) to the next free binding of the set.

@@ -392,7 +392,12 @@ void make_opengl_unit(const CompiledUnit& vulkan, const PackOptions& options, Co
                       ShaderMessages& direct_errors, Diagnostics& diag, CompileCache* cache) {
   const std::string who = "shader '" + vulkan.desc.name + "' (OpenGL)";
   out.desc = vulkan.desc;
-  std::map<uint32_t, std::string> name_of_binding;  // translated modules' binding numbers -> names
+  // translated modules' (GL namespace, binding number) -> names
+  std::map<std::pair<uint32_t, uint32_t>, std::string> name_of_binding;
+  if (std::string exceeded = gl_units_exceeded(vulkan.reflection.bindings); !exceeded.empty()) {
+    diag.error(vulkan.desc.where, who + ": " + exceeded);
+    return;
+  }
   if (vulkan.compiled.backend_specific) {
     if (std::string refused = refused_for_opengl(vulkan); !refused.empty()) {
       diag.error(vulkan.desc.where, refused);
@@ -452,7 +457,9 @@ void make_opengl_unit(const CompiledUnit& vulkan, const PackOptions& options, Co
     diag.error(vulkan.desc.where, who + ": SPIR-V reflection failed: " + out.reflection.error);
   }
   for (ReflectedBinding& b : out.reflection.bindings)  // translated: the Vulkan names, whatever GLSL allowed
-    if (auto it = name_of_binding.find(b.binding); it != name_of_binding.end()) b.name = it->second;
+    if (auto kind = format::gl_namespace_of(b.descriptor_type))
+      if (auto it = name_of_binding.find({uint32_t(*kind), b.binding}); it != name_of_binding.end())
+        b.name = it->second;
 }
 
 // Every pipeline's shaders for OpenGL, unit for unit beside the Vulkan ones (the same pipeline_units),

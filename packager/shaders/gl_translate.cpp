@@ -3,10 +3,12 @@
 #include <spirv_cross_c.h>
 
 #include <algorithm>
+#include <array>
 #include <set>
 #include <string_view>
 #include <tuple>
 
+#include "format/archive_format.hpp"
 #include "spirv_cross_context.hpp"
 
 namespace statepack::packager {
@@ -71,6 +73,8 @@ struct Declared {
   uint32_t set = 0, binding = 0;
   std::string name;
   spvc_variable_id id = 0;
+  format::GlNamespace kind = format::GlNamespace::uniform_buffer;
+  uint32_t elements = 1;        // an array's take one binding each
   bool separate_image = false;  // its combined samplers take its place
   bool push_constants = false;  // after every other resource
   auto key() const { return std::tie(push_constants, set, binding, name); }
@@ -156,21 +160,27 @@ GlTranslation translate_for_opengl(std::span<const uint32_t> spirv, const std::s
     return failed();
 
   std::vector<Declared> declared;
-  auto collect = [&](spvc_resource_type type, bool separate_image, bool push_constants) {
+  using Kind = format::GlNamespace;
+  auto collect = [&](spvc_resource_type type, Kind kind, bool separate_image, bool push_constants) {
     const spvc_reflected_resource* list = nullptr;
     size_t count = 0;
     spvc_resources_get_resource_list_for_type(resources, type, &list, &count);
-    for (size_t i = 0; i < count; ++i)
+    for (size_t i = 0; i < count; ++i) {
+      spvc_type t = spvc_compiler_get_type_handle(compiler, list[i].type_id);
+      uint32_t elements = 1;
+      for (unsigned d = 0; d < spvc_type_get_num_array_dimensions(t); ++d)
+        elements *= std::max<uint32_t>(1, spvc_type_get_array_dimension(t, d));
       declared.push_back({spvc_compiler_get_decoration(compiler, list[i].id, SpvDecorationDescriptorSet),
                           spvc_compiler_get_decoration(compiler, list[i].id, SpvDecorationBinding),
-                          list[i].name, list[i].id, separate_image, push_constants});
+                          list[i].name, list[i].id, kind, elements, separate_image, push_constants});
+    }
   };
-  collect(SPVC_RESOURCE_TYPE_UNIFORM_BUFFER, false, false);
-  collect(SPVC_RESOURCE_TYPE_STORAGE_BUFFER, false, false);
-  collect(SPVC_RESOURCE_TYPE_SAMPLED_IMAGE, false, false);
-  collect(SPVC_RESOURCE_TYPE_STORAGE_IMAGE, false, false);
-  collect(SPVC_RESOURCE_TYPE_SEPARATE_IMAGE, true, false);
-  collect(SPVC_RESOURCE_TYPE_PUSH_CONSTANT, false, true);
+  collect(SPVC_RESOURCE_TYPE_UNIFORM_BUFFER, Kind::uniform_buffer, false, false);
+  collect(SPVC_RESOURCE_TYPE_STORAGE_BUFFER, Kind::storage_buffer, false, false);
+  collect(SPVC_RESOURCE_TYPE_SAMPLED_IMAGE, Kind::texture, false, false);
+  collect(SPVC_RESOURCE_TYPE_STORAGE_IMAGE, Kind::image, false, false);
+  collect(SPVC_RESOURCE_TYPE_SEPARATE_IMAGE, Kind::texture, true, false);
+  collect(SPVC_RESOURCE_TYPE_PUSH_CONSTANT, Kind::uniform_buffer, false, true);
   std::sort(declared.begin(), declared.end(),
             [](const Declared& a, const Declared& b) { return a.key() < b.key(); });
 
@@ -180,12 +190,16 @@ GlTranslation translate_for_opengl(std::span<const uint32_t> spirv, const std::s
   };
   std::set<std::string> taken;
   for (const Declared& d : declared) taken.insert(d.name);
-  uint32_t next = 0;
+  // Binding numbers per namespace, each element of an array taking one (glslang checks texture and
+  // image bindings against OpenGL's units).
+  std::array<uint32_t, format::kGlNamespaceCount> next_of{};
   for (const Declared& d : declared) {
+    uint32_t& next = next_of[size_t(d.kind)];
     if (!d.separate_image) {
       spvc_compiler_set_decoration(compiler, d.id, SpvDecorationBinding, next);
       spvc_compiler_set_decoration(compiler, d.id, SpvDecorationDescriptorSet, 0);
-      out.name_of_binding[next++] = d.push_constants ? kGlPushConstantsName : d.name;
+      out.name_of_binding[{uint32_t(d.kind), next}] = d.push_constants ? kGlPushConstantsName : d.name;
+      next += d.elements;
       continue;
     }
     std::vector<const spvc_combined_image_sampler*> pairs;
@@ -199,7 +213,8 @@ GlTranslation translate_for_opengl(std::span<const uint32_t> spirv, const std::s
       spvc_compiler_set_name(compiler, pair->combined_id, name.c_str());
       spvc_compiler_set_decoration(compiler, pair->combined_id, SpvDecorationBinding, next);
       spvc_compiler_set_decoration(compiler, pair->combined_id, SpvDecorationDescriptorSet, 0);
-      out.name_of_binding[next++] = name;
+      out.name_of_binding[{uint32_t(d.kind), next}] = name;
+      next += d.elements;
     }
   }
 

@@ -19,11 +19,12 @@ inline constexpr const char* kGlPushConstantsName = "$PushConstants";
 
 struct GlTranslation {
   std::string glsl;  // GLSL 4.50 (no Vulkan semantics) for glslang's OpenGL client
-  // Binding number each resource got in `glsl` -> its name in the OpenGL binding table: the Vulkan
-  // resource's name; a combined image sampler takes its image's name (Diligent's convention: `g_Tex`
-  // with `g_Tex_sampler`, or any image sampled with one sampler only), else `image_sampler`. Numbers
-  // follow the Vulkan declaration order (set, then binding), so the GL table keeps that order.
-  std::map<uint32_t, std::string> name_of_binding;
+  // (GL namespace, binding number) each resource got in `glsl` -> its name in the OpenGL binding table:
+  // the Vulkan resource's name; a combined image sampler takes its image's name (Diligent's convention:
+  // `g_Tex` with `g_Tex_sampler`, or any image sampled with one sampler only), else `image_sampler`.
+  // Each namespace (uniform buffers, storage buffers, textures, images) is numbered from 0 in the Vulkan
+  // declaration order (set, then binding), so the GL table keeps that order.
+  std::map<std::pair<uint32_t, uint32_t>, std::string> name_of_binding;
   std::string unsupported;  // what OpenGL 4.5 cannot express, by name (nothing translated)
   std::string error;        // SPIRV-Cross refused the module: its message
 };

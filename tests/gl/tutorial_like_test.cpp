@@ -554,6 +554,58 @@ TEST_F(TutorialLike, VulkanGlslWithPushConstantsAndSeparateSamplersDrawsAlikeOnO
         << p;
 }
 
+// Vulkan GLSL whose stages each declare their own view of the push constants and of a uniform block (a
+// vertex shader the first member, a pixel shader a later one, at its offset): valid Vulkan, merged into
+// one definition for OpenGL, which links one per block. The same bytes give the same pixels.
+TEST_F(TutorialLike, PerStageBlockViewsDrawAlikeOnOpenGl) {
+  struct Push {
+    float offset[4] = {0.25f, 0.0f, 0.0f, 0.0f};
+    float color[4] = {0.5f, 1.0f, 0.25f, 1.0f};
+  } push;
+  struct Params {
+    float scale[4] = {0.5f, 0.5f, 0.0f, 0.0f};
+    float tint[4] = {1.0f, 0.5f, 1.0f, 1.0f};
+  } params;
+  auto archive = Archive::from_file(STATEPACK_VULKAN_GLSL_ARCHIVE);
+  ASSERT_TRUE(archive) << archive.error().message;
+  auto dearchiver = Dearchiver::create(vk_->device_context());
+  ASSERT_TRUE(dearchiver && dearchiver->add_archive(std::move(*archive)));
+  auto pso = dearchiver->unpack_graphics("Per-Stage Blocks PSO");
+  ASSERT_TRUE(pso) << pso.error().message;
+  EXPECT_EQ((*pso)->push_constant_size, sizeof push);
+  auto ubo = bootstrap::create_host_buffer(*vk_, sizeof params, VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
+  ASSERT_TRUE(ubo);
+  std::memcpy((*ubo)->mapped, &params, sizeof params);
+  const BindingInfo& block = vk_binding(**pso, "Params");
+  auto set = make_set((*pso)->set_layouts.at(block.set),
+                      {{block.binding, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, (*ubo)->buffer}});
+  VulkanPass vk_pass = draw_vulkan(**pso, std::span(&kRgba8, 1), [&](VkCommandBuffer cmd) {
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, (*pso)->layout, block.set, 1, &set->set, 0,
+                            nullptr);
+    vkCmdPushConstants(cmd, (*pso)->layout, (*pso)->push_constant_stages, 0, sizeof push, &push);
+  });
+
+  gl::Dearchiver gl_dearchiver = make_gl_dearchiver(load(STATEPACK_VULKAN_GLSL_ARCHIVE));
+  auto program = gl_dearchiver.unpack_graphics("Per-Stage Blocks PSO");
+  ASSERT_TRUE(program) << program.error().message;
+  const GLuint gl_push = gl_buffer(&push, sizeof push), gl_params = gl_buffer(&params, sizeof params);
+  auto gl_pass = draw_gl(**program, std::span(&kRgba8, 1), [&] {
+    glBindBufferBase(GL_UNIFORM_BUFFER,
+                     gl_binding(**program, "$PushConstants", gl::Binding::Kind::uniform_buffer), gl_push);
+    glBindBufferBase(GL_UNIFORM_BUFFER, gl_binding(**program, "Params", gl::Binding::Kind::uniform_buffer),
+                     gl_params);
+  });
+  glDeleteBuffers(1, &gl_push);
+  glDeleteBuffers(1, &gl_params);
+
+  expect_same(gl_pass->pixels[0], vk_pass.pixels[0], kRgba8, "per-stage block views");
+  // Inside the shifted, halved triangle: the pushed colour times the tint, (0.5, 0.5, 0.25, 1); outside 0.
+  const size_t inside = (size_t(kHeight) / 2 * kWidth + kWidth / 2 + 2) * 4;
+  const uint8_t want[4] = {128, 128, 64, 255};
+  for (size_t c = 0; c < 4; ++c) EXPECT_NEAR(double(vk_pass.pixels[0][inside + c]), want[c], 1.0) << c;
+  for (size_t c = 0; c < 4; ++c) EXPECT_EQ(vk_pass.pixels[0][c], 0) << "the corner is outside";
+}
+
 // Tessellation on OpenGL (GL 4.5 has it): the same patch, the same evaluated coordinates, the same image.
 TEST_F(TutorialLike, TessellationDrawsAlikeOnOpenGl) {
   auto archive = Archive::from_file(STATEPACK_VULKAN_GLSL_ARCHIVE);

@@ -746,8 +746,9 @@ TEST_F(PackagerCli, OpenGlTranslatesVulkanSourcesAndRefusesWhatItCannotExpress) 
                 .exit_code,
             0);
 
-  // Each stage its own push-constant range is ordinary Vulkan; OpenGL links one block definition, so
-  // that is a pack error naming both shaders, never a link failure at run time.
+  // Each stage its own view of the push constants is ordinary Vulkan; OpenGL links one block definition,
+  // so views that agree where they overlap are merged (tests/gl draws them), and views that conflict are
+  // a pack error naming both members and shaders, never a link failure at run time.
   std::ofstream(dir_ / "range_a.vert")
       << "#version 450\nlayout(push_constant) uniform P { vec4 offset; } p;\n"
          "void main() { gl_Position = p.offset; }\n";
@@ -755,18 +756,29 @@ TEST_F(PackagerCli, OpenGlTranslatesVulkanSourcesAndRefusesWhatItCannotExpress) 
       << "#version 450\n"
          "layout(push_constant) uniform P { layout(offset = 16) vec4 tint; } p;\n"
          "layout(location = 0) out vec4 color;\nvoid main() { color = p.tint; }\n";
+  std::ofstream(dir_ / "range_c.frag")
+      << "#version 450\n"
+         "layout(push_constant) uniform P { layout(offset = 4) float gain; } p;\n"
+         "layout(location = 0) out vec4 color;\nvoid main() { color = vec4(p.gain); }\n";
   const fs::path ranges_json = dir_ / "ranges.json";
   std::ofstream(ranges_json) << R"({"Pipelines": [
     {"PSODesc": {"Name": "Ranges PSO"}, "GraphicsPipeline": {"RTVFormats": {"0": "RGBA8_UNORM"}},
      "pVS": {"Desc": {"Name": "Range A VS"}, "FilePath": "range_a.vert"},
-     "pPS": {"Desc": {"Name": "Range B PS"}, "FilePath": "range_b.frag"}}]})";
+     "pPS": {"Desc": {"Name": "Range B PS"}, "FilePath": "range_b.frag"}},
+    {"PSODesc": {"Name": "Overlapping Ranges PSO"}, "GraphicsPipeline": {"RTVFormats": {"0": "RGBA8_UNORM"}},
+     "pVS": "Range A VS",
+     "pPS": {"Desc": {"Name": "Range C PS"}, "FilePath": "range_c.frag"}}]})";
   CliRun ranges = statepack("pack -i '" + ranges_json.string() + "' -o '" + (dir_ / "ranges.spk").string() +
                             "' --vulkan --opengl");
   EXPECT_EQ(ranges.exit_code, 1) << ranges.output;
-  EXPECT_NE(ranges.output.find("error: pipeline 'Ranges PSO' (OpenGL): shader 'Range B PS' declares the "
-                               "push-constant block with other members or offsets than shader 'Range A VS'"),
-            std::string::npos)
+  EXPECT_NE(
+      ranges.output.find("error: pipeline 'Overlapping Ranges PSO' (OpenGL): its stages declare the push "
+                         "constants differently, and OpenGL links one definition per block: 'offset' (16 "
+                         "bytes at offset 0) in vertex shader 'Range A VS' and 'gain' (4 bytes at offset 4) "
+                         "in pixel shader 'Range C PS' overlap"),
+      std::string::npos)
       << ranges.output;
+  EXPECT_EQ(ranges.output.find("'Ranges PSO' (OpenGL)"), std::string::npos) << "merged: " << ranges.output;
   EXPECT_EQ(
       statepack("pack -i '" + ranges_json.string() + "' -o '" + (dir_ / "ranges.spk").string() + "' --vulkan")
           .exit_code,
