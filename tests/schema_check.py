@@ -42,6 +42,7 @@ def main():
     walk(schema, "schema")
 
     valid = sorted(glob.glob(f"{src}/tests/corpus/valid/**/*.json", recursive=True) + glob.glob(f"{src}/states/*.json")
+                   + glob.glob(f"{src}/tests/corpus/warnings/*.json")
                    + [f for f in glob.glob(f"{src}/tests/data/*/*.json") if "/pinned/" not in f])
     documents = [(os.path.relpath(f, src), json.load(open(f, encoding="utf-8"))) for f in valid]
     text = open(f"{src}/docs/notation.md", encoding="utf-8").read()

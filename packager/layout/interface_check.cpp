@@ -329,24 +329,30 @@ bool check_render_targets(const PipelineDesc& p, const format::GraphicsState& g,
           run_time_targets.insert(location);
           continue;
         }
-        if (location >= g.color_count) {  // a render pass fixes its attachments: no patch can add one
-          diag.error(sources.at(p.where, gp + "/pRenderPass"),
-                     "pipeline '" + p.name + "': " + shader_text(*ps) + " writes " + describe(v, *ps) +
-                         " to location " + std::to_string(location) + ", but subpass " +
-                         std::to_string(p.subpass) + " of render pass '" + p.render_pass + "' has " +
-                         std::to_string(g.color_count) + " color attachment(s): nothing would be drawn");
-          ok = false;
+        if (location >= g.color_count) {  // valid Vulkan (the write is discarded), as Diligent accepts it
+          diag.warning(sources.at(p.where, gp + "/pRenderPass"),
+                       "pipeline '" + p.name + "': " + shader_text(*ps) + " writes " + describe(v, *ps) +
+                           " to location " + std::to_string(location) + ", but subpass " +
+                           std::to_string(p.subpass) + " of render pass '" + p.render_pass + "' has " +
+                           std::to_string(g.color_count) +
+                           " color attachment(s): what it writes there is discarded");
           break;
         }
         const uint32_t format = g.color_formats[location];
         const NumericClass have = numeric_class(format), want = class_of(v);
         if (have != NumericClass::none && have != want) {  // none: UNKNOWN, patched at run time
-          diag.error(target_where(location),
-                     "pipeline '" + p.name + "': render target " + std::to_string(location) + " is " +
-                         format_name(format) + " (" + numeric_class_name(have) + "), but " +
-                         shader_text(*ps) + " writes " + describe(v, *ps) + " (" + kind_text(v) +
-                         ") to it: the values written would be undefined");
-          ok = false;
+          const std::string what = "pipeline '" + p.name + "': render target " + std::to_string(location) +
+                                   " is " + format_name(format) + " (" + numeric_class_name(have) +
+                                   "), but " + shader_text(*ps) + " writes " + describe(v, *ps) + " (" +
+                                   kind_text(v) + ") to it: the values written would be undefined";
+          if (from_render_pass) {  // a render pass's formats are its own: no patch changes them
+            diag.error(target_where(location), what);
+            ok = false;
+          } else {  // the modify callback can set the format; unpack checks what it leaves
+            diag.warning(target_where(location),
+                         what + "; the modify callback must set a " + kind_text(v) +
+                             " format (PatchableState::color_formats), or unpacking fails");
+          }
           break;
         }
       }
@@ -366,15 +372,14 @@ bool check_render_targets(const PipelineDesc& p, const format::GraphicsState& g,
     if (format == VK_FORMAT_UNDEFINED) continue;
     const std::string blend = gp + "/BlendDesc/RenderTargets/" + std::to_string(i) + "/BlendEnable";
     const bool integer = numeric_class(format) != NumericClass::floating;
-    if (g.blend[i].enable && integer) {
-      diag.error(
-          sources.at(p.where, blend),
-          "pipeline '" + p.name + "': blending is enabled for render target " + std::to_string(i) +
-              ", whose format " + format_name(format) +
-              " is an integer format: Vulkan cannot blend integer formats (set BlendEnable to false"
-              " for it; with IndependentBlendEnable false, render target 0's blending applies to all)");
-      ok = false;
-    }
+    if (g.blend[i].enable && integer)  // blending and formats are patchable: unpack checks what is left
+      diag.warning(sources.at(p.where, blend),
+                   "pipeline '" + p.name + "': blending is enabled for render target " + std::to_string(i) +
+                       ", whose format " + format_name(format) +
+                       " is an integer format: Vulkan cannot blend integer formats, so the modify callback "
+                       "must turn its blending off (PatchableState::blend) or set a float format, or "
+                       "unpacking fails (set BlendEnable to false for it; with IndependentBlendEnable false, "
+                       "render target 0's blending applies to all)");
     if (from_render_pass) continue;  // the render pass's attachments are its own object
     if (!guaranteed_color_attachment(format))
       diag.warning(target_where(i), "pipeline '" + p.name + "': render target " + std::to_string(i) + " is " +

@@ -191,16 +191,15 @@ bool check_layout_names(const PipelineDesc& p, std::vector<Slot>& slots,
   // ResourceLayout variables and immutable samplers that name nothing the shaders use are warnings, as
   // in Diligent (which ignores them; IGNORE_MISSING_* silences the warning), or errors with --strict: a
   // typo, or a resource used only under a macro the pipeline does not define (Diligent's Tutorial29).
-  auto mismatch = [&](const Location& where, const std::string& message) {
+  auto mismatch = [&](const Location& where, const std::string& message, const char* flag) {
     if (options.strict) {
       diag.error(where, message + " (an error with --strict)");
       ok = false;
     } else {
-      diag.warning(where, message +
-                              " (IGNORE_MISSING_VARIABLES or IGNORE_MISSING_IMMUTABLE_SAMPLERS "
-                              "in the pipeline's Flags silences this)");
+      diag.warning(where, message + " (" + flag + " in the pipeline's Flags silences this)");
     }
   };
+
   std::vector<std::string> names;
   for (const Slot& slot : slots) names.push_back(slot.binding.name);
   for (const ResourceVariable& v : p.variables) {
@@ -208,13 +207,15 @@ bool check_layout_names(const PipelineDesc& p, std::vector<Slot>& slots,
     if (v.name == pushed) continue;  // push constants now (inline_constants.hpp checks their use)
     auto it = by_name.find(v.name);
     if (it == by_name.end())
-      mismatch(sources.at(p.where, v.pointer), "pipeline '" + p.name + "': ResourceLayout variable '" +
-                                                   v.name + "' is not used by any of its shaders" +
-                                                   detail::did_you_mean(v.name, names));
+      mismatch(sources.at(p.where, v.pointer),
+               "pipeline '" + p.name + "': ResourceLayout variable '" + v.name +
+                   "' is not used by any of its shaders" + detail::did_you_mean(v.name, names),
+               "IGNORE_MISSING_VARIABLES");
     else if (v.stages != 0 && (slots[it->second].binding.stage_flags & v.stages) == 0)
-      mismatch(sources.at(p.where, v.pointer), "pipeline '" + p.name + "': ResourceLayout variable '" +
-                                                   v.name +
-                                                   "' is declared for stages its shaders do not use it in");
+      mismatch(sources.at(p.where, v.pointer),
+               "pipeline '" + p.name + "': ResourceLayout variable '" + v.name +
+                   "' is declared for stages its shaders do not use it in",
+               "IGNORE_MISSING_VARIABLES");
   }
   std::vector<Slot*> candidates;
   for (Slot& slot : slots) candidates.push_back(&slot);
@@ -232,7 +233,8 @@ bool check_layout_names(const PipelineDesc& p, std::vector<Slot>& slots,
                             "_sampler' would match if the shaders' Desc said "
                             "\"UseCombinedTextureSamplers\": true)"
                       : std::string()) +
-                 detail::did_you_mean(s.name, names));
+                 detail::did_you_mean(s.name, names),
+             "IGNORE_MISSING_IMMUTABLE_SAMPLERS");
   }
   return ok;
 }

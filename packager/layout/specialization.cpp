@@ -97,6 +97,12 @@ bool resolve_constants(const PipelineDesc& p, const std::vector<StageInput>& sta
     diag.error(k.where, "pipeline '" + p.name + "': specialization constant '" + k.name + "': " + message);
     ok = false;
   };
+  // What Diligent's Vulkan backend skips silently ("the user may supply a superset"): a warning, and the
+  // constant is left out for that stage.
+  auto skip = [&](const SpecConstantDesc& k, const std::string& message) {
+    diag.warning(k.where, "pipeline '" + p.name + "': specialization constant '" + k.name + "': " + message +
+                              "; it is left out, as in Diligent");
+  };
   for (const SpecConstantDesc& k : p.constants) {
     std::vector<std::string> all_names;
     bool found_any = false;
@@ -111,12 +117,12 @@ bool resolve_constants(const PipelineDesc& p, const std::vector<StageInput>& sta
       }
       if (!declared) {
         if (named)
-          fail(k, "shader '" + stage.desc->name + "' (" + stage_text(bit) + ") declares no such constant" +
+          skip(k, "shader '" + stage.desc->name + "' (" + stage_text(bit) + ") declares no such constant" +
                       detail::did_you_mean(k.name, all_names));
         continue;
       }
       found_any = true;
-      if (k.size && *k.size != declared->size) {
+      if (k.size && *k.size < declared->size) {  // a larger Size is fine: Diligent uses the declared one
         fail(k, "'Size' is " + std::to_string(*k.size) + ", but shader '" + stage.desc->name +
                     "' declares a " + kind_name(declared->kind) + " of " + std::to_string(declared->size) +
                     " bytes");
@@ -135,9 +141,9 @@ bool resolve_constants(const PipelineDesc& p, const std::vector<StageInput>& sta
       for (const StageInput& stage : stages) present |= stage.desc->stage;
       for (uint32_t bit = 1; bit <= 0x20; bit <<= 1)
         if ((k.stages & bit) && !(present & bit))
-          fail(k, "'ShaderStages' names " + stage_text(bit) + ", but the pipeline has no such shader");
+          skip(k, "'ShaderStages' names " + stage_text(bit) + ", but the pipeline has no such shader");
     } else if (!found_any) {
-      fail(k, "no shader of the pipeline declares it" + detail::did_you_mean(k.name, all_names));
+      skip(k, "no shader of the pipeline declares it" + detail::did_you_mean(k.name, all_names));
     }
   }
   return ok;

@@ -179,6 +179,14 @@ class FileReader {
       json_.check_keys(j, p, schema::kDefaultPipeline, "default pipeline");
       if (auto d = j.find("PSODesc"); d != j.end() && json_.expect_object(*d, p + "/PSODesc", "'PSODesc'")) {
         json_.check_keys(*d, p + "/PSODesc", schema::kDefaultPSODesc, "default PSODesc");
+        uint32_t type = 0;
+        json_.enum_field(*d, "PipelineType", p + "/PSODesc", kPipelineTypes, "pipeline type", type);
+        if (d->contains("PipelineType"))
+          json_.warning(
+              p + "/PSODesc/PipelineType",
+              "a default 'PipelineType' is ignored, as in Diligent: each pipeline's type comes from "
+              "its shader slots (or its own PSODesc.PipelineType)");
+        json_.string(*d, "Name", p + "/PSODesc");
         PipelineDesc scratch;
         if (auto layout = d->find("ResourceLayout"); layout != d->end())
           resource_layout(*layout, p + "/PSODesc/ResourceLayout", scratch);
@@ -191,11 +199,17 @@ class FileReader {
         std::vector<std::string> semantics;
         read_graphics_state(lenient, *g, p + "/GraphicsPipeline", scratch, subpass, semantics);
         if (g->contains("pRenderPass"))
-          json_.error(p + "/GraphicsPipeline/pRenderPass", "a render pass cannot be a default");
+          json_.warning(p + "/GraphicsPipeline/pRenderPass",
+                        "a default render pass is ignored, as in Diligent: name it in each pipeline");
       }
       if (auto s = j.find("ppResourceSignatures"); s != j.end())
         signature_list(*s, p + "/ppResourceSignatures");
     });
+    // What Diligent's parser reads in a default pipeline and then ignores (warned about above).
+    if (auto d = defaults_.pipeline.find("PSODesc"); d != defaults_.pipeline.end() && d->is_object())
+      d->erase("PipelineType");
+    if (auto g = defaults_.pipeline.find("GraphicsPipeline"); g != defaults_.pipeline.end() && g->is_object())
+      g->erase("pRenderPass");
   }
 
   // --- named objects -------------------------------------------------------------------------------
@@ -514,7 +528,7 @@ class FileReader {
   }
 
  public:
-  // Reads one file (once), reporting import cycles with their chain.
+  // Reads one file (once), warning of import cycles with their chain.
   static void read_file(const fs::path& path, const std::string& display, Notation& out,
                         const NotationOptions& options, Diagnostics& diag, const Location& imported_at) {
     std::error_code ec;
@@ -524,7 +538,10 @@ class FileReader {
       std::string chain;
       auto first = std::find(out.import_stack.begin(), out.import_stack.end(), canonical);
       for (auto it = first; it != out.import_stack.end(); ++it) chain += display_path(*it) + " -> ";
-      diag.error(imported_at, "import cycle: " + chain + display_path(canonical));
+      // Diligent skips a file it has read (or is reading) and goes on: so does statepack, saying so.
+      diag.warning(imported_at,
+                   "import cycle: " + chain + display_path(canonical) +
+                       " (the import is skipped: the file is being read already, as in Diligent)");
       return;
     }
     if (out.files_done.count(canonical)) return;  // imported before (diamond or repeated -i): read once

@@ -110,7 +110,7 @@ void read_input_layout(ReadContext& ctx, const Json& j, const std::string& point
       json.error(ep, "'NumComponents' must be 1 to 4");
       continue;
     }
-    if (step != 1)
+    if (step != 1 && rate == VK_VERTEX_INPUT_RATE_INSTANCE)  // per vertex, Diligent ignores it too
       json.error(ep + "/InstanceDataStepRate", "instance step rates other than 1 are not supported");
     uint32_t& running = slot_size[slot];
     if (offset == kAuto) offset = running;
@@ -135,6 +135,16 @@ void read_input_layout(ReadContext& ctx, const Json& j, const std::string& point
   }
 }
 
+// An enum of a state that is off: its UNDEFINED (or UNKNOWN) is Diligent's "not set", which Diligent
+// replaces with its default (Correct*Desc) instead of refusing it; so does statepack (the default stays).
+void enum_unless_unset(JsonReader& json, const Json& object, const char* key, const std::string& pointer,
+                       EnumTable table, const char* name, uint32_t& out, bool enabled) {
+  if (auto it = object.find(key);
+      !enabled && it != object.end() && it->is_string() && (*it == "UNDEFINED" || *it == "UNKNOWN"))
+    return;
+  json.enum_field(object, key, pointer, table, name, out);
+}
+
 void read_blend(ReadContext& ctx, const Json& b, const std::string& pointer, format::GraphicsState& g) {
   JsonReader& json = ctx.json;
   json.check_keys(b, pointer, schema::kBlendDesc, "BlendDesc");
@@ -155,18 +165,24 @@ void read_blend(ReadContext& ctx, const Json& b, const std::string& pointer, for
       json.boolean(rt, "LogicOperationEnable", rp, logic);
       if (logic)
         json.error(rp + "/LogicOperationEnable", "logic operations are not supported by statepack yet");
-      json.enum_field(rt, "SrcBlend", rp, kBlendFactors, "blend factor", a.src_color);
-      json.enum_field(rt, "DestBlend", rp, kBlendFactors, "blend factor", a.dst_color);
-      json.enum_field(rt, "BlendOp", rp, kBlendOps, "blend operation", a.color_op);
-      json.enum_field(rt, "SrcBlendAlpha", rp, kBlendFactors, "blend factor", a.src_alpha);
-      json.enum_field(rt, "DestBlendAlpha", rp, kBlendFactors, "blend factor", a.dst_alpha);
-      json.enum_field(rt, "BlendOpAlpha", rp, kBlendOps, "blend operation", a.alpha_op);
+      const bool on = a.enable != 0;
+      enum_unless_unset(json, rt, "SrcBlend", rp, kBlendFactors, "blend factor", a.src_color, on);
+      enum_unless_unset(json, rt, "DestBlend", rp, kBlendFactors, "blend factor", a.dst_color, on);
+      enum_unless_unset(json, rt, "BlendOp", rp, kBlendOps, "blend operation", a.color_op, on);
+      enum_unless_unset(json, rt, "SrcBlendAlpha", rp, kBlendFactors, "blend factor", a.src_alpha, on);
+      enum_unless_unset(json, rt, "DestBlendAlpha", rp, kBlendFactors, "blend factor", a.dst_alpha, on);
+      enum_unless_unset(json, rt, "BlendOpAlpha", rp, kBlendOps, "blend operation", a.alpha_op, on);
       json.flags_field(rt, "RenderTargetWriteMask", rp, kColorMasks, "color mask", a.write_mask);
     }
   }
-  // Without independent blending every target uses target 0's description (D3D semantics).
+  // Without independent blending every target blends as target 0 does, but keeps its own write mask, as
+  // Diligent's Vulkan backend sets it ("even if blend is disabled").
   if (!independent)
-    for (size_t i = 1; i < g.blend.size(); ++i) g.blend[i] = g.blend[0];
+    for (size_t i = 1; i < g.blend.size(); ++i) {
+      const uint32_t mask = g.blend[i].write_mask;
+      g.blend[i] = g.blend[0];
+      g.blend[i].write_mask = mask;
+    }
 }
 
 bool is_depth_stencil_format(uint32_t format) {
@@ -442,7 +458,8 @@ void read_graphics_state(ReadContext& ctx, const Json& j, const std::string& poi
     json.check_keys(*d, dp, schema::kDepthStencilDesc, "DepthStencilDesc");
     json.boolean(*d, "DepthEnable", dp, g.depth_test);
     json.boolean(*d, "DepthWriteEnable", dp, g.depth_write);
-    json.enum_field(*d, "DepthFunc", dp, kComparisonFuncs, "comparison function", g.depth_compare);
+    enum_unless_unset(json, *d, "DepthFunc", dp, kComparisonFuncs, "comparison function", g.depth_compare,
+                      g.depth_test != 0);
     json.boolean(*d, "StencilEnable", dp, g.stencil_test);
     json.unsigned_number(*d, "StencilReadMask", dp, g.stencil_read_mask);
     json.unsigned_number(*d, "StencilWriteMask", dp, g.stencil_write_mask);
@@ -451,10 +468,13 @@ void read_graphics_state(ReadContext& ctx, const Json& j, const std::string& poi
       std::string fp = dp + "/" + key;
       if (f == d->end() || !json.expect_object(*f, fp, key)) continue;
       json.check_keys(*f, fp, schema::kStencilOpDesc, "stencil op");
-      json.enum_field(*f, "StencilFailOp", fp, kStencilOps, "stencil op", op->fail_op);
-      json.enum_field(*f, "StencilDepthFailOp", fp, kStencilOps, "stencil op", op->depth_fail_op);
-      json.enum_field(*f, "StencilPassOp", fp, kStencilOps, "stencil op", op->pass_op);
-      json.enum_field(*f, "StencilFunc", fp, kComparisonFuncs, "comparison function", op->compare_op);
+      const bool stencil = g.stencil_test != 0;
+      enum_unless_unset(json, *f, "StencilFailOp", fp, kStencilOps, "stencil op", op->fail_op, stencil);
+      enum_unless_unset(json, *f, "StencilDepthFailOp", fp, kStencilOps, "stencil op", op->depth_fail_op,
+                        stencil);
+      enum_unless_unset(json, *f, "StencilPassOp", fp, kStencilOps, "stencil op", op->pass_op, stencil);
+      enum_unless_unset(json, *f, "StencilFunc", fp, kComparisonFuncs, "comparison function", op->compare_op,
+                        stencil);
     }
   }
   if (auto b = j.find("BlendDesc");
@@ -542,9 +562,16 @@ std::optional<format::Sampler> read_sampler(ReadContext& ctx, const Json& j, con
       s.border_color = VK_BORDER_COLOR_FLOAT_OPAQUE_BLACK;
     else if (ok && c == std::array<float, 4>{1, 1, 1, 1})
       s.border_color = VK_BORDER_COLOR_FLOAT_OPAQUE_WHITE;
-    else
-      json.error(pointer + "/BorderColor",
-                 "'BorderColor' must be [0,0,0,0], [0,0,0,1] or [1,1,1,1] (Vulkan's core border colors)");
+    else if (!border->is_array() || border->size() != 4 || !ok)
+      json.error(pointer + "/BorderColor", "'BorderColor' must be an array of 4 numbers");
+    else if (s.address_u == VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_BORDER ||
+             s.address_v == VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_BORDER ||
+             s.address_w == VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_BORDER)
+      // Diligent logs this and uses transparent black; a colour Vulkan's core has not needs an extension.
+      json.warning(pointer + "/BorderColor",
+                   "Vulkan's core border colors are [0,0,0,0], [0,0,0,1] and [1,1,1,1]; this one becomes "
+                   "transparent black [0,0,0,0], as in Diligent");
+    // (no address mode is BORDER: Vulkan never reads the colour)
   }
   if (json.error_count() != errors_before) return std::nullopt;
   return s;
@@ -692,22 +719,30 @@ std::optional<SignatureDesc> read_signature(ReadContext& ctx, const Json& j, con
                                            std::to_string(inline_values) +
                                            " inline constants in all; Diligent allows 64 per signature");
   // An immutable sampler named like a resource that takes no sampler: with combined samplers and a
-  // texture, it becomes the texture's sampler (NAME + CombinedSamplerSuffix, as the shader declares it);
-  // anything else would be a second binding under the same name, so it is an error.
-  for (size_t i = 0; i < sig.immutable_samplers.size(); ++i) {
+  // texture, it becomes the texture's sampler (NAME + CombinedSamplerSuffix, as the shader declares it).
+  // Anything else no shader can reach (Diligent gives it a sampler binding of its own that nothing names):
+  // a warning, and it is left out.
+  for (size_t i = 0, written = 0; i < sig.immutable_samplers.size(); ++written) {
     const ImmutableSamplerDesc& s = sig.immutable_samplers[i];
+    const SignatureResource* unreachable = nullptr;
     for (const SignatureResource& r : sig.resources) {
       if (r.name != s.name || r.descriptor_type == VK_DESCRIPTOR_TYPE_SAMPLER ||
           r.descriptor_type == VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER)
         continue;
       if (r.descriptor_type == VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE && !sig.combined_sampler_suffix.empty())
         continue;
-      json.error(
-          pointer + "/ImmutableSamplers/" + std::to_string(i) + "/SamplerOrTextureName",
-          "immutable sampler '" + s.name + "' names resource '" + r.name +
-              "', which takes no sampler (a sampler, a combined texture, or a texture of a signature with "
-              "'UseCombinedTextureSamplers' may have one)");
+      unreachable = &r;
     }
+    if (!unreachable) {
+      ++i;
+      continue;
+    }
+    json.warning(
+        pointer + "/ImmutableSamplers/" + std::to_string(written) + "/SamplerOrTextureName",
+        "immutable sampler '" + s.name + "' names resource '" + unreachable->name +
+            "', which takes no sampler (a sampler, a combined texture, or a texture of a signature "
+            "with 'UseCombinedTextureSamplers' may have one): no shader can use it, so it is left out");
+    sig.immutable_samplers.erase(sig.immutable_samplers.begin() + std::ptrdiff_t(i));
   }
   // With errors the object is still returned, marked broken, when it has a name: references to it
   // then resolve (one cause, one message) and a different redefinition is still reported.
@@ -766,8 +801,27 @@ std::optional<format::Attachment> read_attachment(ReadContext& ctx, const Json& 
   return att;
 }
 
+// The states a reference of each use may name (Diligent's render-pass rules, which are Vulkan's: a color
+// or resolve attachment in a read-only layout, say, is VUID-VkSubpassDescription-attachment-06913).
+struct ReferenceUse {
+  const char* what;
+  const char* states;
+  std::initializer_list<uint32_t> layouts;
+};
+constexpr ReferenceUse kColorUse{"a render target or resolve attachment",
+                                 "RENDER_TARGET or COMMON",
+                                 {VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_GENERAL}};
+constexpr ReferenceUse kInputUse{"an input attachment",
+                                 "INPUT_ATTACHMENT, DEPTH_READ or COMMON",
+                                 {VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+                                  VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL, VK_IMAGE_LAYOUT_GENERAL}};
+constexpr ReferenceUse kDepthUse{"a depth-stencil attachment",
+                                 "DEPTH_WRITE, DEPTH_READ or COMMON",
+                                 {VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
+                                  VK_IMAGE_LAYOUT_DEPTH_STENCIL_READ_ONLY_OPTIMAL, VK_IMAGE_LAYOUT_GENERAL}};
+
 void read_attachment_reference(ReadContext& ctx, const Json& r, const std::string& rp_ptr,
-                               size_t attachment_count, format::AttachmentRef& out) {
+                               size_t attachment_count, const ReferenceUse& use, format::AttachmentRef& out) {
   JsonReader& json = ctx.json;
   if (!json.expect_object(r, rp_ptr, "an attachment reference")) return;
   json.check_keys(r, rp_ptr, schema::kAttachmentReference, "attachment reference");
@@ -780,17 +834,23 @@ void read_attachment_reference(ReadContext& ctx, const Json& r, const std::strin
     json.error(rp_ptr,
                "an attachment reference needs a 'State' (a subpass cannot use an attachment in the "
                "UNDEFINED layout: VUID-VkAttachmentReference-layout-03077)");
+  else if (out.attachment != format::kNone && !ctx.defaults_mode &&
+           std::find(use.layouts.begin(), use.layouts.end(), out.layout) == use.layouts.end())
+    json.error(rp_ptr + "/State", std::string("the 'State' of ") + use.what + " must be " + use.states +
+                                      ", as in Diligent (Vulkan refuses other layouts for it: "
+                                      "VUID-VkSubpassDescription-attachment-06913 and its kin)");
 }
 
 // A subpass's list of attachment references under KEY; an entry that is not an object still takes its
 // slot, as a default reference.
 void read_attachment_references(ReadContext& ctx, const Json& s, const char* key, const std::string& sp,
-                                size_t attachment_count, std::vector<format::AttachmentRef>& out) {
+                                size_t attachment_count, const ReferenceUse& use,
+                                std::vector<format::AttachmentRef>& out) {
   auto list = s.find(key);
   if (list == s.end() || !ctx.json.expect_array(*list, sp + "/" + key, key)) return;
   for (size_t i = 0; i < list->size(); ++i)
     read_attachment_reference(ctx, (*list)[i], sp + "/" + key + "/" + std::to_string(i), attachment_count,
-                              out.emplace_back());
+                              use, out.emplace_back());
 }
 
 void read_preserve_attachments(JsonReader& json, const Json& s, const std::string& sp,
@@ -818,11 +878,13 @@ std::optional<format::Subpass> read_subpass(ReadContext& ctx, const Json& s, con
   for (const char* count : {"InputAttachmentCount", "RenderTargetAttachmentCount", "PreserveAttachmentCount"})
     json.unsigned_number(s, count, sp, unused);
   format::Subpass subpass;
-  read_attachment_references(ctx, s, "pInputAttachments", sp, attachment_count, subpass.inputs);
-  read_attachment_references(ctx, s, "pRenderTargetAttachments", sp, attachment_count, subpass.colors);
-  read_attachment_references(ctx, s, "pResolveAttachments", sp, attachment_count, subpass.resolves);
+  read_attachment_references(ctx, s, "pInputAttachments", sp, attachment_count, kInputUse, subpass.inputs);
+  read_attachment_references(ctx, s, "pRenderTargetAttachments", sp, attachment_count, kColorUse,
+                             subpass.colors);
+  read_attachment_references(ctx, s, "pResolveAttachments", sp, attachment_count, kColorUse,
+                             subpass.resolves);
   if (auto d = s.find("pDepthStencilAttachment"); d != s.end())
-    read_attachment_reference(ctx, *d, sp + "/pDepthStencilAttachment", attachment_count,
+    read_attachment_reference(ctx, *d, sp + "/pDepthStencilAttachment", attachment_count, kDepthUse,
                               subpass.depth_stencil);
   if (s.contains("pShadingRateAttachment"))
     json.error(sp + "/pShadingRateAttachment", "shading-rate attachments are not supported by statepack yet");

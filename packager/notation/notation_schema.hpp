@@ -68,6 +68,8 @@ inline constexpr Property kDefaultPipeline[] = {
     {"GraphicsPipeline", object, {}, "GraphicsPipelineDesc"},
 };
 inline constexpr Property kDefaultPSODesc[] = {
+    {"Name", string},                             // every pipeline without one gets it, as in Diligent
+    {"PipelineType", enumerant, kPipelineTypes},  // ignored with a warning, as Diligent ignores it
     {"ResourceLayout", object, {}, "ResourceLayout"},
     {"SRBAllocationGranularity", unsigned_integer},
     {"ImmediateContextMask", unsigned_integer},

@@ -1,7 +1,8 @@
 // The notation corpus: every file under tests/corpus/valid packs, and its archive's
 // `statepack inspect --json` matches the golden beside it; every file under tests/corpus/invalid
 // with a .expected sidecar (packed with the options of its .args sidecar, if any) fails with exit code 1
-// and prints each line of that sidecar exactly once
+// and prints each line of that sidecar exactly once; every file under tests/corpus/warnings packs and
+// prints its sidecar's warnings
 // (the sidecar may end with the "statepack: N error(s)" summary, which pins the count).
 // Regenerate goldens after an intended change with: STATEPACK_UPDATE_GOLDENS=1 ctest -R NotationCorpus
 #include <gtest/gtest.h>
@@ -104,6 +105,31 @@ TEST(NotationCorpus, InvalidFilesFailWithTheExpectedErrors) {
     while (std::getline(lines, line)) {
       if (line.empty()) continue;
       // Exactly once: an error reported for every shader that includes a file, say, is a failure too.
+      size_t count = 0;
+      for (size_t at = pack.output.find(line); at != std::string::npos; at = pack.output.find(line, at + 1))
+        ++count;
+      EXPECT_EQ(count, 1u) << "expected once: " << line << "\n" << pack.output;
+    }
+  }
+}
+
+// Every file under tests/corpus/warnings packs (exit 0: what Diligent accepts, statepack accepts) and
+// prints each line of its .expected sidecar exactly once: the warnings that say what the user should know.
+TEST(NotationCorpus, WarningFilesPackWithTheExpectedWarnings) {
+  auto expectations = files(kCorpus / "warnings", ".expected");
+  ASSERT_GE(expectations.size(), 3u);
+  for (const fs::path& expected : expectations) {
+    fs::path input = expected;
+    input.replace_extension(".json");
+    SCOPED_TRACE(input.filename().string());
+    CliRun pack =
+        run_in(input.parent_path(), "pack -i '" + input.filename().string() + "' -s ../shaders -o '" +
+                                        (kOutput / "warnings.spk").string() + "' --vulkan");
+    EXPECT_EQ(pack.exit_code, 0) << pack.output;
+    std::istringstream lines(read_file(expected));
+    std::string line;
+    while (std::getline(lines, line)) {
+      if (line.empty()) continue;
       size_t count = 0;
       for (size_t at = pack.output.find(line); at != std::string::npos; at = pack.output.find(line, at + 1))
         ++count;

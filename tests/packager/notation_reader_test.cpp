@@ -69,13 +69,19 @@ TEST(NotationReader, ImportedPipelinesAreReadAndDefaultsStayInTheirFile) {
   EXPECT_EQ(r.notation.files_read.size(), 2u);
 }
 
+// A cycle is a warning, as Diligent skips a file it is reading already: the import that closes it is
+// skipped, and the chain is named at it.
 TEST(NotationReader, AnImportCycleNamesItsChainAtTheImport) {
   Read r(Files{{"/p/main.json", R"({ "Imports": ["b.json"] })"},
                {"/p/b.json", "{\n  \"Imports\": [\"main.json\"]\n}"}});
   auto all = r.all();
   ASSERT_EQ(all.size(), 1u);
+  EXPECT_EQ(all[0].severity, Diagnostic::Severity::warning);
   // In memory the chain names the paths as the file set does (the CLI names them as the user did).
-  EXPECT_EQ(all[0].message, "import cycle: /p/main.json -> /p/b.json -> /p/main.json");
+  EXPECT_EQ(
+      all[0].message,
+      "import cycle: /p/main.json -> /p/b.json -> /p/main.json (the import is skipped: the file is being "
+      "read already, as in Diligent)");
   EXPECT_EQ(all[0].where.line, 2);
   EXPECT_EQ(all[0].where.pointer, "/Imports/0");
 }
