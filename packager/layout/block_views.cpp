@@ -190,6 +190,20 @@ struct Module {
         return 0;
     }
   }
+  // A struct's members as entries of its signature, in order; empty for other types.
+  std::vector<std::string> fields(uint32_t type) const {
+    std::vector<std::string> out;
+    auto at = defined(type);
+    if (!at || op(*at) != SpvOpTypeStruct) return out;
+    for (uint32_t m = 0; m + 2 < count(*at); ++m) {
+      std::string field =
+          std::to_string(member_offset(type, m).value_or(~0u)) + ":" + signature(w[*at + 2 + m]);
+      for (const auto& d : member_decorations_of(type, m))
+        for (uint32_t x : d) field += "," + std::to_string(x);
+      out.push_back(std::move(field));
+    }
+    return out;
+  }
   // The block struct a variable points to (0 when it is not one).
   uint32_t block_of(uint32_t variable) const {
     auto v = defined(variable);
@@ -203,6 +217,9 @@ struct Member {
   uint32_t offset = 0;
   uint64_t size = 0;
   std::string signature, name;
+  // A struct member's own members ("offset:signature,decorations"), to merge HLSL's
+  // `cbuffer ubo { UBO ubo; }` whose struct one stage declares in part: one must be a prefix of the other.
+  std::vector<std::string> fields;
   std::vector<std::vector<uint32_t>> decorations;
   size_t view = 0;     // the view that declares it
   uint32_t index = 0;  // its index in that view's block
@@ -223,6 +240,7 @@ std::string members_of(const std::vector<BlockView>& views, std::vector<Module>&
       member.type = m.w[*at + 2 + i];
       member.decorations = m.member_decorations_of(block, i);
       member.signature = m.signature(member.type);
+      member.fields = m.fields(member.type);
       member.size = m.size(member.type, member.decorations);
       const auto offset = m.member_offset(block, i);
       if (member.signature.empty() || !offset)
@@ -252,9 +270,17 @@ std::string merged_members(const std::vector<BlockView>& views,
   for (const auto& list : members)
     for (const Member& m : list) {
       auto [it, inserted] = by_offset.emplace(m.offset, &m);
-      if (!inserted && (it->second->signature != m.signature || it->second->decorations != m.decorations))
-        return describe(*it->second, views) + " and " + describe(m, views) +
-               " are different types at one offset";
+      if (inserted || (it->second->signature == m.signature && it->second->decorations == m.decorations))
+        continue;
+      // Two structs at one offset, one declaring the first members of the other: the larger is the view.
+      const Member& a = *it->second;
+      const Member& shorter = a.fields.size() <= m.fields.size() ? a : m;
+      const Member& longer = &shorter == &a ? m : a;
+      const bool prefix = !shorter.fields.empty() && a.decorations == m.decorations &&
+                          std::equal(shorter.fields.begin(), shorter.fields.end(), longer.fields.begin());
+      if (!prefix)
+        return describe(a, views) + " and " + describe(m, views) + " are different types at one offset";
+      it->second = &longer;
     }
   const Member* previous = nullptr;
   for (const auto& [offset, m] : by_offset) {
@@ -339,45 +365,68 @@ uint32_t import_type(const Module& from, uint32_t type, Module& to, uint32_t& bo
   return imported[type] = id;
 }
 
-// Module `v` with its block rewritten as `merged`, in `result` (the modules stay as they are: the others
-// import member types from them).
-std::string rewrite(size_t v, const std::vector<BlockView>& views, std::vector<Module>& modules,
-                    const std::vector<const Member*>& merged, std::vector<uint32_t>& result) {
-  Module& m = modules[v];
-  const uint32_t variable = views[v].variable;
-  const uint32_t old_block = m.block_of(variable);
-  uint32_t bound = m.w[3];
+// What rewriting one module's block needs across its steps.
+struct BlockRewrite {
+  size_t v = 0;
+  uint32_t variable = 0, old_block = 0, storage = 0, bound = 0;
   Additions add;
   std::map<uint32_t, uint32_t> new_index;  // old member index -> merged index
-  std::vector<uint32_t> member_types;
+  std::map<uint32_t, uint32_t> grown;      // old member index -> pointer to the larger struct it became
+  std::vector<uint32_t> member_types;      // of the merged struct
+};
+
+// The merged struct's member types as module `r.v` declares them: its own, or imported from the stage
+// that declares the member.
+std::string declare_member_types(BlockRewrite& r, const std::vector<BlockView>& views,
+                                 std::vector<Module>& modules, const std::vector<const Member*>& merged) {
+  Module& m = modules[r.v];
   for (uint32_t i = 0; i < merged.size(); ++i) {
     const Member& member = *merged[i];
     uint32_t type = 0;
-    if (member.view == v) {
+    if (member.view == r.v) {
       type = member.type;
-      new_index[member.index] = i;
+      r.new_index[member.index] = i;
     } else {
-      // Declared in this module too at that offset (with another name, maybe): the module's own.
-      for (uint32_t k = 0; !type && k + 2 < m.count(*m.defined(old_block)); ++k)
-        if (m.member_offset(old_block, k) == member.offset)
-          type = m.w[*m.defined(old_block) + 2 + k], new_index[k] = i;
-      if (!type) {
-        std::map<uint32_t, uint32_t> imported;
-        type = import_type(modules[member.view], member.type, m, bound, add, imported);
+      // Declared in this module too at that offset (with another name, maybe): the module's own, unless it
+      // is the first members of the merged struct, which is then declared here with those members' types.
+      std::map<uint32_t, uint32_t> imported;
+      for (uint32_t k = 0; !type && k + 2 < m.count(*m.defined(r.old_block)); ++k) {
+        if (m.member_offset(r.old_block, k) != member.offset) continue;
+        r.new_index[k] = i;
+        const uint32_t own = m.w[*m.defined(r.old_block) + 2 + k];
+        if (m.signature(own) == member.signature) {
+          type = own;
+          continue;
+        }
+        const Module& from = modules[member.view];
+        const size_t from_at = *from.defined(member.type), own_at = *m.defined(own);
+        for (uint32_t f = 0; f + 2 < m.count(own_at); ++f)
+          imported[from.w[from_at + 2 + f]] = m.w[own_at + 2 + f];
+        r.grown[k] = 0;  // its pointer type, made below
       }
-      if (!type) return views[v].shader + ": cannot declare member '" + member.name + "' there";
+      if (!type) type = import_type(modules[member.view], member.type, m, r.bound, r.add, imported);
+      if (!type) return views[r.v].shader + ": cannot declare member '" + member.name + "' there";
+      for (auto& [k, pointer] : r.grown)
+        if (pointer == 0 && r.new_index[k] == i) {
+          pointer = r.bound++;
+          emit(r.add.types, SpvOpTypePointer, {pointer, r.storage, type});
+        }
     }
-    member_types.push_back(type);
+    r.member_types.push_back(type);
   }
-  const uint32_t block = bound++, pointer = bound++;
-  add.types.push_back(uint32_t(2 + member_types.size()) << 16 | SpvOpTypeStruct);
+  return "";
+}
+
+// The merged struct, its decorations and names, and the pointer to it; returns that pointer.
+uint32_t declare_block(BlockRewrite& r, Module& m, const std::vector<const Member*>& merged) {
+  const uint32_t block = r.bound++, pointer = r.bound++;
+  Additions& add = r.add;
+  add.types.push_back(uint32_t(2 + r.member_types.size()) << 16 | SpvOpTypeStruct);
   add.types.push_back(block);
-  add.types.insert(add.types.end(), member_types.begin(), member_types.end());
-  auto var_at = *m.defined(variable);
-  const uint32_t storage = m.w[*m.defined(m.w[var_at + 1]) + 2];
-  emit(add.types, SpvOpTypePointer, {pointer, storage, block});
-  if (m.name.count(old_block)) emit(add.names, SpvOpName, {block}, string_words(m.name[old_block]));
-  if (auto it = m.decorations.find(old_block); it != m.decorations.end())
+  add.types.insert(add.types.end(), r.member_types.begin(), r.member_types.end());
+  emit(add.types, SpvOpTypePointer, {pointer, r.storage, block});
+  if (m.name.count(r.old_block)) emit(add.names, SpvOpName, {block}, string_words(m.name[r.old_block]));
+  if (auto it = m.decorations.find(r.old_block); it != m.decorations.end())
     for (size_t at : it->second) {
       std::vector<uint32_t> d(m.w.begin() + std::ptrdiff_t(at),
                               m.w.begin() + std::ptrdiff_t(at + m.count(at)));
@@ -389,25 +438,42 @@ std::string rewrite(size_t v, const std::vector<BlockView>& views, std::vector<M
     for (const auto& d : merged[i]->decorations) emit(add.annotations, SpvOpMemberDecorate, {block, i}, d);
     emit(add.names, SpvOpMemberName, {block, i}, string_words(merged[i]->name));
   }
-  // Member indices through the block's access chains: constants for the new ones.
-  std::map<size_t, uint32_t> retarget;                               // access chain -> its new first index id
+  return pointer;
+}
+
+// Access chains into the block, with their new first index (and result type where the member grew).
+struct ChainEdits {
+  std::map<size_t, uint32_t> retarget;  // access chain -> its new first index id
+  std::map<size_t, uint32_t> retyped;   // access chain -> its new result type
+};
+
+std::string edit_access_chains(BlockRewrite& r, const std::string& shader, Module& m, ChainEdits& edits) {
+  std::set<uint32_t> stops_at_grown;                                 // pointers to a grown member
   std::map<std::pair<uint32_t, uint32_t>, uint32_t> index_constant;  // (type, value) -> id
+  const uint32_t variable = r.variable;
   for (size_t at : m.starts) {
     const uint32_t op = m.op(at), n = m.count(at);
     const bool chain = op == SpvOpAccessChain || op == SpvOpInBoundsAccessChain;
     if (chain && n >= 5 && m.w[at + 3] == variable) {
       auto old_index = m.constant(m.w[at + 4]);
-      if (!old_index || !new_index.count(*old_index))
-        return views[v].shader + ": an access to the block this does not follow";
+      if (!old_index || !r.new_index.count(*old_index))
+        return shader + ": an access to the block this does not follow";
       const uint32_t type = m.w[*m.defined(m.w[at + 4]) + 1];
-      auto [it, added] = index_constant.try_emplace({type, new_index[*old_index]}, 0);
+      auto [it, added] = index_constant.try_emplace({type, r.new_index[*old_index]}, 0);
       if (added) {
-        it->second = bound++;
-        emit(add.types, SpvOpConstant, {type, it->second, new_index[*old_index]});
+        it->second = r.bound++;
+        emit(r.add.types, SpvOpConstant, {type, it->second, r.new_index[*old_index]});
       }
-      retarget[at] = it->second;
+      edits.retarget[at] = it->second;
+      // A chain that stops at a member grown into the larger struct points to that struct now; what it
+      // leads to may only index further (the members it reaches keep their indices).
+      if (auto g = r.grown.find(*old_index); g != r.grown.end() && n == 5) {
+        edits.retyped[at] = g->second;
+        stops_at_grown.insert(m.w[at + 2]);
+      }
       continue;
     }
+    if (chain && n >= 4 && stops_at_grown.count(m.w[at + 3])) continue;
     // Any other instruction that takes the block's pointer (loading or copying it whole, passing it on).
     const bool takes_pointer =
         (op == SpvOpLoad && n >= 4 && m.w[at + 3] == variable) ||
@@ -419,11 +485,22 @@ std::string rewrite(size_t v, const std::vector<BlockView>& views, std::vector<M
          std::find(m.w.begin() + std::ptrdiff_t(at + 3), m.w.begin() + std::ptrdiff_t(at + n), variable) !=
              m.w.begin() + std::ptrdiff_t(at + n));
     if (takes_pointer)
-      return views[v].shader + ": uses the block whole (a load, a copy, a call), which this does not rewrite";
+      return shader + ": uses the block whole (a load, a copy, a call), which this does not rewrite";
+    for (uint32_t k = 1; k < n && (op == SpvOpLoad || op == SpvOpCopyObject || op == SpvOpStore ||
+                                   op == SpvOpCopyMemory || op == SpvOpFunctionCall);
+         ++k)
+      if (stops_at_grown.count(m.w[at + k]))
+        return shader + ": uses a member the other stage declares larger whole, which this does not rewrite";
   }
-  // The module again, with the additions where the layout rules put them: names after the other names,
-  // decorations before the first type, and the new types and constants, then the block's variable
-  // (moved: the types it now points to use types declared anywhere before), before the first function.
+  return "";
+}
+
+// The module again, with the additions where the layout rules put them: names after the other names,
+// decorations before the first type, and the new types and constants, then the block's variable
+// (moved: the types it now points to use types declared anywhere before), before the first function.
+std::vector<uint32_t> reassemble(const Module& m, BlockRewrite& r, uint32_t pointer,
+                                 const ChainEdits& edits) {
+  const size_t var_at = *m.defined(r.variable);
   size_t names_at = 0, annotations_at = 0, globals_end = m.w.size();
   for (size_t at : m.starts) {
     const uint32_t op = m.op(at);
@@ -433,6 +510,7 @@ std::string rewrite(size_t v, const std::vector<BlockView>& views, std::vector<M
     if (op == SpvOpFunction && globals_end == m.w.size()) globals_end = at;
   }
   if (!names_at) names_at = annotations_at;
+  Additions& add = r.add;
   std::vector<uint32_t> moved(m.w.begin() + std::ptrdiff_t(var_at),
                               m.w.begin() + std::ptrdiff_t(var_at + m.count(var_at)));
   moved[1] = pointer;
@@ -445,39 +523,59 @@ std::string rewrite(size_t v, const std::vector<BlockView>& views, std::vector<M
     if (at == var_at) continue;
     const size_t first = out.size();
     out.insert(out.end(), m.w.begin() + std::ptrdiff_t(at), m.w.begin() + std::ptrdiff_t(at + m.count(at)));
-    if (auto it = retarget.find(at); it != retarget.end()) out[first + 4] = it->second;
+    if (auto it = edits.retarget.find(at); it != edits.retarget.end()) out[first + 4] = it->second;
+    if (auto it = edits.retyped.find(at); it != edits.retyped.end()) out[first + 1] = it->second;
   }
   if (names_at >= m.w.size()) out.insert(out.end(), add.names.begin(), add.names.end());
   if (globals_end >= m.w.size()) out.insert(out.end(), add.types.begin(), add.types.end());
-  out[3] = bound;
-  result = std::move(out);
+  out[3] = r.bound;
+  return out;
+}
+
+// Module `v` with its block rewritten as `merged`, in `result` (the modules stay as they are: the others
+// import member types from them).
+std::string rewrite(size_t v, const std::vector<BlockView>& views, std::vector<Module>& modules,
+                    const std::vector<const Member*>& merged, std::vector<uint32_t>& result) {
+  Module& m = modules[v];
+  BlockRewrite r;
+  r.v = v;
+  r.variable = views[v].variable;
+  r.old_block = m.block_of(r.variable);
+  r.storage = m.w[*m.defined(m.w[*m.defined(r.variable) + 1]) + 2];
+  r.bound = m.w[3];
+  if (std::string error = declare_member_types(r, views, modules, merged); !error.empty()) return error;
+  const uint32_t pointer = declare_block(r, m, merged);
+  ChainEdits edits;
+  if (std::string error = edit_access_chains(r, views[v].shader, m, edits); !error.empty()) return error;
+  result = reassemble(m, r, pointer, edits);
   return "";
+}
+
+// The views' modules parsed and their members merged (empty, or what stops them).
+std::string merge_views(const std::vector<BlockView>& views, std::vector<Module>& modules,
+                        std::vector<std::vector<Member>>& members, std::vector<const Member*>& merged) {
+  for (const BlockView& v : views) {
+    modules.emplace_back(*v.spirv);
+    if (!modules.back().ok) return v.shader + ": the module is malformed";
+  }
+  if (std::string problem = members_of(views, modules, members); !problem.empty()) return problem;
+  return merged_members(views, members, merged);
 }
 
 }  // namespace
 
 std::string block_views_conflict(const std::vector<BlockView>& views) {
   std::vector<Module> modules;
-  for (const BlockView& v : views) {
-    modules.emplace_back(*v.spirv);
-    if (!modules.back().ok) return v.shader + ": the module is malformed";
-  }
   std::vector<std::vector<Member>> members;
-  if (std::string problem = members_of(views, modules, members); !problem.empty()) return problem;
   std::vector<const Member*> merged;
-  return merged_members(views, members, merged);
+  return merge_views(views, modules, members, merged);
 }
 
 std::string merge_block_views(const std::vector<BlockView>& views) {
   std::vector<Module> modules;
-  for (const BlockView& v : views) {
-    modules.emplace_back(*v.spirv);
-    if (!modules.back().ok) return v.shader + ": the module is malformed";
-  }
   std::vector<std::vector<Member>> members;
-  if (std::string problem = members_of(views, modules, members); !problem.empty()) return problem;
   std::vector<const Member*> merged;
-  if (std::string conflict = merged_members(views, members, merged); !conflict.empty()) return conflict;
+  if (std::string conflict = merge_views(views, modules, members, merged); !conflict.empty()) return conflict;
   // All or nothing: the modules are replaced once every one is rewritten.
   std::vector<std::vector<uint32_t>> results(views.size());
   for (size_t v = 0; v < views.size(); ++v)

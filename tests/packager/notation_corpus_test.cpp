@@ -1,9 +1,8 @@
 // The notation corpus: every file under tests/corpus/valid packs, and its archive's
 // `statepack inspect --json` matches the golden beside it; every file under tests/corpus/invalid
 // with a .expected sidecar (packed with the options of its .args sidecar, if any) fails with exit code 1
-// and prints each line of that sidecar exactly once; every file under tests/corpus/warnings packs and
-// prints its sidecar's warnings
-// (the sidecar may end with the "statepack: N error(s)" summary, which pins the count).
+// and prints each line of that sidecar exactly once (it may end with the "statepack: N error(s)" summary,
+// which pins the count); every file under tests/corpus/warnings packs and prints its sidecar's warnings.
 // Regenerate goldens after an intended change with: STATEPACK_UPDATE_GOLDENS=1 ctest -R NotationCorpus
 #include <gtest/gtest.h>
 
@@ -65,6 +64,19 @@ TEST(NotationCorpus, ValidFilesPackAndMatchTheirGoldens) {
   }
 }
 
+// Each non-empty line of `expected` appears in `output` exactly once: an error reported for every shader
+// that includes a file, say, is a failure too.
+void expect_each_line_once(const fs::path& expected, const std::string& output) {
+  std::istringstream lines(read_file(expected));
+  std::string line;
+  while (std::getline(lines, line)) {
+    if (line.empty()) continue;
+    size_t count = 0;
+    for (size_t at = output.find(line); at != std::string::npos; at = output.find(line, at + 1)) ++count;
+    EXPECT_EQ(count, 1u) << "expected once: " << line << "\n" << output;
+  }
+}
+
 // One source, every backend: every valid file packs for OpenGL too (translated from Vulkan, or from its
 // own text where it tests VULKAN), and what it writes loads (pack checks that before writing).
 TEST(NotationCorpus, ValidFilesPackForOpenGlToo) {
@@ -100,16 +112,7 @@ TEST(NotationCorpus, InvalidFilesFailWithTheExpectedErrors) {
         run_in(input.parent_path(), "pack -i '" + input.filename().string() + "' -s ../shaders -o '" +
                                         (kOutput / "invalid.spk").string() + "' --vulkan " + args);
     EXPECT_EQ(pack.exit_code, 1) << pack.output;
-    std::istringstream lines(read_file(expected));
-    std::string line;
-    while (std::getline(lines, line)) {
-      if (line.empty()) continue;
-      // Exactly once: an error reported for every shader that includes a file, say, is a failure too.
-      size_t count = 0;
-      for (size_t at = pack.output.find(line); at != std::string::npos; at = pack.output.find(line, at + 1))
-        ++count;
-      EXPECT_EQ(count, 1u) << "expected once: " << line << "\n" << pack.output;
-    }
+    expect_each_line_once(expected, pack.output);
   }
 }
 
@@ -126,15 +129,7 @@ TEST(NotationCorpus, WarningFilesPackWithTheExpectedWarnings) {
         run_in(input.parent_path(), "pack -i '" + input.filename().string() + "' -s ../shaders -o '" +
                                         (kOutput / "warnings.spk").string() + "' --vulkan");
     EXPECT_EQ(pack.exit_code, 0) << pack.output;
-    std::istringstream lines(read_file(expected));
-    std::string line;
-    while (std::getline(lines, line)) {
-      if (line.empty()) continue;
-      size_t count = 0;
-      for (size_t at = pack.output.find(line); at != std::string::npos; at = pack.output.find(line, at + 1))
-        ++count;
-      EXPECT_EQ(count, 1u) << "expected once: " << line << "\n" << pack.output;
-    }
+    expect_each_line_once(expected, pack.output);
   }
 }
 

@@ -916,3 +916,76 @@ TEST_F(PackagerCli, OpenGlPackingEdgeCases) {
 }
 
 }  // namespace
+
+namespace {
+
+// BYTECODE: a module of another compiler, here written with SPIRV-Tools' assembler: two entry points, of
+// which the shader's EntryPoint is kept (and the first of its stage without one, as in Diligent); a
+// module of a later SPIR-V than --vulkan_version takes is an error naming both versions.
+TEST_F(PackagerCli, BytecodeKeepsTheShadersEntryPointAndChecksItsVersion) {
+  std::ofstream(dir_ / "two.spvasm") << R"(OpCapability Shader
+OpMemoryModel Logical GLSL450
+OpEntryPoint GLCompute %first "first"
+OpEntryPoint GLCompute %second "second"
+OpExecutionMode %first LocalSize 1 1 1
+OpExecutionMode %second LocalSize 2 1 1
+%void = OpTypeVoid
+%fn = OpTypeFunction %void
+%first = OpFunction %void None %fn
+%a = OpLabel
+OpReturn
+OpFunctionEnd
+%second = OpFunction %void None %fn
+%b = OpLabel
+OpReturn
+OpFunctionEnd
+)";
+  ASSERT_EQ(
+      statepack::testing::run_command("spirv-as --target-env vulkan1.0 -o '" + (dir_ / "two.spv").string() +
+                                      "' '" + (dir_ / "two.spvasm").string() + "'")
+          .exit_code,
+      0);
+  std::ofstream(dir_ / "bytecode.json") << R"({"Pipelines": [
+    {"PSODesc": {"Name": "Second"}, "pCS": {"Desc": {"Name": "Second CS"}, "SourceLanguage": "BYTECODE",
+     "FilePath": "two.spv", "EntryPoint": "second"}},
+    {"PSODesc": {"Name": "Default"}, "pCS": {"Desc": {"Name": "Default CS"}, "SourceLanguage": "BYTECODE",
+     "FilePath": "two.spv"}}]})";
+  const fs::path spk = dir_ / "bytecode.spk", dump = dir_ / "bytecode_dump";
+  CliRun pack = statepack_in(
+      dir_, "pack -i bytecode.json -o '" + spk.string() + "' --vulkan -d '" + dump.string() + "'");
+  ASSERT_EQ(pack.exit_code, 0) << pack.output;
+  CliRun inspect = statepack("inspect --json '" + spk.string() + "'");
+  EXPECT_NE(inspect.output.find(
+                "\"name\": \"Second CS\",\n      \"stage\": \"Compute\",\n      \"entry_point\": \"second\""),
+            std::string::npos)
+      << inspect.output;
+  EXPECT_NE(inspect.output.find(
+                "\"name\": \"Default CS\",\n      \"stage\": \"Compute\",\n      \"entry_point\": \"first\""),
+            std::string::npos)
+      << inspect.output;
+  // The module is cut to that entry point: the other and its execution mode are gone.
+  const std::string kept = read_file(dump / "Vulkan" / "compute" / "Second" / "Second CS.spvasm");
+  EXPECT_NE(kept.find("\"second\""), std::string::npos) << kept;
+  EXPECT_NE(kept.find("LocalSize 2 1 1"), std::string::npos) << kept;
+  EXPECT_EQ(kept.find("\"first\""), std::string::npos) << kept;
+  EXPECT_EQ(kept.find("LocalSize 1 1 1"), std::string::npos) << kept;
+  EXPECT_EQ(statepack("verify '" + spk.string() + "'").exit_code, 0);
+
+  // SPIR-V 1.3 (Vulkan 1.1's): refused for Vulkan 1.0, packed for 1.1.
+  ASSERT_EQ(
+      statepack::testing::run_command("spirv-as --target-env vulkan1.1 -o '" + (dir_ / "two.spv").string() +
+                                      "' '" + (dir_ / "two.spvasm").string() + "'")
+          .exit_code,
+      0);
+  CliRun old = statepack_in(dir_, "pack -i bytecode.json -o '" + spk.string() + "' --vulkan");
+  EXPECT_EQ(old.exit_code, 1) << old.output;
+  EXPECT_NE(old.output.find("two.spv is SPIR-V 1.3, but --vulkan_version 1.0 takes SPIR-V 1.0 at most"),
+            std::string::npos)
+      << old.output;
+  EXPECT_EQ(
+      statepack_in(dir_, "pack -i bytecode.json -o '" + spk.string() + "' --vulkan --vulkan_version 1.1")
+          .exit_code,
+      0);
+}
+
+}  // namespace

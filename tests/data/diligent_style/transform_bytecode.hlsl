@@ -3,6 +3,7 @@
 // spelled without Diligent's definitions. Rebuild it with glslang's command-line compiler:
 //   glslangValidator -V -D -S vert -e main --hlsl-iomap -fhlsl_functionality1 \
 //     -o transform_bytecode.spv transform_bytecode.hlsl
+// tests/corpus/shaders/transform_bytecode.spv is a copy of that module (the corpus's BYTECODE case).
 #pragma pack_matrix(row_major)
 
 cbuffer Constants
