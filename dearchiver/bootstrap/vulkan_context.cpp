@@ -72,10 +72,21 @@ Result<void> VulkanContext::create_instance(const VulkanContextOptions& options)
   messenger_info.pfnUserCallback = &VulkanContext::on_message;
   messenger_info.pUserData = this;
   VkInstanceCreateInfo instance_info{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
+  const VkValidationFeatureEnableEXT synchronization =
+      VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT;
+  VkValidationFeaturesEXT features{VK_STRUCTURE_TYPE_VALIDATION_FEATURES_EXT};
+  features.enabledValidationFeatureCount = 1;
+  features.pEnabledValidationFeatures = &synchronization;
   if (validation) {
     layers.push_back(kValidationLayer);
     extensions.push_back(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
     instance_info.pNext = &messenger_info;  // also catches messages from instance creation itself
+    if (options.synchronization_validation) {
+      // The layer implements VK_EXT_validation_features itself.
+      extensions.push_back(VK_EXT_VALIDATION_FEATURES_EXTENSION_NAME);
+      features.pNext = &messenger_info;
+      instance_info.pNext = &features;
+    }
   }
   instance_info.pApplicationInfo = &app;
   instance_info.enabledLayerCount = static_cast<uint32_t>(layers.size());

@@ -45,6 +45,20 @@ bool check_search_dirs(const char* option, const std::vector<std::string>& dirs,
   return ok;
 }
 
+// A count, size, index or version option refuses a negative number by its sign: CLI11 converts "-1"
+// to some unsigned types as its two's complement (a limit of 2^64-1) and AsSizeValue reads it as a size,
+// and a negative --device would mean "the default". A transform runs before the option's other
+// validators and transforms, so this sees the text as the user wrote it.
+CLI::Option* not_negative(CLI::Option* option) {
+  return option->transform(CLI::Validator(
+      [](std::string& text) -> std::string {
+        const auto first = text.find_first_not_of(" \t");
+        if (first != std::string::npos && text[first] == '-') return "must not be negative, not " + text;
+        return {};
+      },
+      ""));
+}
+
 std::optional<uint32_t> parse_vulkan_version(const std::string& text) {
   if (text == "1.0") return (1u << 22) | (0u << 12);
   if (text == "1.1") return (1u << 22) | (1u << 12);
@@ -81,7 +95,8 @@ struct PackCommand {
     output_option = app->add_option("-o,--output", output, "Output archive (required unless --check)");
     app->add_flag("--check", options.check_only,
                   "Pack and validate everything, but write no archive or depfile (-o not needed)");
-    app->add_option("--max-errors", options.max_errors, "Stop after this many errors; 0: no limit")
+    not_negative(
+        app->add_option("--max-errors", options.max_errors, "Stop after this many errors; 0: no limit"))
         ->capture_default_str();
     // One limit for every file read (notation files, shaders, includes) and for a shader's includes in
     // all: a bound on memory, not on what a project may hold.
@@ -91,9 +106,11 @@ struct PackCommand {
         ->capture_default_str()
         ->transform(CLI::AsSizeValue(false))
         ->check(CLI::Range(uint64_t{1}, uint64_t{1} << 40));
-    app->add_option("-t,--thread", options.threads, "Compiler threads (0: all cores)")->capture_default_str();
-    app->add_option("-v,--content_version", options.content_version,
-                    "User content version stored in the header")
+    not_negative(app->get_option("--max-input-size"));
+    not_negative(app->add_option("-t,--thread", options.threads, "Compiler threads (0: all cores)"))
+        ->capture_default_str();
+    not_negative(app->add_option("-v,--content_version", options.content_version,
+                                 "User content version stored in the header"))
         ->capture_default_str();
     app->add_option("-D", defines, "Macro for every shader, NAME=VALUE or NAME (repeatable)");
     app->add_option("--depfile", depfile,
@@ -127,6 +144,7 @@ struct PackCommand {
                     "Size bound of --cache-dir, least recently used entries removed first (suffixes K, M, G)")
         ->capture_default_str()
         ->transform(CLI::AsSizeValue(false));
+    not_negative(app->get_option("--cache-max-size"));
     app->add_flag("--vulkan", vulkan, "Produce the Vulkan backend (SPIR-V)");
     app->add_flag("--opengl", opengl,
                   "Produce the OpenGL backend (OpenGL 4.5 + GL_ARB_gl_spirv) from the same sources: each "
@@ -222,6 +240,7 @@ struct CacheCommand {
     prune->add_option("--max-size", max_bytes, "Bytes to keep at most (suffixes K, M, G; 0 empties it)")
         ->capture_default_str()
         ->transform(CLI::AsSizeValue(false));
+    not_negative(prune->get_option("--max-size"));
   }
   int run() {
     auto r = CompileCache::prune(dir, max_bytes);
@@ -247,8 +266,9 @@ struct MergeCommand {
                                 "name defined differently in two inputs is an error");
     app->add_option("archives", inputs, "Archives to merge, in order")->required();
     app->add_option("-o,--output", output, "The merged archive")->required();
-    app->add_option("-v,--content_version", options.content_version,
-                    "Content version of the merged archive (default: the inputs', which must then agree)");
+    not_negative(app->add_option(
+        "-v,--content_version", options.content_version,
+        "Content version of the merged archive (default: the inputs', which must then agree)"));
   }
   int run() {
     for (const auto& p : inputs) options.inputs.emplace_back(p);
@@ -270,9 +290,9 @@ struct VerifyCommand {
         "Unpack every object of archives on a local Vulkan device, validation layer on; "
         "exit 1 on any error or validation message");
     app->add_option("archives", paths, "Archives to verify")->required();
-    app->add_option(
+    not_negative(app->add_option(
         "--device", options.device_index,
-        "Vulkan device index (vkEnumeratePhysicalDevices order; default: the first Vulkan 1.3 one)");
+        "Vulkan device index (vkEnumeratePhysicalDevices order; default: the first Vulkan 1.3 one)"));
     app->add_option(
            "--format", format,
            "Format for render targets the archive leaves to run time (UNKNOWN, or absent while the pixel "
@@ -286,9 +306,10 @@ struct VerifyCommand {
         "Variants file (Dearchiver::save_variants, docs/variants.md): create exactly these patched "
         "pipelines instead of every object; with --cache, warms the cache for them");
     app->add_flag("--no-validation", no_validation, "Do not enable the validation layer");
-    app->add_option("--timeout", options.timeout_seconds,
-                    "Seconds an object may take to create: objects are created in worker processes, so a "
-                    "driver crash or hang fails only that object (0: in this process, no limit)")
+    not_negative(
+        app->add_option("--timeout", options.timeout_seconds,
+                        "Seconds an object may take to create: objects are created in worker processes, so a "
+                        "driver crash or hang fails only that object (0: in this process, no limit)"))
         ->capture_default_str();
     // Internal: a worker of the above, started by verify itself (verify_supervisor.cpp).
     app->add_option("--worker-start", worker_start)->group("");

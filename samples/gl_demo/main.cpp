@@ -57,6 +57,15 @@ int main(int argc, char** argv) {
                 STATEPACK_DEFAULT_GL_ARCHIVE);
     return 0;
   }
+  // One archive at most, and no options but --help: anything else is a usage error (exit 2), not a
+  // file name or an argument silently dropped.
+  if (argc > 2 || path.starts_with("-")) {
+    std::fprintf(
+        stderr,
+        "gl_demo: error: unexpected argument '%s'\nusage: gl_demo [archive.spk]  (packed with --opengl)\n",
+        printable(argc > 2 ? argv[2] : path).c_str());
+    return 2;
+  }
   auto archive = statepack::Archive::from_file(path);
   if (!archive) return fail("load", archive.error());
   std::printf("archive %s: format v%u, content version %u\n", printable(path).c_str(),

@@ -206,21 +206,32 @@ int main(int argc, char** argv) {
   CLI::App app{"accuracy_report: error against time and samples for each estimator configuration"};
   app.add_option("--archive", archive)->capture_default_str();
   app.add_option("--scene", scene_path)->capture_default_str();
-  app.add_option("--width", width)->capture_default_str();
-  app.add_option("--height", height)->capture_default_str();
-  app.add_option("--bounces", bounce_counts, "Bounce counts to measure")->capture_default_str();
+  app.add_option("--width", width)->capture_default_str()->check(CLI::Range(8u, 8192u));
+  app.add_option("--height", height)->capture_default_str()->check(CLI::Range(8u, 8192u));
+  app.add_option("--bounces", bounce_counts, "Bounce counts to measure")
+      ->capture_default_str()
+      ->check(CLI::Range(1u, 8u));
   app.add_option("--reference-spp", reference_spp, "Samples per pixel of the CPU reference")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(CLI::Range(1u, 1u << 24));
   app.add_option("--max-spp", max_spp, "Largest spp of the sweep (powers of two from 1)")
-      ->capture_default_str();
-  app.add_option("--seeds", seeds, "Independent runs per point")->capture_default_str();
+      ->capture_default_str()
+      ->check(CLI::Range(1u, 1u << 20));
+  app.add_option("--seeds", seeds, "Independent runs per point")
+      ->capture_default_str()
+      ->check(CLI::Range(1u, 1000u));
   std::vector<std::string> only;
   app.add_option("--configs", only, "Measure only these configurations (the first is the one compared with)");
   app.add_option("--timing-rounds", timing_rounds, "Interleaved rounds of the timing pass")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(CLI::Range(1u, 1000u));
   app.add_option("--out-dir", out_dir, "Where the CSVs, plots and gnuplot script go")->capture_default_str();
   app.add_option("--doc", doc, "Markdown report to write (e.g. docs/accuracy.md)");
-  CLI11_PARSE(app, argc, argv);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? 0 : 2;  // --help is 0; every usage error is 2
+  }
 
   auto scene = load_scene(scene_path);
   if (!scene) return std::fprintf(stderr, "%s\n", printable(scene.error().message).c_str()), 1;

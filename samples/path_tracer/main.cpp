@@ -112,7 +112,11 @@ int main(int argc, char** argv) {
   app.add_flag(
       "!--no-validation", o.validation,
       "Run without the Vulkan validation layer (by default it is on, and any message fails the run)");
-  CLI11_PARSE(app, argc, argv);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? 0 : 2;  // --help is 0; every usage error is 2, as in statepack
+  }
   if (no_nee) estimator = "bsdf";
   o.settings.estimator = parse_choice<Estimator>(estimator, kEstimatorNames);
   o.settings.next_event_estimation = o.settings.estimator != Estimator::bsdf;

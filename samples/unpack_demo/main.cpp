@@ -57,6 +57,13 @@ int main(int argc, char** argv) {
     std::printf("usage: unpack_demo [archive.spk]\n  default: %s\n", STATEPACK_DEFAULT_ARCHIVE);
     return 0;
   }
+  // One archive at most, and no options but --help: anything else is a usage error (exit 2), not a
+  // file name or an argument silently dropped.
+  if (argc > 2 || path.starts_with("-")) {
+    std::fprintf(stderr, "unpack_demo: error: unexpected argument '%s'\nusage: unpack_demo [archive.spk]\n",
+                 printable(argc > 2 ? argv[2] : path).c_str());
+    return 2;
+  }
   auto archive = statepack::Archive::from_file(path);
   if (!archive) return fail("load", archive.error());
   const std::vector<statepack::ObjectInfo> objects = archive->objects();

@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "arguments.hpp"
 #include "statepack/bootstrap/gl_context.hpp"
 #include "statepack/gl_dearchiver.hpp"
 
@@ -134,7 +135,10 @@ int main(int argc, char** argv) {
     return 2;
   }
   const char* archive_path = argv[1];
-  const int repeats = std::max(1, std::atoi(argv[2]));
+  const auto repeats_given = statepack::benchmarks::positive_count(argv[2]);
+  if (!repeats_given)
+    return std::fprintf(stderr, "gl_load_benchmark: repeats must be a number from 1, not '%s'\n", argv[2]), 2;
+  const int repeats = *repeats_given;
   std::vector<PipelineSource> pipelines;
   for (int i = 3; i < argc; ++i) {
     std::string arg = argv[i];

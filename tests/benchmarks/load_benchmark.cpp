@@ -28,6 +28,7 @@
 #define CALLGRIND_TOGGLE_COLLECT
 #endif
 
+#include "arguments.hpp"
 #include "format/archive_format.hpp"
 #include "notation/notation.hpp"
 #include "shaders/shader_compiler.hpp"
@@ -203,7 +204,11 @@ int main(int argc, char** argv) {
     return 2;
   }
   const std::string archive_path = argv[1];
-  const int repeats = argc > 4 ? std::max(1, std::atoi(argv[4])) : 5;
+  const auto repeats_given = argc > 4 ? statepack::benchmarks::positive_count(argv[4]) : 5;
+  if (argc > 5) return std::fprintf(stderr, "load_benchmark: unexpected argument '%s'\n", argv[5]), 2;
+  if (!repeats_given)
+    return std::fprintf(stderr, "load_benchmark: repeats must be a number from 1, not '%s'\n", argv[4]), 2;
+  const int repeats = *repeats_given;
   auto file = detail::read_regular_file(archive_path, uint64_t{0xFFFFFFFFu});
   if (!file) return std::fprintf(stderr, "%s\n", file.error().message.c_str()), 1;
   std::span<const uint8_t> bytes = file->bytes();

@@ -7,7 +7,7 @@
 #include "statepack/dearchiver.hpp"
 
 int main(int argc, char** argv) {
-  if (argc < 3) return std::fprintf(stderr, "usage: min_dearchiver <archive> <compute pipeline>\n"), 2;
+  if (argc != 3) return std::fprintf(stderr, "usage: min_dearchiver <archive> <compute pipeline>\n"), 2;
   auto vk = statepack::bootstrap::VulkanContext::create({false, false, {}});
   auto archive = statepack::Archive::from_file(argv[1]);
   if (!vk || !archive) return 1;

@@ -11,7 +11,7 @@
 #include "statepack/bootstrap/vulkan_context.hpp"
 
 int main(int argc, char** argv) {
-  if (argc < 2) return std::fprintf(stderr, "usage: min_glslang <shader.comp>\n"), 2;
+  if (argc != 2) return std::fprintf(stderr, "usage: min_glslang <shader.comp>\n"), 2;
   std::ifstream file(argv[1]);
   std::stringstream text;
   text << file.rdbuf();

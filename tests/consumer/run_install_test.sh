@@ -33,6 +33,15 @@ grep -rq "$build_dir" "$config_dir" "$libdir/pkgconfig" && fail "an installed CM
 # The packager on PATH must not be what the build uses: the installed function runs statepack::statepack.
 export PATH=/usr/bin:/bin
 command -v statepack >/dev/null && fail "a statepack on PATH would hide what the function runs"
+# The applications make no messenger of their own: the validation layer, enabled from the environment
+# with synchronization validation, prints what it finds, and any such line fails the run.
+validated() {
+  VK_INSTANCE_LAYERS=VK_LAYER_KHRONOS_validation \
+    VK_LAYER_ENABLES=VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT "$@" 2>&1 || return 1
+}
+no_validation_messages() {  # <label> <output>
+  if echo "$2" | grep -qE "Validation (Error|Warning)|SYNC-HAZARD"; then fail "$1: validation messages: $2"; fi
+}
 consume() {  # <generator> <configuration> <where the application lands>
   local dir="$work/$1" config=$2
   cp -r "$here" "$dir-src"
@@ -41,15 +50,17 @@ consume() {  # <generator> <configuration> <where the application lands>
   out=$(cmake --build "$dir" --config "$config" 2>&1) || fail "$1: build failed: $out"
   echo "$out" | grep -q "statepack: packing" || fail "$1: the archive was not packed: $out"
   grep -rqF --include="*.ninja" "$prefix/bin/statepack" "$dir" || fail "$1: the pack command is not the installed statepack"
-  out=$("$dir/$3/consumer_app" "$dir/consumer.spk" 2>&1) || fail "$1: consumer_app failed: $out"
+  out=$(validated "$dir/$3/consumer_app" "$dir/consumer.spk") || fail "$1: consumer_app failed: $out"
   echo "$out" | grep -q "unpacked 'Consumer PSO'" || fail "$1: consumer_app: $out"
+  no_validation_messages "$1: consumer_app" "$out"
   echo "$1 ($config): $out"
   # Owning dispatch through volk: the application needs no libvulkan, directly or through statepack.
   needs=$(readelf -d "$dir/$3/consumer_volk_app" | grep NEEDED)
   echo "$needs" | grep -q libc.so || fail "$1: readelf shows no NEEDED entries, so the check proves nothing: $needs"
   echo "$needs" | grep -q libvulkan && fail "$1: consumer_volk_app links the Vulkan loader: $needs"
-  out=$("$dir/$3/consumer_volk_app" "$dir/consumer.spk" 2>&1) || fail "$1: consumer_volk_app failed: $out"
+  out=$(validated "$dir/$3/consumer_volk_app" "$dir/consumer.spk") || fail "$1: consumer_volk_app failed: $out"
   echo "$out" | grep -q "unpacked 'Consumer PSO' (.*) through volk" || fail "$1: consumer_volk_app: $out"
+  no_validation_messages "$1: consumer_volk_app" "$out"
   echo "$1 ($config): $out"
   out=$("$dir/$3/consumer_gl_app" "$dir/consumer_gl.spk" 2>&1) || fail "$1: consumer_gl_app failed: $out"
   echo "$out" | grep -q "unpacked 'Consumer PSO' on OpenGL" || fail "$1: consumer_gl_app: $out"

@@ -29,6 +29,9 @@ struct VulkanContextOptions {
   // The device's host allocator (vkCreateDevice's pAllocator, kept until the device is destroyed): the
   // driver allocates objects made on the device through it.
   const VkAllocationCallbacks* device_allocator = nullptr;
+  // With validation: also the layer's synchronization validation (missing or wrong barriers, hazards
+  // between submissions), reported like every other message.
+  bool synchronization_validation = true;
 };
 
 class VulkanContext {

@@ -1,0 +1,69 @@
+#!/bin/bash
+# Usage errors exit 2 in every program of the project, with a message that names what is wrong; --help
+# exits 0. A negative count, size, index or version is a usage error, never a silent default or a
+# two's-complement limit. Arguments: NAME=PATH for each program built (statepack is required).
+set -u
+declare -A bin
+for arg in "$@"; do bin[${arg%%=*}]=${arg#*=}; done
+[ -n "${bin[statepack]:-}" ] || { echo "usage: $0 statepack=PATH [path_tracer=PATH ...]"; exit 2; }
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+echo '{}' >"$work/empty.json"
+failures=0
+checked=0
+
+expect() {  # <program> <expected exit> <text the output must contain> <args...>
+  local program=$1 want=$2 text=$3
+  shift 3
+  [ -n "${bin[$program]:-}" ] || return 0
+  local out rc
+  out=$(cd "$work" && timeout 60 "${bin[$program]}" "$@" 2>&1)
+  rc=$?
+  checked=$((checked + 1))
+  if [ "$rc" != "$want" ] || ! grep -qF -- "$text" <<<"$out"; then
+    echo "FAIL: $program $*: exit $rc (want $want), output lacks '$text':"
+    echo "$out" | head -5
+    failures=$((failures + 1))
+  fi
+}
+
+pack=(pack -i empty.json -o out.spk --vulkan)
+expect statepack 2 "--max-errors: must not be negative" "${pack[@]}" --max-errors -1
+expect statepack 2 "--thread: must not be negative" "${pack[@]}" -t -1
+expect statepack 2 "--content_version: must not be negative" "${pack[@]}" -v -1
+expect statepack 2 "--max-input-size: must not be negative" "${pack[@]}" --max-input-size -1
+expect statepack 2 "--cache-max-size: must not be negative" "${pack[@]}" --cache-max-size -1K
+expect statepack 2 "--cache-max-size: must not be negative" "${pack[@]}" --cache-max-size " -5"
+expect statepack 0 "" "${pack[@]}" --max-errors 0 -t 1 -v 3 --cache-max-size 1M
+expect statepack 2 "--device: must not be negative" verify out.spk --device -1
+expect statepack 2 "--timeout: must not be negative" verify out.spk --timeout -1
+expect statepack 2 "--content_version: must not be negative" merge -o merged.spk out.spk -v -1
+expect statepack 2 "--max-size: must not be negative" cache prune --max-size -1 "$work"
+expect statepack 2 "The following argument was not expected: --bogus" "${pack[@]}" --bogus
+expect statepack 0 "Exit codes" --help
+
+expect path_tracer 2 "--frames" --frames -1
+expect path_tracer 2 "--seed" --seed -1
+expect path_tracer 2 "--spp" --headless --spp 0
+expect path_tracer 2 "--bogus" --bogus
+expect path_tracer 0 "--headless" --help
+expect accuracy_report 2 "--seeds" --seeds 0
+expect accuracy_report 2 "--width" --width -1
+expect accuracy_report 2 "--timing-rounds" --timing-rounds -1
+expect accuracy_report 0 "--reference-spp" --help
+expect unpack_demo 2 "unexpected argument '--bogus'" --bogus
+expect unpack_demo 2 "unexpected argument 'second.spk'" out.spk second.spk
+expect unpack_demo 0 "usage: unpack_demo" --help
+expect gl_demo 2 "unexpected argument '-1'" -1
+expect gl_demo 2 "unexpected argument 'second.spk'" out.spk second.spk
+expect load_benchmark 2 "repeats must be a number from 1, not '-1'" out.spk empty.json . -1
+expect load_benchmark 2 "unexpected argument 'more'" out.spk empty.json . 3 more
+expect gl_load_benchmark 2 "repeats must be a number from 1, not '2x'" out.spk 2x a=b.comp
+expect min_dearchiver 2 "usage: min_dearchiver" out.spk one two
+expect min_glslang 2 "usage: min_glslang" a.comp b.comp
+
+if [ "$failures" -ne 0 ]; then
+  echo "$failures of $checked usage checks failed"
+  exit 1
+fi
+echo "all $checked usage checks passed"
