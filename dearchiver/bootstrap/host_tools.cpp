@@ -3,6 +3,7 @@
 #include "statepack/bootstrap/host_tools.hpp"
 
 #include "support/file_io.hpp"
+#include "support/output_files.hpp"
 #include "support/parallel_for.hpp"
 #include "support/printable.hpp"
 
@@ -22,6 +23,14 @@ Result<std::vector<uint8_t>> read_file(const std::filesystem::path& path, uint64
 Result<void> write_file_atomically(const std::filesystem::path& path, std::span<const uint8_t> bytes,
                                    const std::vector<std::filesystem::path>& inputs) {
   return detail::write_file_atomically(path, bytes, inputs);
+}
+
+std::string output_refusal(const std::filesystem::path& path,
+                           const std::vector<std::filesystem::path>& inputs) {
+  std::vector<detail::InputFile> protected_inputs;
+  for (const auto& input : inputs)
+    if (auto id = detail::file_identity(input)) protected_inputs.push_back({input, *id});
+  return detail::OutputSet(std::move(protected_inputs)).refuse_reason(path);
 }
 
 void parallel_for(size_t count, uint32_t threads, const std::function<void(size_t)>& work) {

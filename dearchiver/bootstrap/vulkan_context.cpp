@@ -234,6 +234,7 @@ Result<void> VulkanContext::create_device(const VulkanContextOptions& options) {
 
 DeviceContext VulkanContext::device_context() const {
   DeviceContext context{physical_device, device};
+  context.api_version = VK_API_VERSION_1_3;  // what create_instance asks for
   context.enabled_features = &enabled_features;
   context.enabled_feature_chain = &enabled_features2;
   context.enabled_extensions = enabled_extensions.data();

@@ -238,6 +238,8 @@ Result<Dearchiver> Dearchiver::create(const DeviceContext& context) {
     state->caps.physical_device = context.physical_device;
     state->caps.vk = *functions;
     state->caps.vk.vkGetPhysicalDeviceProperties(context.physical_device, &state->caps.properties);
+    // From here on the version is what the application may use, not what the device could do.
+    state->caps.properties.apiVersion = effective_api_version(context, state->caps.properties.apiVersion);
     state->enabled = EnabledFeatures::gather(context, state->caps);
     state->creation_feedback = state->caps.properties.apiVersion >= VK_API_VERSION_1_3 ||
                                state->enabled.has_extension(VK_EXT_PIPELINE_CREATION_FEEDBACK_EXTENSION_NAME);

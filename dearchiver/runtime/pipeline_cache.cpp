@@ -42,10 +42,12 @@ struct Identity {
   std::string driver_text;
 };
 
-Identity identity_of(const VulkanFunctions& vk, VkPhysicalDevice physical_device) {
+Identity identity_of(const VulkanFunctions& vk, const DeviceContext& context) {
   Identity id;
   VkPhysicalDeviceProperties props;
+  const VkPhysicalDevice physical_device = context.physical_device;
   vk.vkGetPhysicalDeviceProperties(physical_device, &props);
+  props.apiVersion = effective_api_version(context, props.apiVersion);
   id.vendor = props.vendorID;
   id.device = props.deviceID;
   id.driver_version = props.driverVersion;
@@ -120,7 +122,7 @@ Result<PipelineCacheLoad> load_pipeline_cache(const DeviceContext& context,
     std::span<const uint8_t> file;
     if (read) {
       file = read->bytes();
-      out.reason = mismatch(file, identity_of(*vk, context.physical_device));
+      out.reason = mismatch(file, identity_of(*vk, context));
     } else if (std::error_code ec; !std::filesystem::exists(path, ec)) {
       out.reason = "no pipeline cache file at '" + path.string() + "'";
     } else {
@@ -152,7 +154,7 @@ Result<void> save_pipeline_cache(const DeviceContext& context, VkPipelineCache c
         r != VK_SUCCESS)
       return Error{ErrorCode::vulkan_error, "vkGetPipelineCacheData failed: " + vk_result_string(r), r};
     file.resize(kHeaderSize + size);
-    const Identity id = identity_of(*vk, context.physical_device);
+    const Identity id = identity_of(*vk, context);
     std::memcpy(file.data(), kMagic, 8);
     put32(file, 8, kVersion);
     put32(file, 12, kHeaderSize);
@@ -167,7 +169,7 @@ Result<void> save_pipeline_cache(const DeviceContext& context, VkPipelineCache c
     put32(file, 76, 0);
     put64(file, 80, size);
     put64(file, 88, XXH3_64bits(file.data() + kHeaderSize, size));
-    return write_file_atomically(path, file);
+    return save_file_atomically(path, file);
   });
 }
 

@@ -442,7 +442,7 @@ Result<void> Dearchiver::save_variants(const std::filesystem::path& path) const 
                       {"state", Json::parse(v.state)}});
     // Names are written as the archive has them; invalid UTF-8 is replaced, not refused.
     const std::string text = doc.dump(2, ' ', false, Json::error_handler_t::replace) + "\n";
-    return write_file_atomically(path, {reinterpret_cast<const uint8_t*>(text.data()), text.size()});
+    return save_file_atomically(path, {reinterpret_cast<const uint8_t*>(text.data()), text.size()});
   });
 }
 

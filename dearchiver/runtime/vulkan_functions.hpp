@@ -45,4 +45,11 @@ struct VulkanFunctions {
 // missing function and what to pass instead.
 Result<VulkanFunctions> load_vulkan_functions(const DeviceContext& context, const char* caller);
 
+// The Vulkan version the library may use on `context`'s device: the lower of the device's and the
+// application's (DeviceContext::api_version, when given).
+inline uint32_t effective_api_version(const DeviceContext& context, uint32_t device_version) {
+  return context.api_version != 0 && context.api_version < device_version ? context.api_version
+                                                                          : device_version;
+}
+
 }  // namespace statepack::detail

@@ -57,6 +57,13 @@ Result<void> write_file_atomically(const fs::path& path, std::span<const uint8_t
   return output.commit();
 }
 
+Result<void> save_file_atomically(const fs::path& path, std::span<const uint8_t> bytes) {
+  auto written = write_file_atomically(path, bytes);
+  if (!written && written.error().code == ErrorCode::invalid_argument)
+    return Error{ErrorCode::io_error, written.error().message};
+  return written;
+}
+
 Result<FileBytes> read_regular_file(const fs::path& path, uint64_t max_size, const std::string& display,
                                     std::string_view size_hint) {
   const std::string name = display.empty() ? path.string() : display;

@@ -22,6 +22,11 @@ namespace statepack::detail {
 Result<void> write_file_atomically(const std::filesystem::path& path, std::span<const uint8_t> bytes,
                                    const std::vector<std::filesystem::path>& inputs = {});
 
+// The same for the library's own save functions (save_pipeline_cache, Dearchiver::save_variants), whose
+// contract is `io_error` for any file that cannot be written: a path that may not be an output (a
+// directory, a device, a symlink) is that too, not an `invalid_argument`.
+Result<void> save_file_atomically(const std::filesystem::path& path, std::span<const uint8_t> bytes);
+
 // Which file a path reached (device and inode): the same file however the path is spelled (`..`, a
 // symlink, a hard link), so outputs can refuse to replace an input.
 struct FileIdentity {

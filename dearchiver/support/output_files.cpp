@@ -91,7 +91,7 @@ std::string OutputSet::refuse_reason(const fs::path& path) const {
              "link rather than write its target; name the target itself";
     if (!S_ISREG(st.st_mode))
       return "refusing to write " + quoted(path) + ": it is " + file_kind(st.st_mode) +
-             ", and outputs must be regular files (use --check to pack without writing)";
+             ", and outputs must be regular files";
     FileIdentity id{uint64_t(st.st_dev), uint64_t(st.st_ino)};
     for (const auto& input : inputs_)
       if (input.identity == id)

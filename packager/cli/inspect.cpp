@@ -497,7 +497,7 @@ void print_text(const Json& j, std::ostream& out) {
 int run_inspect(const std::string& path, bool as_json, std::ostream& out, std::ostream& err) {
   auto archive = format::load_archive_file_with_opengl(path);
   if (!archive) {
-    err << "statepack: error: " << archive.error().message << '\n';
+    err << "statepack: error: " << printable(archive.error().message) << '\n';
     return archive.error().code == ErrorCode::io_error ? kExitIoError : kExitInputError;
   }
   std::error_code ec;

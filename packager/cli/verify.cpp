@@ -17,6 +17,7 @@
 #include "runtime/archive_access.hpp"
 #include "statepack/bootstrap/vulkan_context.hpp"
 #include "statepack/dearchiver.hpp"
+#include "support/output_files.hpp"
 
 namespace statepack::packager {
 namespace {
@@ -283,9 +284,28 @@ std::vector<size_t> owners_of(const std::vector<PipelineVariant>& variants, cons
   return owner;
 }
 
+// The pipeline cache is verify's one output: it may not replace an input of the run (an archive, the
+// variants file) however the path reaches it (the same path, `..`, a symlink, a hard link), nor be a
+// link or anything but a regular file. Empty when it may be written.
+std::string cache_refusal(const VerifyOptions& options) {
+  std::vector<detail::InputFile> inputs;
+  auto protect = [&](const std::filesystem::path& path) {
+    if (auto id = detail::file_identity(path)) inputs.push_back({path, *id});
+  };
+  for (const auto& archive : options.archives) protect(archive);
+  if (options.variants) protect(*options.variants);
+  return detail::OutputSet(std::move(inputs)).refuse_reason(*options.cache);
+}
+
 }  // namespace
 
 int run_verify(const VerifyOptions& options, std::ostream& out, std::ostream& err) {
+  // Before any work: a run that could only end by destroying an input does not start.
+  if (options.cache && !options.worker_start)
+    if (std::string reason = cache_refusal(options); !reason.empty()) {
+      err << "statepack: error: --cache: " << printable(reason) << '\n';
+      return kExitUsage;
+    }
   if (!options.worker_start && options.timeout_seconds > 0) return supervise_verify(options, out, err);
   const Progress progress(options.worker_start.has_value());
   const VerifyOptions::Position start = options.worker_start.value_or(VerifyOptions::Position{});

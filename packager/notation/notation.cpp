@@ -93,12 +93,40 @@ class FileReader {
         out_(out),
         options_(options) {}
 
-  void read(const Json& root) {
-    if (!root.is_object())
-      return json_.error("", std::string("the top level must be an object, but is ") + root.type_name());
+  // The file's top level checked, and its Imports array if it has a valid one. Imports are read first,
+  // fully, with their own (empty) defaults (DRSN's defaults are file-local), then finish() reads the rest.
+  const Json* begin(const Json& root) {
+    if (!root.is_object()) {
+      json_.error("", std::string("the top level must be an object, but is ") + root.type_name());
+      return nullptr;
+    }
     json_.check_keys(root, "", schema::kTopLevel, "top-level section");
-    // Imports first, fully, with their own (empty) defaults: DRSN's defaults are file-local.
-    if (auto it = root.find("Imports"); it != root.end()) read_imports(*it);
+    auto it = root.find("Imports");
+    if (it == root.end() || !json_.expect_array(*it, "/Imports", "'Imports'")) return nullptr;
+    return &*it;
+  }
+
+  // Import `i` of `imports`: the file it names, or nothing (the error reported).
+  std::optional<fs::path> import_path(const Json& imports, size_t i) {
+    std::string pointer = "/Imports/" + std::to_string(i);
+    if (!imports[i].is_string()) {
+      json_.error(pointer, std::string("an import must be a file name, but is ") + imports[i].type_name());
+      return std::nullopt;
+    }
+    std::string name = imports[i].get<std::string>();
+    fs::path path = resolve_file(name, ctx_.base_dir, options_.render_state_dirs, options_.memory_files);
+    if (path.empty()) {
+      json_.error(pointer, "imported file '" + name + "' not found next to " + json_.file() +
+                               " or in any render-state directory (-r)");
+      out_.failed_imports.push_back(name);
+      return std::nullopt;
+    }
+    return path;
+  }
+  Location import_location(size_t i) { return json_.at("/Imports/" + std::to_string(i)); }
+
+  void finish(const Json& root) {
+    if (!root.is_object()) return;
     if (auto it = root.find("Ignore"); it != root.end()) read_ignore(*it);
     if (auto it = root.find("Defaults"); it != root.end()) read_defaults(*it);
     for_each_item(root, "Shaders", [&](const Json& j, const std::string& p) { shader_object(j, p, 0); });
@@ -118,26 +146,6 @@ class FileReader {
       return;
     for (size_t i = 0; i < it->size() && !json_.diagnostics().full(); ++i)
       f((*it)[i], pointer + "/" + std::to_string(i));
-  }
-
-  void read_imports(const Json& imports) {
-    if (!json_.expect_array(imports, "/Imports", "'Imports'")) return;
-    for (size_t i = 0; i < imports.size(); ++i) {
-      std::string pointer = "/Imports/" + std::to_string(i);
-      if (!imports[i].is_string()) {
-        json_.error(pointer, std::string("an import must be a file name, but is ") + imports[i].type_name());
-        continue;
-      }
-      std::string name = imports[i].get<std::string>();
-      fs::path path = resolve_file(name, ctx_.base_dir, options_.render_state_dirs, options_.memory_files);
-      if (path.empty()) {
-        json_.error(pointer, "imported file '" + name + "' not found next to " + json_.file() +
-                                 " or in any render-state directory (-r)");
-        out_.failed_imports.push_back(name);
-        continue;
-      }
-      read_file(path, display_path(path), out_, options_, json_.diagnostics(), json_.at(pointer));
-    }
   }
 
   void read_ignore(const Json& ignore) {
@@ -528,23 +536,63 @@ class FileReader {
   }
 
  public:
-  // Reads one file (once), warning of import cycles with their chain.
-  static void read_file(const fs::path& path, const std::string& display, Notation& out,
-                        const NotationOptions& options, Diagnostics& diag, const Location& imported_at) {
+  // Reads a file and what it imports, each file once. Imports are followed with a stack of open files,
+  // not by recursion: a chain of thousands of imports is read like any other.
+  static void read_files(const fs::path& path, const std::string& display, Notation& out,
+                         const NotationOptions& options, Diagnostics& diag, const Location& requested_at) {
+    std::vector<std::unique_ptr<OpenFile>> open;
+    if (auto first = open_file(path, display, out, options, diag, requested_at, open))
+      open.push_back(std::move(first));
+    while (!open.empty()) {
+      OpenFile& top = *open.back();
+      if (top.imports && top.next_import < top.imports->size() && !diag.full()) {
+        const size_t i = top.next_import++;
+        if (auto imported = top.reader->import_path(*top.imports, i))
+          if (auto next = open_file(*imported, display_path(*imported), out, options, diag,
+                                    top.reader->import_location(i), open))
+            open.push_back(std::move(next));
+        continue;
+      }
+      top.reader->finish(top.doc.root);
+      open.pop_back();
+    }
+  }
+
+ private:
+  // A file being read: its document, its reader, and how far its imports have been followed.
+  struct OpenFile {
+    std::string key;  // its identity (Notation::files_done)
+    fs::path canonical;
+    JsonDocument doc;
+    std::unique_ptr<FileReader> reader;
+    const Json* imports = nullptr;
+    size_t next_import = 0;
+  };
+
+  // Opens and parses a file not read yet; nothing for one read before (a diamond, a repeated -i, another
+  // spelling of it), one being read (an import cycle: a warning with its chain, as Diligent skips it) or
+  // one that cannot be read (the error reported).
+  static std::unique_ptr<OpenFile> open_file(const fs::path& path, const std::string& display, Notation& out,
+                                             const NotationOptions& options, Diagnostics& diag,
+                                             const Location& imported_at,
+                                             const std::vector<std::unique_ptr<OpenFile>>& open) {
     std::error_code ec;
     fs::path canonical = options.memory_files ? path.lexically_normal() : fs::weakly_canonical(path, ec);
     if (ec) canonical = fs::absolute(path, ec).lexically_normal();
-    if (std::find(out.import_stack.begin(), out.import_stack.end(), canonical) != out.import_stack.end()) {
+    std::string key = "path:" + canonical.string();
+    if (!options.memory_files)
+      if (auto id = detail::file_identity(path))
+        key = "file:" + std::to_string(id->device) + ":" + std::to_string(id->inode);
+    auto cycle = std::find_if(open.begin(), open.end(), [&](const auto& f) { return f->key == key; });
+    if (cycle != open.end()) {
       std::string chain;
-      auto first = std::find(out.import_stack.begin(), out.import_stack.end(), canonical);
-      for (auto it = first; it != out.import_stack.end(); ++it) chain += display_path(*it) + " -> ";
-      // Diligent skips a file it has read (or is reading) and goes on: so does statepack, saying so.
+      for (auto it = cycle; it != open.end(); ++it) chain += display_path((*it)->canonical) + " -> ";
       diag.warning(imported_at,
-                   "import cycle: " + chain + display_path(canonical) +
+                   "import cycle: " + chain + display_path((*cycle)->canonical) +
                        " (the import is skipped: the file is being read already, as in Diligent)");
-      return;
+      return nullptr;
     }
-    if (out.files_done.count(canonical)) return;  // imported before (diamond or repeated -i): read once
+    if (!out.files_done.insert(key).second) return nullptr;
     InputText input;
     if (options.memory_files) {
       auto it = options.memory_files->find(path.string());
@@ -556,23 +604,28 @@ class FileReader {
       input = read_input_file(path, display, options.max_input_bytes);
     }
     // The message names the file; a location adds only where it was imported from.
-    if (!input.error.empty()) return diag.error(imported_at.line > 0 ? imported_at : Location{}, input.error);
+    if (!input.error.empty()) {
+      diag.error(imported_at.line > 0 ? imported_at : Location{}, input.error);
+      return nullptr;
+    }
     out.files_read.push_back({canonical, input.identity});
-    out.import_stack.push_back(canonical);
+    auto file = std::make_unique<OpenFile>();
+    file->key = std::move(key);
+    file->canonical = canonical;
     // Kept for errors found later; positions count after a BOM.
     const std::string_view text = strip_utf8_bom(out.sources.add(display, std::move(input.text)));
-    JsonDocument doc = parse_json_document(text);
-    if (!doc.errors.empty()) {
+    file->doc = parse_json_document(text);
+    if (!file->doc.errors.empty()) {
       JsonPositions positions(text);
-      for (const auto& e : doc.errors) {
+      for (const auto& e : file->doc.errors) {
         TextPosition at = positions.position_at(e.offset);
         diag.error({display, at.line, at.column, ""}, e.message);
       }
     }
-    if (doc.parsed && !doc.root.empty())
-      FileReader(canonical, display, text, options, out, diag).read(doc.root);
-    out.import_stack.pop_back();
-    out.files_done.insert(canonical);
+    if (!file->doc.parsed || file->doc.root.empty()) file->doc.root = Json();  // nothing to read
+    file->reader = std::make_unique<FileReader>(canonical, display, text, options, out, diag);
+    if (file->doc.parsed && !file->doc.root.is_null()) file->imports = file->reader->begin(file->doc.root);
+    return file;
   }
 
  private:
@@ -594,7 +647,7 @@ void read_notation(const fs::path& input, const NotationOptions& options, Notati
     return diag.error({input.string()}, "cannot find render-state file (also searched the -r directories)");
   // Named as imports and shaders are, however the input was spelled: relative to the working directory
   // when below it, so one file has one name in every message.
-  FileReader::read_file(path, display_path(path), notation, options, diag, {input.string()});
+  FileReader::read_files(path, display_path(path), notation, options, diag, {input.string()});
 }
 
 namespace {

@@ -176,10 +176,11 @@ struct Notation {
   std::set<std::string> ignored_signatures;  // Ignore.Signatures
   // Imports that were not found: what they define is unknown, so an unknown name gets no suggestion.
   std::vector<std::string> failed_imports;
-  std::vector<InputFile> files_read;                // every JSON file, for the depfile and output checks
-  std::set<std::filesystem::path> files_done;       // canonical paths already read (imports once)
-  std::vector<std::filesystem::path> import_stack;  // canonical paths being read (cycle detection)
-  SourceTexts sources;                              // every notation file's text, for error positions
+  std::vector<InputFile> files_read;  // every JSON file, for the depfile and output checks
+  // Files read or being read, by identity (device and inode; the path for in-memory files): a file is
+  // read once however it is imported (another spelling, `..`, a symlink, a hard link).
+  std::set<std::string> files_done;
+  SourceTexts sources;  // every notation file's text, for error positions
 };
 
 struct NotationOptions {

@@ -72,15 +72,28 @@ struct CompiledUnit {
   std::optional<spirv::Module> module;  // the compiled SPIR-V walked, for the layout's checks
 };
 
-// A path in Make syntax, as GCC writes depfiles (and Ninja and Make read them): spaces and '#' get a
-// backslash, backslashes before them are doubled, '$' doubles. Paths with control characters
-// (a newline cannot be escaped in Make syntax at all) have no spelling: nullopt.
-std::optional<std::string> depfile_escape(const std::string& path) {
+// A path in a depfile, written so that Make and Ninja both read it back as the path (tried with GNU
+// Make 4.3 and Ninja 1.11): ' ' and '#' get a backslash (backslashes before them doubled), ':' a
+// backslash, '$' doubles. A path that has no such spelling is refused, and `refused` says by what: a
+// control character (a newline cannot be escaped at all); Make's wildcards * ? [ ]; '=', ';' and '|',
+// which change what a Make rule line means; " ' & < > ^ `, at which Ninja's depfile reader ends a path;
+// a trailing backslash (it would escape the separator); a word ending in ')' with a '(' (Make's
+// archive(member) syntax).
+std::optional<std::string> depfile_escape(const std::string& path, std::string* refused = nullptr) {
+  auto refuse = [&](std::string what) -> std::optional<std::string> {
+    if (refused) *refused = std::move(what);
+    return std::nullopt;
+  };
+  if (!path.empty() && path.back() == '\\') return refuse("a trailing backslash");
+  if (path.find('(') != std::string::npos && !path.empty() && path.back() == ')')
+    return refuse("'(' and a final ')' (Make reads archive(member))");
   std::string out;
   for (size_t i = 0; i < path.size(); ++i) {
-    char c = path[i];
-    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7F) return std::nullopt;
-    if (c == ' ' || c == '#') {
+    const char c = path[i];
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7F) return refuse("a control character");
+    if (std::string_view("*?[]=;|\"'&<>^`").find(c) != std::string_view::npos)
+      return refuse(std::string("'") + c + "'");
+    if (c == ' ' || c == '#' || c == ':') {
       for (size_t k = i; k > 0 && path[k - 1] == '\\'; --k) out += '\\';
       out += '\\';
     }
@@ -617,9 +630,10 @@ int write_outputs(const PackOptions& options, const std::vector<InputFile>& inpu
     text += "\n";
     deps.insert(options.output.string());
     for (const auto& path : deps)
-      if (!depfile_escape(path)) {
-        err << "statepack: error: cannot write the depfile: the path '" << printable(path)
-            << "' holds a control character, which Make syntax cannot express\n";
+      if (std::string refused; !depfile_escape(path, &refused)) {
+        err << "statepack: error: cannot write the depfile: the path '" << printable(path) << "' holds "
+            << printable(refused)
+            << ", which Make and Ninja cannot both read in a depfile; rename it, or pack without --depfile\n";
         return kExitIoError;
       }
     text = *depfile_escape(options.output.string()) + text;
@@ -635,20 +649,32 @@ int write_outputs(const PackOptions& options, const std::vector<InputFile>& inpu
   return kExitSuccess;
 }
 
+// Why an output of this pack can never be written (checked before any work; inputs are checked once
+// known), or empty. A device or directory given as the output gets a hint for packing without one.
+std::string output_refusal(const PackOptions& options) {
+  if (options.check_only) return "";
+  detail::OutputSet none({});
+  for (const auto* path : {&options.output, options.depfile ? &*options.depfile : nullptr}) {
+    if (!path) continue;
+    if (std::string reason = none.refuse_reason(*path); !reason.empty()) {
+      std::error_code ec;
+      const auto kind = fs::symlink_status(*path, ec).type();
+      if (kind != fs::file_type::regular && kind != fs::file_type::symlink &&
+          kind != fs::file_type::not_found)
+        reason += " (use --check to pack without writing)";
+      return reason;
+    }
+  }
+  return "";
+}
+
 }  // namespace
 
 int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err) {
   PhaseTimes times(options.time_report ? &err : nullptr);
-  // Outputs that can never be written are refused before any work (inputs are checked once known).
-  if (!options.check_only) {
-    detail::OutputSet none({});
-    for (const auto* path : {&options.output, options.depfile ? &*options.depfile : nullptr}) {
-      if (!path) continue;
-      if (std::string reason = none.refuse_reason(*path); !reason.empty()) {
-        err << "statepack: error: " << printable(reason) << '\n';
-        return kExitUsage;
-      }
-    }
+  if (std::string reason = output_refusal(options); !reason.empty()) {
+    err << "statepack: error: " << printable(reason) << '\n';
+    return kExitUsage;
   }
   std::string cache_error;
   std::optional<CompileCache> cache =

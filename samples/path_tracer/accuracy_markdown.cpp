@@ -4,10 +4,12 @@
 #include <cstdlib>
 #include <ctime>
 #include <filesystem>
-#include <fstream>
 #include <iomanip>
+#include <span>
 #include <sstream>
 #include <thread>
+
+#include "statepack/bootstrap/host_tools.hpp"
 
 namespace statepack::path_tracer {
 namespace {
@@ -44,19 +46,19 @@ std::string describe(const RenderSettings& s) {
 
 }  // namespace
 
-bool write_plots(const Report& report, const std::string& dir) {
+bool write_plots(const Report& report, const std::string& dir,
+                 const std::vector<std::filesystem::path>& inputs) {
   namespace fs = std::filesystem;
-  std::ofstream points(fs::path(dir) / "points.csv");
+  std::ostringstream points;
   points << "bounces,config,spp,time_s,rmse,mse_x_spp,rel_mse,efficiency\n";
   for (const auto& [bounces, r] : report.by_bounces)
     for (const auto& [name, list] : r.points)
       for (const auto& p : list)
         points << bounces << ',' << name << ',' << p.spp << ',' << p.time_s << ',' << p.rmse() << ','
                << p.mse * p.spp << ',' << p.rel_mse << ',' << p.efficiency() << '\n';
-  points.close();
   std::string names;
   for (const auto& c : report.configs) names += (names.empty() ? "" : " ") + c.name;
-  std::ofstream plot(fs::path(dir) / "plot.gnuplot");
+  std::ostringstream plot;
   plot << "set datafile separator ','\nset logscale xy\nset grid\nset key outside right\n"
           "set terminal pngcairo size 900,520\nconfigs = '"
        << names << "'\n";
@@ -72,8 +74,19 @@ bool write_plots(const Report& report, const std::string& dir) {
          << "plot for [e in configs] 'points.csv' using ((strcol(2) eq e && $1 == " << b
          << ") ? $4 : 1/0):5 with linespoints title e\n";
   }
-  plot.close();
-  const std::string command = "cd '" + dir + "' && gnuplot plot.gnuplot";
+  for (const auto& [name, text] : {std::pair{"points.csv", points.str()}, {"plot.gnuplot", plot.str()}}) {
+    const auto bytes = std::as_bytes(std::span(text));
+    auto written = bootstrap::write_file_atomically(
+        fs::path(dir) / name, {reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size()}, inputs);
+    if (!written) {
+      std::fprintf(stderr, "accuracy_report: %s\n", bootstrap::printable(written.error().message).c_str());
+      return false;
+    }
+  }
+  // The folder reaches the shell quoted: a quote in it is closed, escaped and reopened.
+  std::string quoted = "'";
+  for (char c : dir) quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  const std::string command = "cd " + quoted + "' && gnuplot plot.gnuplot";
   return std::system(command.c_str()) == 0;
 }
 

@@ -3,6 +3,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <filesystem>
 #include <map>
 #include <string>
 #include <vector>
@@ -38,8 +39,10 @@ struct Report {
   std::map<uint32_t, BounceResults> by_bounces;
 };
 
-// Writes points.csv, plot.gnuplot and runs gnuplot in `dir`; false when gnuplot failed or is missing.
-bool write_plots(const Report& report, const std::string& dir);
+// Writes points.csv and plot.gnuplot (atomically, never over one of `inputs`) and runs gnuplot in `dir`;
+// false when a file cannot be written (said on stderr) or gnuplot failed or is missing.
+bool write_plots(const Report& report, const std::string& dir,
+                 const std::vector<std::filesystem::path>& inputs);
 std::string markdown(const Report& report, bool plotted);
 
 }  // namespace statepack::path_tracer

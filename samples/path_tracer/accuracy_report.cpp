@@ -14,9 +14,9 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <numeric>
 #include <optional>
+#include <sstream>
 
 #include "accuracy_markdown.hpp"
 #include "app.hpp"
@@ -233,6 +233,18 @@ int main(int argc, char** argv) {
     return app.exit(e) == 0 ? 0 : 2;  // --help is 0; every usage error is 2
   }
 
+  // Every file this run writes, checked before hours of work: none may replace the archive or the scene
+  // (however spelled), be a link or be anything but a regular file.
+  const std::vector<fs::path> inputs = {archive, scene_path};
+  std::vector<fs::path> outputs = {fs::path(out_dir) / "runs.csv", fs::path(out_dir) / "points.csv",
+                                   fs::path(out_dir) / "plot.gnuplot"};
+  for (uint32_t bounces : bounce_counts)
+    for (const char* plot : {"mse_x_spp_", "error_vs_time_"})
+      outputs.push_back(fs::path(out_dir) / (plot + std::to_string(bounces) + ".png"));
+  if (!doc.empty()) outputs.emplace_back(doc);
+  for (const fs::path& output : outputs)
+    if (std::string refused = bootstrap::output_refusal(output, inputs); !refused.empty())
+      return std::fprintf(stderr, "accuracy_report: %s\n", printable(refused).c_str()), 2;
   auto scene = load_scene(scene_path);
   if (!scene) return std::fprintf(stderr, "%s\n", printable(scene.error().message).c_str()), 1;
   fs::create_directories(out_dir);
@@ -249,7 +261,7 @@ int main(int argc, char** argv) {
   vk_options.validation = false;  // timing the driver, not the layer
   auto vk = bootstrap::VulkanContext::create(vk_options);
   if (!vk) return std::fprintf(stderr, "%s\n", printable(vk.error().message).c_str()), 1;
-  std::ofstream runs(fs::path(out_dir) / "runs.csv");
+  std::ostringstream runs;
   runs << "bounces,config,spp,seed,mse,rel_mse\n";
   {
     auto dearchiver = load_archive(**vk, archive);
@@ -266,11 +278,18 @@ int main(int argc, char** argv) {
   }
   (*vk)->destroy_device();
   report.load_after = load_average();
-  const bool plotted = write_plots(report, out_dir);
+  auto write = [&](const fs::path& path, const std::string& text) {
+    auto written = bootstrap::write_file_atomically(
+        path, {reinterpret_cast<const uint8_t*>(text.data()), text.size()}, inputs);
+    if (!written) std::fprintf(stderr, "accuracy_report: %s\n", printable(written.error().message).c_str());
+    return bool(written);
+  };
+  if (!write(fs::path(out_dir) / "runs.csv", runs.str())) return 1;
+  const bool plotted = write_plots(report, out_dir, inputs);
   if (!plotted) std::fprintf(stderr, "accuracy_report: gnuplot failed or is missing; no plots drawn\n");
   const std::string md = markdown(report, plotted);
   if (!doc.empty()) {
-    std::ofstream(doc) << md;
+    if (!write(doc, md)) return 1;
     std::printf("accuracy_report: wrote %s and %s/ (CSVs%s)\n", printable(doc).c_str(),
                 printable(out_dir).c_str(), plotted ? ", plots" : "");
   } else {

@@ -31,6 +31,8 @@ int run_headless(const Options& o) {
     return std::fprintf(stderr, "path_tracer: %s: unknown image type '%s' (use .png, .exr or .pfm)\n",
                         printable(o.out).c_str(), ext.c_str()),
            2;
+  if (std::string refused = bootstrap::output_refusal(o.out, {o.scene, o.archive}); !refused.empty())
+    return std::fprintf(stderr, "path_tracer: --out: %s\n", printable(refused).c_str()), 2;
   auto scene = load_scene(o.scene);
   if (!scene) return std::fprintf(stderr, "path_tracer: %s\n", printable(scene.error().message).c_str()), 1;
   bootstrap::VulkanContextOptions vk_options;
@@ -56,7 +58,7 @@ int run_headless(const Options& o) {
           "sample) -> %s\n",
           o.width, o.height, o.spp, o.settings.bounces, names_of(o.settings.estimator).title,
           names_of(o.settings.sampler).title, o.settings.seed, rendered->seconds,
-          1000.0 * rendered->seconds / o.spp, o.out.c_str());
+          1000.0 * rendered->seconds / o.spp, printable(o.out).c_str());
     }
   }
   (*vk)->destroy_device();

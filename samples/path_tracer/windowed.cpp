@@ -34,6 +34,10 @@ class Window {
   ~Window() { destroy(); }
 
   int run(const Options& o) {
+    if (!o.screenshot.empty())
+      if (std::string refused = bootstrap::output_refusal(o.screenshot, {o.scene, o.archive});
+          !refused.empty())
+        return fail("--screenshot: " + refused), 2;
     if (!glfwInit()) return fail("cannot initialise GLFW (no display?)");
     glfwWindowHint(GLFW_CLIENT_API, GLFW_NO_API);
     window_ = glfwCreateWindow(int(o.width), int(o.height), "statepack path tracer", nullptr, nullptr);
@@ -92,12 +96,12 @@ class Window {
     if (!o.screenshot.empty()) {
       if (screenshot_.empty())
         return fail("no screenshot taken (use --frames N, and a swapchain that allows copies)");
-      if (auto error =
-              write_rgba8(o.screenshot, screenshot_, swapchain_.extent.width, swapchain_.extent.height);
+      if (auto error = write_rgba8(o.screenshot, screenshot_, swapchain_.extent.width,
+                                   swapchain_.extent.height, {o.scene, o.archive});
           !error.empty())
         return fail(o.screenshot + ": " + error);
       std::printf("path_tracer: %u frames, %u spp, window screenshot -> %s\n", frames,
-                  renderer_->samples_done(), o.screenshot.c_str());
+                  renderer_->samples_done(), printable(o.screenshot).c_str());
     }
     destroy();
     return validation_failures_ > 0 ? 1 : 0;
@@ -527,14 +531,14 @@ class Window {
   }
 
   // The captured bytes (the swapchain's 8-bit format, sRGB-encoded already) as a PNG.
-  std::string write_rgba8(const std::string& path, const std::vector<uint8_t>& bytes, uint32_t w,
-                          uint32_t h) {
+  std::string write_rgba8(const std::string& path, const std::vector<uint8_t>& bytes, uint32_t w, uint32_t h,
+                          const std::vector<std::filesystem::path>& inputs) {
     const bool bgra =
         swapchain_.format == VK_FORMAT_B8G8R8A8_SRGB || swapchain_.format == VK_FORMAT_B8G8R8A8_UNORM;
     std::vector<uint8_t> rgb(size_t(w) * h * 3);
     for (size_t i = 0; i < size_t(w) * h; ++i)
       for (int c = 0; c < 3; ++c) rgb[i * 3 + c] = bytes[i * 4 + (bgra ? 2 - c : c)];
-    return write_png_rgb8(path, rgb, w, h);
+    return write_png_rgb8(path, rgb, w, h, inputs);
   }
 
   void destroy() {

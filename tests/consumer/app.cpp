@@ -82,6 +82,7 @@ int main(int argc, char** argv) {
   int status = 0;
   {  // the Dearchiver destroys its objects before the device goes
     statepack::DeviceContext context{physical_device, device};
+    context.api_version = app.apiVersion;       // Vulkan 1.1: no 1.2 structure may reach the driver
     context.dynamic_rendering_enabled = false;  // not enabled above; compute does not need it
 #ifdef STATEPACK_CONSUMER_VOLK
     context.instance = instance;  // the application's dispatch, not the system loader's

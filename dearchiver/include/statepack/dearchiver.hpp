@@ -352,6 +352,11 @@ struct DeviceContext {
   VkInstance instance = VK_NULL_HANDLE;  // needed with get_instance_proc_addr
   PFN_vkGetInstanceProcAddr get_instance_proc_addr = nullptr;
   PFN_vkGetDeviceProcAddr get_device_proc_addr = nullptr;  // optional: else from get_instance_proc_addr
+  // The Vulkan version the instance was created for (VkApplicationInfo::apiVersion). What the library
+  // may use is the lower of it and the device's version, as the spec (and the validation layer) has it:
+  // an application asking for Vulkan 1.1 on a 1.3 device gets no 1.2 structure in its calls. 0: the
+  // device's version (right when the instance asked for at least that much).
+  uint32_t api_version = 0;
 };
 
 class STATEPACK_API Dearchiver {

@@ -32,6 +32,12 @@ Result<std::vector<uint8_t>> read_file(const std::filesystem::path& path, uint64
 Result<void> write_file_atomically(const std::filesystem::path& path, std::span<const uint8_t> bytes,
                                    const std::vector<std::filesystem::path>& inputs = {});
 
+// Why `path` may not be an output of a run that reads `inputs`: a symlink, a directory or another
+// non-regular file, or one of the inputs however spelled (`..`, a symlink, a hard link). Empty when it
+// may. A program checks its outputs with it before any work, so that a mistake costs nothing.
+std::string output_refusal(const std::filesystem::path& path,
+                           const std::vector<std::filesystem::path>& inputs = {});
+
 // Runs work(i) for every i in [0, count) on up to `threads` threads (0: one per core), the calling
 // thread included; returns when every call has returned.
 void parallel_for(size_t count, uint32_t threads, const std::function<void(size_t)>& work);
