@@ -6,6 +6,7 @@
 #include <atomic>
 #include <bit>
 #include <chrono>
+#include <functional>
 #include <map>
 #include <mutex>
 #include <ostream>
@@ -25,6 +26,7 @@
 #include "notation/input_file.hpp"
 #include "shaders/compile_cache.hpp"
 #include "shaders/gl_translate.hpp"
+#include "shaders/nesting_bound.hpp"
 #include "shaders/spirv_reflect.hpp"
 #include "support/parallel_for.hpp"
 #include "version.hpp"
@@ -103,6 +105,15 @@ std::optional<std::string> depfile_escape(const std::string& path, std::string* 
   return out;
 }
 
+// Runs one job of the compile stages on a thread with the compiler's stack (nesting_bound.hpp):
+// glslang, SPIRV-Tools and SPIRV-Cross recurse as deep as a shader nests. The error when no such
+// thread can be made, else "".
+std::string on_compile_stack(const std::function<void()>& job) {
+  std::string error;
+  run_on_stack(kCompileStackBytes, job, error);
+  return error;
+}
+
 // A file name from an object name: keeps letters, digits, space, '-', '_' and '.'.
 std::string file_name_of(const std::string& name) {
   std::string out;
@@ -159,7 +170,12 @@ class Finalizer {
     CompileOptions unoptimized = options_;
     unoptimized.optimization = Optimization::none;
     detail::parallel_for(jobs_.size(), threads, [&](size_t i) {
-      jobs_[i].error = finalize_cached(jobs_[i].words, jobs_[i].optimize ? options_ : unoptimized, cache_);
+      if (std::string failed = on_compile_stack([&] {
+            jobs_[i].error =
+                finalize_cached(jobs_[i].words, jobs_[i].optimize ? options_ : unoptimized, cache_);
+          });
+          !failed.empty())
+        jobs_[i].error = failed;
     });
   }
   const std::vector<uint32_t>& words(size_t job) const { return jobs_[job].words; }
@@ -264,7 +280,11 @@ CompiledShaders compile_shaders(const Notation& notation, const PackOptions& opt
   detail::parallel_for(out.units.size(), options.threads, [&](size_t i) {
     CompiledUnit& u = out.units[i];
     if (u.desc.broken) return;  // its notation errors are reported; compiling it would guess
-    compile_cached(u.desc, options.compile, compile_errors, cache, u.compiled, u.reflection);
+    if (std::string failed = on_compile_stack([&] {
+          compile_cached(u.desc, options.compile, compile_errors, cache, u.compiled, u.reflection);
+        });
+        !failed.empty())
+      return diag.error(u.desc.where, "shader '" + u.desc.name + "': " + failed);
     if (!u.compiled.ok) return;
     if (auto walked = spirv::walk(u.compiled.spirv)) u.module = std::move(*walked);  // here: on all cores
     for (ReflectedBinding& b : u.reflection.bindings)
@@ -487,8 +507,12 @@ CompiledShaders opengl_units(const CompiledShaders& vulkan, const PackOptions& o
     for (size_t u : units) used[u] = 1;
   ShaderMessages direct_errors;
   detail::parallel_for(vulkan.units.size(), options.threads, [&](size_t u) {
-    if (used[u] && vulkan.units[u].compiled.ok)
-      make_opengl_unit(vulkan.units[u], options, out.units[u], direct_errors, diag, cache);
+    if (!used[u] || !vulkan.units[u].compiled.ok) return;
+    if (std::string failed = on_compile_stack(
+            [&] { make_opengl_unit(vulkan.units[u], options, out.units[u], direct_errors, diag, cache); });
+        !failed.empty())
+      diag.error(vulkan.units[u].desc.where,
+                 "shader '" + vulkan.units[u].desc.name + "' (OpenGL): " + failed);
   });
   direct_errors.report(diag);
   return out;

@@ -16,6 +16,7 @@
 #include "hlsl_combined_image_samplers.hpp"
 #include "hlsl_push_constants.hpp"
 #include "hlsl_system_values.hpp"
+#include "nesting_bound.hpp"
 #include "shader_environment.hpp"
 #include "spirv_module_input.hpp"
 #include "spirv_passes.hpp"
@@ -59,6 +60,13 @@ std::string size_text(uint64_t bytes) {
 // seconds, at a few hundred MB.
 constexpr uint64_t kCompileAllocationFloor = uint64_t(512) << 20;
 constexpr uint64_t kCompileAllocationPerByte = 512;
+
+// A file whose brackets nest beyond kMaxBracketDepth, said where the deepest opens.
+std::string too_deep(const std::string& file, size_t depth, size_t line) {
+  return file + ":" + std::to_string(line) + ": brackets nest " + std::to_string(depth) +
+         " deep here; statepack compiles up to " + std::to_string(kMaxBracketDepth) +
+         " (glslang's GLSL parser stops there too)";
+}
 
 // Expanded #include text per shader beyond --max-input-size (64 MiB by default) is refused: includes
 // without guards can otherwise double the source with every level (a includes b twice, b includes c
@@ -132,6 +140,10 @@ class Includer final : public glslang::TShader::Includer {
     InputText input = read_input_file(path, display_path(path), max_bytes_);
     if (!input.error.empty()) {
       problem_ = "#include \"" + header + "\": " + input.error;
+      return nullptr;
+    }
+    if (size_t line = 0, nesting = bracket_depth(input.text, &line); nesting > kMaxBracketDepth) {
+      problem_ = "#include \"" + header + "\": " + too_deep(display_path(path), nesting, line);
       return nullptr;
     }
     included_bytes_ += input.text.size();
@@ -477,6 +489,50 @@ bool take_bytecode(const ShaderDesc& shader, const CompileOptions& options, cons
   return true;
 }
 
+// Why the shader nests too deeply to compile (nesting_bound.hpp), or "": its own text's brackets, then
+// the preprocessed text's statements (macros expanded, #includes in), measured on a preprocessing pass
+// of its own before the parse that recurses. A text that fails to preprocess is left to that parse to
+// report.
+std::string nesting_problem(const ShaderDesc& shader, const CompileOptions& options, EShLanguage stage,
+                            const ShaderEnvironment& environment, const char* const* strings,
+                            const int* lengths, const char* const* names, EShMessages messages,
+                            size_t budgeted, bool hlsl, const std::string& file_name,
+                            const std::string& source) {
+  if (size_t line = 0, depth = bracket_depth(source, &line); depth > kMaxBracketDepth)
+    return too_deep(file_name, depth, line);
+  glslang::TShader ts(stage);
+  ts.setStringsWithLengthsAndNames(strings, lengths, names, 1);
+  configure(ts, shader, options, stage, environment.preamble);
+  std::vector<InputFile> files_read;
+  std::error_code ec;
+  Includer includer(options.include_dirs, files_read,
+                    shader.file.empty() ? fs::path() : fs::weakly_canonical(shader.file, ec),
+                    options.max_input_bytes);
+  std::string preprocessed;
+  bool ok = false;
+  {
+    AllocationBudget budget(kCompileAllocationFloor + kCompileAllocationPerByte * budgeted);
+    includer.set_budget(&budget);
+    try {
+      ok = ts.preprocess(GetDefaultResources(), hlsl ? 450 : environment.default_glsl_version, ENoProfile,
+                         false, false, messages, &preprocessed, includer);
+    } catch (const std::bad_alloc&) {
+      if (!budget.exhausted()) throw;
+      ok = false;  // the parse meets the same budget and says so
+    }
+    includer.set_budget(nullptr);
+  }
+  if (!ok) return "";  // the parse meets the same problem (an #include too, refused there by name)
+  if (size_t bound = nesting_bound(preprocessed); bound > kMaxNesting)
+    return "nests too deeply to compile safely: after its macros and #includes, its statements and brackets "
+           "measure " +
+           std::to_string(bound) +
+           " (an expression chain such as v+v+... counts each operand); statepack "
+           "compiles up to " +
+           std::to_string(kMaxNesting);
+  return "";
+}
+
 // glslang from source to linked, legalized SPIR-V in `result`; false with the errors reported.
 bool compile_source(const ShaderDesc& shader, const CompileOptions& options, const std::string& source,
                     const std::string& file_name, CompiledShader& result, ShaderMessages& errors) {
@@ -503,8 +559,14 @@ bool compile_source(const ShaderDesc& shader, const CompileOptions& options, con
   Includer includer(options.include_dirs, result.files_read,
                     shader.file.empty() ? fs::path() : fs::weakly_canonical(shader.file, ec),
                     options.max_input_bytes);
-  bool parsed = false;
   const size_t budgeted = source.size() + environment.preamble.size() - environment.fixed_bytes;
+  if (std::string too_nested = nesting_problem(shader, options, stage, environment, strings, lengths, names,
+                                               messages, budgeted, hlsl, file_name, source);
+      !too_nested.empty()) {
+    errors.error(shader.where, shader.name, too_nested);
+    return false;
+  }
+  bool parsed = false;
   if (std::string exhausted = parse_within_budget(ts, messages, includer, budgeted,
                                                   hlsl ? 450 : environment.default_glsl_version, parsed);
       !exhausted.empty()) {

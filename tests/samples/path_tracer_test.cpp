@@ -273,18 +273,32 @@ TEST(PathTracer, HostileScenesAndOutputsAreErrorsNotCrashesOrBadImages) {
         << output;
     EXPECT_FALSE(fs::exists(dir / "bad.pfm")) << exposure;
   }
-  // The output may not replace the scene it read, nor follow a link.
+  // The output may not replace the scene it read (however the path reaches it), nor follow a link: a
+  // usage error before any rendering.
   fs::copy_file(STATEPACK_DEFAULT_SCENE_FILE, dir / "scene.png");
   const std::string before = read_text(dir / "scene.png");
-  EXPECT_EQ(run("--width 16 --height 12 --spp 1 --scene '" + (dir / "scene.png").string() + "' --out '" +
-                    (dir / "scene.png").string() + "'",
-                output),
-            1);
-  EXPECT_NE(output.find("it is the input"), std::string::npos) << output;
-  EXPECT_EQ(read_text(dir / "scene.png"), before);
+  fs::create_directories(dir / "sub");
+  fs::create_hard_link(dir / "scene.png", dir / "hard.png");
+  for (const fs::path& out : {dir / "scene.png", dir / "sub" / ".." / "scene.png", dir / "hard.png"}) {
+    EXPECT_EQ(run("--width 16 --height 12 --spp 1 --scene '" + (dir / "scene.png").string() + "' --out '" +
+                      out.string() + "'",
+                  output),
+              2)
+        << out;
+    EXPECT_NE(output.find("--out: refusing to write"), std::string::npos) << output;
+    EXPECT_NE(output.find("it is the input"), std::string::npos) << output;
+    EXPECT_EQ(read_text(dir / "scene.png"), before);
+  }
   fs::create_symlink(dir / "scene.png", dir / "link.png");
-  EXPECT_EQ(run("--width 16 --height 12 --spp 1 --out '" + (dir / "link.png").string() + "'", output), 1);
+  EXPECT_EQ(run("--width 16 --height 12 --spp 1 --out '" + (dir / "link.png").string() + "'", output), 2);
   EXPECT_NE(output.find("it is a symbolic link"), std::string::npos) << output;
+  EXPECT_EQ(read_text(dir / "scene.png"), before);
+  // The window's screenshot too, checked before a window opens (so no display is needed to see it).
+  auto windowed = statepack::testing::run_command(
+      std::string("DISPLAY=:statepack-none '") + STATEPACK_PATH_TRACER + "' --frames 1 --scene '" +
+      (dir / "scene.png").string() + "' --screenshot '" + (dir / "hard.png").string() + "'");
+  EXPECT_EQ(windowed.exit_code, 2) << windowed.output;
+  EXPECT_NE(windowed.output.find("--screenshot: refusing to write"), std::string::npos) << windowed.output;
   EXPECT_EQ(read_text(dir / "scene.png"), before);
 }
 

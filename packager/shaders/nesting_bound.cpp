@@ -1,0 +1,147 @@
+#include "nesting_bound.hpp"
+
+#include <pthread.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cstring>
+#include <exception>
+#include <vector>
+
+namespace statepack::packager {
+namespace {
+
+// Walks `text` skipping // and /* */ comments, calling on_char(c, at) for every other character.
+template <class OnChar>
+void for_each_code_char(std::string_view text, OnChar&& on_char) {
+  for (size_t i = 0; i < text.size(); ++i) {
+    if (text[i] == '/' && i + 1 < text.size() && text[i + 1] == '/') {
+      while (i < text.size() && text[i] != '\n') ++i;
+      if (i < text.size()) on_char('\n', i);
+      continue;
+    }
+    if (text[i] == '/' && i + 1 < text.size() && text[i + 1] == '*') {
+      const size_t end = text.find("*/", i + 2);
+      for (size_t k = i; k < std::min(end, text.size()); ++k)
+        if (text[k] == '\n') on_char('\n', k);  // lines still count
+      if (end == std::string_view::npos) return;
+      i = end + 1;
+      continue;
+    }
+    on_char(text[i], i);
+  }
+}
+
+bool is_word_char(char c) {
+  return std::isalnum(static_cast<unsigned char>(c)) || c == '_';
+}
+
+}  // namespace
+
+size_t bracket_depth(std::string_view text, size_t* deepest_line) {
+  size_t depth = 0, deepest = 0, line = 1;
+  for_each_code_char(text, [&](char c, size_t) {
+    if (c == '\n') ++line;
+    if (c == '(' || c == '[' || c == '{') {
+      if (++depth > deepest) {
+        deepest = depth;
+        if (deepest_line) *deepest_line = line;
+      }
+    } else if ((c == ')' || c == ']' || c == '}') && depth > 0) {
+      --depth;
+    }
+  });
+  return deepest;
+}
+
+size_t nesting_bound(std::string_view text) {
+  struct Level {
+    size_t chars = 0;   // of the statement open at this level
+    bool list = false;  // ',' separates elements here
+  };
+  std::vector<Level> open(1);
+  size_t total = 0, worst = 0;
+  bool line_start = true, directive = false;
+  char previous = 0;  // the last character that is not blank
+  std::string word, last_word;
+  auto close_statement = [&] {
+    total -= open.back().chars;
+    open.back().chars = 0;
+  };
+  for_each_code_char(text, [&](char c, size_t) {
+    if (c == '\n') {
+      line_start = true, directive = false;
+      return;
+    }
+    if (std::isspace(static_cast<unsigned char>(c))) return;
+    if (line_start && c == '#') directive = true;
+    line_start = false;
+    if (directive) return;
+    if (is_word_char(c)) {
+      word += c;
+    } else if (!word.empty()) {
+      last_word = std::move(word);
+      word.clear();
+    }
+    if (c == '(' || c == '[' || c == '{') {
+      // A '(' after a name (not a statement keyword) or after ']' opens arguments; '{' opens a block or
+      // an initializer, whose elements are listed.
+      const bool call = c == '(' && (is_word_char(previous) || previous == ']') && last_word != "if" &&
+                        last_word != "while" && last_word != "for" && last_word != "switch" &&
+                        last_word != "return";
+      open.push_back({0, call || c == '{'});
+    } else if (c == ')' || c == ']' || c == '}') {
+      if (open.size() > 1) {
+        total -= open.back().chars;
+        open.pop_back();
+      }
+      if (c == '}') close_statement();
+    } else if (c == ';' || (c == ',' && open.back().list)) {
+      close_statement();
+    } else {
+      ++open.back().chars;
+      ++total;
+    }
+    previous = c;
+    worst = std::max(worst, total + open.size());
+  });
+  return worst;
+}
+
+bool run_on_stack(size_t stack_bytes, const std::function<void()>& work, std::string& error) {
+  pthread_attr_t attributes;
+  if (int e = pthread_attr_init(&attributes); e != 0) {
+    error = std::string("cannot make a compile thread: ") + std::strerror(e);
+    return false;
+  }
+  struct Call {
+    const std::function<void()>* work;
+    std::exception_ptr thrown;  // handed back to the caller's thread
+  } call{&work, nullptr};
+  pthread_t thread;
+  int e = pthread_attr_setstacksize(&attributes, stack_bytes);
+  if (e == 0)
+    e = pthread_create(
+        &thread, &attributes,
+        [](void* argument) -> void* {
+          auto* c = static_cast<Call*>(argument);
+          try {
+            (*c->work)();
+          } catch (...) {
+            c->thrown = std::current_exception();
+          }
+          return nullptr;
+        },
+        &call);
+  pthread_attr_destroy(&attributes);
+  if (e != 0) {
+    error = "cannot make a compile thread with a " + std::to_string(stack_bytes >> 20) +
+            " MiB stack (reserved, not used): " + std::strerror(e);
+    return false;
+  }
+  pthread_join(thread, nullptr);
+  if (call.thrown) std::rethrow_exception(call.thrown);
+  return true;
+}
+
+}  // namespace statepack::packager
