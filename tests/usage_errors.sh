@@ -62,6 +62,28 @@ expect gl_load_benchmark 2 "repeats must be a number from 1, not '2x'" out.spk 2
 expect min_dearchiver 2 "usage: min_dearchiver" out.spk one two
 expect min_glslang 2 "usage: min_glslang" a.comp b.comp
 
+# What was typed reaches the terminal escaped, in the parser's own messages too.
+esc=$'\e[31m'
+expect statepack 2 '--bogus\x1b[31m' "${pack[@]}" "--bogus$esc"
+expect statepack 2 'not -1\x1b[31m' "${pack[@]}" -t "-1$esc"
+expect path_tracer 2 '--bogus\x1b[31m' "--bogus$esc"
+expect accuracy_report 2 '--bogus\x1b[31m' "--bogus$esc"
+for program in statepack path_tracer accuracy_report; do
+  [ -n "${bin[$program]:-}" ] || continue
+  checked=$((checked + 1))
+  if (cd "$work" && "${bin[$program]}" "--bogus$esc" 2>&1) | grep -q $'\e'; then
+    echo "FAIL: $program prints a raw escape character"
+    failures=$((failures + 1))
+  fi
+done
+
+# An output over an input is refused before any work, whatever the program (exit 2).
+echo '{}' >"$work/scene.json"
+ln "$work/scene.json" "$work/hard.md"
+expect accuracy_report 2 "it is the input" --scene scene.json --doc scene.json
+expect accuracy_report 2 "it is the input" --scene scene.json --doc hard.md
+expect statepack 2 "it is the input" verify out.spk --variants scene.json --cache hard.md
+
 if [ "$failures" -ne 0 ]; then
   echo "$failures of $checked usage checks failed"
   exit 1

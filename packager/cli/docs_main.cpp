@@ -3,25 +3,26 @@
 //   statepack_docs markdown          the enum reference, to stdout
 //   statepack_docs check FILE        exit 1 when FILE's generated section differs, saying how to fix it
 //   statepack_docs update FILE       rewrites FILE's generated section
-#include <fstream>
 #include <iostream>
-#include <sstream>
 #include <string>
 
+#include "notation/input_file.hpp"
 #include "notation/notation_reference.hpp"
+#include "support/file_io.hpp"
+#include "support/printable.hpp"
 
 namespace {
 
 using namespace statepack::packager;
+using statepack::detail::printable;
 
 constexpr const char* kRegenerate = "cmake --build build --target update_notation_docs";
 
-bool read(const std::string& path, std::string& text) {
-  std::ifstream file(path, std::ios::binary);
-  if (!file) return false;
-  std::ostringstream buffer;
-  buffer << file.rdbuf();
-  text = buffer.str();
+// The document, read as every input of the project is (bounded, never blocking); the error names it.
+bool read(const std::string& path, std::string& text, std::string& error) {
+  InputText input = read_input_file(path, path, uint64_t(16) << 20);
+  if (!input.error.empty()) return error = input.error, false;
+  text = std::move(input.text);
   return true;
 }
 
@@ -47,33 +48,33 @@ int main(int argc, char** argv) {
     return 2;
   }
   const std::string path = argv[2];
-  std::string document;
-  if (!read(path, document)) {
-    std::cerr << path << ": error: cannot read it\n";
+  std::string document, error;
+  if (!read(path, document, error)) {
+    std::cerr << "statepack_docs: error: " << printable(error) << '\n';
     return 2;
   }
   auto updated = with_generated_section(document, markdown);
   if (!updated) {
-    std::cerr << path << ": error: no generated section (a line '" << kGeneratedBegin << "', later a line '"
-              << kGeneratedEnd << "')\n";
+    std::cerr << printable(path) << ": error: no generated section (a line '" << kGeneratedBegin
+              << "', later a line '" << kGeneratedEnd << "')\n";
     return 1;
   }
   if (command == "check") {
     if (*updated == document) return 0;
-    std::cerr << path << ":" << first_difference(document, *updated)
+    std::cerr << printable(path) << ":" << first_difference(document, *updated)
               << ": error: the enum reference differs from the reader's tables "
                  "(packager/notation/enum_tables.hpp); "
                  "regenerate it with: "
               << kRegenerate << '\n';
     return 1;
   }
-  if (*updated != document) {
-    std::ofstream file(path, std::ios::binary | std::ios::trunc);
-    file << *updated;
-    if (!file.flush()) {
-      std::cerr << path << ": error: cannot write it\n";
+  // Rewritten in place, atomically (a failed write leaves the old document), never through a link.
+  if (*updated != document)
+    if (auto written = statepack::detail::write_file_atomically(
+            path, {reinterpret_cast<const uint8_t*>(updated->data()), updated->size()});
+        !written) {
+      std::cerr << "statepack_docs: error: " << printable(written.error().message) << '\n';
       return 1;
     }
-  }
   return 0;
 }

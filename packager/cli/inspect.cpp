@@ -13,6 +13,7 @@
 #include "format/archive_format.hpp"
 #include "format/spirv_walk.hpp"
 #include "pack/packer.hpp"
+#include "support/printable.hpp"
 
 namespace statepack::packager {
 namespace {
@@ -497,7 +498,7 @@ void print_text(const Json& j, std::ostream& out) {
 int run_inspect(const std::string& path, bool as_json, std::ostream& out, std::ostream& err) {
   auto archive = format::load_archive_file_with_opengl(path);
   if (!archive) {
-    err << "statepack: error: " << printable(archive.error().message) << '\n';
+    err << "statepack: error: " << detail::printable(archive.error().message) << '\n';
     return archive.error().code == ErrorCode::io_error ? kExitIoError : kExitInputError;
   }
   std::error_code ec;

@@ -378,6 +378,10 @@ int run(int argc, char** argv) {
   VerifyCommand verify;
   verify.add_to(app);
 
+  // CLI11's messages quote what was typed: escaped like every other name that reaches the terminal.
+  app.failure_message([](const CLI::App*, const CLI::Error& e) {
+    return printable(e.what()) + "\nRun with --help for more information.\n";
+  });
   try {
     std::vector<char*> raw;
     for (auto& a : args) raw.push_back(a.data());

@@ -774,7 +774,7 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err) {
   }
   diag.print(err);  // warnings
   if (!io_error.empty()) {
-    err << "statepack: error: " << io_error << '\n';
+    err << "statepack: error: " << printable(io_error) << '\n';
     return kExitIoError;
   }
 
@@ -798,8 +798,8 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err) {
     // Print what the archive holds, read back the way the dearchiver reads it.
     auto written = format::decode(bytes);
     if (!written) {
-      err << "statepack: error: the archive just written does not decode: " << written.error().message
-          << '\n';
+      err << "statepack: error: the archive just written does not decode: "
+          << printable(written.error().message) << '\n';
       return kExitIoError;
     }
     print_archive(*written, bytes.size(), false, out);

@@ -227,6 +227,10 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1u, 1000u));
   app.add_option("--out-dir", out_dir, "Where the CSVs, plots and gnuplot script go")->capture_default_str();
   app.add_option("--doc", doc, "Markdown report to write (e.g. docs/accuracy.md)");
+  // CLI11's messages quote what was typed: escaped like every other name that reaches the terminal.
+  app.failure_message([](const CLI::App*, const CLI::Error& e) {
+    return printable(e.what()) + "\nRun with --help for more information.\n";
+  });
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -247,7 +251,10 @@ int main(int argc, char** argv) {
       return std::fprintf(stderr, "accuracy_report: %s\n", printable(refused).c_str()), 2;
   auto scene = load_scene(scene_path);
   if (!scene) return std::fprintf(stderr, "%s\n", printable(scene.error().message).c_str()), 1;
-  fs::create_directories(out_dir);
+  if (std::error_code ec; !fs::create_directories(out_dir, ec) && ec)
+    return std::fprintf(stderr, "accuracy_report: cannot create %s: %s\n", printable(out_dir).c_str(),
+                        ec.message().c_str()),
+           1;
   Report report;
   auto configs = choose_configurations(only);
   if (!configs) return std::fprintf(stderr, "accuracy_report: unknown configuration\n"), 2;

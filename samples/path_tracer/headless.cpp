@@ -29,7 +29,7 @@ int run_headless(const Options& o) {
   const std::string ext = std::filesystem::path(o.out).extension().string();
   if (ext != ".png" && ext != ".exr" && ext != ".pfm")
     return std::fprintf(stderr, "path_tracer: %s: unknown image type '%s' (use .png, .exr or .pfm)\n",
-                        printable(o.out).c_str(), ext.c_str()),
+                        printable(o.out).c_str(), printable(ext).c_str()),
            2;
   if (std::string refused = bootstrap::output_refusal(o.out, {o.scene, o.archive}); !refused.empty())
     return std::fprintf(stderr, "path_tracer: --out: %s\n", printable(refused).c_str()), 2;

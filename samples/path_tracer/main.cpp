@@ -112,6 +112,10 @@ int main(int argc, char** argv) {
   app.add_flag(
       "!--no-validation", o.validation,
       "Run without the Vulkan validation layer (by default it is on, and any message fails the run)");
+  // CLI11's messages quote what was typed: escaped like every other name that reaches the terminal.
+  app.failure_message([](const CLI::App*, const CLI::Error& e) {
+    return printable(e.what()) + "\nRun with --help for more information.\n";
+  });
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -19,6 +19,7 @@
 
 #include "arguments.hpp"
 #include "statepack/bootstrap/gl_context.hpp"
+#include "statepack/bootstrap/host_tools.hpp"
 #include "statepack/gl_dearchiver.hpp"
 
 namespace {
@@ -46,7 +47,10 @@ GLenum stage_of(const std::filesystem::path& path) {
 // glslang ignores it for OpenGL, the driver refuses it). VULKAN stays undefined, as with --opengl.
 bool read_source(const std::filesystem::path& path, std::string& out) {
   std::ifstream file(path);
-  if (!file) return std::fprintf(stderr, "gl_load_benchmark: cannot read %s\n", path.c_str()), false;
+  if (!file)
+    return std::fprintf(stderr, "gl_load_benchmark: cannot read %s\n",
+                        statepack::bootstrap::printable(path.string()).c_str()),
+           false;
   for (std::string line; std::getline(file, line);) {
     if (line.rfind("#extension GL_GOOGLE_include_directive", 0) == 0) continue;
     if (line.rfind("#include \"", 0) == 0) {
@@ -80,7 +84,9 @@ bool compile_glsl(const std::vector<PipelineSource>& pipelines, std::vector<GLui
       if (ok != GL_TRUE) {
         char log[4096] = {};
         glGetShaderInfoLog(shader, sizeof log, nullptr, log);
-        std::fprintf(stderr, "gl_load_benchmark: %s does not compile for OpenGL:\n%s\n", path.c_str(), log);
+        std::fprintf(stderr, "gl_load_benchmark: %s does not compile for OpenGL:\n%s\n",
+                     statepack::bootstrap::printable(path.string()).c_str(),
+                     statepack::bootstrap::printable(log).c_str());
         glDeleteShader(shader);
         return false;
       }
@@ -92,7 +98,9 @@ bool compile_glsl(const std::vector<PipelineSource>& pipelines, std::vector<GLui
     GLint linked = GL_FALSE;
     glGetProgramiv(program, GL_LINK_STATUS, &linked);
     if (linked != GL_TRUE)
-      return std::fprintf(stderr, "gl_load_benchmark: '%s' does not link\n", p.name.c_str()), false;
+      return std::fprintf(stderr, "gl_load_benchmark: '%s' does not link\n",
+                          statepack::bootstrap::printable(p.name).c_str()),
+             false;
   }
   return true;
 }
@@ -103,18 +111,26 @@ std::optional<statepack::gl::Dearchiver> unpack_archive(const char* path,
                                                         const std::vector<PipelineSource>& pipelines) {
   auto archive = statepack::Archive::from_file(path);
   if (!archive)
-    return std::fprintf(stderr, "gl_load_benchmark: %s\n", archive.error().message.c_str()), std::nullopt;
+    return std::fprintf(stderr, "gl_load_benchmark: %s\n",
+                        statepack::bootstrap::printable(archive.error().message).c_str()),
+           std::nullopt;
   auto dearchiver = statepack::gl::Dearchiver::create();
   if (!dearchiver)
-    return std::fprintf(stderr, "gl_load_benchmark: %s\n", dearchiver.error().message.c_str()), std::nullopt;
+    return std::fprintf(stderr, "gl_load_benchmark: %s\n",
+                        statepack::bootstrap::printable(dearchiver.error().message).c_str()),
+           std::nullopt;
   if (auto added = dearchiver->add_archive(std::move(*archive)); !added)
-    return std::fprintf(stderr, "gl_load_benchmark: %s\n", added.error().message.c_str()), std::nullopt;
+    return std::fprintf(stderr, "gl_load_benchmark: %s\n",
+                        statepack::bootstrap::printable(added.error().message).c_str()),
+           std::nullopt;
   for (const auto& p : pipelines) {
     auto program = dearchiver->unpack_compute(p.name);
     if (!program && program.error().code == statepack::ErrorCode::wrong_type)
       program = dearchiver->unpack_graphics(p.name);
     if (!program)
-      return std::fprintf(stderr, "gl_load_benchmark: %s\n", program.error().message.c_str()), std::nullopt;
+      return std::fprintf(stderr, "gl_load_benchmark: %s\n",
+                          statepack::bootstrap::printable(program.error().message).c_str()),
+             std::nullopt;
   }
   glFinish();
   return std::move(dearchiver.value());
@@ -137,25 +153,35 @@ int main(int argc, char** argv) {
   const char* archive_path = argv[1];
   const auto repeats_given = statepack::benchmarks::positive_count(argv[2]);
   if (!repeats_given)
-    return std::fprintf(stderr, "gl_load_benchmark: repeats must be a number from 1, not '%s'\n", argv[2]), 2;
+    return std::fprintf(stderr, "gl_load_benchmark: repeats must be a number from 1, not '%s'\n",
+                        statepack::bootstrap::printable(argv[2]).c_str()),
+           2;
   const int repeats = *repeats_given;
   std::vector<PipelineSource> pipelines;
   for (int i = 3; i < argc; ++i) {
     std::string arg = argv[i];
     const auto eq = arg.find('=');
     if (eq == std::string::npos)
-      return std::fprintf(stderr, "gl_load_benchmark: expected name=files: %s\n", argv[i]), 2;
+      return std::fprintf(stderr, "gl_load_benchmark: expected name=files: %s\n",
+                          statepack::bootstrap::printable(argv[i]).c_str()),
+             2;
     PipelineSource p{arg.substr(0, eq), {}};
     std::stringstream files(arg.substr(eq + 1));
     for (std::string f; std::getline(files, f, ',');) {
-      if (!stage_of(f)) return std::fprintf(stderr, "gl_load_benchmark: unknown stage of %s\n", f.c_str()), 2;
+      if (!stage_of(f))
+        return std::fprintf(stderr, "gl_load_benchmark: unknown stage of %s\n",
+                            statepack::bootstrap::printable(f).c_str()),
+               2;
       p.shaders.emplace_back(f);
     }
     pipelines.push_back(std::move(p));
   }
 
   auto gl = statepack::bootstrap::GlContext::create({.debug = false});
-  if (!gl) return std::fprintf(stderr, "gl_load_benchmark: %s\n", gl.error().message.c_str()), 1;
+  if (!gl)
+    return std::fprintf(stderr, "gl_load_benchmark: %s\n",
+                        statepack::bootstrap::printable(gl.error().message).c_str()),
+           1;
 
   std::vector<double> archive_ms, glsl_ms;
   for (int r = 0; r < repeats; ++r) {

@@ -32,6 +32,7 @@
 #include "format/archive_format.hpp"
 #include "notation/notation.hpp"
 #include "shaders/shader_compiler.hpp"
+#include "statepack/bootstrap/host_tools.hpp"
 #include "statepack/bootstrap/vulkan_context.hpp"
 #include "statepack/dearchiver.hpp"
 #include "support/file_io.hpp"
@@ -205,22 +206,31 @@ int main(int argc, char** argv) {
   }
   const std::string archive_path = argv[1];
   const auto repeats_given = argc > 4 ? statepack::benchmarks::positive_count(argv[4]) : 5;
-  if (argc > 5) return std::fprintf(stderr, "load_benchmark: unexpected argument '%s'\n", argv[5]), 2;
+  if (argc > 5)
+    return std::fprintf(stderr, "load_benchmark: unexpected argument '%s'\n",
+                        statepack::bootstrap::printable(argv[5]).c_str()),
+           2;
   if (!repeats_given)
-    return std::fprintf(stderr, "load_benchmark: repeats must be a number from 1, not '%s'\n", argv[4]), 2;
+    return std::fprintf(stderr, "load_benchmark: repeats must be a number from 1, not '%s'\n",
+                        statepack::bootstrap::printable(argv[4]).c_str()),
+           2;
   const int repeats = *repeats_given;
   auto file = detail::read_regular_file(archive_path, uint64_t{0xFFFFFFFFu});
-  if (!file) return std::fprintf(stderr, "%s\n", file.error().message.c_str()), 1;
+  if (!file)
+    return std::fprintf(stderr, "%s\n", statepack::bootstrap::printable(file.error().message).c_str()), 1;
   std::span<const uint8_t> bytes = file->bytes();
 
   bootstrap::VulkanContextOptions options;
   options.validation = false;  // timing the driver, not the layer
   auto vk = bootstrap::VulkanContext::create(options);
-  if (!vk) return std::fprintf(stderr, "Vulkan: %s\n", vk.error().message.c_str()), 1;
+  if (!vk)
+    return std::fprintf(stderr, "Vulkan: %s\n", statepack::bootstrap::printable(vk.error().message).c_str()),
+           1;
   VkDevice device = (*vk)->device;
 
   auto decoded = format::decode(bytes);
-  if (!decoded) return std::fprintf(stderr, "%s\n", decoded.error().message.c_str()), 1;
+  if (!decoded)
+    return std::fprintf(stderr, "%s\n", statepack::bootstrap::printable(decoded.error().message).c_str()), 1;
   const format::Contents& contents = *decoded;
   std::vector<std::vector<uint32_t>> archived_spirv;
   for (auto blob : contents.spirv) archived_spirv.emplace_back(blob.begin(), blob.end());
@@ -343,9 +353,10 @@ int main(int argc, char** argv) {
   std::printf(
       "| %s | %zu | %.2f / %.2f | %.2f / %.2f | %+.1f %%, %+.1f %% | %+.1f %% [%+.1f, %+.1f] | %.1f | %.1f "
       "(compile %.1f) |\n",
-      std::filesystem::path(archive_path).filename().c_str(), contents.pipelines.size(), b_min, b_med,
-      one_min, one_med, 100.0 * (one_min - b_min) / b_min, 100.0 * (one_med - b_med) / b_med, median(paired),
-      percentile(paired, 0.1), percentile(paired, 0.9), all, compile + b_med, compile);
+      statepack::bootstrap::printable(std::filesystem::path(archive_path).filename().string()).c_str(),
+      contents.pipelines.size(), b_min, b_med, one_min, one_med, 100.0 * (one_min - b_min) / b_min,
+      100.0 * (one_med - b_med) / b_med, median(paired), percentile(paired, 0.1), percentile(paired, 0.9),
+      all, compile + b_med, compile);
   if (std::getenv("STATEPACK_BENCH_BREAKDOWN"))
     std::printf(
         "\n| medians (ms) | Archive::from_memory | Dearchiver::create | unpack_all | of it, "
@@ -353,7 +364,8 @@ int main(int argc, char** argv) {
         "vkCreate*Pipelines |\n"
         "|---|---|---|---|---|---|---|---|\n| %s, 1 thread | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f | %.3f "
         "|\n",
-        std::filesystem::path(archive_path).filename().c_str(), median(t_load), median(t_create),
-        median(t_unpack), median(t_driver), median(t_destroy), median(bare_objects), median(bare_pipelines));
+        statepack::bootstrap::printable(std::filesystem::path(archive_path).filename().string()).c_str(),
+        median(t_load), median(t_create), median(t_unpack), median(t_driver), median(t_destroy),
+        median(bare_objects), median(bare_pipelines));
   return 0;
 }

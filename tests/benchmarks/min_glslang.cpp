@@ -8,6 +8,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "statepack/bootstrap/host_tools.hpp"
 #include "statepack/bootstrap/vulkan_context.hpp"
 
 int main(int argc, char** argv) {
@@ -24,7 +25,7 @@ int main(int argc, char** argv) {
   shader.setEnvClient(glslang::EShClientVulkan, glslang::EShTargetVulkan_1_0);
   shader.setEnvTarget(glslang::EShTargetSpv, glslang::EShTargetSpv_1_0);
   if (!shader.parse(GetDefaultResources(), 450, false, EShMsgDefault))
-    return std::fprintf(stderr, "%s\n", shader.getInfoLog()), 1;
+    return std::fprintf(stderr, "%s\n", statepack::bootstrap::printable(shader.getInfoLog()).c_str()), 1;
   glslang::TProgram program;
   program.addShader(&shader);
   if (!program.link(EShMsgDefault)) return 1;

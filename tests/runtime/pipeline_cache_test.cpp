@@ -81,4 +81,33 @@ TEST_F(PipelineCache, DamagedDataAndForeignFilesAreRejected) {
 }
 
 }  // namespace
+// docs/api.md: io_error is "a file cannot be read or written". A directory, a device or a link where the
+// cache (or a variants file) should go is that, named with the reason, and the message says nothing of
+// the packer's options.
+TEST_F(PipelineCache, AnUnwritablePathIsAnIoErrorNamingIt) {
+  const fs::path dir = fs::path(STATEPACK_TEST_OUTPUT_DIR) / "cache_as_directory";
+  fs::create_directories(dir);
+  const fs::path link = fs::path(STATEPACK_TEST_OUTPUT_DIR) / "cache_link";
+  fs::remove(link);
+  fs::create_symlink(dir, link);
+  DeviceContext context{vk_->physical_device, vk_->device};
+  auto loaded = load_pipeline_cache(context, path_.string() + ".missing");
+  ASSERT_TRUE(loaded) << loaded.error().message;
+  auto dearchiver = Dearchiver::create(context);
+  ASSERT_TRUE(dearchiver) << dearchiver.error().message;
+  for (const fs::path& target : {dir, link, fs::path("/dev/null")}) {
+    auto saved = save_pipeline_cache(context, loaded->cache, target);
+    ASSERT_FALSE(saved) << target;
+    EXPECT_EQ(saved.error().code, ErrorCode::io_error) << saved.error().message;
+    EXPECT_NE(saved.error().message.find("refusing to write '" + target.string() + "'"), std::string::npos)
+        << saved.error().message;
+    EXPECT_EQ(saved.error().message.find("--check"), std::string::npos) << saved.error().message;
+    auto variants = dearchiver->save_variants(target);
+    ASSERT_FALSE(variants) << target;
+    EXPECT_EQ(variants.error().code, ErrorCode::io_error) << variants.error().message;
+  }
+  EXPECT_TRUE(fs::is_directory(dir));
+  vkDestroyPipelineCache(vk_->device, loaded->cache, nullptr);
+}
+
 }  // namespace statepack::testing
