@@ -192,19 +192,37 @@ bool access_fits(uint32_t access, uint32_t stages) {
   return true;  // MEMORY_READ and MEMORY_WRITE fit every stage
 }
 
+const char* numeric_name(spirv::Numeric n) {
+  switch (n) {
+    case spirv::Numeric::float_:
+      return "float";
+    case spirv::Numeric::sint:
+      return "signed integer";
+    case spirv::Numeric::uint:
+      return "unsigned integer";
+    case spirv::Numeric::other:
+      break;
+  }
+  return "other";
+}
+
 // Shader interface variables and the formats they meet agree on the numeric type (else the layer
-// warns that values are undefined).
+// warns that values are undefined). `patched`: the modify callback set this format, so a mismatch is
+// the caller's (invalid_argument, saying so); else the archive's (corrupt: pack checks it).
 Result<void> check_numeric(const std::vector<spirv::Input>& variables, uint32_t location, uint32_t format,
-                           Lazy what) {
+                           Lazy what, bool patched = false) {
+  const ErrorCode code = patched ? ErrorCode::invalid_argument : ErrorCode::corrupt;
+  const char* by = patched ? " (set by the modify callback)" : "";
   for (const auto& v : variables) {
     if (location < v.location || location >= uint64_t(v.location) + v.locations) continue;
     if (format == VK_FORMAT_UNDEFINED)
-      return Error{ErrorCode::corrupt, what() + " has no format, but the shader's variable at location " +
-                                           std::to_string(location) + " is there"};
+      return Error{code, what() + " has no format" + by + ", but the shader's variable at location " +
+                             std::to_string(location) + " is there"};
     const spirv::Numeric wanted = spirv::numeric_of_format(format);
     if (v.numeric != spirv::Numeric::other && wanted != spirv::Numeric::other && v.numeric != wanted)
-      return Error{ErrorCode::corrupt, what() + " has format " + vk_name(VkFormat(format)) +
-                                           ", whose numeric type differs from the shader's variable"};
+      return Error{code, what() + " has format " + vk_name(VkFormat(format)) + by + ", which holds " +
+                             numeric_name(wanted) + " values, but the shader's variable at location " +
+                             std::to_string(location) + " is " + numeric_name(v.numeric)};
   }
   return {};
 }
@@ -625,8 +643,10 @@ Result<void> check_interface_formats(const format::Contents& c, const format::Pi
           return ok;
     } else if (p.render_pass == format::kNone) {
       for (uint32_t i = 0; i < t.color_count; ++i)
-        if (auto ok = check_numeric(module->outputs, i, t.color_formats[i],
-                                    [&] { return who() + ": render target " + std::to_string(i); });
+        if (auto ok = check_numeric(
+                module->outputs, i, t.color_formats[i],
+                [&] { return who() + ": render target " + std::to_string(i); },
+                (t.patched_targets >> i) & 1u);
             !ok)
           return ok;
     } else {

@@ -72,6 +72,9 @@ struct GraphicsTargets {
   VkFormat depth_stencil_format = VK_FORMAT_UNDEFINED;
   VkSampleCountFlagBits samples = VK_SAMPLE_COUNT_1_BIT;
   const bool* blend_enabled = nullptr;  // color_count entries
+  // Bit i: the modify callback set render target i's format (or added the target). A format there that
+  // does not fit the shader is then the caller's mistake (invalid_argument), not the archive's (corrupt).
+  uint32_t patched_targets = 0;
 };
 // The walked module of a blob (walked once per archive by the caller; every blob walked at load).
 using ModuleOf = std::function<const spirv::Module*(uint32_t blob)>;

@@ -198,7 +198,8 @@ Result<PatchableState> Planner::settle_graphics(const ArchivedPipeline& found, c
                      " render target(s): the notation leaves them to run time, so set "
                      "PatchableState::color_count (to at least " +
                      std::to_string(32 - std::countl_zero(written)) +
-                     ") and color_formats in the modify callback"};
+                     ") and color_formats in the modify callback, or give NumRenderTargets and "
+                     "RTVFormats in the notation and pack again"};
   // UNKNOWN in RTVFormats means "set at run time" (a swapchain's format): left unset, it is an error
   // rather than a pipeline silently created for VK_FORMAT_UNDEFINED.
   if (!uses_render_pass)
@@ -207,7 +208,8 @@ Result<PatchableState> Planner::settle_graphics(const ArchivedPipeline& found, c
         return Error{ErrorCode::invalid_argument,
                      "pipeline '" + name + "': render target " + std::to_string(i) +
                          " is UNKNOWN (a format set at run time); set PatchableState::color_formats[" +
-                         std::to_string(i) + "] in the modify callback"};
+                         std::to_string(i) + "] in the modify callback, or give RTVFormats[" +
+                         std::to_string(i) + "] in the notation and pack again"};
   return settled;
 }
 
@@ -238,8 +240,12 @@ std::optional<Error> Planner::check_graphics(const ArchivedPipeline& found, cons
   }
   std::array<bool, 8> blend_enabled{};
   for (size_t i = 0; i < blend_enabled.size(); ++i) blend_enabled[i] = settled.blend[i].enable;
-  const GraphicsTargets targets{settled.color_count, settled.color_formats.data(),
-                                settled.depth_stencil_format, settled.samples, blend_enabled.data()};
+  GraphicsTargets targets{settled.color_count, settled.color_formats.data(), settled.depth_stencil_format,
+                          settled.samples, blend_enabled.data()};
+  const PatchableState archived = to_patchable(*found.pipeline);
+  for (uint32_t i = 0; i < settled.color_count && i < settled.color_formats.size(); ++i)
+    if (i >= archived.color_count || settled.color_formats[i] != archived.color_formats[i])
+      targets.patched_targets |= 1u << i;
   const auto& contents = cache_.contents(found.archive);
   if (uses_render_pass)
     if (auto ok = check_render_pass(contents.render_passes[found.pipeline->render_pass], caps_, features_);

@@ -99,9 +99,13 @@ std::string from_json(const Json& j, T& out) {
       return "expected a finite number a float can hold";
     out = float(j.get<double>());
   } else {
-    if (!j.is_string() || !vk_value(j.get_ref<const std::string&>(), out))
+    if (!j.is_string())
       return std::string("expected a ") + type_name(out) + " name, such as " +
              vk_name(std::is_same_v<T, VkSampleCountFlagBits> ? T(1) : T{});
+    const std::string& name = j.get_ref<const std::string&>();
+    if (!vk_value(name, out))
+      return "'" + printable(name) + "' is not a " + type_name(out) + " name" +
+             did_you_mean(name, vk_names(out));
   }
   return "";
 }
@@ -388,7 +392,7 @@ Result<std::vector<PipelineVariant>> parse_variants(std::string_view text, std::
         return file_error(name, at + "/state" + bad->where, bad->reason);
       variants.push_back({pipeline->get<std::string>(),
                           compute ? ObjectKind::compute_pipeline : ObjectKind::graphics_pipeline,
-                          changes.dump()});
+                          changes.dump(), "variants file '" + printable(name) + "' at " + at});
     }
     return variants;
   });
@@ -407,12 +411,13 @@ Result<std::vector<PipelineVariant>> load_variants(const std::filesystem::path& 
 Result<void> PipelineVariant::apply(PatchableState& s) const {
   return api_guard("PipelineVariant::apply", [&]() -> Result<void> {
     Json changes = Json::parse(state, nullptr, false);
+    // A variant read from a file is named by its place there; one made in code by its pipeline.
+    const std::string who =
+        origin.empty() ? "variant of pipeline '" + printable(pipeline) + "': state" : origin + "/state";
     if (changes.is_discarded() || !shallow_enough(state))
-      return Error{ErrorCode::invalid_argument,
-                   "variant of pipeline '" + printable(pipeline) + "': its state is not JSON"};
+      return Error{ErrorCode::invalid_argument, who + ": not a JSON object of fields"};
     if (auto bad = apply_state(changes, kind == ObjectKind::compute_pipeline, s, true))
-      return Error{ErrorCode::invalid_argument, "variant of pipeline '" + printable(pipeline) + "': state" +
-                                                    printable(bad->where) + ": " + bad->reason};
+      return Error{ErrorCode::invalid_argument, who + printable(bad->where) + ": " + bad->reason};
     return {};
   });
 }
@@ -459,7 +464,16 @@ Result<const UnpackedPipeline*> Dearchiver::unpack_variant(const PipelineVariant
     auto made = variant.kind == ObjectKind::compute_pipeline ? unpack_compute(variant.pipeline, apply)
                                                              : unpack_graphics(variant.pipeline, apply);
     if (bad) return *bad;
-    return made;
+    if (made || variant.origin.empty()) return made;
+    if (made.error().code == ErrorCode::wrong_type)  // the file's "kind" names the other kind
+      return Error{ErrorCode::wrong_type, variant.origin + "/kind: " + made.error().message};
+    if (made.error().code != ErrorCode::invalid_argument) return made;
+    // The checks after the callback are the ones every callback's values get, and say so; here the
+    // values are the file's, so the message names the variant's place in it instead.
+    std::string message = made.error().message;
+    for (size_t at = 0; (at = message.find("the modify callback", at)) != std::string::npos;)
+      message.replace(at, 19, "the variant");
+    return Error{ErrorCode::invalid_argument, variant.origin + ": " + message};
   });
 }
 

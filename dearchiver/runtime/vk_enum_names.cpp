@@ -105,6 +105,46 @@ bool vk_value(std::string_view name, VkSampleCountFlagBits& out) {
   return find_value(kVkSampleCountFlagBitsNames, name, out);
 }
 
+namespace {
+
+template <size_t N>
+std::vector<std::string> names_of(const EnumName (&table)[N]) {
+  std::vector<std::string> out;
+  out.reserve(N);
+  for (const EnumName& e : table) out.emplace_back(e.name);
+  return out;
+}
+
+}  // namespace
+
+std::vector<std::string> vk_names(VkFormat) {
+  return names_of(kVkFormatNames);
+}
+std::vector<std::string> vk_names(VkDynamicState) {
+  return names_of(kVkDynamicStateNames);
+}
+std::vector<std::string> vk_names(VkBlendFactor) {
+  return names_of(kVkBlendFactorNames);
+}
+std::vector<std::string> vk_names(VkBlendOp) {
+  return names_of(kVkBlendOpNames);
+}
+std::vector<std::string> vk_names(VkCompareOp) {
+  return names_of(kVkCompareOpNames);
+}
+std::vector<std::string> vk_names(VkStencilOp) {
+  return names_of(kVkStencilOpNames);
+}
+std::vector<std::string> vk_names(VkPolygonMode) {
+  return names_of(kVkPolygonModeNames);
+}
+std::vector<std::string> vk_names(VkFrontFace) {
+  return names_of(kVkFrontFaceNames);
+}
+std::vector<std::string> vk_names(VkSampleCountFlagBits) {
+  return names_of(kVkSampleCountFlagBitsNames);
+}
+
 bool is_depth_stencil_format(VkFormat format) {
   return format >= VK_FORMAT_D16_UNORM && format <= VK_FORMAT_D32_SFLOAT_S8_UINT;
 }

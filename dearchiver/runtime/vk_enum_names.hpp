@@ -7,6 +7,7 @@
 
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace statepack::detail {
 
@@ -34,6 +35,17 @@ bool vk_value(std::string_view name, VkStencilOp& out);
 bool vk_value(std::string_view name, VkPolygonMode& out);
 bool vk_value(std::string_view name, VkFrontFace& out);
 bool vk_value(std::string_view name, VkSampleCountFlagBits& out);
+
+// Every name of the type (the argument only picks it), for "did you mean" on a name vk_value refused.
+std::vector<std::string> vk_names(VkFormat);
+std::vector<std::string> vk_names(VkDynamicState);
+std::vector<std::string> vk_names(VkBlendFactor);
+std::vector<std::string> vk_names(VkBlendOp);
+std::vector<std::string> vk_names(VkCompareOp);
+std::vector<std::string> vk_names(VkStencilOp);
+std::vector<std::string> vk_names(VkPolygonMode);
+std::vector<std::string> vk_names(VkFrontFace);
+std::vector<std::string> vk_names(VkSampleCountFlagBits);
 
 // Depth, stencil or both: a format that can only be a depth-stencil attachment.
 bool is_depth_stencil_format(VkFormat format);

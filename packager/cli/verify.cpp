@@ -18,6 +18,7 @@
 #include "statepack/bootstrap/vulkan_context.hpp"
 #include "statepack/dearchiver.hpp"
 #include "support/output_files.hpp"
+#include "support/suggest.hpp"
 
 namespace statepack::packager {
 namespace {
@@ -269,8 +270,12 @@ int verify_archive(size_t index, const std::filesystem::path& path, size_t first
 // Each variant's archive: the first (in command-line order) with a pipeline of its name, as a
 // Dearchiver holding them all resolves it (a kind that differs is then wrong_type); archives.size() for
 // none. Each worker reads the archives' names again: a cost of --variants, paid before the device.
-std::vector<size_t> owners_of(const std::vector<PipelineVariant>& variants, const VerifyOptions& options) {
+// `all_names` gets every pipeline name of the archives, for "did you mean" on a variant that resolves
+// to none.
+std::vector<size_t> owners_of(const std::vector<PipelineVariant>& variants, const VerifyOptions& options,
+                              std::vector<std::string>& all_names) {
   std::vector<size_t> owner(variants.size(), options.archives.size());
+  std::set<std::string, std::less<>> every;
   for (size_t a = options.archives.size(); a-- > 0;) {  // the last first, so the first wins
     auto archive = Archive::from_file(options.archives[a]);
     if (!archive) continue;  // verify_archive reports it
@@ -280,7 +285,9 @@ std::vector<size_t> owners_of(const std::vector<PipelineVariant>& variants, cons
         names.insert(o.name);
     for (size_t v = 0; v < variants.size(); ++v)
       if (names.count(variants[v].pipeline)) owner[v] = a;
+    every.insert(names.begin(), names.end());
   }
+  all_names.assign(every.begin(), every.end());
   return owner;
 }
 
@@ -351,14 +358,17 @@ int run_verify(const VerifyOptions& options, std::ostream& out, std::ostream& er
       return loaded.error().code == ErrorCode::io_error ? kExitIoError : kExitInputError;
     }
     variants = std::move(*loaded);
-    owner = owners_of(variants, options);
+    std::vector<std::string> names;
+    owner = owners_of(variants, options, names);
     for (size_t v = 0; v < variants.size(); ++v)
       if (owner[v] == options.archives.size()) {
         exit_code = kExitInputError;
         ++unresolved;
         if (first)
           out << "FAILED " << describe({{variants[v].pipeline, variants[v].kind}, &variants[v]}, {}, {})
-              << ": no archive given has a pipeline of that name\n";
+              << ": " << variants[v].origin << "/pipeline: no archive given has a pipeline named '"
+              << printable(variants[v].pipeline) << "'" << detail::did_you_mean(variants[v].pipeline, names)
+              << '\n';
       }
   }
   progress.send("ready " + std::to_string(unresolved));
@@ -371,7 +381,9 @@ int run_verify(const VerifyOptions& options, std::ostream& out, std::ostream& er
     exit_code = std::max(exit_code, verify_archive(i, options.archives[i], first_object, context, options,
                                                    variants, owner, messages, progress, all, out, err));
   }
-  if (!progress.worker() && options.archives.size() > 1) out << "in all: " << all.summary() << '\n';
+  // With one archive its own line has the totals, unless variants resolved to none: they count too.
+  if (!progress.worker() && (options.archives.size() > 1 || unresolved > 0))
+    out << "in all: " << all.summary() << '\n';
   if (cache) {
     if (auto saved = save_pipeline_cache(context, cache->cache, *options.cache); !saved) {
       err << "statepack: error: " << printable(saved.error().message) << '\n';

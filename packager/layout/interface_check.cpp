@@ -350,8 +350,9 @@ bool check_render_targets(const PipelineDesc& p, const format::GraphicsState& g,
             ok = false;
           } else {  // the modify callback can set the format; unpack checks what it leaves
             diag.warning(target_where(location),
-                         what + "; the modify callback must set a " + kind_text(v) +
-                             " format (PatchableState::color_formats), or unpacking fails");
+                         what + "; give a " + kind_text(v) +
+                             " format in RTVFormats, or set one in the modify callback "
+                             "(PatchableState::color_formats), or unpacking fails");
           }
           break;
         }
@@ -364,8 +365,9 @@ bool check_render_targets(const PipelineDesc& p, const format::GraphicsState& g,
     diag.note(sources.at(p.where, gp),
               "pipeline '" + p.name + "': " + shader_text(*ps) + " writes render target(s) " + list +
                   ", which the notation leaves to run time (" + std::to_string(g.color_count) +
-                  " in NumRenderTargets/RTVFormats): the modify callback must set them "
-                  "(PatchableState::color_count and color_formats), or unpacking fails");
+                  " in NumRenderTargets/RTVFormats): give them in the notation (NumRenderTargets and "
+                  "RTVFormats), or set them in the modify callback (PatchableState::color_count and "
+                  "color_formats), or unpacking fails");
   }
   for (uint32_t i = 0; i < g.color_count && i < format::kMaxColorTargets; ++i) {
     const uint32_t format = g.color_formats[i];

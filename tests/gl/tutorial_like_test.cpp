@@ -335,7 +335,8 @@ TEST_F(TutorialLike, UnpackingWithoutThePatchesNamesTheMissingTargets) {
       gbuffer.error().message,
       "pipeline 'G-Buffer PSO': its pixel shader 'G-Buffer PS' writes render target 0, but the pipeline "
       "has 0 render target(s): the notation leaves them to run time, so set PatchableState::color_count "
-      "(to at least 4) and color_formats in the modify callback");
+      "(to at least 4) and color_formats in the modify callback, or give NumRenderTargets and RTVFormats "
+      "in the notation and pack again");
   // Three targets of four is still a mistake, named at the first one missing.
   auto three = dearchiver->unpack_graphics("G-Buffer PSO",
                                            [](PatchableState& s) { set_targets(s, std::span(kGBuffer, 3)); });

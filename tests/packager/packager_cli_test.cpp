@@ -377,12 +377,14 @@ TEST_F(Verify, VariantsFilesCreateExactlyTheirVariants) {
   EXPECT_EQ(run.exit_code, 1) << run.output;
   const std::string report = without_times(run.output);
   const std::string expected =
-      "FAILED compute pipeline 'Gone PSO' as archived: no archive given has a pipeline of that name\n"
+      "FAILED compute pipeline 'Gone PSO' as archived: variants file '" + variants.string() +
+      "' at /variants/2/pipeline: no archive given has a pipeline named 'Gone PSO'\n"
       "ok     graphics pipeline 'Gradient PSO' with {\"color_formats.0\":\"VK_FORMAT_B8G8R8A8_SRGB\"}\n"
       "ok     graphics pipeline 'Gradient PSO' with {\"color_formats.0\":\"VK_FORMAT_R16G16B16A16_SFLOAT\","
       "\"blend.0.enable\":true,\"blend.0.src_color\":\"VK_BLEND_FACTOR_SRC_ALPHA\"}\n" +
       out.string() + ": 2 of 2 objects ok\n";
   EXPECT_NE(report.find(expected), std::string::npos) << report;
+  EXPECT_NE(report.find("\nin all: 2 of 3 objects ok\n"), std::string::npos) << report;  // why exit 1
   EXPECT_EQ(report.find("Fill Buffer PSO"), std::string::npos) << report;  // exactly the variants
   EXPECT_TRUE(fs::exists(cache));
 
@@ -398,6 +400,45 @@ TEST_F(Verify, VariantsFilesCreateExactlyTheirVariants) {
   CliRun missing =
       statepack("verify '" + out.string() + "' --variants '" + (dir_ / "none.json").string() + "'");
   EXPECT_EQ(missing.exit_code, 3) << missing.output;
+}
+
+// A bad entry of a variants file is named by the file and its JSON pointer, with a suggestion where a
+// name is misspelt, never as "the modify callback" (the file is the party that set the values).
+TEST_F(Verify, VariantsFileMistakesNameTheFileAndTheEntry) {
+  fs::path out = dir_ / "slice.spk", variants = dir_ / "v.json";
+  ASSERT_EQ(statepack(pack_args(std::string(STATEPACK_STATES_DIR) + "/slice.json", out)).exit_code, 0);
+  std::ofstream(variants) << R"({"statepack_variants": 1, "variants": [
+    {"pipeline": "Gradient PSO", "kind": "graphics", "state": {"color_formats.0": "VK_FORMAT_R8G8B8A8_UINT"}},
+    {"pipeline": "Gradient PS", "kind": "graphics", "state": {}},
+    {"pipeline": "Fill Buffer PSO", "kind": "graphics", "state": {}}]})";
+  CliRun run = statepack("verify '" + out.string() + "' --variants '" + variants.string() + "'");
+  EXPECT_EQ(run.exit_code, 1) << run.output;
+  const std::string file = "variants file '" + variants.string() + "'";
+  const std::string expected =
+      "FAILED graphics pipeline 'Gradient PS' as archived: " + file +
+      " at /variants/1/pipeline: no archive given has a pipeline named 'Gradient PS' (did you mean "
+      "'Gradient PSO'?)\n"
+      "FAILED graphics pipeline 'Gradient PSO' with {\"color_formats.0\":\"VK_FORMAT_R8G8B8A8_UINT\"}: " +
+      file +
+      " at /variants/0: pipeline 'Gradient PSO': render target 0 has format VK_FORMAT_R8G8B8A8_UINT (set by "
+      "the variant), which holds unsigned integer values, but the shader's variable at location 0 is "
+      "float\n"
+      "FAILED graphics pipeline 'Fill Buffer PSO' as archived: " +
+      file +
+      " at /variants/2/kind: pipeline 'Fill Buffer PSO' is a compute pipeline, not a graphics pipeline\n" +
+      out.string() + ": 0 of 2 objects ok\n" + "in all: 0 of 3 objects ok\n";
+  EXPECT_NE(without_times(run.output).find(expected), std::string::npos) << run.output;
+
+  std::ofstream(variants, std::ios::trunc) << R"({"statepack_variants": 1, "variants": [
+    {"pipeline": "Gradient PSO", "kind": "graphics", "state": {"color_formats.0": "VK_FORMAT_R8G8B8A8_UNROM"}}]})";
+  CliRun misspelt = statepack("verify '" + out.string() + "' --variants '" + variants.string() + "'");
+  EXPECT_EQ(misspelt.exit_code, 1) << misspelt.output;
+  EXPECT_NE(misspelt.output.find("statepack: error: " + file +
+                                 " at /variants/0/state/color_formats.0: 'VK_FORMAT_R8G8B8A8_UNROM' is not a "
+                                 "VkFormat name (did you mean 'VK_FORMAT_R8G8B8A8_UNORM'"),
+            std::string::npos)
+      << misspelt.output;
+  EXPECT_EQ(misspelt.output.find("objects ok"), std::string::npos) << misspelt.output;
 }
 
 TEST_F(Verify, DamagedArchivesAndMissingDevicesAreErrors) {

@@ -123,9 +123,11 @@ TEST_F(SliceTest, RunTimeFormatsLeftUnknownAreErrors) {
   ASSERT_TRUE(dearchiver->add_archive(std::move(*archive)));
   auto unpatched = dearchiver->unpack_graphics("Gradient PSO");
   ASSERT_FALSE(unpatched);
-  EXPECT_EQ(unpatched.error().message,
-            "pipeline 'Gradient PSO': render target 0 is UNKNOWN (a format set at run time); set "
-            "PatchableState::color_formats[0] in the modify callback");
+  EXPECT_EQ(
+      unpatched.error().message,
+      "pipeline 'Gradient PSO': render target 0 is UNKNOWN (a format set at run time); set "
+      "PatchableState::color_formats[0] in the modify callback, or give RTVFormats[0] in the notation and "
+      "pack again");
   auto patched = dearchiver->unpack_graphics(
       "Gradient PSO", [](PatchableState& s) { s.color_formats[0] = VK_FORMAT_B8G8R8A8_UNORM; });
   ASSERT_TRUE(patched) << patched.error().message;

@@ -123,18 +123,21 @@ TEST_F(UnpackAllPatch, AFormatLeftUnknownIsAnErrorNamingThePipelineAndSlot) {
   EXPECT_EQ(
       unpatched.error().message,
       "2 objects failed: pipeline 'Overlay Gradient PSO': render target 0 is UNKNOWN (a format set at run "
-      "time); set PatchableState::color_formats[0] in the modify callback; pipeline 'Swapchain Gradient "
-      "PSO': render target 0 is UNKNOWN (a format set at run time); set PatchableState::color_formats[0] "
-      "in the modify callback");
+      "time); set PatchableState::color_formats[0] in the modify callback, or give RTVFormats[0] in the "
+      "notation and pack again; pipeline 'Swapchain Gradient PSO': render target 0 is UNKNOWN (a format set "
+      "at run time); set PatchableState::color_formats[0] "
+      "in the modify callback, or give RTVFormats[0] in the notation and pack again");
   // A callback that patches one of the two leaves the other one's slot named.
   auto half = dearchiver.unpack_all([](const ObjectInfo& pipeline, PatchableState& s) {
     if (pipeline.name == kOverlay) set_swapchain_format(s);
   });
   ASSERT_FALSE(half);
   EXPECT_EQ(half.error().code, ErrorCode::invalid_argument);
-  EXPECT_EQ(half.error().message,
-            "pipeline 'Swapchain Gradient PSO': render target 0 is UNKNOWN (a format set at run time); set "
-            "PatchableState::color_formats[0] in the modify callback");
+  EXPECT_EQ(
+      half.error().message,
+      "pipeline 'Swapchain Gradient PSO': render target 0 is UNKNOWN (a format set at run time); set "
+      "PatchableState::color_formats[0] in the modify callback, or give RTVFormats[0] in the notation and "
+      "pack again");
 }
 
 // Variants: a patched unpack is keyed by the state the callback settled, not by the callback, so a
@@ -332,7 +335,8 @@ TEST_F(UnpackAllPatch, RenderTargetsLeftToRunTimeMustBeSetByTheCallback) {
   const std::string expected =
       "pipeline 'Targets Set At Run Time PSO': its pixel shader 'Gradient PS' writes render target 0, but "
       "the pipeline has 0 render target(s): the notation leaves them to run time, so set "
-      "PatchableState::color_count (to at least 1) and color_formats in the modify callback";
+      "PatchableState::color_count (to at least 1) and color_formats in the modify callback, or give "
+      "NumRenderTargets and RTVFormats in the notation and pack again";
   auto unpatched = dearchiver->unpack_graphics(kName);
   ASSERT_FALSE(unpatched);
   EXPECT_EQ(unpatched.error().code, ErrorCode::invalid_argument);
@@ -354,6 +358,19 @@ TEST_F(UnpackAllPatch, RenderTargetsLeftToRunTimeMustBeSetByTheCallback) {
   ASSERT_FALSE(no_format);
   EXPECT_NE(no_format.error().message.find("render target 0 is UNKNOWN"), std::string::npos)
       << no_format.error().message;
+  // A format of the wrong numeric type from the callback is the caller's mistake (invalid_argument, as
+  // every callback value), not a damaged archive (corrupt).
+  auto wrong_type = dearchiver->unpack_graphics(kName, [](PatchableState& s) {
+    s.color_count = 1;
+    s.color_formats[0] = VK_FORMAT_R8G8B8A8_UINT;
+  });
+  ASSERT_FALSE(wrong_type);
+  EXPECT_EQ(wrong_type.error().code, ErrorCode::invalid_argument);
+  EXPECT_EQ(
+      wrong_type.error().message,
+      "pipeline 'Targets Set At Run Time PSO': render target 0 has format VK_FORMAT_R8G8B8A8_UINT (set by "
+      "the modify callback), which holds unsigned integer values, but the shader's variable at location 0 "
+      "is float");
 
   // Patched as Tutorial25's callback does, it draws the gradient into the target it was given.
   auto patched = dearchiver->unpack_graphics(kName, [](PatchableState& s) {

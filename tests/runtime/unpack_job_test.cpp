@@ -267,7 +267,9 @@ TEST_F(UnpackJobTest, EveryFailureIsReportedAndProgressCountsEachPipelineOnce) {
     EXPECT_EQ(f.error.code, ErrorCode::invalid_argument);
     EXPECT_EQ(f.error.message, "pipeline '" + f.object.name +
                                    "': render target 0 is UNKNOWN (a format set at run time); set "
-                                   "PatchableState::color_formats[0] in the modify callback");
+                                   "PatchableState::color_formats[0] in the modify callback, or give "
+                                   "RTVFormats[0] in the notation and "
+                                   "pack again");
     EXPECT_EQ(outcome.at(f.object.name), f.error.message);
   }
   ASSERT_EQ(report->pipelines.size(), 2u);

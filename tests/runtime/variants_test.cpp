@@ -151,6 +151,12 @@ TEST(VariantsFile, MistakesAreNamedWithTheirPlace) {
        "variants file 'v.json' at /variants/0/state/color_format.0: no such field (did you mean "
        "'color_formats.0'"},
       {R"({"statepack_variants": 1, "variants": [{"pipeline": "A", "kind": "graphics", "state": {"samples": "VK_SAMPLE_COUNT_3_BIT"}}]})",
+       "variants file 'v.json' at /variants/0/state/samples: 'VK_SAMPLE_COUNT_3_BIT' is not a "
+       "VkSampleCountFlagBits name (did you mean 'VK_SAMPLE_COUNT_1_BIT'"},
+      {R"({"statepack_variants": 1, "variants": [{"pipeline": "A", "kind": "graphics", "state": {"color_formats.1": "VK_FORMAT_B8G8R8A8_SRBG"}}]})",
+       "variants file 'v.json' at /variants/0/state/color_formats.1: 'VK_FORMAT_B8G8R8A8_SRBG' is not a "
+       "VkFormat name (did you mean 'VK_FORMAT_B8G8R8A8_SRGB'"},
+      {R"({"statepack_variants": 1, "variants": [{"pipeline": "A", "kind": "graphics", "state": {"samples": 4}}]})",
        "variants file 'v.json' at /variants/0/state/samples: expected a VkSampleCountFlagBits name, such as "
        "VK_SAMPLE_COUNT_1_BIT"},
       {R"({"statepack_variants": 1, "variants": [{"pipeline": "A", "kind": "graphics", "state": {"rasterizer.depth_bias": "x"}}]})",

@@ -226,6 +226,9 @@ struct STATEPACK_API PipelineVariant {
   std::string pipeline;
   ObjectKind kind = ObjectKind::graphics_pipeline;
   std::string state;  // the JSON object of changed fields ("{}": none)
+  // Where it was read, for messages: "variants file 'v.json' at /variants/2" (load_variants and
+  // parse_variants set it); empty for Dearchiver::variants()' own.
+  std::string origin;
 
   // Sets the recorded fields in `s` (a modify callback's state); invalid_argument naming the field for
   // one that is unknown or out of range (load_variants checks every field, so its variants apply).
