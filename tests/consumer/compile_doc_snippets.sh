@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# Compiles every ```cpp block of README.md and docs/*.md against the dearchiver's public headers only
-# (what an application sees), with -std=c++20 -Wall -Wextra -Werror, so that the documented code cannot
-# rot: a renamed call, a [[nodiscard]] result ignored or a missing include fails the test.
+# Compiles every ```cpp block of README.md and docs/*.md against the installed headers only (the
+# dearchiver's and the bootstrap library's: what an application sees), with -std=c++20 -Wall -Wextra
+# -Werror, so that the documented code cannot rot: a renamed call, a [[nodiscard]] result ignored or a
+# missing include fails the test.
 #
 # How a block is compiled (the conventions for whoever writes one):
 #   - A block whose first line is `#include ...` is a whole source file, compiled as written.
@@ -52,7 +53,7 @@ for doc in "$root/README.md" "$root"/docs/*.md; do
         printf '#include <statepack/dearchiver.hpp>\n#include <cstdio>\nint snippet(%s) {\n#line %d "%s"\n%sreturn 0;\n}\n' \
           "$context" "$start" "$rel" "$body" >"$file"
       fi
-      if "$cxx" -std=c++20 -Wall -Wextra -Werror -O1 -I"$include_dir" -c "$file" -o "$work/$name.o" 2>"$work/$name.log"; then
+      if "$cxx" -std=c++20 -Wall -Wextra -Werror -O1 -I"$include_dir" -I"$root/dearchiver/bootstrap/include" -c "$file" -o "$work/$name.o" 2>"$work/$name.log"; then
         compiled=$((compiled + 1))
       else
         echo "FAIL: the C++ block at $rel:$start does not compile:"

@@ -69,6 +69,16 @@ TEST_F(PackagerCli, OneVersionNumberEverywhere) {
   ASSERT_EQ(statepack(pack_args(std::string(STATEPACK_STATES_DIR) + "/slice.json", out)).exit_code, 0);
   CliRun inspect = statepack("inspect '" + out.string() + "'");
   EXPECT_NE(inspect.output.find("made by statepack " + version + ","), std::string::npos) << inspect.output;
+  // CHANGELOG.md's newest entry is this version, and says what breaks and how to migrate.
+  const std::string changelog = read_file(STATEPACK_CHANGELOG);
+  const size_t newest = changelog.find("\n## ");
+  ASSERT_NE(newest, std::string::npos) << "CHANGELOG.md has no release heading";
+  EXPECT_EQ(changelog.substr(newest + 4, version.size() + 1), version + " ")
+      << "CHANGELOG.md's newest entry is not statepack " << version << ": "
+      << changelog.substr(newest + 1, changelog.find('\n', newest + 1) - newest - 1);
+  const std::string entry = changelog.substr(newest, changelog.find("\n## ", newest + 1) - newest);
+  EXPECT_NE(entry.find("### Breaking changes"), std::string::npos);
+  EXPECT_NE(entry.find("Migration"), std::string::npos);
 }
 
 TEST_F(PackagerCli, PacksTheSliceWithDiligentStyleCommandLine) {

@@ -15,6 +15,15 @@
 
 namespace statepack::bootstrap {
 
+// A Vulkan structure zeroed but for its sType. `T x{type}` would say the same, but -Wextra
+// (missing-field-initializers) warns on it in every program that includes this header.
+template <class T>
+constexpr T vk_structure(VkStructureType type) {
+  T s{};
+  s.sType = type;
+  return s;
+}
+
 // How validation_messages() begins a performance warning of the layer (advice about speed, such as an
 // output no later stage reads). Every other message begins "validation error: " or "validation warning: ".
 inline constexpr char kPerformanceWarning[] = "validation performance warning: ";
@@ -52,10 +61,14 @@ class VulkanContext {
   bool validation_enabled = false;
   VkPhysicalDeviceFeatures enabled_features{};  // what the device was created with
   // ... every structure of it, chained as given to vkCreateDevice (enabled_features2 heads the chain)
-  VkPhysicalDeviceFeatures2 enabled_features2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
-  VkPhysicalDeviceVulkan11Features enabled_features11{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_FEATURES};
-  VkPhysicalDeviceVulkan12Features enabled_features12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
-  VkPhysicalDeviceVulkan13Features enabled_features13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
+  VkPhysicalDeviceFeatures2 enabled_features2 =
+      vk_structure<VkPhysicalDeviceFeatures2>(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2);
+  VkPhysicalDeviceVulkan11Features enabled_features11 =
+      vk_structure<VkPhysicalDeviceVulkan11Features>(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_FEATURES);
+  VkPhysicalDeviceVulkan12Features enabled_features12 =
+      vk_structure<VkPhysicalDeviceVulkan12Features>(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES);
+  VkPhysicalDeviceVulkan13Features enabled_features13 =
+      vk_structure<VkPhysicalDeviceVulkan13Features>(VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES);
   std::vector<const char*> enabled_extensions;              // device extensions
   const VkAllocationCallbacks* device_allocator = nullptr;  // as created with
 
