@@ -452,11 +452,16 @@ struct Walker {
       if (!d || !d->spec_id) continue;  // not specializable
       auto t = type(type_id);
       uint32_t size = 0;
-      if (t && t->first == kOpTypeBool) size = 4;  // VkBool32
+      SpecKind kind = SpecKind::other;
+      if (t && t->first == kOpTypeBool) size = 4, kind = SpecKind::boolean;  // VkBool32
       if (t && (t->first == kOpTypeInt || t->first == kOpTypeFloat) &&
-          (t->second[0] == 32 || t->second[0] == 64))
+          (t->second[0] == 32 || t->second[0] == 64)) {
         size = t->second[0] / 8;
-      module.spec_constants.push_back({*d->spec_id, size});
+        kind = t->first == kOpTypeFloat                    ? SpecKind::float_
+               : t->second.size() > 1 && t->second[1] != 0 ? SpecKind::sint
+                                                           : SpecKind::uint;
+      }
+      module.spec_constants.push_back({*d->spec_id, size, kind});
     }
     std::sort(module.spec_constants.begin(), module.spec_constants.end(),
               [](const SpecConstant& a, const SpecConstant& b) { return a.constant_id < b.constant_id; });

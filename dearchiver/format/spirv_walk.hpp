@@ -75,9 +75,12 @@ struct EntryPoint {
 
 // A specialization constant the module declares: its SpecId and the byte size Vulkan's map entry for it
 // must have (4 for booleans, as VkBool32).
+// What a specialization constant's value means (its OpType), for showing it as a value, not bits.
+enum class SpecKind : uint8_t { other, boolean, sint, uint, float_ };
 struct SpecConstant {
   uint32_t constant_id = 0;
   uint32_t size = 0;  // 0: a type this walker does not size (a map entry for it is refused)
+  SpecKind kind = SpecKind::other;
 };
 
 struct Module {

@@ -4,7 +4,9 @@
 #include "notation/enum_tables.hpp"
 
 #include <cinttypes>
+#include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <nlohmann/json.hpp>
 #include <ostream>
 #include <vulkan/vulkan.hpp>  // vk::to_string: Vulkan's own enum names, kept up to date by the SDK
@@ -13,6 +15,7 @@
 #include "format/archive_format.hpp"
 #include "format/spirv_walk.hpp"
 #include "pack/packer.hpp"
+#include "spellings.hpp"
 #include "support/printable.hpp"
 
 namespace statepack::packager {
@@ -77,10 +80,38 @@ std::string none_or(uint32_t index) {
   return index == format::kNone ? "none" : std::to_string(index);
 }
 
+// The spellings (spellings.hpp): the notation's names, Vulkan's where the notation has none.
+std::string stage_name(uint32_t stage) {
+  return notation_name(
+      kShaderTypes, stage,
+      vulkan_name("VK_SHADER_STAGE_", vk::to_string(vk::ShaderStageFlagBits(stage))) + "_BIT");
+}
+std::string format_text(uint32_t format) {
+  return notation_name(kTextureFormats, format, vulkan_format_name(format));
+}
+std::string compare_name(uint32_t op) {
+  return notation_name(kComparisonFuncs, op, vulkan_name("VK_COMPARE_OP_", vk::to_string(vk::CompareOp(op))));
+}
+std::string blend_factor_name(uint32_t factor) {
+  return notation_name(kBlendFactors, factor,
+                       vulkan_name("VK_BLEND_FACTOR_", vk::to_string(vk::BlendFactor(factor))));
+}
+std::string blend_op_name(uint32_t op) {
+  return notation_name(kBlendOps, op, vulkan_name("VK_BLEND_OP_", vk::to_string(vk::BlendOp(op))));
+}
+std::string stencil_op_name(uint32_t op) {
+  return notation_name(kStencilOps, op, vulkan_name("VK_STENCIL_OP_", vk::to_string(vk::StencilOp(op))));
+}
+// A format as JSON: the notation's name under `key`, Vulkan's under "vk_" + key.
+void put_format(Json& j, const std::string& key, uint32_t format) {
+  j[key] = format_text(format);
+  j["vk_" + key] = vulkan_format_name(format);
+}
+
 Json stages_json(uint32_t flags) {
   Json out = Json::array();
   for (uint32_t bit = 1; bit <= VK_SHADER_STAGE_COMPUTE_BIT; bit <<= 1)
-    if (flags & bit) out.push_back(vk::to_string(vk::ShaderStageFlagBits(bit)));
+    if (flags & bit) out.push_back(stage_name(bit));
   return out;
 }
 
@@ -88,7 +119,7 @@ Json binding_json(const format::Binding& b) {
   Json j;
   j["name"] = b.name;
   j["binding"] = b.binding;
-  j["type"] = vk::to_string(vk::DescriptorType(b.descriptor_type));
+  j["type"] = vulkan_name("VK_DESCRIPTOR_TYPE_", vk::to_string(vk::DescriptorType(b.descriptor_type)));
   j["count"] = b.count;
   j["stages"] = stages_json(b.stage_flags);
   if (b.immutable_sampler != format::kNone) j["immutable_sampler"] = b.immutable_sampler;
@@ -98,23 +129,31 @@ Json binding_json(const format::Binding& b) {
 Json graphics_json(const format::Contents& c, const format::Pipeline& p) {
   const format::GraphicsState& g = p.graphics;
   Json j;
-  j["topology"] = vk::to_string(vk::PrimitiveTopology(g.topology));
+  j["topology"] = g.topology == VK_PRIMITIVE_TOPOLOGY_PATCH_LIST
+                      ? notation_name(kTopologies, kPatchListTopology + g.patch_control_points,
+                                      "VK_PRIMITIVE_TOPOLOGY_PATCH_LIST")
+                      : notation_name(kTopologies, g.topology,
+                                      vulkan_name("VK_PRIMITIVE_TOPOLOGY_",
+                                                  vk::to_string(vk::PrimitiveTopology(g.topology))));
   if (g.patch_control_points != 0) j["patch_control_points"] = g.patch_control_points;
-  j["polygon_mode"] = vk::to_string(vk::PolygonMode(g.polygon_mode));
-  j["cull_mode"] = g.cull_mode == 0 ? "None" : vk::to_string(vk::CullModeFlagBits(g.cull_mode));
-  j["front_face"] = vk::to_string(vk::FrontFace(g.front_face));
+  j["polygon_mode"] =
+      notation_name(kFillModes, g.polygon_mode,
+                    vulkan_name("VK_POLYGON_MODE_", vk::to_string(vk::PolygonMode(g.polygon_mode))));
+  j["cull_mode"] = notation_name(kCullModes, g.cull_mode, "VK_CULL_MODE_FRONT_AND_BACK");
+  // The notation says FrontCounterClockwise (a bool), not a name: Vulkan's name of the archived value.
+  j["front_face"] = vulkan_name("VK_FRONT_FACE_", vk::to_string(vk::FrontFace(g.front_face)));
   j["depth_test"] = g.depth_test != 0;
   j["depth_write"] = g.depth_write != 0;
-  j["depth_compare"] = vk::to_string(vk::CompareOp(g.depth_compare));
+  j["depth_compare"] = compare_name(g.depth_compare);
   j["depth_clamp"] = g.depth_clamp != 0;
   j["depth_bias"] = {
       {"constant", g.depth_bias}, {"clamp", g.depth_bias_clamp}, {"slope", g.depth_bias_slope}};
   j["stencil_test"] = g.stencil_test != 0;
   auto stencil_ops = [](const format::StencilOpState& s) {
-    return Json{{"fail", vk::to_string(vk::StencilOp(s.fail_op))},
-                {"pass", vk::to_string(vk::StencilOp(s.pass_op))},
-                {"depth_fail", vk::to_string(vk::StencilOp(s.depth_fail_op))},
-                {"compare", vk::to_string(vk::CompareOp(s.compare_op))}};
+    return Json{{"fail", stencil_op_name(s.fail_op)},
+                {"pass", stencil_op_name(s.pass_op)},
+                {"depth_fail", stencil_op_name(s.depth_fail_op)},
+                {"compare", compare_name(s.compare_op)}};
   };
   j["stencil"] = {{"read_mask", g.stencil_read_mask},
                   {"write_mask", g.stencil_write_mask},
@@ -126,15 +165,13 @@ Json graphics_json(const format::Contents& c, const format::Pipeline& p) {
   Json formats = Json::array();
   for (uint32_t i = 0; i < g.color_count; ++i) {
     Json target;
-    target["format"] = vk::to_string(vk::Format(g.color_formats[i]));
+    put_format(target, "format", g.color_formats[i]);
     target["blend"] = g.blend[i].enable != 0;
     {  // factors and ops are stored (and shown) even when blending is off
-      target["color"] = vk::to_string(vk::BlendFactor(g.blend[i].src_color)) + " " +
-                        vk::to_string(vk::BlendOp(g.blend[i].color_op)) + " " +
-                        vk::to_string(vk::BlendFactor(g.blend[i].dst_color));
-      target["alpha"] = vk::to_string(vk::BlendFactor(g.blend[i].src_alpha)) + " " +
-                        vk::to_string(vk::BlendOp(g.blend[i].alpha_op)) + " " +
-                        vk::to_string(vk::BlendFactor(g.blend[i].dst_alpha));
+      target["color"] = blend_factor_name(g.blend[i].src_color) + " " + blend_op_name(g.blend[i].color_op) +
+                        " " + blend_factor_name(g.blend[i].dst_color);
+      target["alpha"] = blend_factor_name(g.blend[i].src_alpha) + " " + blend_op_name(g.blend[i].alpha_op) +
+                        " " + blend_factor_name(g.blend[i].dst_alpha);
     }
     target["write_mask"] = g.blend[i].write_mask;
     formats.push_back(target);
@@ -150,17 +187,19 @@ Json graphics_json(const format::Contents& c, const format::Pipeline& p) {
       if (written & (1u << l)) run_time.push_back(l);
   }
   if (!run_time.empty()) j["run_time_render_targets"] = run_time;
-  j["depth_stencil_format"] = vk::to_string(vk::Format(g.depth_stencil_format));
+  put_format(j, "depth_stencil_format", g.depth_stencil_format);
   Json bindings = Json::array(), attributes = Json::array();
   for (const auto& b : g.vertex_bindings)
-    bindings.push_back({{"binding", b.binding},
-                        {"stride", b.stride},
-                        {"rate", vk::to_string(vk::VertexInputRate(b.input_rate))}});
-  for (const auto& a : g.vertex_attributes)
-    attributes.push_back({{"location", a.location},
-                          {"binding", a.binding},
-                          {"format", vk::to_string(vk::Format(a.format))},
-                          {"offset", a.offset}});
+    bindings.push_back(
+        {{"binding", b.binding},
+         {"stride", b.stride},
+         {"rate", vulkan_name("VK_VERTEX_INPUT_RATE_", vk::to_string(vk::VertexInputRate(b.input_rate)))}});
+  for (const auto& a : g.vertex_attributes) {
+    Json attribute{{"location", a.location}, {"binding", a.binding}};
+    put_format(attribute, "format", a.format);
+    attribute["offset"] = a.offset;
+    attributes.push_back(attribute);
+  }
   if (!bindings.empty()) j["vertex_bindings"] = bindings;
   if (!attributes.empty()) j["vertex_attributes"] = attributes;
   j["render_pass"] = p.render_pass == format::kNone ? "none" : c.render_passes[p.render_pass].name;
@@ -169,27 +208,46 @@ Json graphics_json(const format::Contents& c, const format::Pipeline& p) {
 }
 
 Json sampler_json(const format::Sampler& s) {
-  return {{"filter", vk::to_string(vk::Filter(s.min_filter)) + "/" + vk::to_string(vk::Filter(s.mag_filter)) +
-                         "/" + vk::to_string(vk::SamplerMipmapMode(s.mipmap_mode))},
-          {"address", vk::to_string(vk::SamplerAddressMode(s.address_u)) + "/" +
-                          vk::to_string(vk::SamplerAddressMode(s.address_v)) + "/" +
-                          vk::to_string(vk::SamplerAddressMode(s.address_w))},
+  // The notation's names of the plain filters (POINT, LINEAR) and address modes.
+  auto filter = [](uint32_t f) {
+    return notation_name(kFilterTypes, f, vulkan_name("VK_FILTER_", vk::to_string(vk::Filter(f))));
+  };
+  auto address = [](uint32_t a) {
+    return notation_name(kAddressModes, a,
+                         vulkan_name("VK_SAMPLER_ADDRESS_MODE_", vk::to_string(vk::SamplerAddressMode(a))));
+  };
+  return {{"filter", filter(s.min_filter) + "/" + filter(s.mag_filter) + "/" +
+                         filter(s.mipmap_mode)},  // VK_SAMPLER_MIPMAP_MODE_* has VkFilter's values
+          {"address", address(s.address_u) + "/" + address(s.address_v) + "/" + address(s.address_w)},
           {"anisotropy", s.anisotropy_enable ? s.max_anisotropy : 0.0f},
-          {"compare", s.compare_enable ? vk::to_string(vk::CompareOp(s.compare_op)) : "none"}};
+          {"compare", s.compare_enable ? compare_name(s.compare_op) : "none"}};
 }
 
 Json render_pass_json(const format::RenderPass& rp) {
   Json pass{{"name", rp.name}};
   Json attachments = Json::array();
-  for (const auto& a : rp.attachments)
-    attachments.push_back({{"format", vk::to_string(vk::Format(a.format))},
-                           {"samples", a.samples},
-                           {"load", vk::to_string(vk::AttachmentLoadOp(a.load_op))},
-                           {"store", vk::to_string(vk::AttachmentStoreOp(a.store_op))},
-                           {"stencil_load", vk::to_string(vk::AttachmentLoadOp(a.stencil_load_op))},
-                           {"stencil_store", vk::to_string(vk::AttachmentStoreOp(a.stencil_store_op))},
-                           {"initial_layout", vk::to_string(vk::ImageLayout(a.initial_layout))},
-                           {"final_layout", vk::to_string(vk::ImageLayout(a.final_layout))}});
+  auto load = [](uint32_t op) {
+    return notation_name(kLoadOps, op,
+                         vulkan_name("VK_ATTACHMENT_LOAD_OP_", vk::to_string(vk::AttachmentLoadOp(op))));
+  };
+  auto store = [](uint32_t op) {
+    return notation_name(kStoreOps, op,
+                         vulkan_name("VK_ATTACHMENT_STORE_OP_", vk::to_string(vk::AttachmentStoreOp(op))));
+  };
+  // Layouts as Vulkan's: the notation's RESOURCE_STATE_* names map several states to one layout.
+  auto layout = [](uint32_t l) { return vulkan_name("VK_IMAGE_LAYOUT_", vk::to_string(vk::ImageLayout(l))); };
+  for (const auto& a : rp.attachments) {
+    Json attachment;
+    put_format(attachment, "format", a.format);
+    attachment.update({{"samples", a.samples},
+                       {"load", load(a.load_op)},
+                       {"store", store(a.store_op)},
+                       {"stencil_load", load(a.stencil_load_op)},
+                       {"stencil_store", store(a.stencil_store_op)},
+                       {"initial_layout", layout(a.initial_layout)},
+                       {"final_layout", layout(a.final_layout)}});
+    attachments.push_back(attachment);
+  }
   pass["attachments"] = attachments;
   Json subpasses = Json::array();
   for (const auto& s : rp.subpasses) {
@@ -205,24 +263,84 @@ Json render_pass_json(const format::RenderPass& rp) {
   }
   pass["subpasses"] = subpasses;
   Json dependencies = Json::array();
+  auto stage_bit = [](uint32_t bit) {
+    return vulkan_name("VK_PIPELINE_STAGE_", vk::to_string(vk::PipelineStageFlagBits(bit))) + "_BIT";
+  };
+  auto access_bit = [](uint32_t bit) {
+    return vulkan_name("VK_ACCESS_", vk::to_string(vk::AccessFlagBits(bit))) + "_BIT";
+  };
   for (const auto& d : rp.dependencies)
     dependencies.push_back(
         {{"src_subpass", d.src_subpass == format::kNone ? Json("external") : Json(d.src_subpass)},
          {"dst_subpass", d.dst_subpass == format::kNone ? Json("external") : Json(d.dst_subpass)},
-         {"src_stages", vk::to_string(vk::PipelineStageFlags(d.src_stages))},
-         {"dst_stages", vk::to_string(vk::PipelineStageFlags(d.dst_stages))},
-         {"src_access", vk::to_string(vk::AccessFlags(d.src_access))},
-         {"dst_access", vk::to_string(vk::AccessFlags(d.dst_access))},
-         {"flags", vk::to_string(vk::DependencyFlags(d.flags))}});
+         {"src_stages", notation_flags(kPipelineStages, d.src_stages, stage_bit)},
+         {"dst_stages", notation_flags(kPipelineStages, d.dst_stages, stage_bit)},
+         {"src_access", notation_flags(kAccessFlags, d.src_access, access_bit)},
+         {"dst_access", notation_flags(kAccessFlags, d.dst_access, access_bit)},
+         {"flags", d.flags == 0 ? std::string("NONE")
+                                : vulkan_name("VK_", vk::to_string(vk::DependencyFlags(d.flags)))}});
   pass["dependencies"] = dependencies;
   return pass;
+}
+
+// A specialization constant's value by the type its shader declares (bool, int, uint, float), beside
+// its bits; a type the walker does not know shows the bits alone.
+void put_constant_value(Json& j, spirv::SpecKind kind, uint32_t size, uint64_t bits) {
+  char hex[24];
+  std::snprintf(hex, sizeof hex, size == 8 ? "0x%016llx" : "0x%08llx", static_cast<unsigned long long>(bits));
+  switch (kind) {
+    case spirv::SpecKind::boolean:
+      j["type"] = "bool", j["value"] = bits != 0;
+      break;
+    case spirv::SpecKind::sint:
+      j["type"] = size == 8 ? "int64" : "int";
+      j["value"] = size == 8 ? static_cast<int64_t>(bits) : int64_t(static_cast<int32_t>(uint32_t(bits)));
+      break;
+    case spirv::SpecKind::uint:
+      j["type"] = size == 8 ? "uint64" : "uint", j["value"] = bits;
+      break;
+    case spirv::SpecKind::float_: {
+      j["type"] = size == 8 ? "double" : "float";
+      double value = 0;
+      if (size == 8) {
+        std::memcpy(&value, &bits, 8);
+      } else {
+        float f = 0;
+        const uint32_t low = uint32_t(bits);
+        std::memcpy(&f, &low, 4);
+        value = f;
+      }
+      if (std::isfinite(value)) j["value"] = value;  // JSON has no NaN or infinity: the bits say it
+      break;
+    }
+    case spirv::SpecKind::other:
+      break;
+  }
+  j["bits"] = hex;
+}
+
+Json constants_json(const format::Contents& c, const format::Pipeline& p) {
+  Json constants = Json::array();
+  for (const auto& k : p.constants) {
+    Json j{
+        {"name", k.name}, {"stage", stage_name(k.stage)}, {"constant_id", k.constant_id}, {"size", k.size}};
+    spirv::SpecKind kind = spirv::SpecKind::other;
+    for (uint32_t index : p.shaders)
+      if (index < c.shaders.size() && c.shaders[index].stage == k.stage)
+        if (auto module = spirv::walk(c.spirv.at(c.shaders[index].blob)))
+          if (const spirv::SpecConstant* declared = module->find_spec_constant(k.constant_id))
+            kind = declared->kind;
+    put_constant_value(j, kind, k.size, k.value);
+    constants.push_back(j);
+  }
+  return constants;
 }
 
 Json pipeline_json(const format::Contents& c, const format::Pipeline& p) {
   Json pj{{"name", p.name}, {"kind", p.kind == format::PipelineKind::compute ? "compute" : "graphics"}};
   Json stages = Json::array();
   for (uint32_t s : p.shaders)
-    stages.push_back({{"stage", vk::to_string(vk::ShaderStageFlagBits(c.shaders[s].stage))},
+    stages.push_back({{"stage", stage_name(c.shaders[s].stage)},
                       {"shader", c.shaders[s].name},
                       {"size", c.spirv[c.shaders[s].blob].size_bytes()}});
   pj["shaders"] = stages;
@@ -248,20 +366,7 @@ Json pipeline_json(const format::Contents& c, const format::Pipeline& p) {
       if (bit != kUnsupportedValue && (p.dynamic_states & bit)) dynamic.push_back(name);
     pj["dynamic_states"] = dynamic;
   }
-  if (!p.constants.empty()) {
-    Json constants = Json::array();
-    for (const auto& k : p.constants) {
-      char value[24];
-      std::snprintf(value, sizeof value, k.size == 8 ? "0x%016llx" : "0x%08llx",
-                    static_cast<unsigned long long>(k.value));
-      constants.push_back({{"name", k.name},
-                           {"stage", vk::to_string(vk::ShaderStageFlagBits(k.stage))},
-                           {"constant_id", k.constant_id},
-                           {"size", k.size},
-                           {"value", value}});
-    }
-    pj["specialization_constants"] = constants;
-  }
+  if (!p.constants.empty()) pj["specialization_constants"] = constants_json(c, p);
   return pj;
 }
 
@@ -270,7 +375,7 @@ Json gl_pipeline_json(const format::Contents& c, const format::GlPipeline& p) {
   Json pj{{"name", p.name}, {"kind", p.kind == format::PipelineKind::compute ? "compute" : "graphics"}};
   Json gl_shaders = Json::array();
   for (const auto& s : p.shaders)
-    gl_shaders.push_back({{"stage", vk::to_string(vk::ShaderStageFlagBits(s.stage))},
+    gl_shaders.push_back({{"stage", stage_name(s.stage)},
                           {"shader", s.name},
                           {"entry_point", s.entry_point},
                           {"blob", s.blob},
@@ -292,10 +397,8 @@ Json gl_pipeline_json(const format::Contents& c, const format::GlPipeline& p) {
   }
   Json constants = Json::array();
   for (const auto& k : p.constants)
-    constants.push_back({{"name", k.name},
-                         {"stage", vk::to_string(vk::ShaderStageFlagBits(k.stage))},
-                         {"constant_id", k.constant_id},
-                         {"size", k.size}});
+    constants.push_back(
+        {{"name", k.name}, {"stage", stage_name(k.stage)}, {"constant_id", k.constant_id}, {"size", k.size}});
   if (!constants.empty()) pj["specialization_constants"] = constants;
   return pj;
 }
@@ -317,10 +420,8 @@ Json contents_json(const format::Contents& c, size_t size) {
   j["spirv_blobs"] = blobs;
   Json shaders = Json::array();
   for (const auto& s : c.shaders)
-    shaders.push_back({{"name", s.name},
-                       {"stage", vk::to_string(vk::ShaderStageFlagBits(s.stage))},
-                       {"entry_point", s.entry_point},
-                       {"blob", s.blob}});
+    shaders.push_back(
+        {{"name", s.name}, {"stage", stage_name(s.stage)}, {"entry_point", s.entry_point}, {"blob", s.blob}});
   j["shaders"] = shaders;
   Json standalone = Json::array();
   for (uint32_t s : c.standalone_shaders) standalone.push_back(c.shaders[s].name);
@@ -353,6 +454,11 @@ Json contents_json(const format::Contents& c, size_t size) {
   return j;
 }
 
+// A format in text: the notation's name with Vulkan's in parentheses (put_format wrote both).
+std::string format_text(const Json& j, const std::string& key) {
+  return j[key].get<std::string>() + " (" + j["vk_" + key].get<std::string>() + ")";
+}
+
 // A Vulkan pipeline's graphics state: the summary line, then raster, depth, stencil, multisample and
 // each target's blend.
 void print_graphics_text(const Json& g, std::ostream& out) {
@@ -362,8 +468,8 @@ void print_graphics_text(const Json& g, std::ostream& out) {
       << (g["depth_test"].get<bool>() ? "on" : "off") << ", targets:";
   for (const auto& t : g["render_targets"])
     out << " "
-        << (t["format"] == "Undefined" ? std::string("UNKNOWN (set at unpack)")
-                                       : t["format"].get<std::string>());
+        << (t["vk_format"] == "VK_FORMAT_UNDEFINED" ? std::string("UNKNOWN (set at unpack)")
+                                                    : format_text(t, "format"));
   if (g.contains("run_time_render_targets")) {
     out << " + set at run time:";
     for (const auto& l : g["run_time_render_targets"]) out << " " << l.get<uint32_t>();
@@ -376,7 +482,7 @@ void print_graphics_text(const Json& g, std::ostream& out) {
       << g["depth_bias"]["constant"].get<float>() << " (clamp " << g["depth_bias"]["clamp"].get<float>()
       << ", slope " << g["depth_bias"]["slope"].get<float>() << ")\n";
   out << "    depth: write " << (g["depth_write"].get<bool>() ? "on" : "off") << ", compare "
-      << g["depth_compare"].get<std::string>() << ", format " << g["depth_stencil_format"].get<std::string>()
+      << g["depth_compare"].get<std::string>() << ", format " << format_text(g, "depth_stencil_format")
       << "\n";
   const auto& st = g["stencil"];
   auto ops = [](const Json& s) {
@@ -420,8 +526,10 @@ void print_pipeline_text(const Json& p, std::ostream& out) {
   if (p.contains("specialization_constants"))
     for (const auto& k : p["specialization_constants"])
       out << "  specialization constant '" << text(k["name"]) << "' (" << k["stage"].get<std::string>()
-          << ", id " << k["constant_id"].get<uint32_t>() << ", " << k["size"].get<uint32_t>()
-          << " bytes) = " << k["value"].get<std::string>() << "\n";
+          << ", id " << k["constant_id"].get<uint32_t>() << ", "
+          << (k.contains("type") ? k["type"].get<std::string>()
+                                 : std::to_string(k["size"].get<uint32_t>()) + " bytes")
+          << ") = " << (k.contains("value") ? k["value"].dump() : k["bits"].get<std::string>()) << "\n";
   if (p.contains("dynamic_states")) {
     out << "  dynamic:";
     for (const auto& d : p["dynamic_states"]) out << " " << d.get<std::string>();
@@ -435,11 +543,10 @@ void print_render_pass_text(const Json& r, std::ostream& out) {
       << r["subpasses"].size() << " subpasses)\n";
   for (size_t i = 0; i < r["attachments"].size(); ++i) {
     const auto& a = r["attachments"][i];
-    out << "  attachment " << i << ": " << a["format"].get<std::string>() << " x"
-        << a["samples"].get<uint32_t>() << ", " << a["load"].get<std::string>() << "/"
-        << a["store"].get<std::string>() << ", stencil " << a["stencil_load"].get<std::string>() << "/"
-        << a["stencil_store"].get<std::string>() << ", " << a["initial_layout"].get<std::string>() << " -> "
-        << a["final_layout"].get<std::string>() << "\n";
+    out << "  attachment " << i << ": " << format_text(a, "format") << " x" << a["samples"].get<uint32_t>()
+        << ", " << a["load"].get<std::string>() << "/" << a["store"].get<std::string>() << ", stencil "
+        << a["stencil_load"].get<std::string>() << "/" << a["stencil_store"].get<std::string>() << ", "
+        << a["initial_layout"].get<std::string>() << " -> " << a["final_layout"].get<std::string>() << "\n";
   }
   auto subpass = [](const Json& s) { return s.is_string() ? s.get<std::string>() : s.dump(); };
   for (const auto& d : r["dependencies"])

@@ -479,19 +479,27 @@ TEST_F(PackagerCli, InspectShowsTheWholeGraphicsState) {
   ASSERT_EQ(pack.exit_code, 0) << pack.output;
   CliRun text = statepack("inspect '" + out.string() + "'");
   for (const char* line :
-       {"    raster: Fill, front face Clockwise, depth clamp off, depth bias 2 (clamp 0.25, slope 1.5)\n",
-        "    stencil: on, read mask 0xf, write mask 0xf0, front NotEqual fail Keep pass Replace depth-fail "
-        "IncrementAndClamp, back Always fail Keep pass Zero depth-fail Keep\n",
+       {"    raster: SOLID, front face VK_FRONT_FACE_CLOCKWISE, depth clamp off, depth bias 2 (clamp 0.25, "
+        "slope "
+        "1.5)\n",
+        "    depth: write on, compare LESS_EQUAL, format D24_UNORM_S8_UINT (VK_FORMAT_D24_UNORM_S8_UINT)\n",
+        "    stencil: on, read mask 0xf, write mask 0xf0, front NOT_EQUAL fail KEEP pass REPLACE depth-fail "
+        "INCR_SAT, back ALWAYS fail KEEP pass ZERO depth-fail KEEP\n",
         "    multisample: 1 sample(s), mask 0xffffffff, alpha to coverage off\n",
-        "    target 0: blend on, color SrcAlpha Add OneMinusSrcAlpha, alpha One Max Zero, write mask 0x7\n",
-        "  dependency external -> 0: stages { ColorAttachmentOutput } -> { EarlyFragmentTests | "
-        "ColorAttachmentOutput }, access {} -> { ColorAttachmentWrite | DepthStencilAttachmentWrite }\n"})
+        "    target 0: blend on, color SRC_ALPHA ADD INV_SRC_ALPHA, alpha ONE MAX ZERO, write mask 0x7\n",
+        "  attachment 1: D24_UNORM_S8_UINT (VK_FORMAT_D24_UNORM_S8_UINT) x1, CLEAR/STORE, stencil "
+        "CLEAR/DISCARD, "
+        "VK_IMAGE_LAYOUT_UNDEFINED -> VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL\n",
+        "  dependency external -> 0: stages RENDER_TARGET -> EARLY_FRAGMENT_TESTS | RENDER_TARGET, access "
+        "NONE -> "
+        "RENDER_TARGET_WRITE | DEPTH_STENCIL_WRITE\n"})
     EXPECT_NE(text.output.find(line), std::string::npos) << line << "\nin:\n" << text.output;
   CliRun json = statepack("inspect --json '" + out.string() + "'");
-  for (const char* field : {"\"slope\": 1.5", "\"write_mask\": 240", "\"depth_fail\": \"IncrementAndClamp\"",
-                            "\"sample_mask\": 4294967295",
-                            "\"dst_access\": \"{ ColorAttachmentWrite | "
-                            "DepthStencilAttachmentWrite }\""})
+  for (const char* field :
+       {"\"slope\": 1.5", "\"write_mask\": 240", "\"depth_fail\": \"INCR_SAT\"",
+        "\"sample_mask\": 4294967295", "\"dst_access\": \"RENDER_TARGET_WRITE | DEPTH_STENCIL_WRITE\"",
+        "\"depth_stencil_format\": \"D24_UNORM_S8_UINT\",\n        \"vk_depth_stencil_format\": "
+        "\"VK_FORMAT_D24_UNORM_S8_UINT\""})
     EXPECT_NE(json.output.find(field), std::string::npos) << field;
 }
 
@@ -591,9 +599,9 @@ TEST_F(PackagerCli, HlslPushConstantsBecomeThePipelinesRange) {
   ASSERT_EQ(json.exit_code, 0) << json.output;
   // Two float4 for vertex and pixel stages; a uint and a float for the compute one.
   for (const char* range : {"\"push_constants\": {\n        \"size\": 32,\n        \"stages\": [\n          "
-                            "\"Vertex\",\n          \"Fragment\"\n        ]",
+                            "\"VERTEX\",\n          \"PIXEL\"\n        ]",
                             "\"push_constants\": {\n        \"size\": 8,\n        \"stages\": [\n          "
-                            "\"Compute\"\n        ]"})
+                            "\"COMPUTE\"\n        ]"})
     EXPECT_NE(json.output.find(range), std::string::npos) << range << "\nin:\n" << json.output;
 }
 
@@ -710,8 +718,8 @@ TEST_F(PackagerCli, OpenGlBackendHasItsOwnModulesAndBindingTable) {
     EXPECT_NE(json.output.find(field), std::string::npos) << field << "\n" << json.output;
   CliRun text = statepack("inspect '" + both.string() + "'");
   for (const char* line :
-       {"OpenGL pipeline 'Fill Buffer PSO' (compute)\n", "  uniform buffer 0: 'Params' x1 [\"Compute\"]\n",
-        "  storage buffer 0: 'Values' x1 [\"Compute\"]\n", "OpenGL pipeline 'Gradient PSO' (graphics)\n"})
+       {"OpenGL pipeline 'Fill Buffer PSO' (compute)\n", "  uniform buffer 0: 'Params' x1 [\"COMPUTE\"]\n",
+        "  storage buffer 0: 'Values' x1 [\"COMPUTE\"]\n", "OpenGL pipeline 'Gradient PSO' (graphics)\n"})
     EXPECT_NE(text.output.find(line), std::string::npos) << line << "\nin:\n" << text.output;
   // The Vulkan part is what --vulkan alone writes: the same pipelines, push constants and all.
   EXPECT_NE(text.output.find("  push constants: 12 bytes\n"), std::string::npos) << text.output;
@@ -764,11 +772,11 @@ TEST_F(PackagerCli, OpenGlTranslatesVulkanSourcesAndRefusesWhatItCannotExpress) 
   // after the others; the separate pair one texture under the image's name; HLSL's g_T + g_T_sampler
   // one texture g_T (Diligent's convention).
   for (const char* line :
-       {"OpenGL pipeline 'Vulkan GLSL PSO' (graphics)\n", "  uniform buffer 0: 'U' x1 [\"Fragment\"]\n",
-        "  uniform buffer 1: '$PushConstants' x1 [\"Fragment\"]\n", "  texture 0: 'tex' x1 [\"Fragment\"]\n",
-        "OpenGL pipeline 'HLSL PSO' (graphics)\n", "  texture 0: 'g_T' x1 [\"Fragment\"]\n"})
+       {"OpenGL pipeline 'Vulkan GLSL PSO' (graphics)\n", "  uniform buffer 0: 'U' x1 [\"PIXEL\"]\n",
+        "  uniform buffer 1: '$PushConstants' x1 [\"PIXEL\"]\n", "  texture 0: 'tex' x1 [\"PIXEL\"]\n",
+        "OpenGL pipeline 'HLSL PSO' (graphics)\n", "  texture 0: 'g_T' x1 [\"PIXEL\"]\n"})
     EXPECT_NE(text.output.find(line), std::string::npos) << line << text.output;
-  EXPECT_EQ(text.output.find("g_T_sampler' x1 [\"Fragment\"]\n  TriangleList"), std::string::npos);
+  EXPECT_EQ(text.output.find("g_T_sampler' x1 [\"PIXEL\"]\n  TRIANGLE_LIST"), std::string::npos);
   // OpenGL alone packs them too.
   EXPECT_EQ(statepack("pack -i '" + vk_json.string() + "' -o '" + vk_spk.string() + "' --opengl").exit_code,
             0);
@@ -874,8 +882,8 @@ TEST_F(PackagerCli, PathTracerStatesPackForOpenGlToo) {
   ASSERT_EQ(pack.exit_code, 0) << pack.output;
   CliRun text = statepack("inspect '" + out.string() + "'");
   for (const char* line :
-       {"OpenGL pipeline 'Path Trace PSO' (compute)\n", "  image 4: 'accumulation' x1 [\"Compute\"]\n",
-        "OpenGL pipeline 'Resolve PSO' (graphics)\n", "  uniform buffer 0: 'Params' x1 [\"Fragment\"]\n",
+       {"OpenGL pipeline 'Path Trace PSO' (compute)\n", "  image 4: 'accumulation' x1 [\"COMPUTE\"]\n",
+        "OpenGL pipeline 'Resolve PSO' (graphics)\n", "  uniform buffer 0: 'Params' x1 [\"PIXEL\"]\n",
         "  push constants: 8 bytes\n"})  // resolve.frag: exposure and divisor
     EXPECT_NE(text.output.find(line), std::string::npos) << line << "\nin:\n" << text.output;
 }
@@ -1007,11 +1015,11 @@ OpFunctionEnd
   ASSERT_EQ(pack.exit_code, 0) << pack.output;
   CliRun inspect = statepack("inspect --json '" + spk.string() + "'");
   EXPECT_NE(inspect.output.find(
-                "\"name\": \"Second CS\",\n      \"stage\": \"Compute\",\n      \"entry_point\": \"second\""),
+                "\"name\": \"Second CS\",\n      \"stage\": \"COMPUTE\",\n      \"entry_point\": \"second\""),
             std::string::npos)
       << inspect.output;
   EXPECT_NE(inspect.output.find(
-                "\"name\": \"Default CS\",\n      \"stage\": \"Compute\",\n      \"entry_point\": \"first\""),
+                "\"name\": \"Default CS\",\n      \"stage\": \"COMPUTE\",\n      \"entry_point\": \"first\""),
             std::string::npos)
       << inspect.output;
   // The module is cut to that entry point: the other and its execution mode are gone.
@@ -1037,6 +1045,57 @@ OpFunctionEnd
       statepack_in(dir_, "pack -i bytecode.json -o '" + spk.string() + "' --vulkan --vulkan_version 1.1")
           .exit_code,
       0);
+}
+
+}  // namespace
+
+namespace {
+
+// inspect spells values as the notation does, with Vulkan's name beside a format (docs/cli.md,
+// "Spellings"), and shows a specialization constant as the value of the type its shader declares.
+TEST_F(PackagerCli, InspectSpellsAsTheNotationAndTypesConstants) {
+  fs::path out = dir_ / "constants.spk";
+  CliRun pack =
+      statepack("pack -i '" + std::string(STATEPACK_TEST_DATA_DIR) + "/specialization/constants.json' -s '" +
+                STATEPACK_TEST_DATA_DIR + "/specialization' -o '" + out.string() + "' --vulkan");
+  ASSERT_EQ(pack.exit_code, 0) << pack.output;
+  CliRun text = statepack("inspect '" + out.string() + "'");
+  for (const char* line : {"  COMPUTE: 'Constants CS', ",
+                           "    binding 0: 'Result' VK_DESCRIPTOR_TYPE_STORAGE_BUFFER x1 [\"COMPUTE\"]\n",
+                           "  specialization constant 'kBase' (COMPUTE, id 0, uint) = 42\n",
+                           "  specialization constant 'kNegate' (COMPUTE, id 2, bool) = true\n",
+                           "  specialization constant 'kScale' (COMPUTE, id 1, float) = 1.5\n"})
+    EXPECT_NE(text.output.find(line), std::string::npos) << line << "\nin:\n" << text.output;
+  CliRun json = statepack("inspect --json '" + out.string() + "'");
+  for (const char* field :
+       {"\"type\": \"float\",\n          \"value\": 1.5,\n          \"bits\": \"0x3fc00000\"",
+        "\"type\": \"bool\",\n          \"value\": true,\n          \"bits\": \"0x00000001\""})
+    EXPECT_NE(json.output.find(field), std::string::npos) << field << "\nin:\n" << json.output;
+
+  // A signed constant shows its sign, not its two's-complement bits.
+  std::ofstream(dir_ / "signed.comp") << "#version 450\nlayout(local_size_x = 1) in;\n"
+                                         "layout(constant_id = 3) const int kOffset = 0;\n"
+                                         "layout(std430, binding = 0) buffer Out { int value; } result;\n"
+                                         "void main() { result.value = kOffset; }\n";
+  std::ofstream(dir_ / "signed.json") << R"({"Pipelines": [{"PSODesc": {"Name": "Signed"},
+    "pCS": {"Desc": {"Name": "Signed CS", "ShaderType": "COMPUTE"}, "FilePath": "signed.comp"},
+    "pSpecializationConstants": [{"Name": "kOffset", "ShaderStages": "COMPUTE", "Value": -5}]}]})";
+  CliRun signed_pack = statepack_in(dir_, "pack -i signed.json -o signed.spk --vulkan");
+  ASSERT_EQ(signed_pack.exit_code, 0) << signed_pack.output;
+  CliRun signed_text = statepack("inspect '" + (dir_ / "signed.spk").string() + "'");
+  EXPECT_NE(signed_text.output.find("  specialization constant 'kOffset' (COMPUTE, id 3, int) = -5\n"),
+            std::string::npos)
+      << signed_text.output;
+
+  // A target format: the notation's name with Vulkan's in parentheses.
+  fs::path targets = dir_ / "slice.spk";
+  ASSERT_EQ(statepack(pack_args(std::string(STATEPACK_STATES_DIR) + "/slice.json", targets)).exit_code, 0);
+  CliRun slice = statepack("inspect '" + targets.string() + "'");
+  EXPECT_NE(
+      slice.output.find(
+          "  TRIANGLE_LIST, cull NONE, depth test off, targets: RGBA8_UNORM (VK_FORMAT_R8G8B8A8_UNORM)\n"),
+      std::string::npos)
+      << slice.output;
 }
 
 }  // namespace
