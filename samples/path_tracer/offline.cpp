@@ -37,7 +37,7 @@ Result<OfflineRender> render_offline(bootstrap::VulkanContext& vk, Dearchiver& d
       bootstrap::create_device_image(vk, kTargetFormat, width, height,
                                      VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT);
   if (!target) return target.error();
-  (*renderer)->set_scene(scene);
+  if (auto ok = (*renderer)->set_scene(scene); !ok) return ok.error();
   (*renderer)->set_settings(settings);
   OfflineRender out;
   using Clock = std::chrono::steady_clock;

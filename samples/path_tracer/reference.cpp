@@ -45,6 +45,13 @@ struct Box {
   double c = 1, s = 0;
 };
 
+// A light without area (scene.hpp's SceneLight), in double precision.
+struct DeltaLight {
+  SceneLight::Type type = SceneLight::Type::point;
+  V3 position, direction, c0;
+  double r0 = 1, r_min = 0.01, r_max = 0, cos_umbra = 0, cos_penumbra = 1;
+};
+
 struct Hit {
   double t = 1e300;
   int box = -1, face = 0;
@@ -65,7 +72,18 @@ class Tracer {
       b.c = g.rotation[0], b.s = g.rotation[1];
       boxes_.push_back(b);
     }
-    light_ = int(light);
+    light_ = scene.area_light ? int(light) : -1;
+    for (const SceneLight& l : scene.lights) {
+      DeltaLight d;
+      d.type = l.type;
+      d.position = from(l.position), d.direction = from(l.direction);
+      d.c0 = from(l.color) * double(l.intensity);
+      d.r0 = l.reference_distance, d.r_min = l.radius, d.r_max = l.range;
+      constexpr double kDegrees = kPi / 180;
+      d.cos_umbra = std::cos(l.umbra_degrees * kDegrees),
+      d.cos_penumbra = std::cos(l.penumbra_degrees * kDegrees);
+      lights_.push_back(d);
+    }
     other_emitters_ = std::any_of(scene.boxes.begin(), scene.boxes.end(), [](const SceneBox& b) {
       return b.emittance[0] > 0 || b.emittance[1] > 0 || b.emittance[2] > 0;
     });
@@ -92,7 +110,9 @@ class Tracer {
       for (int i = 0; i < 4; ++i) u[i] = double(to_unit(w[i]));
       V3 n = normal(box, face);
       V3 rho = boxes_[box].albedo;
-      if (nee) radiance = radiance + throughput * rho * (1 / kPi) * light_sample(x, n, box, u[0], u[1]);
+      if (nee && light_ >= 0)
+        radiance = radiance + throughput * rho * (1 / kPi) * light_sample(x, n, box, u[0], u[1]);
+      for (const DeltaLight& l : lights_) radiance = radiance + throughput * rho * delta_light(l, x, n, box);
       if (nee && j + 1 == settings_.bounces && !other_emitters_) break;
       V3 d = cosine_direction(n, u[2], u[3]);
       throughput = throughput * rho;
@@ -189,6 +209,35 @@ class Tracer {
     return b.emittance * (cos_x * cos_light * area / d2);
   }
 
+  // c(r) * cos(theta_x) of a light without area at x, visibility included (shaders/path_tracer/lights.glsl
+  // returns pi times this; the caller there divides by pi with the albedo).
+  V3 delta_light(const DeltaLight& l, V3 x, V3 n, int source) const {
+    V3 dir;
+    double distance = 1e30, scale = 1;
+    if (l.type == SceneLight::Type::directional) {
+      dir = l.direction * -1.0;
+    } else {
+      V3 to_light = l.position - x;
+      distance = std::sqrt(dot(to_light, to_light));
+      if (!(distance > 0)) return {};
+      dir = to_light * (1 / distance);
+      const double q = l.r0 / std::max(distance, l.r_min);
+      scale = q * q;
+      if (l.r_max > 0) {
+        const double w = std::max(1 - std::pow(distance / l.r_max, 4), 0.0);
+        scale *= w * w;
+      }
+      if (l.type == SceneLight::Type::spot) {
+        const double t = std::clamp(
+            (dot(l.direction, dir * -1.0) - l.cos_umbra) / (l.cos_penumbra - l.cos_umbra), 0.0, 1.0);
+        scale *= t * t * (3 - 2 * t);
+      }
+    }
+    const double cos_x = dot(n, dir);
+    if (cos_x <= 0 || scale <= 0 || !visible(x, dir, distance, source, -1)) return {};
+    return l.c0 * (scale * cos_x);
+  }
+
   static V3 cosine_direction(V3 n, double u0, double u1) {
     const double phi = 2 * kPi * (u0 - 0.5), r = std::sqrt(u1);
     V3 local{r * std::cos(phi), r * std::sin(phi), std::sqrt(std::max(0.0, 1 - u1))};
@@ -198,7 +247,8 @@ class Tracer {
   }
 
   std::vector<Box> boxes_;
-  int light_ = 0;
+  std::vector<DeltaLight> lights_;
+  int light_ = 0;  // -1: no rectangular light
   bool other_emitters_ = false;
   RenderSettings settings_;
   uint32_t width_, height_;

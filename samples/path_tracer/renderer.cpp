@@ -15,8 +15,9 @@ struct Constants {
   uint32_t frame[4];  // samples before this batch, samples in it, bounces, flags
   uint32_t image[4];  // width, height, seed, box count
   uint32_t light[4];  // light box index, first bounce of Russian roulette, divisor, full width | height << 16
+  uint32_t lights[4];  // first record of the lights without area (after the boxes), their count
 };
-static_assert(sizeof(Constants) == 112);
+static_assert(sizeof(Constants) == 128);
 
 Error vk_error(const char* call, VkResult r) {
   return Error{ErrorCode::vulkan_error, std::string(call) + " failed with VkResult " + std::to_string(r), r};
@@ -31,6 +32,7 @@ Result<std::unique_ptr<Renderer>> Renderer::create(bootstrap::VulkanContext& vk,
                                                   std::to_string(height) +
                                                   " is larger than the path tracer's 65535"};
   std::unique_ptr<Renderer> r(new Renderer(vk));
+  r->dearchiver_ = &dearchiver;
   r->width_ = width;
   r->height_ = height;
   r->target_format_ = target_format;
@@ -191,15 +193,47 @@ void Renderer::write_descriptors() {
   vkUpdateDescriptorSets(vk_.device, static_cast<uint32_t>(writes.size()), writes.data(), 0, nullptr);
 }
 
-void Renderer::set_scene(const Scene& scene) {
+Result<void> Renderer::set_scene(const Scene& scene) {
+  if (auto ok = specialize(scene); !ok) return ok;
   scene_ = scene;
   upload_scene();
   restart();
+  return {};
+}
+
+// The path-tracing pipelines for the scene's lights: the rectangle's code only when it has one, and
+// the code of each kind of light without area only when it has that kind (specialization constants;
+// the dearchiver keeps one pipeline per settled state, so switching back costs nothing).
+Result<void> Renderer::specialize(const Scene& scene) {
+  const bool area = scene.area_light;
+  const uint32_t kinds = light_kinds(scene);
+  const UnpackedPipeline* made[3] = {};
+  const char* names[3] = {"Path Trace PSO", "Path Trace MIS PSO", "Path Trace Baseline PSO"};
+  for (int i = 0; i < 3; ++i) {
+    std::string missing;
+    auto pso = dearchiver_->unpack_compute(names[i], [&](PatchableState& s) {
+      if (!s.set_constant("kAreaLight", area)) missing = "kAreaLight";
+      if (!s.set_constant("kLightKinds", kinds)) missing = "kLightKinds";
+    });
+    if (!pso) return pso.error();
+    if (!missing.empty())
+      return Error{ErrorCode::invalid_argument, std::string("pipeline '") + names[i] +
+                                                    "' has no 4-byte specialization constant '" + missing +
+                                                    "' (the archive is older than this path tracer)"};
+    if ((*pso)->layout != trace_->layout)
+      return Error{ErrorCode::invalid_argument, "the path-tracing variants must share one pipeline layout"};
+    made[i] = *pso;
+  }
+  trace_ = made[0], trace_mis_ = made[1], trace_baseline_ = made[2];
+  return {};
 }
 
 void Renderer::upload_scene() {
   std::vector<GpuBox> boxes = gpu_boxes(scene_, light_index_);
   box_count_ = static_cast<uint32_t>(boxes.size());
+  const std::vector<GpuBox> lights = gpu_lights(scene_);
+  light_count_ = static_cast<uint32_t>(lights.size());
+  boxes.insert(boxes.end(), lights.begin(), lights.end());  // after the boxes: traced as boxes never
   other_emitters_ = std::any_of(scene_.boxes.begin(), scene_.boxes.end(), [](const SceneBox& b) {
     return b.emittance[0] > 0 || b.emittance[1] > 0 || b.emittance[2] > 0;
   });
@@ -262,6 +296,7 @@ void Renderer::record(VkCommandBuffer cmd, VkImage target, VkImageView target_vi
   c.light[1] = s.roulette_start;
   c.light[2] = divisor_;
   c.light[3] = width_ | height_ << 16;
+  c.lights[0] = box_count_, c.lights[1] = light_count_;
   std::memcpy(constants_->mapped, &c, sizeof c);
 
   const VkViewport viewport{0, 0, float(width_), float(height_), 0, 1};

@@ -60,8 +60,9 @@ class Renderer {
                                                   uint32_t width, uint32_t height, VkFormat target_format);
   ~Renderer();
 
-  // Each of these restarts the accumulation when something changed.
-  void set_scene(const Scene& scene);
+  // Each of these restarts the accumulation when something changed. A scene also picks the path-tracing
+  // pipelines specialised for its lights (the unpack can fail: then the previous scene stays).
+  Result<void> set_scene(const Scene& scene);
   void set_camera(const Camera& camera);
   void set_settings(const RenderSettings& settings);
   Result<void> resize(uint32_t width, uint32_t height);
@@ -96,9 +97,11 @@ class Renderer {
   void destroy_images();
   void write_descriptors();
   void upload_scene();
+  Result<void> specialize(const Scene& scene);
   void restart() { samples_done_ = 0, gbuffer_dirty_ = true; }
 
   bootstrap::VulkanContext& vk_;
+  Dearchiver* dearchiver_ = nullptr;
   const UnpackedPipeline* gbuffer_ = nullptr;
   const UnpackedPipeline* trace_ = nullptr;  // next-event estimation (and BSDF sampling)
   const UnpackedPipeline* trace_mis_ = nullptr;
@@ -108,7 +111,7 @@ class Renderer {
   uint32_t width_ = 0, height_ = 0;
   uint32_t divisor_ = 1;
   Scene scene_;
-  uint32_t light_index_ = 0, box_count_ = 0;
+  uint32_t light_index_ = 0, box_count_ = 0, light_count_ = 0;
   bool other_emitters_ = false;
   RenderSettings settings_;
   std::unique_ptr<bootstrap::HostBuffer> constants_, boxes_;

@@ -1,6 +1,8 @@
 #include "scene.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
@@ -67,6 +69,91 @@ struct Reader {
   }
 };
 
+// A unit vector from `v`; false for a zero (or denormal) one.
+bool normalized(Vec3& v) {
+  const double length = std::sqrt(double(v[0]) * v[0] + double(v[1]) * v[1] + double(v[2]) * v[2]);
+  if (!(length > 1e-20)) return false;
+  for (float& c : v) c = float(c / length);
+  return true;
+}
+
+// One entry of "lights": every key checked, the message naming the light and the key.
+void read_light(Reader& r, const json& l, const std::string& p, SceneLight& light) {
+  if (!l.is_object()) return r.fail(p, "a light must be an object");
+  if (l.contains("name") && l["name"].is_string()) light.name = l["name"];
+  const std::string who = light.name.empty() ? p.substr(1) : "light '" + light.name + "'";
+  auto type = l.find("type");
+  if (type == l.end() || !type->is_string() ||
+      (*type != "directional" && *type != "point" && *type != "spot"))
+    return r.fail(p + "/type", who + ": 'type' must be \"directional\", \"point\" or \"spot\"");
+  light.type = *type == "directional" ? SceneLight::Type::directional
+               : *type == "point"     ? SceneLight::Type::point
+                                      : SceneLight::Type::spot;
+  const bool directional = light.type == SceneLight::Type::directional;
+  const bool spot = light.type == SceneLight::Type::spot;
+  if (directional)
+    r.keys(l, p, {"name", "type", "color", "intensity", "direction"});
+  else if (spot)
+    r.keys(l, p,
+           {"name", "type", "color", "intensity", "position", "direction", "reference_distance", "radius",
+            "range", "umbra_degrees", "penumbra_degrees"});
+  else
+    r.keys(l, p, {"name", "type", "color", "intensity", "position", "reference_distance", "radius", "range"});
+  auto need = [&](const char* key) {
+    if (!l.contains(key))
+      r.fail(p + "/" + key, who + ": a " + type->get<std::string>() + " light needs '" + key + "'");
+  };
+  r.vec3(l, "color", p, light.color);
+  for (size_t i = 0; i < 3; ++i)
+    if (light.color[i] < 0)
+      r.fail(p + "/color/" + std::to_string(i), who + ": colour components must be 0 or more");
+  r.number(l, "intensity", p, light.intensity, 0, kMaxRadiance);
+  if (!(light.intensity > 0))
+    r.fail(p + "/intensity", who + ": 'intensity' must be above 0 (a light that gives none)");
+  for (size_t i = 0; i < 3; ++i)
+    if (double(light.color[i]) * light.intensity > kMaxRadiance)
+      r.fail(p + "/color/" + std::to_string(i), who + ": colour x intensity must be at most 1e6");
+  if (directional || spot) {
+    need("direction");
+    r.vec3(l, "direction", p, light.direction);
+    if (!normalized(light.direction)) r.fail(p + "/direction", who + ": 'direction' must not be zero");
+  }
+  if (directional) return;
+  need("position");
+  r.vec3(l, "position", p, light.position);
+  r.number(l, "reference_distance", p, light.reference_distance, 0, kMaxCoordinate);
+  if (!(light.reference_distance > 0))
+    r.fail(p + "/reference_distance", who + ": 'reference_distance' must be above 0");
+  r.number(l, "radius", p, light.radius, 0, kMaxCoordinate);
+  if (!(light.radius > 0))
+    r.fail(p + "/radius", who + ": 'radius' must be above 0 (it bounds 1 / r^2 near the light)");
+  if (l.contains("range")) {
+    r.number(l, "range", p, light.range, 0, kMaxCoordinate);
+    if (!(light.range > 0))
+      r.fail(p + "/range", who + ": 'range' must be above 0 (leave it out for no window)");
+  }
+  if (!spot) return;
+  need("umbra_degrees");
+  need("penumbra_degrees");
+  r.number(l, "umbra_degrees", p, light.umbra_degrees, 0, 180);
+  r.number(l, "penumbra_degrees", p, light.penumbra_degrees, 0, 180);
+  if (!(light.umbra_degrees > light.penumbra_degrees))
+    r.fail(p + "/umbra_degrees",
+           who +
+               ": 'umbra_degrees' must be larger than 'penumbra_degrees' (the light fades "
+               "from the penumbra angle out to the umbra angle)");
+}
+
+void read_lights(Reader& r, const json& lights, Scene& scene) {
+  if (!lights.is_array()) return r.fail("/lights", "'lights' must be an array");
+  if (lights.size() > 64) return r.fail("/lights", "at most 64 lights (each is evaluated at every bounce)");
+  for (size_t i = 0; i < lights.size(); ++i) {
+    SceneLight light;
+    read_light(r, lights[i], "/lights/" + std::to_string(i), light);
+    scene.lights.push_back(light);
+  }
+}
+
 }  // namespace
 
 Result<Scene> load_scene(const std::filesystem::path& path) {
@@ -83,7 +170,7 @@ Result<Scene> load_scene(const std::filesystem::path& path) {
   Scene scene;
   if (!root.is_object())
     return Error{ErrorCode::invalid_argument, path.string() + ": the scene must be a JSON object"};
-  r.keys(root, "", {"description", "camera", "boxes", "light"});
+  r.keys(root, "", {"description", "camera", "boxes", "light", "lights"});
   if (auto c = root.find("camera"); c != root.end()) {
     r.keys(*c, "/camera", {"position", "yaw_degrees", "pitch_degrees", "fov_degrees"});
     r.vec3(*c, "position", "/camera", scene.camera.position);
@@ -134,10 +221,19 @@ Result<Scene> load_scene(const std::filesystem::path& path) {
         r.fail("/light/color/" + std::to_string(i),
                "must be from 0 to 1e6 / intensity (the light's radiance is colour x intensity, at most 1e6)");
   } else {
-    r.fail("/light", "the scene needs a 'light'");
+    scene.area_light = false;
   }
+  if (auto lights = root.find("lights"); lights != root.end()) read_lights(r, *lights, scene);
+  if (!scene.area_light && scene.lights.empty())
+    r.fail("/light", "the scene needs a 'light' (the rectangle) or a non-empty 'lights'");
   if (!r.problem.empty()) return Error{ErrorCode::invalid_argument, r.problem};
   return scene;
+}
+
+uint32_t light_kinds(const Scene& scene) {
+  uint32_t kinds = 0;
+  for (const SceneLight& l : scene.lights) kinds |= 1u << uint32_t(l.type);
+  return kinds;
 }
 
 CameraBasis camera_basis(const Camera& camera, uint32_t width, uint32_t height) {
@@ -176,11 +272,37 @@ std::vector<GpuBox> gpu_boxes(const Scene& scene, uint32_t& light_index) {
     const bool emits = box.emittance[0] > 0 || box.emittance[1] > 0 || box.emittance[2] > 0;
     add(box.center, box.half_size, box.albedo, box.emittance, emits ? kEveryFace : -1, box.rotation_degrees);
   }
+  light_index = UINT32_MAX;
+  if (!scene.area_light) return out;
   light_index = static_cast<uint32_t>(out.size());
   const Light& l = scene.light;
   constexpr float kBottomFace = 3;  // face index: axis y (1) * 2 + 1 (outward normal -y)
   add(l.center, l.half_size, l.albedo,
       {l.color[0] * l.intensity, l.color[1] * l.intensity, l.color[2] * l.intensity}, kBottomFace, 0);
+  return out;
+}
+
+std::vector<GpuBox> gpu_lights(const Scene& scene) {
+  std::vector<GpuBox> out;
+  constexpr double kDegrees = 3.14159265358979323846 / 180.0;
+  for (const SceneLight& l : scene.lights) {
+    GpuBox g{};
+    for (int i = 0; i < 3; ++i) {
+      g.center[i] = l.position[i];
+      g.half_size[i] = l.color[i] * l.intensity;
+      g.emittance[i] = l.direction[i];
+    }
+    g.center[3] = float(uint32_t(l.type));
+    g.half_size[3] = l.reference_distance;
+    g.albedo[0] = l.radius;
+    g.albedo[1] = l.range;
+    const double cos_umbra = std::cos(l.umbra_degrees * kDegrees),
+                 cos_penumbra = std::cos(l.penumbra_degrees * kDegrees);
+    g.albedo[2] = float(cos_umbra);
+    // Angles a hair apart give a huge but finite slope: the edge is then hard, never NaN.
+    g.albedo[3] = float(std::min(1.0 / std::max(cos_penumbra - cos_umbra, 1e-30), 1e30));
+    out.push_back(g);
+  }
   return out;
 }
 

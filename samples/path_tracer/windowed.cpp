@@ -66,7 +66,7 @@ class Window {
                                      swapchain_.format);
     if (!renderer) return fail(renderer.error().message);
     renderer_ = std::move(renderer.value());
-    renderer_->set_scene(*scene);
+    if (auto ok = renderer_->set_scene(*scene); !ok) return fail(ok.error().message);
     renderer_->set_settings(o.settings);
     if (!create_sync() || !init_imgui()) return 1;
 
@@ -319,6 +319,12 @@ class Window {
   }
 
   // --move-frames: the camera turns a little each frame, as a user dragging the mouse would.
+  // A scene edited in the panel or by the mouse; an unpack that fails keeps the previous scene.
+  void change_scene(const Scene& scene) {
+    if (auto ok = renderer_->set_scene(scene); !ok)
+      std::fprintf(stderr, "path_tracer: %s\n", printable(ok.error().message).c_str());
+  }
+
   bool turn_camera() {
     Camera camera = renderer_->camera();
     camera.yaw_degrees += 0.5f;
@@ -359,7 +365,7 @@ class Window {
       scene.light.center[0] += dx * 0.01f;
       scene.light.center[2] -= dy * 0.01f;
       clamp_light(scene.light);
-      renderer_->set_scene(scene);
+      change_scene(scene);
       return true;
     }
     return camera_changed;
@@ -414,7 +420,7 @@ class Window {
     light_changed |= ImGui::ColorEdit3("Light color", scene.light.color.data());
     if (light_changed) {
       clamp_light(scene.light);
-      renderer_->set_scene(scene);
+      change_scene(scene);
     }
     ImGui::Text("%u spp, %.1f ms/frame, %u/frame, traced at 1/%u", renderer_->samples_done(), dt * 1000.0f,
                 renderer_->settings().samples_per_frame, renderer_->render_divisor());

@@ -6,6 +6,10 @@
 #extension GL_GOOGLE_include_directive : require
 #include "scene.glsl"
 #include "spherical_rectangle.glsl"
+#include "lights.glsl"
+
+// The rectangular light (the emitting face of a box): false for a scene without one (set at unpack).
+layout(constant_id = 0) const bool kAreaLight = true;
 
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(set = 0, binding = 2, rgba32f) uniform readonly image2D g_albedo;
@@ -144,7 +148,10 @@ void main() {
         vec3 n = box_normal(box, face);
         vec3 rho = scene.boxes[box].albedo.rgb;
         float solid_angle = 0.0;
-        if (nee) radiance += throughput * rho / PI * sample_light(x, n, box, u.xy, solid_angle_sampling, solid_angle);
+        if (nee && kAreaLight)
+          radiance += throughput * rho / PI * sample_light(x, n, box, u.xy, solid_angle_sampling, solid_angle);
+        // Lights without area: every one at every vertex, whatever the estimator (no bounce finds them).
+        radiance += throughput * rho / PI * delta_lights(x, n, box);
         // The light is sampled B times; other emitters are found by bounces, so they need the last one
         // (and MIS needs it to reach the light by the BSDF as well).
         if (nee && j + 1u == bounces && (flags & FLAG_OTHER_EMITTERS) == 0u && ESTIMATOR != ESTIMATOR_MIS) break;
@@ -173,7 +180,7 @@ void main() {
         face = hit.face;
         // Emission found by a bounce counts unless next-event estimation already sampled it (the
         // light); with MIS the light's share is weighted against its light sample.
-        bool light_hit = box == int(constants.light.x);
+        bool light_hit = kAreaLight && box == int(constants.light.x);
 #if ESTIMATOR == ESTIMATOR_MIS
         if (light_hit) radiance += throughput * emitted(box, face) * bsdf_hit_weight(bounce_normal, dir, hit.t, solid_angle);
 #endif

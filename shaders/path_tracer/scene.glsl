@@ -34,6 +34,7 @@ layout(set = 0, binding = 0, std140) uniform Constants {
   uvec4 light;          // x: index of the light's box, y: first bounce of Russian roulette (0: none),
                         // z: divisor of the traced size (1, or 2..8 while the view moves),
                         // w: the full size, width | height << 16
+  uvec4 lights;         // x: index of the first light without area in `scene`, y: how many
 } constants;
 
 layout(set = 0, binding = 1, std430) readonly buffer Scene { Box boxes[]; } scene;

@@ -45,7 +45,7 @@ class RenderDivisor : public ::testing::Test {
   std::unique_ptr<Renderer> renderer() {
     auto r = Renderer::create(*vk_, *dearchiver_, kWidth, kHeight, kTarget);
     EXPECT_TRUE(r) << r.error().message;
-    (*r)->set_scene(scene_);
+    EXPECT_TRUE((*r)->set_scene(scene_));
     RenderSettings s;
     s.samples_per_frame = 2;
     (*r)->set_settings(s);

@@ -1,0 +1,54 @@
+// Lights without area (directional, point, spot) for next-event estimation: a bounce never hits one, so
+// each is sampled at every path vertex, exactly (a delta light has one direction). Their falloff is the
+// renderer's notes' (docs/path_tracer.md, "Lights"):
+//   c(r) = c0 * (r0 / max(r, r_min))^2 * max(1 - (r / r_max)^4, 0)^2 [with a range] * smoothstep(t) [spot],
+//   t = clamp((cos(theta_s) - cos(theta_u)) / (cos(theta_p) - cos(theta_u)), 0, 1),
+// and a Lambertian surface of albedo rho reflects rho * c(r) * cos(theta_x), the convention that a white
+// surface facing the light shows its colour.
+// The pipeline is specialised for the kinds a scene has (kLightKinds, set at unpack from the scene), so
+// a scene without them pays for none of this.
+
+layout(constant_id = 1) const uint kLightKinds = 0u;  // 1 directional, 2 point, 4 spot
+const uint LIGHT_DIRECTIONAL = 0u, LIGHT_POINT = 1u, LIGHT_SPOT = 2u;
+
+// The light's share at x (normal n) before the surface's rho / pi: pi * c(r) * cos(theta_x), 0 when it
+// is behind the surface, outside its cone or range, or shadowed. Records are laid out by gpu_lights()
+// in samples/path_tracer/scene.cpp.
+vec3 delta_light(uint index, vec3 x, vec3 n, int source_box) {
+  Box light = scene.boxes[index];
+  uint type = uint(light.center.w);
+  if ((kLightKinds & (1u << type)) == 0u) return vec3(0.0);  // lets the compiler drop what is not used
+  vec3 l;
+  float distance, scale = 1.0;
+  if (type == LIGHT_DIRECTIONAL) {
+    l = -light.emittance.xyz;
+    distance = 1e30;  // shadow rays reach every box of a scene bounded by 1e6
+  } else {
+    vec3 to_light = light.center.xyz - x;
+    distance = length(to_light);
+    if (!(distance > 0.0)) return vec3(0.0);  // a light exactly at x has no direction
+    l = to_light / distance;
+    float q = light.half_size.w / max(distance, light.albedo.x);
+    scale = q * q;
+    if (light.albedo.y > 0.0) {
+      float ratio = distance / light.albedo.y;
+      float w = max(1.0 - ratio * ratio * ratio * ratio, 0.0);
+      scale *= w * w;
+    }
+    if (type == LIGHT_SPOT) {
+      float t = clamp((dot(light.emittance.xyz, -l) - light.albedo.z) * light.albedo.w, 0.0, 1.0);
+      scale *= t * t * (3.0 - 2.0 * t);
+    }
+  }
+  float cos_x = dot(n, l);
+  if (cos_x <= 0.0 || scale <= 0.0) return vec3(0.0);
+  if (!visible(x, l, distance, source_box, -1)) return vec3(0.0);
+  return PI * light.half_size.rgb * (scale * cos_x);
+}
+
+vec3 delta_lights(vec3 x, vec3 n, int source_box) {
+  vec3 sum = vec3(0.0);
+  if (kLightKinds == 0u) return sum;
+  for (uint k = 0u; k < constants.lights.y; ++k) sum += delta_light(constants.lights.x + k, x, n, source_box);
+  return sum;
+}
