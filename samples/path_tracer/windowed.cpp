@@ -379,6 +379,39 @@ class Window {
     }
   }
 
+  // A light without area, collapsed by default: its intensity, position or direction and cone. Every
+  // value stays one the scene file could hold (load_scene's rules).
+  static bool light_panel(size_t index, SceneLight& light) {
+    const std::string title = (light.name.empty() ? "Light " + std::to_string(index) : light.name) +
+                              "##light" + std::to_string(index);
+    if (!ImGui::CollapsingHeader(title.c_str())) return false;
+    ImGui::PushID(int(index));
+    bool changed = ImGui::SliderFloat("Intensity", &light.intensity, 0.01f, 50.0f);
+    if (light.type != SceneLight::Type::directional)
+      changed |= ImGui::SliderFloat3("Position", light.position.data(), -10.0f, 10.0f);
+    if (light.type != SceneLight::Type::point) {
+      Vec3 direction = light.direction;
+      if (ImGui::SliderFloat3("Direction", direction.data(), -1.0f, 1.0f)) {
+        const float length = std::sqrt(direction[0] * direction[0] + direction[1] * direction[1] +
+                                       direction[2] * direction[2]);
+        if (length > 1e-3f) {  // a zero direction is no light: keep the last one
+          for (float& c : direction) c /= length;
+          light.direction = direction, changed = true;
+        }
+      }
+    }
+    if (light.type == SceneLight::Type::spot) {
+      changed |= ImGui::SliderFloat("Umbra (degrees)", &light.umbra_degrees, 1.0f, 180.0f);
+      changed |= ImGui::SliderFloat("Penumbra (degrees)", &light.penumbra_degrees, 0.0f, 179.0f);
+      light.penumbra_degrees =
+          std::min(light.penumbra_degrees, light.umbra_degrees - 0.5f);  // umbra > penumbra
+      light.penumbra_degrees = std::max(light.penumbra_degrees, 0.0f);
+    }
+    light.intensity = std::max(light.intensity, 0.01f);
+    ImGui::PopID();
+    return changed;
+  }
+
   void panel(float dt) {
     ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
     ImGui::Begin("Settings", nullptr, ImGuiWindowFlags_AlwaysAutoResize);
@@ -414,10 +447,14 @@ class Window {
     s.bounces = uint32_t(bounces), s.samples_per_frame = uint32_t(spf);
     renderer_->set_settings(s);
     Scene scene = renderer_->scene();
-    bool light_changed = ImGui::SliderFloat("Light intensity", &scene.light.intensity, 1.0f, 50.0f);
-    light_changed |= ImGui::SliderFloat("Light width", &scene.light.half_size[0], 0.5f, 3.0f);
-    light_changed |= ImGui::SliderFloat("Light height", &scene.light.half_size[2], 0.5f, 3.0f);
-    light_changed |= ImGui::ColorEdit3("Light color", scene.light.color.data());
+    bool light_changed = false;
+    if (scene.area_light) {
+      light_changed |= ImGui::SliderFloat("Light intensity", &scene.light.intensity, 1.0f, 50.0f);
+      light_changed |= ImGui::SliderFloat("Light width", &scene.light.half_size[0], 0.5f, 3.0f);
+      light_changed |= ImGui::SliderFloat("Light height", &scene.light.half_size[2], 0.5f, 3.0f);
+      light_changed |= ImGui::ColorEdit3("Light color", scene.light.color.data());
+    }
+    for (size_t i = 0; i < scene.lights.size(); ++i) light_changed |= light_panel(i, scene.lights[i]);
     if (light_changed) {
       clamp_light(scene.light);
       change_scene(scene);

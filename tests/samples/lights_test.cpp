@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -182,6 +183,34 @@ TEST(Lights, HardCasesStayFinite) {
     "direction": [1, 0, 0], "intensity": 4, "umbra_degrees": 90, "penumbra_degrees": 89.9}])"));
   ASSERT_EQ(grazing.exit_code, 0) << grazing.output;
   for (float v : grazing.rgb) EXPECT_TRUE(std::isfinite(v) && v >= 0) << v;
+}
+
+// The sample scene with every kind of light renders finite, and each light adds light: without it the
+// image's mean is lower.
+TEST(Lights, TheSampleSceneWithEveryKindRendersAndEachLightCounts) {
+  const fs::path sample = fs::path(STATEPACK_DEFAULT_SCENE).parent_path() / "cornell_box_lights.json";
+  std::ifstream in(sample);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  ASSERT_FALSE(text.empty()) << sample;
+  auto mean = [](const Render& r) {
+    double sum = 0;
+    for (float v : r.rgb) sum += v;
+    return sum / double(r.rgb.size());
+  };
+  const Render all = render("sample_all", text);
+  ASSERT_EQ(all.exit_code, 0) << all.output;
+  for (float v : all.rgb) ASSERT_TRUE(std::isfinite(v) && v >= 0) << v;
+  for (const char* name : {"Lamp", "Spot", "Sun"}) {
+    // The same scene with that light's intensity a millionth: what it gave is gone.
+    const std::string key = std::string("\"name\": \"") + name + "\"";
+    const size_t at = text.find(key), intensity = text.find("\"intensity\": ", at);
+    ASSERT_NE(at, std::string::npos) << name;
+    std::string dimmed = text;
+    dimmed.insert(text.find_first_of(", }", intensity + 13), "e-6");
+    const Render without = render(std::string("sample_without_") + name, dimmed);
+    ASSERT_EQ(without.exit_code, 0) << without.output;
+    EXPECT_LT(mean(without), mean(all) * 0.995) << name << " adds nothing";
+  }
 }
 
 // A bad light is the scene's error, naming the light and the key (exit 1, nothing rendered).
