@@ -45,6 +45,6 @@ in_root cmake --build /tmp/statepack/consumer-build >>"$work/consumer.log" 2>&1 
   fail "building the consumer: $(tail -20 "$work/consumer.log")"
 out=$(in_root /tmp/statepack/consumer-build/consumer_app /tmp/statepack/consumer-build/consumer.spk 2>&1) ||
   fail "consumer_app: $out"
-echo "$out" | grep -q "unpacked 'Consumer PSO'" || fail "consumer_app: $out"
+grep -q "unpacked 'Consumer PSO'" <<<"$out" || fail "consumer_app: $out"
 echo "consumer project: $out"
 echo "fresh Debian 12: the package installs with apt, its packager works, and a project builds against it"

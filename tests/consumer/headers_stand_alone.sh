@@ -14,8 +14,8 @@ for header in "$include_dir"/statepack/*.hpp; do
   printf '#include <%s>\n' "$name" > "$work/one.cpp"
   opened=$("$cxx" -std=c++20 -Wall -Wextra -Werror -fsyntax-only -H -I "$include_dir" "$work/one.cpp" 2>&1) ||
     fail "$name does not compile on its own: $opened"
-  echo "$opened" | grep -q "vulkan_core.h\|result.hpp\|export.hpp" || fail "-H listed nothing for $name, so the check proves nothing: $opened"
-  found=$(echo "$opened" | grep -E '/(epoxy|GL|GLES[0-9]*|EGL|glad)/' || true)
+  grep -q "vulkan_core.h\|result.hpp\|export.hpp" <<<"$opened" || fail "-H listed nothing for $name, so the check proves nothing: $opened"
+  found=$(grep -E '/(epoxy|GL|GLES[0-9]*|EGL|glad)/' <<<"$opened" || true)
   [[ -z "$found" ]] || fail "$name includes a GL header: $found"
   echo "ok: $name"
 done

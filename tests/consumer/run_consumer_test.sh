@@ -16,24 +16,24 @@ fail() { echo "FAIL: $*"; exit 1; }
 build() { cmake --build "$work/build" 2>&1; }
 
 cmake -S "$work/src" -B "$work/build" -G Ninja -DSTATEPACK_CMAKE="$module" -DSTATEPACK_EXECUTABLE="$statepack" >/dev/null
-out=$(build); echo "$out" | grep -q "statepack: packing" || fail "first build did not pack: $out"
+out=$(build); grep -q "statepack: packing" <<<"$out" || fail "first build did not pack: $out"
 archive="$work/build/consumer.spk"
 [[ -s "$archive" ]] || fail "no archive"
 "$statepack" inspect "$archive" | grep -q "Consumer PSO" || fail "archive lacks the pipeline"
 
-out=$(build); echo "$out" | grep -q "no work to do" || fail "an unchanged project rebuilt: $out"
+out=$(build); grep -q "no work to do" <<<"$out" || fail "an unchanged project rebuilt: $out"
 
 sleep 1; touch "$work/src/shaders/constants.glsl"
-out=$(build); echo "$out" | grep -q "statepack: packing" || fail "touching an #include did not repack: $out"
-out=$(build); echo "$out" | grep -q "no work to do" || fail "rebuilt twice after one change: $out"
+out=$(build); grep -q "statepack: packing" <<<"$out" || fail "touching an #include did not repack: $out"
+out=$(build); grep -q "no work to do" <<<"$out" || fail "rebuilt twice after one change: $out"
 
 sleep 1; touch "$work/src/states.json"
-out=$(build); echo "$out" | grep -q "statepack: packing" || fail "touching the JSON did not repack: $out"
+out=$(build); grep -q "statepack: packing" <<<"$out" || fail "touching the JSON did not repack: $out"
 
 before=$(cksum < "$archive")
 sleep 1; printf '#define ANSWER undefined_name\n' > "$work/src/shaders/constants.glsl"
 if out=$(build); then fail "a broken shader built: $out"; fi
-echo "$out" | grep -q "constants.glsl:1" || echo "$out" | grep -q "work.comp:6" || fail "no file:line for the error: $out"
+grep -q "constants.glsl:1" <<<"$out" || grep -q "work.comp:6" <<<"$out" || fail "no file:line for the error: $out"
 [[ "$(cksum < "$archive")" == "$before" ]] || fail "the failed pack changed the previous archive"
 # Unix Makefiles too: the function creates the output's directory itself (Ninja does, Make does not).
 cp -r "$here" "$work/make-src"
@@ -51,7 +51,7 @@ cmake -S "$work/multi-src" -B "$work/multi/build" -G "Ninja Multi-Config" -DSTAT
 out=$(cmake --build "$work/multi/build" --config Debug 2>&1) || fail "Ninja Multi-Config build failed: $out"
 [[ -s "$work/multi/build/consumer.spk" ]] || fail "Ninja Multi-Config: no archive: $out"
 out=$(cmake --build "$work/multi/build" --config Release 2>&1) || fail "Ninja Multi-Config Release build failed: $out"
-echo "$out" | grep -q "statepack: packing" && fail "Ninja Multi-Config: a second configuration repacked: $out"
+grep -q "statepack: packing" <<<"$out" && fail "Ninja Multi-Config: a second configuration repacked: $out"
 
 # A misspelt keyword is named, not reported as a missing OUTPUT.
 mkdir -p "$work/typo"
@@ -62,7 +62,7 @@ include("$module")
 statepack_add_archive(typo OUPTUT x.spk INPUTS states.json PACKAGER "$statepack")
 EOF2
 out=$(cmake -S "$work/typo" -B "$work/typo/build" 2>&1) && fail "a misspelt keyword configured: $out"
-echo "$out" | grep -q "unknown arguments OUPTUT;x.spk" || fail "the misspelt keyword is not named: $out"
+grep -q "unknown arguments OUPTUT;x.spk" <<<"$out" || fail "the misspelt keyword is not named: $out"
 
 # The documentation's C++ compiles as an application would compile it.
 out=$(bash "$here/compile_doc_snippets.sh" "$source_root" "$cxx" "$work/doc_snippets" 2>&1) ||

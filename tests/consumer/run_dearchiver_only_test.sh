@@ -30,31 +30,31 @@ for dir in tests samples packager; do
 done
 
 targets=$(ninja -C "$build" -t targets all | cut -d: -f1)
-echo "$targets" | grep -q "libstatepack_dearchiver.so" || fail "no dearchiver target: $targets"
-bad=$(echo "$targets" | grep -E '(^|/)(statepack|statepack_packager|statepack_docs|dearchiver_tests|path_tracer|unpack_demo)$|libstatepack_packager|libstatepack_gl' || true)
+grep -q "libstatepack_dearchiver.so" <<<"$targets" || fail "no dearchiver target: $targets"
+bad=$(grep -E '(^|/)(statepack|statepack_packager|statepack_docs|dearchiver_tests|path_tracer|unpack_demo)$|libstatepack_packager|libstatepack_gl' <<<"$targets" || true)
 [[ -z "$bad" ]] || fail "targets beyond the dearchiver: $bad"
 
 out=$(cmake --build "$build" 2>&1) || fail "build failed: $out"
 commands=$(ninja -C "$build" -t commands)
 # Library names and include directories of the toolchain (our own spirv_walk.cpp is not one of them).
-found=$(echo "$commands" | grep -iE 'glslang|SPIRV-Tools|spirv-cross|spirv_cross|libSPIRV' | head -3 || true)
+found=$(grep -iE 'glslang|SPIRV-Tools|spirv-cross|spirv_cross|libSPIRV' <<<"$commands" | head -3 || true)
 [[ -z "$found" ]] || fail "a command uses the shader toolchain: $found"
 library=$(find "$build" -name 'libstatepack_dearchiver.so.*' -type f | head -1)
 [[ -n "$library" ]] || fail "no shared dearchiver was built"
 deps=$(ldd "$library")
-echo "$deps" | grep -q libstdc++ || fail "ldd shows no libstdc++, so the checks below prove nothing: $deps"
-found=$(echo "$deps" | grep -iE 'glslang|spirv' || true)  # libSPIRV-Tools-shared, libspirv-cross-c-shared
+grep -q libstdc++ <<<"$deps" || fail "ldd shows no libstdc++, so the checks below prove nothing: $deps"
+found=$(grep -iE 'glslang|spirv' <<<"$deps" || true)  # libSPIRV-Tools-shared, libspirv-cross-c-shared
 [[ -z "$found" ]] || fail "the dearchiver depends on the shader toolchain: $found"
 # The application owns Vulkan dispatch (or the loader is opened at run time): no libvulkan link.
-found=$(echo "$deps" | grep libvulkan || true)
+found=$(grep libvulkan <<<"$deps" || true)
 [[ -z "$found" ]] || fail "the dearchiver links the Vulkan loader: $found"
 # Hidden visibility: the library exports its public API (and the one internal door statepack_gl uses),
 # nothing else of statepack's.
 # (Standard templates instantiated over public types are the compiler's, not statepack's, and not listed.)
 exported=$(nm -DC --defined-only "$library" | grep -E ' [TW] ' | sed 's/^[^ ]* [TW] //' | grep -E '^statepack::[A-Za-z_:]+(\(|$)' || true)
-leaked=$(echo "$exported" | grep -vE '^statepack::(Archive|Dearchiver|UnpackedPipeline|UnpackJob|PipelineVariant|detail::ArchiveAccess)::|^statepack::(to_string|load_pipeline_cache|save_pipeline_cache|load_variants|parse_variants)\(' || true)
+leaked=$(grep -vE '^statepack::(Archive|Dearchiver|UnpackedPipeline|UnpackJob|PipelineVariant|detail::ArchiveAccess)::|^statepack::(to_string|load_pipeline_cache|save_pipeline_cache|load_variants|parse_variants)\(' <<<"$exported" || true)
 [[ -z "$leaked" ]] || fail "internal symbols exported: $(echo "$leaked" | head -5)"
-echo "$exported" | grep -q '^statepack::Dearchiver::create' || fail "Dearchiver::create is not exported: $exported"
+grep -q '^statepack::Dearchiver::create' <<<"$exported" || fail "Dearchiver::create is not exported: $exported"
 echo "exported: $(echo "$exported" | wc -l) symbols, all public API"
 
 cmake --install "$build" --prefix "$work/prefix" >/dev/null || fail "install failed"
@@ -76,7 +76,7 @@ message(STATUS "found the shared dearchiver alone")
 EOF2
 out=$(cmake -S "$work/user" -B "$work/user/build" -DCMAKE_PREFIX_PATH="$work/prefix" 2>&1) ||
   fail "find_package of the dearchiver-only install: $out"
-echo "$out" | grep -q "found the shared dearchiver alone" || fail "$out"
+grep -q "found the shared dearchiver alone" <<<"$out" || fail "$out"
 
 echo "$(basename "$library"): $(echo "$deps" | wc -l) shared libraries, none a shader compiler"
 echo "dearchiver only: all checks passed"

@@ -19,7 +19,7 @@ for f in ./usr/bin/statepack ./usr/include/statepack/dearchiver.hpp ./usr/includ
   ./usr/lib/libstatepack_dearchiver.a ./usr/lib/cmake/statepack/statepackConfig.cmake \
   ./usr/lib/cmake/statepack/StatepackAddArchive.cmake ./usr/lib/pkgconfig/statepack_dearchiver.pc \
   ./usr/lib/pkgconfig/statepack_gl.pc; do
-  echo "$contents" | grep -qx "$f" || fail "the package lacks $f: $contents"
+  grep -qx "$f" <<<"$contents" || fail "the package lacks $f: $contents"
 done
 depends=$(dpkg-deb -f "$deb" Depends)
 for d in libvulkan1 libspirv-cross-c-shared0 libstdc++6 libvulkan-dev libxxhash-dev; do
@@ -27,7 +27,7 @@ for d in libvulkan1 libspirv-cross-c-shared0 libstdc++6 libvulkan-dev libxxhash-
 done
 
 out=$(apt-get install --simulate --no-install-recommends "$deb" 2>&1) || fail "apt refuses the package: $out"
-echo "$out" | grep -q "^Inst statepack" || fail "apt would not install statepack: $out"
+grep -q "^Inst statepack" <<<"$out" || fail "apt would not install statepack: $out"
 
 dpkg-deb -x "$deb" "$work/root"
 version=$("$work/root/usr/bin/statepack" --version) || fail "the packaged statepack does not run"

@@ -44,8 +44,8 @@ validated() {
 run_app() {  # <label> <executable> <archive>
   local out
   out=$(validated "$2" "$3") || fail "$1: the application failed: $out"
-  echo "$out" | grep -q "unpacked 'Consumer PSO'" || fail "$1: $out"
-  if echo "$out" | grep -qE "Validation (Error|Warning)|SYNC-HAZARD"; then fail "$1: validation messages: $out"; fi
+  grep -q "unpacked 'Consumer PSO'" <<<"$out" || fail "$1: $out"
+  if grep -qE "Validation (Error|Warning)|SYNC-HAZARD" <<<"$out"; then fail "$1: validation messages: $out"; fi
   echo "$1: $out"
 }
 
@@ -81,7 +81,7 @@ project_dir "$work/complete" "$complete_block"
 cmake -S "$work/complete" -B "$work/complete/build" -G Ninja -DCMAKE_PREFIX_PATH="$prefix" >"$work/complete.log" 2>&1 ||
   fail "cmake.md's complete project: configure failed: $(cat "$work/complete.log")"
 out=$(cmake --build "$work/complete/build" 2>&1) || fail "cmake.md's complete project: build failed: $out"
-echo "$out" | grep -q "objects ok" || fail "cmake.md's complete project: VERIFY did not run: $out"
+grep -q "objects ok" <<<"$out" || fail "cmake.md's complete project: VERIFY did not run: $out"
 run_app "cmake.md's complete project (installed package)" "$work/complete/build/my_renderer" \
   "$work/complete/build/my_states.spk"
 

@@ -40,7 +40,7 @@ validated() {
     VK_LAYER_ENABLES=VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT "$@" 2>&1 || return 1
 }
 no_validation_messages() {  # <label> <output>
-  if echo "$2" | grep -qE "Validation (Error|Warning)|SYNC-HAZARD"; then fail "$1: validation messages: $2"; fi
+  if grep -qE "Validation (Error|Warning)|SYNC-HAZARD" <<<"$2"; then fail "$1: validation messages: $2"; fi
 }
 consume() {  # <generator> <configuration> <where the application lands>
   local dir="$work/$1" config=$2
@@ -48,22 +48,22 @@ consume() {  # <generator> <configuration> <where the application lands>
   cmake -S "$dir-src" -B "$dir" -G "$1" -DCMAKE_PREFIX_PATH="$prefix" >"$dir.log" 2>&1 ||
     fail "$1: configure against the installed prefix failed: $(cat "$dir.log")"
   out=$(cmake --build "$dir" --config "$config" 2>&1) || fail "$1: build failed: $out"
-  echo "$out" | grep -q "statepack: packing" || fail "$1: the archive was not packed: $out"
+  grep -q "statepack: packing" <<<"$out" || fail "$1: the archive was not packed: $out"
   grep -rqF --include="*.ninja" "$prefix/bin/statepack" "$dir" || fail "$1: the pack command is not the installed statepack"
   out=$(validated "$dir/$3/consumer_app" "$dir/consumer.spk") || fail "$1: consumer_app failed: $out"
-  echo "$out" | grep -q "unpacked 'Consumer PSO'" || fail "$1: consumer_app: $out"
+  grep -q "unpacked 'Consumer PSO'" <<<"$out" || fail "$1: consumer_app: $out"
   no_validation_messages "$1: consumer_app" "$out"
   echo "$1 ($config): $out"
   # Owning dispatch through volk: the application needs no libvulkan, directly or through statepack.
   needs=$(readelf -d "$dir/$3/consumer_volk_app" | grep NEEDED)
-  echo "$needs" | grep -q libc.so || fail "$1: readelf shows no NEEDED entries, so the check proves nothing: $needs"
-  echo "$needs" | grep -q libvulkan && fail "$1: consumer_volk_app links the Vulkan loader: $needs"
+  grep -q libc.so <<<"$needs" || fail "$1: readelf shows no NEEDED entries, so the check proves nothing: $needs"
+  grep -q libvulkan <<<"$needs" && fail "$1: consumer_volk_app links the Vulkan loader: $needs"
   out=$(validated "$dir/$3/consumer_volk_app" "$dir/consumer.spk") || fail "$1: consumer_volk_app failed: $out"
-  echo "$out" | grep -q "unpacked 'Consumer PSO' (.*) through volk" || fail "$1: consumer_volk_app: $out"
+  grep -q "unpacked 'Consumer PSO' (.*) through volk" <<<"$out" || fail "$1: consumer_volk_app: $out"
   no_validation_messages "$1: consumer_volk_app" "$out"
   echo "$1 ($config): $out"
   out=$("$dir/$3/consumer_gl_app" "$dir/consumer_gl.spk" 2>&1) || fail "$1: consumer_gl_app failed: $out"
-  echo "$out" | grep -q "unpacked 'Consumer PSO' on OpenGL" || fail "$1: consumer_gl_app: $out"
+  grep -q "unpacked 'Consumer PSO' on OpenGL" <<<"$out" || fail "$1: consumer_gl_app: $out"
   echo "$1 ($config): $out"
 }
 consume Ninja "" .
@@ -86,7 +86,7 @@ gl_flags=$(PKG_CONFIG_PATH="$libdir/pkgconfig" pkg-config --cflags --libs statep
 "$cxx" -std=c++20 "$here/gl_app.cpp" -o "$work/pkg-config-gl-app" $gl_flags ||
   fail "pkg-config build of the GL application failed (flags: $gl_flags)"
 out=$("$work/pkg-config-gl-app" "$work/Ninja/consumer_gl.spk" 2>&1) || fail "pkg-config GL application failed: $out"
-echo "$out" | grep -q "unpacked 'Consumer PSO' on OpenGL" || fail "pkg-config GL application: $out"
+grep -q "unpacked 'Consumer PSO' on OpenGL" <<<"$out" || fail "pkg-config GL application: $out"
 echo "pkg-config (OpenGL): $out"
 
 # Adoption edges: a project without C++ (LANGUAGES NONE) still packs with the installed package; an

@@ -28,9 +28,9 @@ internal=$(grep -oE -- "-(I|isystem) ?[^ ]+" "$work/samples/build.ninja" | grep 
 grep -q -- "-I$work/prefix/include\|-isystem $work/prefix/include" "$work/samples/build.ninja" || fail "the samples do not use the installed headers"
 
 out=$("$work/samples/unpack_demo" 2>&1) || fail "unpack_demo failed: $out"
-echo "$out" | grep -q "validation layer on" || fail "unpack_demo: $out"
-echo "$out" | grep -q "ran '" || fail "unpack_demo ran no pipeline: $out"
-echo "unpack_demo: $(echo "$out" | grep -c "ran '") pipeline(s) run"
+grep -q "validation layer on" <<<"$out" || fail "unpack_demo: $out"
+grep -q "ran '" <<<"$out" || fail "unpack_demo ran no pipeline: $out"
+echo "unpack_demo: $(grep -c "ran '" <<<"$out") pipeline(s) run"
 if [[ -x "$work/samples/gl_demo" ]]; then
   out=$("$work/samples/gl_demo" 2>&1) || fail "gl_demo failed: $out"
   echo "gl_demo: $(echo "$out" | tail -n 1)"

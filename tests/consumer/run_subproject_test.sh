@@ -20,9 +20,9 @@ EOF2
 out=$(cmake -S "$work/app" -B "$work/build" -G Ninja 2>&1) || fail "configure failed: $out"
 targets=$(ninja -C "$work/build" -t targets all | cut -d: -f1)
 for wanted in statepack statepack_dearchiver app_archive; do
-  echo "$targets" | grep -qx "$wanted" || fail "no $wanted target"
+  grep -qx "$wanted" <<<"$targets" || fail "no $wanted target"
 done
-bad=$(echo "$targets" | grep -xE 'dearchiver_tests|packager_cli_tests|path_tracer|unpack_demo|load_benchmark|archive_fuzzer' || true)
+bad=$(grep -xE 'dearchiver_tests|packager_cli_tests|path_tracer|unpack_demo|load_benchmark|archive_fuzzer' <<<"$targets" || true)
 [[ -z "$bad" ]] || fail "a subproject build has statepack's own tests, samples or benchmarks: $bad"
 [[ ! -e "$work/build/CTestTestfile.cmake" ]] || fail "statepack registered tests in the parent project"
 # The parent's build type stands, also none: statepack does not force its RelWithDebInfo on it.
