@@ -41,6 +41,7 @@ std::string describe(const RenderSettings& s) {
   std::string out = names_of(s.estimator).title;
   out = out + ", " + names_of(s.sampler).title + ", " + names_of(s.light_sampling).title;
   out += s.roulette_start ? ", roulette from bounce " + std::to_string(s.roulette_start) : ", no roulette";
+  if (s.delta_lights == DeltaLights::one) out += ", " + std::string(names_of(s.delta_lights).title);
   return out;
 }
 

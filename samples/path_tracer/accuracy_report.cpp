@@ -44,6 +44,14 @@ Config make(const char* name, Estimator estimator, Sampler sampler, LightSamplin
   return c;
 }
 
+// The default with one light without area chosen per vertex instead of all (the same as the default
+// in a scene without such lights: --configs leaves it out there).
+Config one_delta_light() {
+  Config c = make("nee-sobol-solid-rr5-one", Estimator::nee, Sampler::sobol, LightSampling::solid_angle, 5);
+  c.settings.delta_lights = DeltaLights::one;
+  return c;
+}
+
 // The first is today's estimator (before issue 11): every efficiency is compared with it.
 std::vector<Config> configurations() {
   using E = Estimator;
@@ -56,7 +64,8 @@ std::vector<Config> configurations() {
           make("nee-sobol-solid-rr5", E::nee, S::sobol, L::solid_angle, 5),
           make("nee-sobol-solid-rr4", E::nee, S::sobol, L::solid_angle, 4),
           make("nee-sobol-solid-rr3", E::nee, S::sobol, L::solid_angle, 3),
-          make("mis-sobol-solid-rr4", E::mis, S::sobol, L::solid_angle, 4)};
+          make("mis-sobol-solid-rr4", E::mis, S::sobol, L::solid_angle, 4),
+          one_delta_light()};
 }
 
 // Mean squared error (all pixels and channels) of `rgba` against the reference, its noise subtracted.

@@ -77,6 +77,12 @@ int main(int argc, char** argv) {
                  "subtends) or area (uniform over its area)")
       ->capture_default_str()
       ->check(CLI::IsMember(options_of(kLightSamplingNames)));
+  std::string delta_lights = "all";
+  app.add_option("--delta-lights", delta_lights,
+                 "How NEE treats the scene's lights without area at a vertex: all (a shadow ray each) or one "
+                 "(chosen in proportion to its unshadowed contribution)")
+      ->capture_default_str()
+      ->check(CLI::IsMember(options_of(kDeltaLightsNames)));
   app.add_option("--roulette", o.settings.roulette_start,
                  "Russian roulette from this bounce on (0: never); --bounces stays the maximum")
       ->capture_default_str()
@@ -126,6 +132,7 @@ int main(int argc, char** argv) {
   o.settings.next_event_estimation = o.settings.estimator != Estimator::bsdf;
   o.settings.sampler = parse_choice<Sampler>(sampler, kSamplerNames);
   o.settings.light_sampling = parse_choice<LightSampling>(light_sampling, kLightSamplingNames);
+  o.settings.delta_lights = parse_choice<DeltaLights>(delta_lights, kDeltaLightsNames);
   if (!o.headless && !std::getenv("DISPLAY") && !std::getenv("WAYLAND_DISPLAY")) o.headless = true;
   return o.headless ? run_headless(o) : run_windowed(o);
 }

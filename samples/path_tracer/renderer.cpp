@@ -290,7 +290,8 @@ void Renderer::record(VkCommandBuffer cmd, VkImage target, VkImageView target_vi
   c.frame[2] = s.bounces;
   c.frame[3] = (s.next_event_estimation ? 1u : 0u) | (s.last_bounce_only ? 2u : 0u) |
                (other_emitters_ ? 4u : 0u) | (s.sampler == Sampler::sobol ? 8u : 0u) |
-               (s.light_sampling == LightSampling::solid_angle ? 16u : 0u);
+               (s.light_sampling == LightSampling::solid_angle ? 16u : 0u) |
+               (s.delta_lights == DeltaLights::one ? 32u : 0u);
   c.image[0] = render_w, c.image[1] = render_h, c.image[2] = s.seed, c.image[3] = box_count_;
   c.light[0] = light_index_;
   c.light[1] = s.roulette_start;

@@ -18,6 +18,9 @@ enum class Estimator { nee, bsdf, mis, baseline };
 // How next-event estimation picks a point of the rectangular light: uniformly by area, or uniformly in
 // the solid angle it subtends (spherical rectangles, Urena et al. 2013).
 enum class LightSampling { area, solid_angle };
+// How next-event estimation treats the lights without area at a path vertex: every one (a shadow ray
+// each), or one chosen in proportion to its unshadowed contribution and divided by that probability.
+enum class DeltaLights { all, one };
 
 // The one spelling of each choice: its command-line value and its name in messages, reports and the
 // window. Indexed by the enum's value.
@@ -29,6 +32,7 @@ inline constexpr ChoiceNames kEstimatorNames[] = {
     {"nee", "NEE"}, {"bsdf", "BSDF sampling"}, {"mis", "MIS"}, {"baseline", "tutorial baseline"}};
 inline constexpr ChoiceNames kSamplerNames[] = {{"sobol", "Sobol"}, {"random", "random"}};
 inline constexpr ChoiceNames kLightSamplingNames[] = {{"area", "area"}, {"solid-angle", "solid-angle"}};
+inline constexpr ChoiceNames kDeltaLightsNames[] = {{"all", "every delta light"}, {"one", "one delta light"}};
 inline const ChoiceNames& names_of(Estimator e) {
   return kEstimatorNames[size_t(e)];
 }
@@ -37,6 +41,9 @@ inline const ChoiceNames& names_of(Sampler s) {
 }
 inline const ChoiceNames& names_of(LightSampling l) {
   return kLightSamplingNames[size_t(l)];
+}
+inline const ChoiceNames& names_of(DeltaLights d) {
+  return kDeltaLightsNames[size_t(d)];
 }
 
 struct RenderSettings {
@@ -47,6 +54,7 @@ struct RenderSettings {
   Sampler sampler = Sampler::sobol;  // ignored by the tutorial baseline, which keeps its random pair
   uint32_t roulette_start = 5;       // Russian roulette from this bounce on (0: never); not in baseline
   LightSampling light_sampling = LightSampling::solid_angle;  // not in baseline
+  DeltaLights delta_lights = DeltaLights::all;
   bool last_bounce_only = false;
   uint32_t seed = 1;
   float exposure = 1.0f;

@@ -11,15 +11,16 @@
 layout(constant_id = 1) const uint kLightKinds = 0u;  // 1 directional, 2 point, 4 spot
 const uint LIGHT_DIRECTIONAL = 0u, LIGHT_POINT = 1u, LIGHT_SPOT = 2u;
 
-// The light's share at x (normal n) before the surface's rho / pi: pi * c(r) * cos(theta_x), 0 when it
-// is behind the surface, outside its cone or range, or shadowed. Records are laid out by gpu_lights()
-// in samples/path_tracer/scene.cpp.
-vec3 delta_light(uint index, vec3 x, vec3 n, int source_box) {
+// The light's share at x (normal n) before the surface's rho / pi and before its shadow ray:
+// pi * c(r) * cos(theta_x), 0 when it is behind the surface or outside its cone or range; `l` and
+// `distance` give the shadow ray. Records are laid out by gpu_lights() in samples/path_tracer/scene.cpp.
+vec3 unshadowed(uint index, vec3 x, vec3 n, out vec3 l, out float distance) {
+  l = vec3(0.0);
+  distance = 0.0;
   Box light = scene.boxes[index];
   uint type = uint(light.center.w);
   if ((kLightKinds & (1u << type)) == 0u) return vec3(0.0);  // lets the compiler drop what is not used
-  vec3 l;
-  float distance, scale = 1.0;
+  float scale = 1.0;
   if (type == LIGHT_DIRECTIONAL) {
     l = -light.emittance.xyz;
     distance = 1e30;  // shadow rays reach every box of a scene bounded by 1e6
@@ -42,13 +43,44 @@ vec3 delta_light(uint index, vec3 x, vec3 n, int source_box) {
   }
   float cos_x = dot(n, l);
   if (cos_x <= 0.0 || scale <= 0.0) return vec3(0.0);
-  if (!visible(x, l, distance, source_box, -1)) return vec3(0.0);
   return PI * light.half_size.rgb * (scale * cos_x);
 }
 
-vec3 delta_lights(vec3 x, vec3 n, int source_box) {
+vec3 shadowed(uint index, vec3 x, vec3 n, int source_box) {
+  vec3 l;
+  float distance;
+  vec3 c = unshadowed(index, x, n, l, distance);
+  if (c == vec3(0.0) || !visible(x, l, distance, source_box, -1)) return vec3(0.0);
+  return c;
+}
+
+float weight(vec3 c) { return c.r + c.g + c.b; }
+
+// Every light (exact at the vertex), or with `one` a single light chosen with probability
+// w_k / sum(w), w_k its unshadowed contribution, and divided by that probability (unbiased: a light
+// with w_k = 0 gives nothing either way). `u` in [0, 1) picks it.
+vec3 delta_lights(vec3 x, vec3 n, int source_box, bool one, float u) {
   vec3 sum = vec3(0.0);
   if (kLightKinds == 0u) return sum;
-  for (uint k = 0u; k < constants.lights.y; ++k) sum += delta_light(constants.lights.x + k, x, n, source_box);
+  uint first = constants.lights.x, count = constants.lights.y;
+  if (!one) {
+    for (uint k = 0u; k < count; ++k) sum += shadowed(first + k, x, n, source_box);
+    return sum;
+  }
+  float total = 0.0;
+  vec3 l;
+  float distance;
+  for (uint k = 0u; k < count; ++k) total += weight(unshadowed(first + k, x, n, l, distance));
+  if (!(total > 0.0)) return sum;
+  float target = u * total, running = 0.0;
+  for (uint k = 0u; k < count; ++k) {
+    vec3 c = unshadowed(first + k, x, n, l, distance);
+    float w = weight(c);
+    running += w;
+    if (w > 0.0 && (target < running || k + 1u == count)) {
+      if (!visible(x, l, distance, source_box, -1)) return sum;
+      return c * (total / w);
+    }
+  }
   return sum;
 }

@@ -151,7 +151,10 @@ void main() {
         if (nee && kAreaLight)
           radiance += throughput * rho / PI * sample_light(x, n, box, u.xy, solid_angle_sampling, solid_angle);
         // Lights without area: every one at every vertex, whatever the estimator (no bounce finds them).
-        radiance += throughput * rho / PI * delta_lights(x, n, box);
+        if (kLightKinds != 0u)
+          radiance += throughput * rho / PI *
+                      delta_lights(x, n, box, (flags & FLAG_ONE_DELTA_LIGHT) != 0u,
+                                   light_choice_unit(sobol, uvec2(pixel), sample_index, constants.image.z, j));
         // The light is sampled B times; other emitters are found by bounces, so they need the last one
         // (and MIS needs it to reach the light by the BSDF as well).
         if (nee && j + 1u == bounces && (flags & FLAG_OTHER_EMITTERS) == 0u && ESTIMATOR != ESTIMATOR_MIS) break;

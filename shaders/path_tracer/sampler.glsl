@@ -33,4 +33,11 @@ float roulette_unit(bool sobol, uvec2 pixel, uint sample_index, uint seed, uint 
   return to_unit(pcg4d(uvec4(pixel, sample_index, ~(seed + bounce * 0x9E3779B9u)))).x;
 }
 
+// The choice of one light without area at a bounce (--delta-lights one): the second coordinate of the
+// roulette's pair, so it is stratified the same way and independent of the decision.
+float light_choice_unit(bool sobol, uvec2 pixel, uint sample_index, uint seed, uint bounce) {
+  if (sobol) return to_unit(uvec4(sobol_pair(pixel, sample_index, seed, 16u + bounce), 0u, 0u)).y;
+  return to_unit(pcg4d(uvec4(pixel, sample_index, ~(seed + bounce * 0x9E3779B9u)))).y;
+}
+
 #endif

@@ -44,6 +44,7 @@ const uint FLAG_LAST_BOUNCE_ONLY = 2u;
 const uint FLAG_OTHER_EMITTERS = 4u;  // boxes other than the light emit: bounces must find them
 const uint FLAG_SOBOL = 8u;           // scrambled Sobol points instead of independent random numbers
 const uint FLAG_SOLID_ANGLE = 16u;    // sample the light uniformly in solid angle instead of by area
+const uint FLAG_ONE_DELTA_LIGHT = 32u; // one light without area per vertex, chosen by its contribution
 
 // Face index: axis * 2 + (1 if the outward normal points along -axis).
 vec3 face_normal_local(int face) {

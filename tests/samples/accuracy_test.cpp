@@ -188,11 +188,14 @@ double compare_with_reference(const std::string& name, const std::string& scene_
   settings.bounces = bounces;
   settings.seed = 1000;  // independent of the GPU's seeds
   settings.next_event_estimation = extra.find("--no-nee") == std::string::npos;
+  // The reference evaluates every light without area; choosing one per vertex must estimate the same.
   const ReferenceImage reference = render_reference(*scene, settings, width, height, cpu_spp);
   double worst = 1;
   for (const char* variant : {"--sampler random --light-sampling area --roulette 0", "--sampler random"})
     worst = std::min(worst, compare_one(name + " (" + variant + ")", scene_path, width, height, bounces,
                                         gpu_spp, cpu_spp, extra + " " + variant, reference));
+  settings.delta_lights =
+      extra.find("--delta-lights one") != std::string::npos ? DeltaLights::one : DeltaLights::all;
   settings.estimator = !settings.next_event_estimation                      ? Estimator::bsdf
                        : extra.find("--estimator mis") != std::string::npos ? Estimator::mis
                                                                             : Estimator::nee;
@@ -270,6 +273,9 @@ TEST(Accuracy, EveryKindOfLightMatchesTheCpuReferencePerPixel) {
   const std::string path = scene_file("every_light", scene);
   EXPECT_GE(compare_with_reference("every_light", path, 32, 24, 3, 256, 1024), 0.9975);
   EXPECT_GE(compare_with_reference("every_light_bsdf", path, 32, 24, 3, 1024, 2048, "--no-nee"), 0.9975);
+  // One light per vertex, chosen by its unshadowed contribution: unbiased, so the same reference.
+  EXPECT_GE(compare_with_reference("every_light_one", path, 32, 24, 3, 512, 1024, "--delta-lights one"),
+            0.9975);
   // Without the rectangle, the lights without area alone light the room.
   const std::string no_rectangle = std::regex_replace(scene, std::regex(R"(,\s*"light": \{[^}]*\})"), "");
   ASSERT_EQ(no_rectangle.find("\"light\":"), std::string::npos);
