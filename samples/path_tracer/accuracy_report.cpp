@@ -45,7 +45,7 @@ Config make(const char* name, Estimator estimator, Sampler sampler, LightSamplin
 }
 
 // The default with one light without area chosen per vertex instead of all (the same as the default
-// in a scene without such lights: --configs leaves it out there).
+// in a scene without such lights, where choose_configurations leaves it out).
 Config one_delta_light() {
   Config c = make("nee-sobol-solid-rr5-one", Estimator::nee, Sampler::sobol, LightSampling::solid_angle, 5);
   c.settings.delta_lights = DeltaLights::one;
@@ -115,9 +115,14 @@ std::string load_average() {
 
 // The configurations named by --configs, in that order (all when none is named); nullopt when a name is
 // unknown.
-std::optional<std::vector<Config>> choose_configurations(const std::vector<std::string>& only) {
+std::optional<std::vector<Config>> choose_configurations(const std::vector<std::string>& only,
+                                                         const Scene& scene) {
   std::vector<Config> all = configurations();
-  if (only.empty()) return all;
+  if (only.empty()) {  // a scene without lights without area would measure the "-one" one twice
+    if (light_kinds(scene) == 0)
+      std::erase_if(all, [](const Config& c) { return c.settings.delta_lights == DeltaLights::one; });
+    return all;
+  }
   std::vector<Config> chosen;
   for (const std::string& name : only)
     for (const Config& c : all)
@@ -265,7 +270,7 @@ int main(int argc, char** argv) {
                         ec.message().c_str()),
            1;
   Report report;
-  auto configs = choose_configurations(only);
+  auto configs = choose_configurations(only, *scene);
   if (!configs) return std::fprintf(stderr, "accuracy_report: unknown configuration\n"), 2;
   report.configs = std::move(*configs);
   report.width = width, report.height = height, report.seeds = seeds, report.reference_spp = reference_spp;
