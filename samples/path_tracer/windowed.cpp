@@ -438,6 +438,9 @@ class Window {
       bool solid_angle = s.light_sampling == LightSampling::solid_angle;
       ImGui::Checkbox("Solid-angle light sampling", &solid_angle);
       s.light_sampling = solid_angle ? LightSampling::solid_angle : LightSampling::area;
+      bool one = s.delta_lights == DeltaLights::one;
+      ImGui::Checkbox("One delta light per vertex", &one);
+      s.delta_lights = one ? DeltaLights::one : DeltaLights::all;
       int roulette = int(s.roulette_start);
       ImGui::SliderInt("Roulette from bounce", &roulette, 0, 8);
       s.roulette_start = uint32_t(roulette);
