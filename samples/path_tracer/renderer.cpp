@@ -271,9 +271,8 @@ void Renderer::set_settings(const RenderSettings& settings) {
   if (!same_estimate) samples_done_ = 0;  // the G-buffer does not depend on these
 }
 
-void Renderer::record(VkCommandBuffer cmd, VkImage target, VkImageView target_view,
-                      VkImageLayout final_layout) {
-  // Per-frame constants (one frame in flight: the previous frame has finished reading them).
+// Per-frame constants (one frame in flight: the previous frame has finished reading them).
+void Renderer::write_constants() {
   const Camera& cam = scene_.camera;
   const uint32_t render_w = render_width(), render_h = render_height();  // traced: 1/divisor_ of the size
   const CameraBasis basis = camera_basis(cam, width_, height_);
@@ -299,6 +298,13 @@ void Renderer::record(VkCommandBuffer cmd, VkImage target, VkImageView target_vi
   c.light[3] = width_ | height_ << 16;
   c.lights[0] = box_count_, c.lights[1] = light_count_;
   std::memcpy(constants_->mapped, &c, sizeof c);
+}
+
+void Renderer::record(VkCommandBuffer cmd, VkImage target, VkImageView target_view,
+                      VkImageLayout final_layout) {
+  write_constants();
+  const uint32_t render_w = render_width(), render_h = render_height();  // traced: 1/divisor_ of the size
+  const RenderSettings& s = settings_;
 
   const VkViewport viewport{0, 0, float(width_), float(height_), 0, 1};
   const VkRect2D area{{0, 0}, {width_, height_}};

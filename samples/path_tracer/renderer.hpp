@@ -106,6 +106,7 @@ class Renderer {
   void write_descriptors();
   void upload_scene();
   Result<void> specialize(const Scene& scene);
+  void write_constants();
   void restart() { samples_done_ = 0, gbuffer_dirty_ = true; }
 
   bootstrap::VulkanContext& vk_;
