@@ -213,6 +213,20 @@ TEST(Lights, TheSampleSceneWithEveryKindRendersAndEachLightCounts) {
   }
 }
 
+// Many lights are a legitimate scene (no count limit): 300 identical point lamps at one place light the
+// floor 300 times as much as one does, with either choice among them.
+TEST(Lights, ManyLightsAddUp) {
+  std::string many = "[";
+  for (int i = 0; i < 300; ++i)
+    many += std::string(i ? "," : "") + R"({"type": "point", "position": [0, 2, 0], "intensity": 0.01})";
+  many += "]";
+  const Render all = render("many_all", floor_scene(many));
+  expect_every_pixel(all, [](const auto& p) { return 300 * point_light(p, 2, 0.01); });
+  // One chosen per vertex among equal lights: each has probability 1/300 and is multiplied by 300.
+  const Render one = render("many_one", floor_scene(many), "--delta-lights one");
+  expect_every_pixel(one, [](const auto& p) { return 300 * point_light(p, 2, 0.01); });
+}
+
 // A bad light is the scene's error, naming the light and the key (exit 1, nothing rendered).
 TEST(Lights, BadLightsAreSceneErrorsNamingTheLightAndKey) {
   struct Case {
