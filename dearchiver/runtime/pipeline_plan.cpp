@@ -242,9 +242,10 @@ std::optional<Error> Planner::check_graphics(const ArchivedPipeline& found, cons
   for (size_t i = 0; i < blend_enabled.size(); ++i) blend_enabled[i] = settled.blend[i].enable;
   GraphicsTargets targets{settled.color_count, settled.color_formats.data(), settled.depth_stencil_format,
                           settled.samples, blend_enabled.data()};
-  const PatchableState archived = to_patchable(*found.pipeline);
+  // Slots whose format differs from the archive's were set by the callback (the archived state, read in
+  // place: no second to_patchable copy).
   for (uint32_t i = 0; i < settled.color_count && i < settled.color_formats.size(); ++i)
-    if (i >= archived.color_count || settled.color_formats[i] != archived.color_formats[i])
+    if (i >= g.color_count || uint32_t(settled.color_formats[i]) != g.color_formats[i])
       targets.patched_targets |= 1u << i;
   const auto& contents = cache_.contents(found.archive);
   if (uses_render_pass)

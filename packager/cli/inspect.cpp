@@ -84,27 +84,26 @@ std::string none_or(uint32_t index) {
 std::string stage_name(uint32_t stage) {
   return notation_name(
       kShaderTypes, stage,
-      vulkan_name("VK_SHADER_STAGE_", vk::to_string(vk::ShaderStageFlagBits(stage))) + "_BIT");
-}
-std::string format_text(uint32_t format) {
-  return notation_name(kTextureFormats, format, vulkan_format_name(format));
+      vulkan_upper_name("VK_SHADER_STAGE_", vk::to_string(vk::ShaderStageFlagBits(stage))) + "_BIT");
 }
 std::string compare_name(uint32_t op) {
-  return notation_name(kComparisonFuncs, op, vulkan_name("VK_COMPARE_OP_", vk::to_string(vk::CompareOp(op))));
+  return notation_name(kComparisonFuncs, op,
+                       vulkan_upper_name("VK_COMPARE_OP_", vk::to_string(vk::CompareOp(op))));
 }
 std::string blend_factor_name(uint32_t factor) {
   return notation_name(kBlendFactors, factor,
-                       vulkan_name("VK_BLEND_FACTOR_", vk::to_string(vk::BlendFactor(factor))));
+                       vulkan_upper_name("VK_BLEND_FACTOR_", vk::to_string(vk::BlendFactor(factor))));
 }
 std::string blend_op_name(uint32_t op) {
-  return notation_name(kBlendOps, op, vulkan_name("VK_BLEND_OP_", vk::to_string(vk::BlendOp(op))));
+  return notation_name(kBlendOps, op, vulkan_upper_name("VK_BLEND_OP_", vk::to_string(vk::BlendOp(op))));
 }
 std::string stencil_op_name(uint32_t op) {
-  return notation_name(kStencilOps, op, vulkan_name("VK_STENCIL_OP_", vk::to_string(vk::StencilOp(op))));
+  return notation_name(kStencilOps, op,
+                       vulkan_upper_name("VK_STENCIL_OP_", vk::to_string(vk::StencilOp(op))));
 }
 // A format as JSON: the notation's name under `key`, Vulkan's under "vk_" + key.
 void put_format(Json& j, const std::string& key, uint32_t format) {
-  j[key] = format_text(format);
+  j[key] = format_name(format);
   j["vk_" + key] = vulkan_format_name(format);
 }
 
@@ -119,7 +118,7 @@ Json binding_json(const format::Binding& b) {
   Json j;
   j["name"] = b.name;
   j["binding"] = b.binding;
-  j["type"] = vulkan_name("VK_DESCRIPTOR_TYPE_", vk::to_string(vk::DescriptorType(b.descriptor_type)));
+  j["type"] = vulkan_upper_name("VK_DESCRIPTOR_TYPE_", vk::to_string(vk::DescriptorType(b.descriptor_type)));
   j["count"] = b.count;
   j["stages"] = stages_json(b.stage_flags);
   if (b.immutable_sampler != format::kNone) j["immutable_sampler"] = b.immutable_sampler;
@@ -133,15 +132,15 @@ Json graphics_json(const format::Contents& c, const format::Pipeline& p) {
                       ? notation_name(kTopologies, kPatchListTopology + g.patch_control_points,
                                       "VK_PRIMITIVE_TOPOLOGY_PATCH_LIST")
                       : notation_name(kTopologies, g.topology,
-                                      vulkan_name("VK_PRIMITIVE_TOPOLOGY_",
-                                                  vk::to_string(vk::PrimitiveTopology(g.topology))));
+                                      vulkan_upper_name("VK_PRIMITIVE_TOPOLOGY_",
+                                                        vk::to_string(vk::PrimitiveTopology(g.topology))));
   if (g.patch_control_points != 0) j["patch_control_points"] = g.patch_control_points;
   j["polygon_mode"] =
       notation_name(kFillModes, g.polygon_mode,
-                    vulkan_name("VK_POLYGON_MODE_", vk::to_string(vk::PolygonMode(g.polygon_mode))));
+                    vulkan_upper_name("VK_POLYGON_MODE_", vk::to_string(vk::PolygonMode(g.polygon_mode))));
   j["cull_mode"] = notation_name(kCullModes, g.cull_mode, "VK_CULL_MODE_FRONT_AND_BACK");
   // The notation says FrontCounterClockwise (a bool), not a name: Vulkan's name of the archived value.
-  j["front_face"] = vulkan_name("VK_FRONT_FACE_", vk::to_string(vk::FrontFace(g.front_face)));
+  j["front_face"] = vulkan_upper_name("VK_FRONT_FACE_", vk::to_string(vk::FrontFace(g.front_face)));
   j["depth_test"] = g.depth_test != 0;
   j["depth_write"] = g.depth_write != 0;
   j["depth_compare"] = compare_name(g.depth_compare);
@@ -190,10 +189,10 @@ Json graphics_json(const format::Contents& c, const format::Pipeline& p) {
   put_format(j, "depth_stencil_format", g.depth_stencil_format);
   Json bindings = Json::array(), attributes = Json::array();
   for (const auto& b : g.vertex_bindings)
-    bindings.push_back(
-        {{"binding", b.binding},
-         {"stride", b.stride},
-         {"rate", vulkan_name("VK_VERTEX_INPUT_RATE_", vk::to_string(vk::VertexInputRate(b.input_rate)))}});
+    bindings.push_back({{"binding", b.binding},
+                        {"stride", b.stride},
+                        {"rate", vulkan_upper_name("VK_VERTEX_INPUT_RATE_",
+                                                   vk::to_string(vk::VertexInputRate(b.input_rate)))}});
   for (const auto& a : g.vertex_attributes) {
     Json attribute{{"location", a.location}, {"binding", a.binding}};
     put_format(attribute, "format", a.format);
@@ -210,11 +209,12 @@ Json graphics_json(const format::Contents& c, const format::Pipeline& p) {
 Json sampler_json(const format::Sampler& s) {
   // The notation's names of the plain filters (POINT, LINEAR) and address modes.
   auto filter = [](uint32_t f) {
-    return notation_name(kFilterTypes, f, vulkan_name("VK_FILTER_", vk::to_string(vk::Filter(f))));
+    return notation_name(kFilterTypes, f, vulkan_upper_name("VK_FILTER_", vk::to_string(vk::Filter(f))));
   };
   auto address = [](uint32_t a) {
-    return notation_name(kAddressModes, a,
-                         vulkan_name("VK_SAMPLER_ADDRESS_MODE_", vk::to_string(vk::SamplerAddressMode(a))));
+    return notation_name(
+        kAddressModes, a,
+        vulkan_upper_name("VK_SAMPLER_ADDRESS_MODE_", vk::to_string(vk::SamplerAddressMode(a))));
   };
   return {{"filter", filter(s.min_filter) + "/" + filter(s.mag_filter) + "/" +
                          filter(s.mipmap_mode)},  // VK_SAMPLER_MIPMAP_MODE_* has VkFilter's values
@@ -227,15 +227,18 @@ Json render_pass_json(const format::RenderPass& rp) {
   Json pass{{"name", rp.name}};
   Json attachments = Json::array();
   auto load = [](uint32_t op) {
-    return notation_name(kLoadOps, op,
-                         vulkan_name("VK_ATTACHMENT_LOAD_OP_", vk::to_string(vk::AttachmentLoadOp(op))));
+    return notation_name(
+        kLoadOps, op, vulkan_upper_name("VK_ATTACHMENT_LOAD_OP_", vk::to_string(vk::AttachmentLoadOp(op))));
   };
   auto store = [](uint32_t op) {
-    return notation_name(kStoreOps, op,
-                         vulkan_name("VK_ATTACHMENT_STORE_OP_", vk::to_string(vk::AttachmentStoreOp(op))));
+    return notation_name(
+        kStoreOps, op,
+        vulkan_upper_name("VK_ATTACHMENT_STORE_OP_", vk::to_string(vk::AttachmentStoreOp(op))));
   };
   // Layouts as Vulkan's: the notation's RESOURCE_STATE_* names map several states to one layout.
-  auto layout = [](uint32_t l) { return vulkan_name("VK_IMAGE_LAYOUT_", vk::to_string(vk::ImageLayout(l))); };
+  auto layout = [](uint32_t l) {
+    return vulkan_upper_name("VK_IMAGE_LAYOUT_", vk::to_string(vk::ImageLayout(l)));
+  };
   for (const auto& a : rp.attachments) {
     Json attachment;
     put_format(attachment, "format", a.format);
@@ -264,10 +267,10 @@ Json render_pass_json(const format::RenderPass& rp) {
   pass["subpasses"] = subpasses;
   Json dependencies = Json::array();
   auto stage_bit = [](uint32_t bit) {
-    return vulkan_name("VK_PIPELINE_STAGE_", vk::to_string(vk::PipelineStageFlagBits(bit))) + "_BIT";
+    return vulkan_upper_name("VK_PIPELINE_STAGE_", vk::to_string(vk::PipelineStageFlagBits(bit))) + "_BIT";
   };
   auto access_bit = [](uint32_t bit) {
-    return vulkan_name("VK_ACCESS_", vk::to_string(vk::AccessFlagBits(bit))) + "_BIT";
+    return vulkan_upper_name("VK_ACCESS_", vk::to_string(vk::AccessFlagBits(bit))) + "_BIT";
   };
   for (const auto& d : rp.dependencies)
     dependencies.push_back(
@@ -278,7 +281,7 @@ Json render_pass_json(const format::RenderPass& rp) {
          {"src_access", notation_flags(kAccessFlags, d.src_access, access_bit)},
          {"dst_access", notation_flags(kAccessFlags, d.dst_access, access_bit)},
          {"flags", d.flags == 0 ? std::string("NONE")
-                                : vulkan_name("VK_", vk::to_string(vk::DependencyFlags(d.flags)))}});
+                                : vulkan_upper_name("VK_", vk::to_string(vk::DependencyFlags(d.flags)))}});
   pass["dependencies"] = dependencies;
   return pass;
 }

@@ -2,20 +2,17 @@
 // spells them (RGBA16_FLOAT, TRIANGLE_LIST, SRC_ALPHA, PIXEL), so that what a notation author wrote and
 // what inspect shows read alike; a value the notation has no name for as Vulkan spells it
 // (VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_FORMAT_A2B10G10R10_UNORM_PACK32). Formats also carry Vulkan's
-// name (vulkan_format_name), which the runtime's messages and variants files use.
+// name (vulkan_format_name, layout/format_support.hpp), which the runtime's messages and variants files use.
 #pragma once
 
 #include <cstdint>
 #include <string>
 #include <string_view>
 
+#include "layout/format_support.hpp"  // format_name, vulkan_format_name, vulkan_upper_name
 #include "notation/enum_tables.hpp"
 
 namespace statepack::packager {
-
-// Vulkan's upper-case name from vulkan.hpp's CamelCase one: ("VK_FORMAT_", "R16G16B16A16Sfloat") ->
-// "VK_FORMAT_R16G16B16A16_SFLOAT".
-std::string vulkan_name(std::string_view prefix, std::string_view camel);
 
 // The notation's name of `value` in `table` (its first, canonical name), else `vulkan`.
 std::string notation_name(EnumTable table, uint32_t value, const std::string& vulkan);
@@ -30,8 +27,5 @@ std::string notation_flags(EnumTable table, uint32_t flags, VulkanBit vulkan_bit
     if (flags & bit) out += (out.empty() ? "" : " | ") + notation_name(table, bit, vulkan_bit(bit));
   return out;
 }
-
-// VK_FORMAT_... for a VkFormat value.
-std::string vulkan_format_name(uint32_t format);
 
 }  // namespace statepack::packager

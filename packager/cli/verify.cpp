@@ -381,8 +381,7 @@ int run_verify(const VerifyOptions& options, std::ostream& out, std::ostream& er
     exit_code = std::max(exit_code, verify_archive(i, options.archives[i], first_object, context, options,
                                                    variants, owner, messages, progress, all, out, err));
   }
-  // With one archive its own line has the totals, unless variants resolved to none: they count too.
-  if (!progress.worker() && (options.archives.size() > 1 || unresolved > 0))
+  if (!progress.worker() && wants_in_all_line(options.archives.size(), unresolved))
     out << "in all: " << all.summary() << '\n';
   if (cache) {
     if (auto saved = save_pipeline_cache(context, cache->cache, *options.cache); !saved) {

@@ -58,6 +58,12 @@ struct VerifyTotals {
   // pipeline cache)"
   std::string summary() const;
 };
+// Whether verify ends with an "in all:" line: for several archives, and for one when variants resolved to
+// none of its pipelines (they count, and its own line does not show them). run_verify and the supervisor
+// both print it.
+inline bool wants_in_all_line(size_t archives, size_t unresolved_variants) {
+  return archives > 1 || unresolved_variants > 0;
+}
 
 // Returns an ExitCode: 0 every object unpacked without a validation message, 1 an object failed or the
 // layer spoke, 2 usage, 3 an archive could not be read or no device could be created.

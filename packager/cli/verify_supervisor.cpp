@@ -142,7 +142,7 @@ class Supervisor {
       WorkerRun run = watch(*worker, next);
       const std::string reason = death_reason(run);
       if (reason.empty() && !run.pending) {
-        if ((options_.archives.size() > 1 || unresolved_ > 0) && run.ready) {  // as run_verify says it
+        if (wants_in_all_line(options_.archives.size(), unresolved_) && run.ready) {
           VerifyTotals all;
           all.objects = unresolved_;
           for (const auto& t : totals_) all.add(t);

@@ -46,21 +46,30 @@ const char* numeric_class_name(NumericClass c) {
   return "unknown";
 }
 
-std::string format_name(uint32_t vk_format) {
-  for (const auto& [name, value] : kTextureFormats)
-    if (value == vk_format) return std::string(name);
-  // VK_FORMAT_ and Vulkan's upper-case spelling, from vulkan.hpp's "R8G8B8Sint".
-  std::string out = "VK_FORMAT_";
-  const std::string camel = vk::to_string(vk::Format(vk_format));
+std::string vulkan_upper_name(std::string_view prefix, std::string_view camel) {
+  std::string out(prefix);
+  auto is = [&](size_t i, int (*test)(int)) {
+    return i < camel.size() && test(static_cast<unsigned char>(camel[i]));
+  };
   for (size_t i = 0; i < camel.size(); ++i) {
-    const bool upper = std::isupper(static_cast<unsigned char>(camel[i]));
-    if (upper && i > 0 && std::islower(static_cast<unsigned char>(camel[i - 1]))) out += '_';
-    if (upper && i > 0 && std::isdigit(static_cast<unsigned char>(camel[i - 1])) && i + 1 < camel.size() &&
-        std::islower(static_cast<unsigned char>(camel[i + 1])))
+    // A word starts at a capital after a small letter (ColorAttachment), or after a digit when a small
+    // letter follows (R8G8B8A8Unorm, Bc1RgbUnormBlock); runs of capitals stay together (PresentSrcKHR).
+    if (is(i, std::isupper) && i > 0 &&
+        (is(i - 1, std::islower) || (is(i - 1, std::isdigit) && is(i + 1, std::islower))))
       out += '_';
     out += static_cast<char>(std::toupper(static_cast<unsigned char>(camel[i])));
   }
   return out;
+}
+
+std::string vulkan_format_name(uint32_t vk_format) {
+  return vulkan_upper_name("VK_FORMAT_", vk::to_string(vk::Format(vk_format)));
+}
+
+std::string format_name(uint32_t vk_format) {
+  for (const auto& [name, value] : kTextureFormats)
+    if (value == vk_format) return std::string(name);
+  return vulkan_format_name(vk_format);
 }
 
 // The lists below are the specification's tables of mandatory format support (Vulkan 1.0 core).

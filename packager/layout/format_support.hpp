@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <string>
+#include <string_view>
 
 namespace statepack::packager {
 
@@ -17,6 +18,11 @@ const char* numeric_class_name(NumericClass c);  // "float", "signed integer", "
 
 // The notation's name of a format (e.g. RGBA8_UNORM), else Vulkan's (VK_FORMAT_R8G8B8_SINT).
 std::string format_name(uint32_t vk_format);
+// Vulkan's name of a format: VK_FORMAT_R16G16B16A16_SFLOAT.
+std::string vulkan_format_name(uint32_t vk_format);
+// Vulkan's upper-case name from vulkan.hpp's CamelCase one (vk::to_string): ("VK_FORMAT_",
+// "R16G16B16A16Sfloat") -> "VK_FORMAT_R16G16B16A16_SFLOAT".
+std::string vulkan_upper_name(std::string_view prefix, std::string_view camel);
 
 // Guaranteed by Vulkan 1.0 on every device.
 bool guaranteed_color_attachment(uint32_t vk_format);

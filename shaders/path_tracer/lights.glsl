@@ -58,29 +58,27 @@ float weight(vec3 c) { return c.r + c.g + c.b; }
 
 // Every light (exact at the vertex), or with `one` a single light chosen with probability
 // w_k / sum(w), w_k its unshadowed contribution, and divided by that probability (unbiased: a light
-// with w_k = 0 gives nothing either way). `u` in [0, 1) picks it.
+// with w_k = 0 gives nothing either way). `u` in [0, 1) picks it. The caller checks kLightKinds != 0.
 vec3 delta_lights(vec3 x, vec3 n, int source_box, bool one, float u) {
-  vec3 sum = vec3(0.0);
-  if (kLightKinds == 0u) return sum;
   uint first = constants.lights.x, count = constants.lights.y;
+  vec3 sum = vec3(0.0), l;
+  float distance;
   if (!one) {
     for (uint k = 0u; k < count; ++k) sum += shadowed(first + k, x, n, source_box);
     return sum;
   }
   float total = 0.0;
-  vec3 l;
-  float distance;
   for (uint k = 0u; k < count; ++k) total += weight(unshadowed(first + k, x, n, l, distance));
   if (!(total > 0.0)) return sum;
-  float target = u * total, running = 0.0;
-  for (uint k = 0u; k < count; ++k) {
+  // The light whose share of the running sum covers u * total; float rounding that leaves u * total at
+  // or past the sum's end picks the last light with any weight, never none.
+  float target = u * total, running = 0.0, chosen_distance = 0.0;
+  vec3 chosen = vec3(0.0), chosen_l = vec3(0.0);
+  for (uint k = 0u; k < count && !(target < running); ++k) {
     vec3 c = unshadowed(first + k, x, n, l, distance);
     float w = weight(c);
-    running += w;
-    if (w > 0.0 && (target < running || k + 1u == count)) {
-      if (!visible(x, l, distance, source_box, -1)) return sum;
-      return c * (total / w);
-    }
+    if (w > 0.0) chosen = c, chosen_l = l, chosen_distance = distance, running += w;
   }
-  return sum;
+  if (!visible(x, chosen_l, chosen_distance, source_box, -1)) return sum;
+  return chosen * (total / weight(chosen));
 }

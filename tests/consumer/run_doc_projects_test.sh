@@ -37,15 +37,13 @@ project_dir() {  # <dir> <CMakeLists.txt text>
     printf '%s\n' "$2" >"$1/CMakeLists.txt"
   fi
 }
-validated() {
-  VK_INSTANCE_LAYERS=VK_LAYER_KHRONOS_validation \
-    VK_LAYER_ENABLES=VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT "$@" 2>&1 || return 1
-}
+# shellcheck source=validation.sh
+source "$here/validation.sh"  # validated, no_validation_messages
 run_app() {  # <label> <executable> <archive>
   local out
   out=$(validated "$2" "$3") || fail "$1: the application failed: $out"
   grep -q "unpacked 'Consumer PSO'" <<<"$out" || fail "$1: $out"
-  if grep -qE "Validation (Error|Warning)|SYNC-HAZARD" <<<"$out"; then fail "$1: validation messages: $out"; fi
+  no_validation_messages "$1" "$out"
   echo "$1: $out"
 }
 

@@ -33,15 +33,8 @@ grep -rq "$build_dir" "$config_dir" "$libdir/pkgconfig" && fail "an installed CM
 # The packager on PATH must not be what the build uses: the installed function runs statepack::statepack.
 export PATH=/usr/bin:/bin
 command -v statepack >/dev/null && fail "a statepack on PATH would hide what the function runs"
-# The applications make no messenger of their own: the validation layer, enabled from the environment
-# with synchronization validation, prints what it finds, and any such line fails the run.
-validated() {
-  VK_INSTANCE_LAYERS=VK_LAYER_KHRONOS_validation \
-    VK_LAYER_ENABLES=VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT "$@" 2>&1 || return 1
-}
-no_validation_messages() {  # <label> <output>
-  if grep -qE "Validation (Error|Warning)|SYNC-HAZARD" <<<"$2"; then fail "$1: validation messages: $2"; fi
-}
+# shellcheck source=validation.sh
+source "$here/validation.sh"  # validated, no_validation_messages
 consume() {  # <generator> <configuration> <where the application lands>
   local dir="$work/$1" config=$2
   cp -r "$here" "$dir-src"

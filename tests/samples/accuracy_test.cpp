@@ -222,9 +222,7 @@ double compare_one(const std::string& name, const std::string& scene_path, uint3
         not_finite += !std::isfinite(gpu[i]);
         const double var = reference.variance[i];
         const double diff = double(gpu[i]) - reference.mean[i];
-        // A pixel lit only by a light without area has (almost) no variance: its value is exact but for
-        // float's rounding, which the standard error then includes (2e-6 of the value).
-        const double rounding = 2e-6 * std::abs(reference.mean[i]);
+        const double rounding = statepack::testing::float_rounding(reference.mean[i]);
         const double spread = var / gpu_spp + var / cpu_spp + rounding * rounding;
         const double z = spread > 0 ? std::abs(diff) / std::sqrt(spread) : (std::abs(diff) < 1e-4 ? 0 : 1e9);
         worst = std::max(worst, std::min(z, 1e3));
