@@ -64,6 +64,18 @@ const spirv::Module* ArchiveAccess::walked(const Archive& archive, uint32_t blob
   const auto& modules = archive.state_->loaded.modules;
   return blob < modules.size() ? &modules[blob] : nullptr;
 }
+void ArchiveAccess::discard(Archive& archive) {
+  archive.state_.reset();
+}
+bool ArchiveAccess::discarded(const Archive& archive) {
+  return !archive.state_;
+}
+uint64_t ArchiveAccess::file_hash(const Archive& archive) {
+  const auto& owned = archive.state_->loaded.owned;
+  return owned.empty() ? 0
+                       : format::hash_bytes({reinterpret_cast<const uint8_t*>(owned.data()),
+                                             owned.size() * sizeof(uint32_t)});
+}
 const format::Contents& ArchiveAccess::contents(const Archive& archive) {
   return archive.state_->loaded.contents;
 }

@@ -13,6 +13,12 @@ struct STATEPACK_API ArchiveAccess {
   static const format::Contents& contents(const Archive& archive);
   // A blob as the load's checks walked it (every blob a shader uses); null beyond the blobs.
   static const spirv::Module* walked(const Archive& archive, uint32_t blob);
+  // Frees the archive's bytes and tables (a reload replaced it and nothing made from it is in use);
+  // nothing may read it after.
+  static void discard(Archive& archive);
+  static bool discarded(const Archive& archive);
+  // XXH3-64 of the bytes an archive was read from (0 for one borrowed from memory).
+  static uint64_t file_hash(const Archive& archive);
 };
 
 // The named objects of an archive other than its pipelines (signatures, render passes, standalone

@@ -31,6 +31,7 @@ Dearchiver::State::~State() {
     if (auto job = weak.lock()) stop_job(*job, true);
   // The pipelines go before the objects they were made from (the cache, a member).
   for (auto& p : pipelines) caps.vk.vkDestroyPipeline(context.device, p.pipeline, context.allocator);
+  for (auto& r : retired) caps.vk.vkDestroyPipeline(context.device, r.pipeline, context.allocator);
 }
 
 const format::Contents& Dearchiver::State::contents(size_t archive) const {
@@ -39,8 +40,8 @@ const format::Contents& Dearchiver::State::contents(size_t archive) const {
 
 std::vector<std::string> Dearchiver::State::names_of(std::initializer_list<ObjectKind> kinds) const {
   std::vector<std::string> names;
-  for (const auto& a : archives)
-    for (const auto& [name, kind] : a.objects())
+  for (size_t a : active)
+    for (const auto& [name, kind] : archives[a].objects())
       if (std::find(kinds.begin(), kinds.end(), kind) != kinds.end()) names.push_back(name);
   return names;
 }
@@ -50,7 +51,7 @@ std::vector<std::string> Dearchiver::State::pipeline_names() const {
 }
 
 Result<ArchivedPipeline> Dearchiver::State::find(std::string_view name, format::PipelineKind kind) const {
-  for (size_t i = 0; i < archives.size(); ++i) {
+  for (size_t i : active) {
     const auto& list = contents(i).pipelines;  // sorted by name (checked on load)
     auto it = std::lower_bound(list.begin(), list.end(), name,
                                [](const format::Pipeline& p, std::string_view n) { return p.name < n; });
@@ -65,7 +66,7 @@ Result<ArchivedPipeline> Dearchiver::State::find(std::string_view name, format::
   }
   auto names = pipeline_names();
   return Error{ErrorCode::not_found, "no pipeline named '" + std::string(name) + "' in " +
-                                         std::to_string(archives.size()) + " loaded archive(s)" +
+                                         std::to_string(active.size()) + " loaded archive(s)" +
                                          did_you_mean(name, names)};
 }
 
@@ -113,19 +114,24 @@ const UnpackedPipeline* Dearchiver::State::keep(Plan& plan, std::string key) {
   if (!reuse) pipelines.emplace_back();  // an empty place (VK_NULL_HANDLE: the destructor skips it)
   const UnpackedPipeline* kept = &pipelines[slot];
   auto variant = variants.end();
-  std::optional<std::set<std::string>::iterator> new_key;
+  std::optional<std::map<std::string, size_t>::iterator> new_key;
+  size_t recorded_at = SIZE_MAX;
   bool state_recorded = false;
   std::unordered_map<const UnpackedPipeline*, Place>::iterator place;
   try {
     if (!key.empty()) {
-      if (auto [at, inserted] = recorded_keys.insert(key); inserted) new_key = at;
+      auto [at, inserted] = recorded_keys.emplace(key, recorded.size());
+      if (inserted) new_key = at;
       if (new_key) {
         recorded.push_back({plan.source, plan.out.bind_point, plan.state});
         state_recorded = true;
+      } else if (Recorded& again = recorded[at->second]; again.gone) {
+        again = {plan.source, plan.out.bind_point, plan.state};  // its pipeline came back in a reload
       }
+      recorded_at = at->second;
       variant = variants.emplace(std::move(key), kept).first;
     }
-    place = place_of.emplace(kept, Place{slot, variant, nullptr}).first;
+    place = place_of.emplace(kept, Place{slot, variant, nullptr, plan.source, recorded_at}).first;
   } catch (...) {
     if (variant != variants.end()) variants.erase(variant);
     if (state_recorded) recorded.pop_back();
@@ -252,14 +258,17 @@ Result<Dearchiver> Dearchiver::create(const DeviceContext& context) {
 Result<void> Dearchiver::add_archive(Archive archive) {
   return api_guard("Dearchiver::add_archive", [&]() -> Result<void> {
     std::lock_guard lock(state_->mutex);
-    // The two lists grow together or not at all.
-    state_->records.emplace_back(detail::ArchiveAccess::contents(archive).pipelines.size());
-    try {
-      state_->archives.push_back(std::move(archive));
-    } catch (...) {
-      state_->records.pop_back();
-      throw;
-    }
+    // The lists grow together or not at all: room first, then nothing below throws.
+    State& st = *state_;
+    std::vector<State::Record> records(detail::ArchiveAccess::contents(archive).pipelines.size());
+    st.records.reserve(st.records.size() + 1);
+    st.archives.reserve(st.archives.size() + 1);
+    st.lineage.reserve(st.lineage.size() + 1);
+    st.active.reserve(st.active.size() + 1);
+    st.records.push_back(std::move(records));
+    st.lineage.push_back(st.active.size());
+    st.active.push_back(st.archives.size());
+    st.archives.push_back(std::move(archive));
     return {};
   });
 }
@@ -297,7 +306,7 @@ namespace {
 // The first archive that has an object of that name, as (archive, index).
 template <class Find>
 std::optional<std::pair<size_t, uint32_t>> find_named(const Dearchiver::State& state, Find&& find_in) {
-  for (size_t i = 0; i < state.archives.size(); ++i)
+  for (size_t i : state.active)
     if (auto index = find_in(state.contents(i))) return std::pair{i, *index};
   return std::nullopt;
 }
@@ -367,6 +376,7 @@ Result<UnpackedShader> Dearchiver::unpack_shader(std::string_view name) {
     const format::Shader& shader = state_->contents(found->first).shaders[found->second];
     auto module = state_->cache.module(found->first, shader.blob, shader.name);
     if (!module) return module.error();
+    state_->cache.hand_out(*module);
     return UnpackedShader{shader.name, *module, static_cast<VkShaderStageFlagBits>(shader.stage),
                           shader.entry_point};
   });

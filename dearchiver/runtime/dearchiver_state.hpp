@@ -42,6 +42,12 @@ struct SlotSync {
 // Cancels what a job has not begun and waits for its threads (unpack_job.cpp); `dearchiver_gone`: the
 // job forgets the Dearchiver, which is being destroyed.
 void stop_job(UnpackJob::Shared& job, bool dearchiver_gone = false);
+// Waits until every pipeline of the job is finished and its threads have left (unpack_job.cpp).
+void wait_for_job(UnpackJob::Shared& job);
+bool job_finished(UnpackJob::Shared& job);
+// What a patched pipeline's settled state changed of its archived state, as a variant's "state" JSON
+// (variants.cpp).
+std::string recorded_changes(const format::Pipeline& archived, const PatchableState& settled, bool compute);
 
 }  // namespace detail
 
@@ -50,7 +56,14 @@ struct Dearchiver::State {
   detail::DeviceCaps caps;  // limits and formats, checked before any vkCreate*
   // Enabled features, every structure; assigned in create(), so the references below stay bound to it.
   detail::EnabledFeatures enabled;
+  // Every archive added, and every one a reload brought; an index never changes meaning (the object
+  // cache and ArchivedPipeline refer to archives by it). An archive a reload replaced is emptied once
+  // nothing made from it is in use (reload.cpp).
   std::vector<Archive> archives;
+  // The archives names resolve in, in the order they were added: `archives` indices. A reload replaces
+  // one entry.
+  std::vector<size_t> active;
+  std::vector<size_t> lineage;  // parallel to `archives`: the entry of `active` each one was added as
   detail::ObjectCache cache{context, caps, enabled, archives};  // what pipelines share
   detail::Planner planner{context, caps, enabled.core(), cache};
   bool creation_feedback = false;  // VK_EXT_pipeline_creation_feedback (or Vulkan 1.3) may be chained
@@ -71,7 +84,9 @@ struct Dearchiver::State {
   struct Place {
     size_t slot;                                                       // in `pipelines`
     std::map<std::string, const UnpackedPipeline*>::iterator variant;  // variants.end(): not a variant
-    Record* record;  // the record whose unmodified pipeline it is, or null
+    Record* record;                   // the record whose unmodified pipeline it is, or null
+    detail::ArchivedPipeline source;  // what it was made from (a reload compares it with its successor)
+    size_t recorded = SIZE_MAX;       // a patched one's entry in `recorded`
   };
   std::unordered_map<const UnpackedPipeline*, Place> place_of;  // live pipelines, for release()
   std::vector<size_t> free_slots;                               // places of released ones
@@ -84,10 +99,23 @@ struct Dearchiver::State {
     detail::ArchivedPipeline source;
     VkPipelineBindPoint bind_point;
     PatchableState settled;
+    bool gone = false;  // its pipeline left the archive in a reload
   };
   std::vector<Recorded> recorded;
-  std::set<std::string> recorded_keys;
+  std::map<std::string, size_t> recorded_keys;  // variant key -> its entry in `recorded`
+  // Pipelines a reload replaced, destroyed when the application says the GPU is done with them.
+  struct Retired {
+    VkPipeline pipeline;
+    uint64_t generation;  // the reload that replaced it
+  };
+  std::vector<Retired> retired;
+  uint64_t generation = 0;  // reloads that changed something
   std::mutex mutex;
+
+  // reload.cpp: waits (letting `lock` go meanwhile) until no unpack job is running, then replaces the
+  // archive and re-creates what changed.
+  void wait_for_jobs(std::unique_lock<std::mutex>& lock);
+  Result<ReloadReport> reload(Archive archive, const ReloadOptions& options);
 
   ~State();
 

@@ -2,6 +2,10 @@
 // goes: shader modules, descriptor set layouts (and the empty one that fills holes in the set numbering),
 // immutable samplers, render passes and pipeline layouts. Every object is checked against the device
 // before it is created. Not thread-safe: the Dearchiver's lock covers it.
+//
+// Set layouts, samplers and render passes are kept by content, not by archive: an archive that replaces
+// another (Dearchiver::reload) gets the very handles its predecessor had for what did not change, so the
+// application's descriptor sets and framebuffers, and the pipeline layouts made of them, stay good.
 #pragma once
 
 #include <map>
@@ -47,20 +51,37 @@ class ObjectCache {
   // A blob's declarations, as the archive's load walked them (every blob a shader uses).
   const spirv::Module* walked(size_t archive, uint32_t blob);
 
+  // A module the application was given (a standalone shader): never destroyed before the cache.
+  void hand_out(VkShaderModule module) { handed_out_.push_back(module); }
+  // The archive is gone (replaced by a reload, nothing made from it in use): its shader modules are
+  // destroyed unless handed out (pipelines do not need them once created), and its index is forgotten.
+  // Objects kept by content stay, for whoever uses them.
+  void forget(size_t archive);
+
  private:
   using Key = std::pair<size_t, uint32_t>;  // (archive, index of the record or blob)
   // The one place a cached object is looked up, or created and kept.
   template <class Handle, class Create>
   Result<Handle> find_or_create(std::map<Key, Handle>& cache, Key key, Create&& create);
+  // The same for an object kept by content: `by_index` remembers where each archive's record led,
+  // `by_content` owns the handles.
+  template <class Handle, class Create>
+  Result<Handle> find_or_create(std::map<Key, Handle>& by_index, std::map<std::string, Handle>& by_content,
+                                Key key, const std::string& content, Create&& create);
+  std::string set_layout_content(size_t archive, const format::SetLayout& layout) const;
 
   const DeviceContext& context_;
   const DeviceCaps& caps_;
   const EnabledFeatures& enabled_;  // features, and SPIR-V capabilities, are checked against it
   const std::vector<Archive>& archives_;
   std::map<Key, VkShaderModule> modules_;
+  std::vector<VkShaderModule> handed_out_;  // kept when their archive is forgotten
   std::map<Key, VkDescriptorSetLayout> set_layouts_;
+  std::map<std::string, VkDescriptorSetLayout> set_layouts_by_content_;
   std::map<Key, VkSampler> samplers_;
+  std::map<std::string, VkSampler> samplers_by_content_;
   std::map<Key, VkRenderPass> render_passes_;
+  std::map<std::string, VkRenderPass> render_passes_by_content_;
   VkDescriptorSetLayout empty_set_layout_ = VK_NULL_HANDLE;
   std::map<std::tuple<std::vector<VkDescriptorSetLayout>, uint32_t, uint32_t>, VkPipelineLayout, std::less<>>
       pipeline_layouts_;  // (set layouts, push size, push stages)

@@ -29,6 +29,8 @@ const char* to_string(ErrorCode code) {
       return "missing_backend";
     case ErrorCode::unsupported:
       return "unsupported";
+    case ErrorCode::layout_changed:
+      return "layout_changed";
     case ErrorCode::vulkan_error:
       return "vulkan_error";
     case ErrorCode::invalid_argument:

@@ -284,6 +284,16 @@ void stop_job(UnpackJob::Shared& job, bool dearchiver_gone) {
   job.sync->finished.notify_all();
 }
 
+bool job_finished(UnpackJob::Shared& job) {
+  std::lock_guard lock(job.sync->mutex);
+  return job.settled == job.entries.size() && job.active == 0;
+}
+
+void wait_for_job(UnpackJob::Shared& job) {
+  std::unique_lock lock(job.sync->mutex);
+  job.sync->finished.wait(lock, [&] { return job.settled == job.entries.size() && job.active == 0; });
+}
+
 }  // namespace detail
 
 namespace {
@@ -353,20 +363,19 @@ std::shared_ptr<UnpackJob::Shared> start_job(Dearchiver& dearchiver, Dearchiver:
       // Names are unique within an archive (checked at load), so only a second archive needs `seen`;
       // the names it holds live in the archives, as long as the job's state.
       std::unordered_set<std::string_view> seen;
-      const bool several = state.archives.size() > 1;
+      const bool several = state.active.size() > 1;
       size_t total = 0;
-      for (size_t a = 0; a < state.archives.size(); ++a) total += state.contents(a).pipelines.size();
+      for (size_t a : state.active) total += state.contents(a).pipelines.size();
       job->entries.reserve(total);
       // Room for every pipeline the job may keep, so that keeping them never rehashes.
       state.place_of.reserve(state.place_of.size() + total);
-      for (size_t a = 0; a < state.archives.size(); ++a)
+      for (size_t a : state.active)
         for (const auto& p : state.contents(a).pipelines)
           if (!several || seen.insert(p.name).second)  // the earliest archive wins
             plan_entry(*job, state, options, ArchivedPipeline{a, &p}, job->entries.emplace_back());
       std::erase_if(state.jobs, [](const auto& weak) { return weak.expired(); });
       state.jobs.push_back(job);
-      for (size_t a = 0; a < state.archives.size(); ++a)
-        detail::append_other_objects(state.contents(a), others);
+      for (size_t a : state.active) detail::append_other_objects(state.contents(a), others);
     } catch (...) {
       for (auto& e : job->entries) job->forget_locked(e);
       for (auto& e : job->entries)

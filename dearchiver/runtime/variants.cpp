@@ -422,16 +422,28 @@ Result<void> PipelineVariant::apply(PatchableState& s) const {
   });
 }
 
+namespace detail {
+std::string recorded_changes(const format::Pipeline& archived, const PatchableState& settled, bool compute) {
+  // Constant names are the shaders' (OpName): bytes that are not UTF-8 are replaced, never thrown on.
+  return state_changes(to_patchable(archived), settled, compute)
+      .dump(-1, ' ', false, Json::error_handler_t::replace);
+}
+}  // namespace detail
+
 std::vector<PipelineVariant> Dearchiver::variants() const {
   std::lock_guard lock(state_->mutex);
   std::vector<PipelineVariant> out;
   for (const State::Recorded& r : state_->recorded) {
+    if (r.gone) continue;
     const bool compute = r.bind_point == VK_PIPELINE_BIND_POINT_COMPUTE;
     const format::Pipeline& p = *r.source.pipeline;
-    // Constant names are the shaders' (OpName): bytes that are not UTF-8 are replaced, never thrown on.
-    out.push_back({p.name, compute ? ObjectKind::compute_pipeline : ObjectKind::graphics_pipeline,
-                   state_changes(to_patchable(p), r.settled, compute)
-                       .dump(-1, ' ', false, Json::error_handler_t::replace)});
+    PipelineVariant v{p.name, compute ? ObjectKind::compute_pipeline : ObjectKind::graphics_pipeline,
+                      recorded_changes(p, r.settled, compute)};
+    // After a reload two entries may have come to say the same (each distinct variant is listed once).
+    if (std::none_of(out.begin(), out.end(), [&](const PipelineVariant& o) {
+          return o.pipeline == v.pipeline && o.kind == v.kind && o.state == v.state;
+        }))
+      out.push_back(std::move(v));
   }
   return out;
 }

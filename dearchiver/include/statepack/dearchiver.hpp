@@ -276,6 +276,29 @@ struct UnpackReport {
   bool ok() const { return failures.empty(); }
 };
 
+// What Dearchiver::reload did. The first four lists name the pipelines this Dearchiver had unpacked from
+// the replaced archive (a pipeline with several patched variants once per variant), in the order they
+// were made.
+struct ReloadReport {
+  std::vector<std::string> recreated;   // changed: a new VkPipeline in the same UnpackedPipeline
+  std::vector<std::string> kept;        // unchanged: the same VkPipeline
+  std::vector<std::string> removed;     // gone from the archive: the pipeline stays until released
+  std::vector<UnpackFailure> failures;  // changed but not re-created, and why: the old pipeline stays
+  std::vector<std::string> added;       // pipelines the new archive has and the old one had not
+  uint64_t generation = 0;              // reload_generation() after the call
+  bool ok() const { return failures.empty(); }
+};
+
+struct ReloadOptions {
+  size_t archive = 0;  // which added archive the new one replaces: 0 is the first add_archive gave
+  // Called for each patched pipeline being re-created, with the new archive's state after the changes
+  // its callback made at unpack time were applied again (what variants() records); it may change more.
+  // Empty: those changes alone. Unpatched pipelines are re-created unpatched.
+  PatchCallback patch;
+  // An archive whose content version differs from the replaced one's is refused unless this is set.
+  bool allow_content_version_change = false;
+};
+
 // unpack_all_async's handle: pipelines are created on its own threads while the application goes on.
 // Destroying it (or the Dearchiver) cancels the pipelines not yet begun and waits for those being
 // created; the pipelines made stay the Dearchiver's.
@@ -411,6 +434,28 @@ class STATEPACK_API Dearchiver {
   // Unpacks a recorded variant: its pipeline, patched by PipelineVariant::apply.
   Result<const UnpackedPipeline*> unpack_variant(const PipelineVariant& variant);
 
+  // Replaces an added archive with a new build of it, for a development loop (docs/api.md, "Reloading
+  // while the application runs"). Every pipeline unpacked from the old archive is compared with its
+  // namesake in the new one by content (shaders' SPIR-V, state, layouts, render pass, constants): an
+  // unchanged one keeps its VkPipeline; a changed one is re-created, patched as it was (its recorded
+  // changes, then options.patch), and its new VkPipeline is written into the same UnpackedPipeline, so
+  // every pointer the application holds stays valid and reads the new pipeline. The old VkPipeline is
+  // retired, not destroyed: the GPU may still use it (destroy_retired). A change no reload can apply in
+  // place (the pipeline layout, which descriptor sets were made for) is a `layout_changed` failure in the
+  // report naming the pipeline and the change; any failure keeps the old pipeline. Later unpacks by name
+  // use the new archive. Waits for running unpack jobs first (never call it from their callbacks).
+  // Call it where the application does not read the pipelines meanwhile, e.g. between frames on the
+  // thread that records commands. An error is returned for what stops the whole reload (a wrong index,
+  // another content version); the archive is then not used.
+  Result<ReloadReport> reload(Archive archive, const ReloadOptions& options = {});
+  // How many reloads re-created a pipeline: a renderer that copies VkPipeline handles re-reads them
+  // when it changes (pointers to UnpackedPipeline always read the current one).
+  uint64_t reload_generation() const;
+  // Destroys the VkPipelines that reloads up to `through_generation` replaced (all by default), once the
+  // application knows the GPU is done with them (a fence of the frames recorded before the reload, or
+  // vkDeviceWaitIdle). Returns how many it destroyed. The Dearchiver's destructor destroys the rest.
+  size_t destroy_retired(uint64_t through_generation = UINT64_MAX);
+
   // Unpack the other named objects. Each is created once and owned by the Dearchiver.
   Result<const UnpackedSignature*> unpack_signature(std::string_view name);
   Result<VkRenderPass> unpack_render_pass(std::string_view name);
@@ -429,6 +474,34 @@ class STATEPACK_API Dearchiver {
 
  private:
   explicit Dearchiver(std::unique_ptr<State> state);
+  std::unique_ptr<State> state_;
+};
+
+// Tells a running application that a new build of an archive file was written completely, without a
+// shader compiler: pair it with `statepack pack --watch` and Dearchiver::reload (docs/api.md). poll() is
+// cheap enough for every frame: one stat() of the file when it did not change.
+class STATEPACK_API ArchiveFileWatch {
+ public:
+  // Watches `path`; what it holds now counts as what the application has loaded.
+  static Result<ArchiveFileWatch> create(std::filesystem::path path,
+                                         std::optional<uint32_t> required_content_version = std::nullopt);
+
+  ArchiveFileWatch(ArchiveFileWatch&&) noexcept;
+  ArchiveFileWatch& operator=(ArchiveFileWatch&&) noexcept;
+  ~ArchiveFileWatch();
+
+  // A new archive when the file changed since the last look and now holds a complete, valid archive
+  // whose bytes differ from the last one handed back (or the one there at create); nullopt when there is
+  // nothing new: unchanged, the same bytes written again, missing for now (an editor or packer replacing
+  // it), or still being written (shorter than its header says). An error, once per change of the file,
+  // for a complete file that is not a valid archive (another content version, corrupt); the next change
+  // is looked at again.
+  Result<std::optional<Archive>> poll();
+  const std::filesystem::path& path() const;
+
+ private:
+  struct State;
+  explicit ArchiveFileWatch(std::unique_ptr<State> state);
   std::unique_ptr<State> state_;
 };
 

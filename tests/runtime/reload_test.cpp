@@ -1,0 +1,444 @@
+// Dearchiver::reload and ArchiveFileWatch on lavapipe, with the validation layer on: a temporary project
+// is packed by the real packer, edited and packed again, and the running pipelines are reloaded. What a
+// reloaded pipeline computes or draws is read back: the same UnpackedPipeline pointer must run the new
+// shader, an unchanged pipeline must keep its VkPipeline, and every failure must keep the old one.
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <thread>
+
+#include "common/run_command.hpp"
+#include "common/vulkan_test_fixture.hpp"
+
+namespace statepack::testing {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A compute shader writing `value` (a macro of the notation, or the text itself) to Result.value.
+std::string writer_shader(const std::string& value, const std::string& extra_binding = "") {
+  return "#version 450\nlayout(local_size_x = 1) in;\n"
+         "layout(constant_id = 0) const uint kBase = 0u;\n"
+         "layout(set = 0, binding = 0) buffer Result { uint value; } result;\n" +
+         extra_binding + "void main() { result.value = " + value + "; }\n";
+}
+
+std::string two_writers(const std::string& second_name = "B") {
+  return R"({ "Pipelines": [
+    { "PSODesc": { "Name": "A" }, "pCS": { "Desc": { "Name": "A CS" }, "FilePath": "a.comp" },
+      "pSpecializationConstants": [ { "Name": "kBase", "Value": 0 } ] },
+    { "PSODesc": { "Name": ")" +
+         second_name + R"(" }, "pCS": { "Desc": { "Name": "B CS" }, "FilePath": "b.comp" } } ] })";
+}
+
+// A temporary project packed by the real packer, as `statepack pack --watch` would repack it.
+class Project {
+ public:
+  explicit Project(const std::string& name) : dir_(fs::path(STATEPACK_TEST_OUTPUT_DIR) / ("reload_" + name)) {
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void write(const std::string& file, const std::string& text) const {
+    std::ofstream(dir_ / file, std::ios::binary | std::ios::trunc) << text;
+  }
+  fs::path archive_path() const { return dir_ / "out.spk"; }
+  void pack(const std::string& extra = "") const {
+    CommandResult r =
+        run_command("'" STATEPACK_EXE "' pack --vulkan " + extra + " -s '" + dir_.string() + "' -o '" +
+                    archive_path().string() + "' -i '" + (dir_ / "states.json").string() + "'");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+  }
+  Archive load() const {
+    auto archive = Archive::from_file(archive_path());
+    EXPECT_TRUE(archive) << archive.error().message;
+    return std::move(*archive);
+  }
+  const fs::path& dir() const { return dir_; }
+
+ private:
+  fs::path dir_;
+};
+
+class ReloadTest : public VulkanTest {
+ protected:
+  Dearchiver dearchiver_for(const Project& project) {
+    auto dearchiver = Dearchiver::create(vk_->device_context());
+    EXPECT_TRUE(dearchiver) << dearchiver.error().message;
+    EXPECT_TRUE(dearchiver->add_archive(project.load()));
+    return std::move(*dearchiver);
+  }
+  // Runs a compute pipeline once through the pointer the application holds; returns what it wrote.
+  uint32_t run(const UnpackedPipeline& pso) {
+    auto buffer = bootstrap::create_host_buffer(*vk_, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+    EXPECT_TRUE(buffer);
+    std::memset((*buffer)->mapped, 0xEE, 16);
+    const BindingInfo* result = pso.find_binding("Result");
+    EXPECT_NE(result, nullptr);
+    if (!result) return ~0u;
+    auto set = bootstrap::bind_storage_buffer(*vk_, pso.set_layouts.at(result->set), result->binding,
+                                              (*buffer)->buffer);
+    EXPECT_TRUE(set);
+    auto done = vk_->submit_and_wait([&](VkCommandBuffer cmd) {
+      vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pso.pipeline);
+      vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pso.layout, result->set, 1, &(*set)->set,
+                              0, nullptr);
+      vkCmdDispatch(cmd, 1, 1, 1);
+    });
+    EXPECT_TRUE(done);
+    uint32_t value = 0;
+    std::memcpy(&value, (*buffer)->mapped, 4);
+    return value;
+  }
+  const UnpackedPipeline* compute(Dearchiver& d, std::string_view name, const ModifyCallback& modify = {}) {
+    auto made = d.unpack_compute(name, modify);
+    EXPECT_TRUE(made) << made.error().message;
+    return made ? *made : nullptr;
+  }
+};
+
+TEST_F(ReloadTest, AnEditedShaderRunsThroughTheSamePointerAndTheOtherPipelineKeepsItsHandle) {
+  Project project("edit");
+  project.write("states.json", two_writers());
+  project.write("a.comp", writer_shader("11u"));
+  project.write("b.comp", writer_shader("22u"));
+  project.pack();
+  Dearchiver d = dearchiver_for(project);
+  const UnpackedPipeline* a = compute(d, "A");
+  const UnpackedPipeline* b = compute(d, "B");
+  ASSERT_TRUE(a && b);
+  EXPECT_EQ(run(*a), 11u);
+  const VkPipeline a_before = a->pipeline, b_before = b->pipeline;
+  const VkPipelineLayout layout_before = a->layout;
+
+  project.write("a.comp", writer_shader("33u"));
+  project.pack();
+  auto report = d.reload(project.load());
+  ASSERT_TRUE(report) << report.error().message;
+  EXPECT_TRUE(report->ok());
+  EXPECT_EQ(report->recreated, std::vector<std::string>{"A"});
+  EXPECT_EQ(report->kept, std::vector<std::string>{"B"});
+  EXPECT_TRUE(report->removed.empty() && report->added.empty());
+  EXPECT_EQ(report->generation, 1u);
+  EXPECT_EQ(d.reload_generation(), 1u);
+  EXPECT_NE(a->pipeline, a_before);     // the same pointer, a new pipeline
+  EXPECT_EQ(a->layout, layout_before);  // descriptor sets made for it still fit
+  EXPECT_EQ(b->pipeline, b_before);
+  EXPECT_EQ(run(*a), 33u);
+  EXPECT_EQ(run(*b), 22u);
+  auto again = d.unpack_compute("A");  // by name: the same, reloaded pipeline
+  ASSERT_TRUE(again);
+  EXPECT_EQ(*again, a);
+  EXPECT_EQ(d.destroy_retired(), 1u);  // the GPU is idle: submit_and_wait waited
+  EXPECT_EQ(d.destroy_retired(), 0u);
+
+  // The same archive again: nothing changes, no generation.
+  auto same = d.reload(project.load());
+  ASSERT_TRUE(same);
+  EXPECT_TRUE(same->recreated.empty());
+  EXPECT_EQ(same->kept.size(), 2u);
+  EXPECT_EQ(same->generation, 1u);
+}
+
+TEST_F(ReloadTest, AnIncludeOnlyChangeRecreatesThePipelinesThatIncludeIt) {
+  Project project("include");
+  project.write("states.json", two_writers());
+  project.write("value.glsl", "#define VALUE 5u\n");
+  project.write("a.comp",
+                writer_shader("VALUE").insert(
+                    13, "#extension GL_GOOGLE_include_directive : require\n#include \"value.glsl\"\n"));
+  project.write("b.comp", writer_shader("7u"));
+  project.pack();
+  Dearchiver d = dearchiver_for(project);
+  const UnpackedPipeline* a = compute(d, "A");
+  const UnpackedPipeline* b = compute(d, "B");
+  ASSERT_TRUE(a && b);
+  EXPECT_EQ(run(*a), 5u);
+  project.write("value.glsl", "#define VALUE 6u\n");
+  project.pack();
+  auto report = d.reload(project.load());
+  ASSERT_TRUE(report) << report.error().message;
+  EXPECT_EQ(report->recreated, std::vector<std::string>{"A"});
+  EXPECT_EQ(report->kept, std::vector<std::string>{"B"});
+  EXPECT_EQ(run(*a), 6u);
+}
+
+TEST_F(ReloadTest, ANotationEditThatRenamesAPipelineReportsItRemovedAndAddedAndTheOldOneStillRuns) {
+  Project project("rename");
+  project.write("states.json", two_writers());
+  project.write("a.comp", writer_shader("1u"));
+  project.write("b.comp", writer_shader("2u"));
+  project.pack();
+  Dearchiver d = dearchiver_for(project);
+  const UnpackedPipeline* b = compute(d, "B");
+  ASSERT_TRUE(b);
+  project.write("states.json", two_writers("C"));
+  project.pack();
+  auto report = d.reload(project.load());
+  ASSERT_TRUE(report) << report.error().message;
+  EXPECT_EQ(report->removed, std::vector<std::string>{"B"});
+  EXPECT_EQ(report->added, std::vector<std::string>{"C"});
+  EXPECT_EQ(run(*b), 2u);  // still the application's until released
+  auto gone = d.unpack_compute("B");
+  ASSERT_FALSE(gone);
+  EXPECT_EQ(gone.error().code, ErrorCode::not_found);
+  EXPECT_NE(gone.error().message.find("'C'"), std::string::npos) << gone.error().message;  // did you mean
+  const UnpackedPipeline* c = compute(d, "C");
+  ASSERT_TRUE(c);
+  EXPECT_EQ(run(*c), 2u);
+  EXPECT_TRUE(d.release(b));
+  EXPECT_FALSE(d.release(b));
+}
+
+TEST_F(ReloadTest, ALayoutChangeIsALayoutChangedFailureNamingThePipelineAndTheOldOneStays) {
+  Project project("layout");
+  project.write("states.json", two_writers());
+  project.write("a.comp", writer_shader("3u"));
+  project.write("b.comp", writer_shader("4u"));
+  project.pack();
+  Dearchiver d = dearchiver_for(project);
+  const UnpackedPipeline* a = compute(d, "A");
+  ASSERT_TRUE(a);
+  const VkPipeline before = a->pipeline;
+  project.write("a.comp", writer_shader("3u + extra.more",
+                                        "layout(set = 0, binding = 1) buffer Extra { uint more; } extra;\n"));
+  project.pack();
+  auto report = d.reload(project.load());
+  ASSERT_TRUE(report) << report.error().message;
+  ASSERT_EQ(report->failures.size(), 1u);
+  const Error& e = report->failures[0].error;
+  EXPECT_EQ(e.code, ErrorCode::layout_changed);
+  EXPECT_EQ(report->failures[0].object.name, "A");
+  EXPECT_NE(e.message.find("pipeline 'A'"), std::string::npos) << e.message;
+  EXPECT_NE(e.message.find("set 0 binding 1 was added"), std::string::npos) << e.message;
+  EXPECT_TRUE(report->recreated.empty());
+  EXPECT_EQ(a->pipeline, before);
+  EXPECT_EQ(run(*a), 3u);
+  auto by_name = d.unpack_compute("A");
+  ASSERT_TRUE(by_name);
+  EXPECT_EQ(*by_name, a);  // still the old one
+  EXPECT_EQ(d.destroy_retired(), 0u);
+
+  // Fixed on the next build: the pipeline made from the older build is compared again and re-created.
+  project.write("a.comp", writer_shader("8u"));
+  project.pack();
+  auto fixed = d.reload(project.load());
+  ASSERT_TRUE(fixed) << fixed.error().message;
+  EXPECT_TRUE(fixed->ok());
+  EXPECT_EQ(fixed->recreated, std::vector<std::string>{"A"});
+  EXPECT_EQ(run(*a), 8u);
+}
+
+TEST_F(ReloadTest, APatchedPipelineIsRecreatedWithItsChangesAndAFailingPatchKeepsTheOldOne) {
+  Project project("patched");
+  project.write("states.json", two_writers());
+  project.write("a.comp", writer_shader("kBase + 1u"));
+  project.write("b.comp", writer_shader("0u"));
+  project.pack();
+  Dearchiver d = dearchiver_for(project);
+  const UnpackedPipeline* a =
+      compute(d, "A", [](PatchableState& s) { EXPECT_TRUE(s.set_constant("kBase", 100u)); });
+  ASSERT_TRUE(a);
+  EXPECT_EQ(run(*a), 101u);
+
+  project.write("a.comp", writer_shader("kBase + 2u"));
+  project.pack();
+  // A reload patch that throws: named, the old pipeline stays.
+  ReloadOptions failing;
+  failing.patch = [](const ObjectInfo&, PatchableState&) { throw std::runtime_error("no swapchain yet"); };
+  auto refused = d.reload(project.load(), failing);
+  ASSERT_TRUE(refused) << refused.error().message;
+  ASSERT_EQ(refused->failures.size(), 1u);
+  EXPECT_NE(refused->failures[0].error.message.find("'A'"), std::string::npos)
+      << refused->failures[0].error.message;
+  EXPECT_NE(refused->failures[0].error.message.find("no swapchain yet"), std::string::npos)
+      << refused->failures[0].error.message;
+  EXPECT_EQ(run(*a), 101u);
+
+  // Without it the recorded change (kBase = 100) is applied to the new build.
+  auto report = d.reload(project.load());
+  ASSERT_TRUE(report) << report.error().message;
+  EXPECT_EQ(report->recreated, std::vector<std::string>{"A"});
+  EXPECT_EQ(run(*a), 102u);
+  // And a reload patch may change more.
+  project.write("a.comp", writer_shader("kBase + 3u"));
+  project.pack();
+  ReloadOptions more;
+  more.patch = [](const ObjectInfo& p, PatchableState& s) {
+    EXPECT_EQ(p.name, "A");
+    EXPECT_EQ(s.find_constant("kBase")->get<uint32_t>(), 100u);
+    s.set_constant("kBase", 200u);
+  };
+  auto patched = d.reload(project.load(), more);
+  ASSERT_TRUE(patched) << patched.error().message;
+  EXPECT_EQ(run(*a), 203u);
+  auto variants = d.variants();
+  ASSERT_EQ(variants.size(), 1u);
+  EXPECT_NE(variants[0].state.find("200"), std::string::npos) << variants[0].state;
+}
+
+TEST_F(ReloadTest, AnotherContentVersionIsRefusedUnlessAllowed) {
+  Project project("content_version");
+  project.write("states.json", two_writers());
+  project.write("a.comp", writer_shader("1u"));
+  project.write("b.comp", writer_shader("2u"));
+  project.pack("-v 1");
+  Dearchiver d = dearchiver_for(project);
+  const UnpackedPipeline* a = compute(d, "A");
+  ASSERT_TRUE(a);
+  project.write("a.comp", writer_shader("9u"));
+  project.pack("-v 2");
+  auto refused = d.reload(project.load());
+  ASSERT_FALSE(refused);
+  EXPECT_EQ(refused.error().code, ErrorCode::content_version_mismatch);
+  EXPECT_NE(refused.error().message.find("content version is 2"), std::string::npos)
+      << refused.error().message;
+  EXPECT_EQ(run(*a), 1u);
+  ReloadOptions allow;
+  allow.allow_content_version_change = true;
+  auto accepted = d.reload(project.load(), allow);
+  ASSERT_TRUE(accepted) << accepted.error().message;
+  EXPECT_EQ(run(*a), 9u);
+  ReloadOptions wrong;
+  wrong.archive = 1;
+  auto bad_index = d.reload(project.load(), wrong);
+  ASSERT_FALSE(bad_index);
+  EXPECT_EQ(bad_index.error().code, ErrorCode::invalid_argument);
+}
+
+TEST_F(ReloadTest, AReloadWhileAnUnpackJobRunsWaitsForItAndReloadsWhatItMade) {
+  Project project("job");
+  std::string states = R"({ "Pipelines": [)";
+  for (int i = 0; i < 24; ++i)
+    states += std::string(i ? "," : "") + R"({ "PSODesc": { "Name": "P)" + std::to_string(i) +
+              R"(" }, "pCS": { "Desc": { "Name": "CS)" + std::to_string(i) + R"(" }, "FilePath": "p)" +
+              std::to_string(i) + R"(.comp" } })";
+  states += "] }";
+  project.write("states.json", states);
+  for (int i = 0; i < 24; ++i)
+    project.write("p" + std::to_string(i) + ".comp", writer_shader(std::to_string(i) + "u"));
+  project.pack();
+  Dearchiver d = dearchiver_for(project);
+  project.write("p5.comp", writer_shader("500u"));
+  project.pack();
+  auto job = d.unpack_all_async({});
+  ASSERT_TRUE(job) << job.error().message;
+  auto report = d.reload(project.load());  // while the job's threads create the pipelines
+  ASSERT_TRUE(report) << report.error().message;
+  EXPECT_TRUE(report->ok());
+  EXPECT_EQ(report->recreated, std::vector<std::string>{"P5"});
+  EXPECT_EQ(report->kept.size(), 23u);
+  UnpackReport made = job->wait_all();
+  EXPECT_TRUE(made.ok());
+  auto p5 = job->wait("P5");
+  ASSERT_TRUE(p5);
+  EXPECT_EQ(run(**p5), 500u);  // the job's pointer reads the reloaded pipeline
+  EXPECT_EQ(run(*compute(d, "P6")), 6u);
+}
+
+TEST_F(ReloadTest, APatchedGraphicsPipelineIsRecreatedWithItsRunTimeFormatAndDrawsTheNewShader) {
+  Project project("graphics");
+  project.write("states.json", R"({ "Pipelines": [ {
+    "PSODesc": { "Name": "Fill PSO" },
+    "GraphicsPipeline": { "RasterizerDesc": { "CullMode": "NONE" }, "DepthStencilDesc": { "DepthEnable": false },
+                          "NumRenderTargets": 1, "RTVFormats": { "0": "UNKNOWN" } },
+    "pVS": { "Desc": { "Name": "VS" }, "FilePath": "fill.vert" },
+    "pPS": { "Desc": { "Name": "PS" }, "FilePath": "fill.frag" } } ] })");
+  project.write("fill.vert",
+                "#version 450\nvoid main() { vec2 p = vec2((gl_VertexIndex << 1) & 2, gl_VertexIndex & 2);\n"
+                "gl_Position = vec4(p * 2.0 - 1.0, 0.0, 1.0); }\n");
+  auto fragment = [](const char* color) {
+    return std::string("#version 450\nlayout(location = 0) out vec4 o;\nvoid main() { o = vec4(") + color +
+           "); }\n";
+  };
+  project.write("fill.frag", fragment("1.0, 0.0, 0.0, 1.0"));
+  project.pack();
+  Dearchiver d = dearchiver_for(project);
+  auto pso =
+      d.unpack_graphics("Fill PSO", [](PatchableState& s) { s.color_formats[0] = VK_FORMAT_R8G8B8A8_UNORM; });
+  ASSERT_TRUE(pso) << pso.error().message;
+  auto pixels = render_fullscreen(**pso, VK_FORMAT_R8G8B8A8_UNORM, 4, 4);
+  ASSERT_EQ(pixels.size(), 64u);
+  EXPECT_EQ(std::vector<uint8_t>(pixels.begin(), pixels.begin() + 4), (std::vector<uint8_t>{255, 0, 0, 255}));
+
+  project.write("fill.frag", fragment("0.0, 0.0, 1.0, 1.0"));
+  project.pack();
+  auto report = d.reload(project.load());
+  ASSERT_TRUE(report) << report.error().message;
+  ASSERT_TRUE(report->ok()) << report->failures[0].error.message;
+  EXPECT_EQ(report->recreated, std::vector<std::string>{"Fill PSO"});
+  pixels = render_fullscreen(**pso, VK_FORMAT_R8G8B8A8_UNORM, 4, 4);
+  ASSERT_EQ(pixels.size(), 64u);
+  EXPECT_EQ(std::vector<uint8_t>(pixels.begin() + 60, pixels.end()), (std::vector<uint8_t>{0, 0, 255, 255}));
+}
+
+// ArchiveFileWatch: only a complete archive with new bytes is handed back.
+TEST_F(ReloadTest, TheFileWatchHandsBackOnlyCompleteNewArchives) {
+  Project project("watch");
+  project.write("states.json", two_writers());
+  project.write("a.comp", writer_shader("1u"));
+  project.write("b.comp", writer_shader("2u"));
+  project.pack();
+  auto watch = ArchiveFileWatch::create(project.archive_path());
+  ASSERT_TRUE(watch) << watch.error().message;
+  auto nothing = watch->poll();
+  ASSERT_TRUE(nothing);
+  EXPECT_FALSE(*nothing);
+
+  auto read_all = [](const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  const std::string first = read_all(project.archive_path());
+  project.write("a.comp", writer_shader("3u"));
+  const fs::path built = project.dir() / "next.spk";
+  CommandResult r = run_command("'" STATEPACK_EXE "' pack --vulkan -s '" + project.dir().string() + "' -o '" +
+                                built.string() + "' -i '" + (project.dir() / "states.json").string() + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const std::string second = read_all(built);
+  ASSERT_NE(first, second);
+
+  // Half of the new archive written in place: never handed back, not an error.
+  project.write("out.spk", second.substr(0, second.size() / 2));
+  auto half = watch->poll();
+  ASSERT_TRUE(half) << half.error().message;
+  EXPECT_FALSE(*half);
+  // The rest: handed back once.
+  project.write("out.spk", second);
+  auto whole = watch->poll();
+  ASSERT_TRUE(whole) << whole.error().message;
+  ASSERT_TRUE(*whole);
+  auto again = watch->poll();
+  ASSERT_TRUE(again);
+  EXPECT_FALSE(*again);
+  // The same bytes written again (a repack that changed nothing): nothing new.
+  std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  project.write("out.spk", second);
+  auto same = watch->poll();
+  ASSERT_TRUE(same);
+  EXPECT_FALSE(*same);
+  // Not an archive: an error once, then nothing until it changes.
+  project.write("out.spk", std::string(256, 'x'));
+  auto garbage = watch->poll();
+  ASSERT_FALSE(garbage);
+  EXPECT_NE(garbage.error().message.find("out.spk"), std::string::npos) << garbage.error().message;
+  auto quiet = watch->poll();
+  ASSERT_TRUE(quiet);
+  EXPECT_FALSE(*quiet);
+  // Deleted: nothing; restored by rename: the archive.
+  fs::remove(project.archive_path());
+  auto missing = watch->poll();
+  ASSERT_TRUE(missing);
+  EXPECT_FALSE(*missing);
+  fs::rename(built, project.archive_path());
+  auto restored = watch->poll();
+  ASSERT_TRUE(restored) << restored.error().message;
+  EXPECT_FALSE(*restored);  // the bytes it handed back last: nothing new for the application
+  project.write("out.spk", first);
+  auto older = watch->poll();
+  ASSERT_TRUE(older) << older.error().message;
+  ASSERT_TRUE(*older);  // other bytes than the last handed back
+  EXPECT_EQ((*older)->content_version(), 0u);
+}
+
+}  // namespace
+}  // namespace statepack::testing
