@@ -1,9 +1,12 @@
 // unpack_demo: loads a statepack archive, unpacks every pipeline on the Vulkan device (lavapipe on a
 // machine without a GPU), prints what it created, and runs the compute pipeline once to show it works.
-// Links libstatepack_dearchiver only: no shader compiler.
+// With --watch it then stays, reloading the archive whenever a new build of it is written (statepack
+// pack --watch), one line per reload. Links libstatepack_dearchiver only: no shader compiler.
 #include <cinttypes>
+#include <csignal>
 #include <cstdio>
 #include <string>
+#include <thread>
 
 #include <vulkan/vulkan.hpp>  // vk::to_string: Vulkan-Hpp names every enum
 
@@ -49,19 +52,80 @@ int run_fill_buffer(statepack::bootstrap::VulkanContext& vk, const statepack::Un
   return 0;
 }
 
+volatile std::sig_atomic_t stop_requested = 0;
+void request_stop(int) {
+  stop_requested = 1;
+}
+
+// Names joined for one line: 'A', 'B'.
+std::string quoted_list(const std::vector<std::string>& names) {
+  std::string out;
+  for (const auto& n : names) out += (out.empty() ? "'" : ", '") + printable(n) + "'";
+  return out;
+}
+
+// Polls the archive file until SIGINT or SIGTERM; one line per reload: what was re-created, kept,
+// removed, added, and what failed (the old pipeline stays). The compute pipeline runs again after a
+// reload that changed it.
+int watch(statepack::bootstrap::VulkanContext& vk, statepack::Dearchiver& dearchiver,
+          const std::string& path) {
+  auto file = statepack::ArchiveFileWatch::create(path);
+  if (!file) return fail("watch", file.error());
+  std::signal(SIGINT, request_stop);
+  std::signal(SIGTERM, request_stop);
+  std::printf("watching %s (Ctrl-C ends)\n", printable(path).c_str());
+  std::fflush(stdout);
+  int status = 0;
+  for (unsigned reloads = 0; !stop_requested;) {
+    auto polled = file->poll();
+    if (!polled) {
+      std::printf("not reloaded: %s\n", printable(polled.error().message).c_str());
+    } else if (*polled) {
+      auto report = dearchiver.reload(std::move(**polled));
+      if (!report) {
+        std::printf("not reloaded: %s\n", printable(report.error().message).c_str());
+      } else {
+        std::printf("reload %u: re-created %zu [%s], kept %zu [%s]", ++reloads, report->recreated.size(),
+                    quoted_list(report->recreated).c_str(), report->kept.size(),
+                    quoted_list(report->kept).c_str());
+        if (!report->removed.empty()) std::printf(", removed [%s]", quoted_list(report->removed).c_str());
+        if (!report->added.empty()) std::printf(", added [%s]", quoted_list(report->added).c_str());
+        std::printf("\n");
+        for (const auto& f : report->failures)
+          std::printf("  not re-created '%s': %s\n", printable(f.object.name).c_str(),
+                      printable(f.error.message).c_str());
+        for (const auto& name : report->recreated)
+          if (name == "Fill Buffer PSO")
+            if (auto pso = dearchiver.unpack_compute(name)) status |= run_fill_buffer(vk, **pso);
+        dearchiver.destroy_retired();  // run_fill_buffer waited: the device is idle
+      }
+    }
+    std::fflush(stdout);
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  return status;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string path = argc > 1 ? argv[1] : STATEPACK_DEFAULT_ARCHIVE;
+  std::vector<std::string> args(argv + 1, argv + argc);
+  const bool watching = !args.empty() && args[0] == "--watch";
+  if (watching) args.erase(args.begin());
+  std::string path = args.empty() ? STATEPACK_DEFAULT_ARCHIVE : args[0];
   if (path == "-h" || path == "--help") {
-    std::printf("usage: unpack_demo [archive.spk]\n  default: %s\n", STATEPACK_DEFAULT_ARCHIVE);
+    std::printf(
+        "usage: unpack_demo [--watch] [archive.spk]\n  default: %s\n"
+        "  --watch: stay, and reload the archive whenever a new build of it is written\n",
+        STATEPACK_DEFAULT_ARCHIVE);
     return 0;
   }
-  // One archive at most, and no options but --help: anything else is a usage error (exit 2), not a
-  // file name or an argument silently dropped.
-  if (argc > 2 || path.starts_with("-")) {
-    std::fprintf(stderr, "unpack_demo: error: unexpected argument '%s'\nusage: unpack_demo [archive.spk]\n",
-                 printable(argc > 2 ? argv[2] : path).c_str());
+  // One archive at most, and no options but --watch and --help: anything else is a usage error (exit 2),
+  // not a file name or an argument silently dropped.
+  if (args.size() > 1 || path.starts_with("-")) {
+    std::fprintf(stderr,
+                 "unpack_demo: error: unexpected argument '%s'\nusage: unpack_demo [--watch] [archive.spk]\n",
+                 printable(args.size() > 1 ? args[1] : path).c_str());
     return 2;
   }
   auto archive = statepack::Archive::from_file(path);
@@ -101,6 +165,7 @@ int main(int argc, char** argv) {
                   vk::to_string(vk::DescriptorType(b.type)).c_str(), b.count);
     if (compute && name == "Fill Buffer PSO") status |= run_fill_buffer(**vk, p);
   }
+  if (watching) status |= watch(**vk, *dearchiver, path);
   auto messages = (*vk)->validation_messages();
   for (const auto& m : messages) std::fprintf(stderr, "%s\n", printable(m).c_str());
   std::printf("%zu validation message(s)\n", messages.size());

@@ -442,3 +442,37 @@ TEST_F(ReloadTest, TheFileWatchHandsBackOnlyCompleteNewArchives) {
 
 }  // namespace
 }  // namespace statepack::testing
+
+#ifdef STATEPACK_UNPACK_DEMO
+namespace statepack::testing {
+namespace {
+
+// unpack_demo --watch, as a user runs it beside `statepack pack --watch`: one line per reload naming the
+// pipelines re-created and kept, and a clean end on Ctrl-C with no validation message.
+TEST(UnpackDemoWatch, PrintsOneLinePerReloadNamingWhatWasRecreatedAndKept) {
+  Project project("demo_watch");
+  project.write("states.json", two_writers());
+  project.write("a.comp", writer_shader("1u"));
+  project.write("b.comp", writer_shader("2u"));
+  project.pack();
+  const std::string log = (project.dir() / "demo.log").string();
+  const std::string wait_for =
+      "for i in $(seq 100); do grep -q \"$1\" '" + log + "' && break; sleep 0.1; done";
+  auto pack = [&](const std::string& a) {
+    project.write("a.comp", writer_shader(a));
+    return "'" STATEPACK_EXE "' pack --vulkan -s '" + project.dir().string() + "' -o '" +
+           project.archive_path().string() + "' -i '" + (project.dir() / "states.json").string() +
+           "' >/dev/null";
+  };
+  std::string script = "waitfor() { " + wait_for + "; }\n'" STATEPACK_UNPACK_DEMO "' --watch '" +
+                       project.archive_path().string() + "' >'" + log + "' 2>&1 & pid=$!\nwaitfor watching\n";
+  script += pack("5u") + "\nwaitfor 'reload 1'\n";
+  CommandResult r = run_command(script + "kill -INT $pid; wait $pid; echo exit=$?; cat '" + log + "'");
+  EXPECT_NE(r.output.find("reload 1: re-created 1 ['A'], kept 1 ['B']"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("exit=0"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("0 validation message(s)"), std::string::npos) << r.output;
+}
+
+}  // namespace
+}  // namespace statepack::testing
+#endif
