@@ -23,6 +23,7 @@ struct Options {
   std::string out = "path_tracer.png";
   std::string screenshot;
   bool validation = true;
+  bool watch = false;  // reload the archive when a new build of it is written
 };
 
 int run_headless(const Options& options);

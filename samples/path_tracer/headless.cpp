@@ -7,6 +7,7 @@
 
 #include "app.hpp"
 #include "image_io.hpp"
+#include "live_reload.hpp"
 #include "offline.hpp"
 
 namespace statepack::path_tracer {
@@ -43,7 +44,11 @@ int run_headless(const Options& o) {
   {
     auto dearchiver = load_archive(**vk, o.archive);
     if (!dearchiver) return 1;
-    auto rendered = render_offline(**vk, *dearchiver, *scene, o.settings, o.width, o.height, o.spp, progress);
+    std::unique_ptr<LiveReload> live = o.watch ? LiveReload::start(o.archive) : nullptr;
+    if (o.watch && !live) return 1;
+    auto reloaded = [&] { return live->poll(*dearchiver, (*vk)->device); };
+    auto rendered = render_offline(**vk, *dearchiver, *scene, o.settings, o.width, o.height, o.spp, progress,
+                                   live ? std::function<bool()>(reloaded) : std::function<bool()>());
     if (!rendered) {
       std::fprintf(stderr, "path_tracer: %s\n", printable(rendered.error().message).c_str());
       status = 1;

@@ -115,6 +115,9 @@ int main(int argc, char** argv) {
                  "--frames, the report gives the moving and the still frames apart)");
   app.add_option("--screenshot", o.screenshot,
                  "Windowed: save the last frame's accumulated image here on exit");
+  app.add_flag("--watch", o.watch,
+               "Reload the archive whenever a new build of it is written (beside `statepack pack --watch`), "
+               "restarting the accumulation when a pipeline changed");
   app.add_flag(
       "!--no-validation", o.validation,
       "Run without the Vulkan validation layer (by default it is on, and any message fails the run)");

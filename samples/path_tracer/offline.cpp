@@ -28,7 +28,8 @@ size_t report_validation(const bootstrap::VulkanContext& vk) {
 Result<OfflineRender> render_offline(bootstrap::VulkanContext& vk, Dearchiver& dearchiver, const Scene& scene,
                                      const RenderSettings& settings, uint32_t width, uint32_t height,
                                      uint32_t spp,
-                                     const std::function<void(uint32_t, uint32_t, double)>& progress) {
+                                     const std::function<void(uint32_t, uint32_t, double)>& progress,
+                                     const std::function<bool()>& between_batches) {
   // The resolve pass draws into an offscreen image of the format the pipeline is patched to.
   constexpr VkFormat kTargetFormat = VK_FORMAT_R8G8B8A8_SRGB;
   auto renderer = Renderer::create(vk, dearchiver, width, height, kTargetFormat);
@@ -56,6 +57,7 @@ Result<OfflineRender> render_offline(bootstrap::VulkanContext& vk, Dearchiver& d
     out.batch_gpu_ms.push_back((*renderer)->last_trace_ms());
     if (progress)
       progress((*renderer)->samples_done(), spp, std::chrono::duration<double>(Clock::now() - start).count());
+    if (between_batches && between_batches()) (*renderer)->restart_accumulation();
   }
   out.seconds = std::chrono::duration<double>(Clock::now() - start).count();
   auto radiance = (*renderer)->read_accumulation();

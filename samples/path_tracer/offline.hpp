@@ -15,10 +15,12 @@ struct OfflineRender {
   std::vector<double> batch_wall_ms;
 };
 
-// `progress(done, total, seconds)` is called after each batch.
+// `progress(done, total, seconds)` is called after each batch; `between_batches`, when given, too, and
+// returning true starts the accumulation again (a reload changed a pipeline).
 Result<OfflineRender> render_offline(bootstrap::VulkanContext& vk, Dearchiver& dearchiver, const Scene& scene,
                                      const RenderSettings& settings, uint32_t width, uint32_t height,
                                      uint32_t spp,
-                                     const std::function<void(uint32_t, uint32_t, double)>& progress = {});
+                                     const std::function<void(uint32_t, uint32_t, double)>& progress = {},
+                                     const std::function<bool()>& between_batches = {});
 
 }  // namespace statepack::path_tracer

@@ -87,6 +87,8 @@ class Renderer {
   void record(VkCommandBuffer cmd, VkImage target, VkImageView target_view, VkImageLayout final_layout);
 
   uint32_t samples_done() const { return samples_done_; }
+  // Starts the accumulation again, e.g. after a reload changed a pipeline (its pointers read the new one).
+  void restart_accumulation() { restart(); }
   // GPU time of the last recorded batch's path-tracing dispatch, in milliseconds (after it finished).
   double last_trace_ms() const;
   uint32_t width() const { return width_; }

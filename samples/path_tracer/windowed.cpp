@@ -16,6 +16,7 @@
 #include "app.hpp"
 #include "frame_pacing.hpp"
 #include "image_io.hpp"
+#include "live_reload.hpp"
 
 namespace statepack::path_tracer {
 namespace {
@@ -69,6 +70,8 @@ class Window {
     if (auto ok = renderer_->set_scene(*scene); !ok) return fail(ok.error().message);
     renderer_->set_settings(o.settings);
     if (!create_sync() || !init_imgui()) return 1;
+    std::unique_ptr<LiveReload> live = o.watch ? LiveReload::start(o.archive) : nullptr;
+    if (o.watch && !live) return 1;
 
     uint32_t frames = 0;
     // Time between frames, for the report that --frames prints: of frames that moved, and of still ones.
@@ -78,6 +81,7 @@ class Window {
     auto last = std::chrono::steady_clock::now();
     while (!glfwWindowShouldClose(window_) && (o.frames == 0 || frames < o.frames)) {
       glfwPollEvents();
+      if (live && live->poll(*dearchiver_, vk_->device)) renderer_->restart_accumulation();
       auto now = std::chrono::steady_clock::now();
       const float dt = std::chrono::duration<float>(now - last).count();
       last = now;

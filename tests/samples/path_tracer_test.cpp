@@ -303,3 +303,49 @@ TEST(PathTracer, HostileScenesAndOutputsAreErrorsNotCrashesOrBadImages) {
 }
 
 }  // namespace
+
+// --watch: a new build of the archive, written while the path tracer renders, is reloaded and the
+// accumulation starts again with the new pipelines: the image says what the edited shader writes.
+TEST(PathTracer, WatchReloadsANewBuildWhileRenderingAndTheImageShowsTheEditedShader) {
+  const fs::path dir = fs::path(STATEPACK_TEST_OUTPUT_DIR) / "watch";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  fs::copy(fs::path(STATEPACK_SOURCE_DIR) / "shaders", dir / "shaders", fs::copy_options::recursive);
+  fs::copy(fs::path(STATEPACK_SOURCE_DIR) / "states", dir, fs::copy_options::recursive);  // and its imports
+  auto pack = [&](const std::string& out) {
+    auto r = statepack::testing::run_command(
+        "'" STATEPACK_EXE "' pack --vulkan -s '" + (dir / "shaders").string() + "' -i '" +
+        (dir / "path_tracer.json").string() + "' -o '" + (dir / out).string() + "'");
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+  };
+  pack("pt.spk");
+  // The edit: every pixel's mean radiance becomes one colour.
+  const fs::path shader = dir / "shaders/path_tracer/path_trace.comp";
+  std::string text = read_text(shader);
+  const std::string store = "imageStore(accumulation, pixel, vec4(mean, 1.0));";
+  const size_t at = text.find(store);
+  ASSERT_NE(at, std::string::npos) << "the path-tracing shader no longer stores `mean`: update this test";
+  text.replace(at, store.size(), "imageStore(accumulation, pixel, vec4(0.25, 0.5, 0.75, 1.0));");
+  std::ofstream(shader, std::ios::binary | std::ios::trunc) << text;
+  pack("pt_next.spk");  // built before, renamed over while rendering: as `statepack pack --watch` writes
+
+  const fs::path out = dir / "watched.pfm", log = dir / "log.txt";
+  const std::string run = "'" + std::string(STATEPACK_PATH_TRACER) + "' --headless --watch --archive '" +
+                          (dir / "pt.spk").string() +
+                          "' --width 8 --height 8 --samples-per-frame 1 --spp 3000 --out '" + out.string() +
+                          "' >'" + log.string() + "' 2>&1 & pid=$!\n";
+  auto r = statepack::testing::run_command(
+      run + "for i in $(seq 100); do grep -q watching '" + log.string() +
+      "' && break; sleep 0.1; done\nmv '" + (dir / "pt_next.spk").string() + "' '" +
+      (dir / "pt.spk").string() + "'\nwait $pid; echo exit=$?; cat '" + log.string() + "'");
+  ASSERT_NE(r.output.find("exit=0"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("reload 1 of"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("'Path Trace PSO'"), std::string::npos) << r.output;
+  Image image = read_pfm(out);
+  ASSERT_EQ(image.width, 8u);
+  for (uint32_t y = 0; y < image.height; ++y)
+    for (uint32_t x = 0; x < image.width; ++x) {
+      EXPECT_FLOAT_EQ(image.at(x, y)[0], 0.25f) << x << "," << y;
+      EXPECT_FLOAT_EQ(image.at(x, y)[2], 0.75f) << x << "," << y;
+    }
+}
