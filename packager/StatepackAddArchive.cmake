@@ -24,7 +24,9 @@
 # The archive's path is stored in the target property STATEPACK_ARCHIVE. With VERIFY, every object of
 # the archive is also created on the build machine's Vulkan device with the validation layer on (when
 # installed), and the build fails on any error or validation message; a stamp file beside the archive
-# records a passed verification, so it runs again only when the archive changes.
+# records a passed verification, so it runs again only when the archive changes. A second target,
+# <target>_watch (not built by `all`), runs the same pack with --watch: it repacks whenever an input
+# changes, until Ctrl-C (docs/cli.md, "Development loop"); it does not verify.
 function(statepack_add_archive target)
   cmake_parse_arguments(PARSE_ARGV 1 ARG "VERIFY;OPENGL;NO_CACHE" "OUTPUT;CONTENT_VERSION;VULKAN_VERSION;PACKAGER;CACHE_DIR"
                         "INPUTS;SHADER_DIRS;RENDER_STATE_DIRS;DEFINES;ARGS")
@@ -142,4 +144,20 @@ function(statepack_add_archive target)
   endif()
   add_custom_target(${target} ALL DEPENDS ${products})
   set_target_properties(${target} PROPERTIES STATEPACK_ARCHIVE "${output}")
+
+  # <target>_watch (not built by `all`): the same pack command line with --watch, in the terminal. It
+  # packs, then repacks the archive (and its depfile) whenever a file the pack read changes, until Ctrl-C.
+  add_custom_target(${target}_watch
+    COMMAND ${CMAKE_COMMAND} -E make_directory "${output_dir}"
+    COMMAND ${packager_command} ${args} --watch
+    WORKING_DIRECTORY "${CMAKE_CURRENT_SOURCE_DIR}"
+    COMMENT "statepack: watching the inputs of ${output} (Ctrl-C to stop)"
+    USES_TERMINAL
+    VERBATIM)
+  if(TARGET ${packager})
+    get_target_property(packager_imported ${packager} IMPORTED)
+    if(NOT packager_imported)
+      add_dependencies(${target}_watch ${packager})  # a packager of this build is built first
+    endif()
+  endif()
 endfunction()

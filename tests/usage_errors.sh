@@ -40,6 +40,11 @@ expect statepack 2 "--timeout: must not be negative" verify out.spk --timeout -1
 expect statepack 2 "--content_version: must not be negative" merge -o merged.spk out.spk -v -1
 expect statepack 2 "--max-size: must not be negative" cache prune --max-size -1 "$work"
 expect statepack 2 "The following argument was not expected: --bogus" "${pack[@]}" --bogus
+expect statepack 2 "--watch repacks the archive at -o" "${pack[@]}" --watch --check
+expect statepack 2 "--watch needs -o" pack -i empty.json --vulkan --watch
+expect statepack 2 "--watch-quiet-ms: must not be negative" "${pack[@]}" --watch --watch-quiet-ms -1
+expect statepack 2 "--watch-quiet-ms is for --watch" "${pack[@]}" --watch-quiet-ms 10
+expect statepack 0 "--watch" pack --help
 expect statepack 0 "Exit codes" --help
 
 expect path_tracer 2 "--frames" --frames -1

@@ -14,6 +14,7 @@
 #include "shaders/compile_cache.hpp"
 #include "verify.hpp"
 #include "version.hpp"
+#include "watch.hpp"
 
 namespace {
 
@@ -73,7 +74,10 @@ std::optional<uint32_t> parse_vulkan_version(const std::string& text) {
 struct PackCommand {
   CLI::App* app = nullptr;
   CLI::Option* output_option = nullptr;
+  CLI::Option* quiet_option = nullptr;
   PackOptions options;
+  bool watch = false;
+  WatchOptions watch_options;
   std::vector<std::string> inputs, render_state_dirs, shader_dirs, defines;
   std::string output, vulkan_version = "1.0", depfile, dump_dir, optimize = "none", cache_dir,
                       shader_environment = "diligent";
@@ -95,6 +99,15 @@ struct PackCommand {
     output_option = app->add_option("-o,--output", output, "Output archive (required unless --check)");
     app->add_flag("--check", options.check_only,
                   "Pack and validate everything, but write no archive or depfile (-o not needed)");
+    app->add_flag("--watch", watch,
+                  "Pack, then stay resident and repack whenever a file the pack read (notation, import, "
+                  "shader, #include) is written, created, renamed over or deleted; one line per repack. A "
+                  "failed repack prints its errors and keeps the last archive. Ctrl-C ends it. Needs -o");
+    quiet_option =
+        not_negative(app->add_option("--watch-quiet-ms", watch_options.quiet_ms,
+                                     "--watch: milliseconds without another change before a repack (a burst "
+                                     "of saves is one repack)"))
+            ->capture_default_str();
     not_negative(
         app->add_option("--max-errors", options.max_errors, "Stop after this many errors; 0: no limit"))
         ->capture_default_str();
@@ -161,6 +174,19 @@ struct PackCommand {
 
   // Turns the options into `options`; false (with the error printed) for a usage error.
   bool settle(std::ostream& err) {
+    if (watch && options.check_only) {
+      err << "statepack: error: --watch repacks the archive at -o whenever an input changes; --check writes "
+             "nothing: drop one of them\n";
+      return false;
+    }
+    if (watch && output_option->count() == 0) {
+      err << "statepack: error: --watch needs -o: it repacks the archive there whenever an input changes\n";
+      return false;
+    }
+    if (!watch && quiet_option->count() > 0) {
+      err << "statepack: error: --watch-quiet-ms is for --watch\n";
+      return false;
+    }
     if (output_option->count() == 0 && !options.check_only) {
       err << "statepack: error: --output is required (or --check to write nothing)\n";
       return false;
@@ -400,6 +426,7 @@ int run(int argc, char** argv) {
   if (cache.app->parsed()) return cache.run();
   if (verify.app->parsed()) return verify.run();
   if (!pack.settle(std::cerr)) return kExitUsage;
+  if (pack.watch) return run_watch(pack.options, pack.watch_options, std::cout, std::cerr);
   return run_pack(pack.options, std::cout, std::cerr);
 }
 

@@ -694,19 +694,22 @@ std::string output_refusal(const PackOptions& options) {
 
 }  // namespace
 
-int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err) {
+int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err, PackSession* session) {
   PhaseTimes times(options.time_report ? &err : nullptr);
+  if (session) session->files_read.clear();
   if (std::string reason = output_refusal(options); !reason.empty()) {
     err << "statepack: error: " << printable(reason) << '\n';
     return kExitUsage;
   }
   std::string cache_error;
   std::optional<CompileCache> cache =
-      options.cache_dir ? CompileCache::open(*options.cache_dir, options.cache_max_bytes, cache_error)
-                        : std::nullopt;
+      options.cache_dir && !(session && session->cache)
+          ? CompileCache::open(*options.cache_dir, options.cache_max_bytes, cache_error)
+          : std::nullopt;
   if (!cache_error.empty())
     err << "statepack: warning: --cache-dir: " << cache_error << "; packing without a cache\n";
-  CompileCache* const cached = cache ? &*cache : nullptr;
+  CompileCache* const cached = session && session->cache ? session->cache : cache ? &*cache : nullptr;
+  const CompileCache::Stats stats_before = cached ? cached->stats() : CompileCache::Stats{};
   Diagnostics diag(options.max_errors);
   Notation notation;
   for (const auto& input : options.inputs) read_notation(input, options.notation, notation, diag);
@@ -738,6 +741,8 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err) {
   for (const auto* c : {&compiled, &gl_compiled})
     for (const auto& u : c->units)
       inputs.insert(inputs.end(), u.compiled.files_read.begin(), u.compiled.files_read.end());
+  if (session)
+    for (const auto& f : inputs) session->files_read.push_back(f.path);
 
   ContentsBuilder builder;
   builder.contents.producer_version = kProducerVersion;
@@ -760,7 +765,9 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err) {
   if (cached) {
     if (std::string warning = cached->flush(inputs); !warning.empty())
       err << "statepack: warning: --cache-dir: " << warning << "\n";
-    const CompileCache::Stats s = cached->stats();
+    CompileCache::Stats s = cached->stats();  // this pack's, of a cache that may serve several
+    s.hits -= stats_before.hits, s.misses -= stats_before.misses, s.damaged -= stats_before.damaged;
+    s.written -= stats_before.written, s.removed -= stats_before.removed;
     times.note("cache: " + std::to_string(s.hits) + " hits, " + std::to_string(s.misses) + " misses, " +
                std::to_string(s.damaged) + " damaged, " + std::to_string(s.written) + " written, " +
                std::to_string(s.removed) + " removed");

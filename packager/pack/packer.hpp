@@ -47,7 +47,21 @@ struct PackOptions {
       Diagnostics::kDefaultMaxErrors;  // 0: no limit  // --check: pack and validate everything, write nothing
 };
 
-// Runs a whole pack; returns an ExitCode. Diagnostics are printed to `err`, progress to `out`.
-int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err);
+class CompileCache;
+
+// What one pack of several (pack --watch) shares with the others and leaves for the next.
+struct PackSession {
+  // In: the compile cache to use instead of opening --cache-dir (a cache kept between packs).
+  CompileCache* cache = nullptr;
+  // Out: every file the pack read, as the depfile lists them: notation files, their imports, shaders and
+  // #includes. Filled also when the pack fails, with what it managed to read (absent files are not in
+  // it), so that a fix of the file with the error is seen.
+  std::vector<std::filesystem::path> files_read;
+};
+
+// Runs a whole pack; returns an ExitCode. Diagnostics are printed to `err`, progress to `out`. A pack
+// that fails writes nothing: an archive already at --output is left as it was.
+int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err,
+             PackSession* session = nullptr);
 
 }  // namespace statepack::packager

@@ -396,7 +396,10 @@ CompileCache::CompileCache(CompileCache&& o) noexcept
       misses_(o.misses_.load()),
       damaged_(o.damaged_.load()),
       written_(o.written_),
-      removed_(o.removed_) {}
+      removed_(o.removed_),
+      memory_(std::move(o.memory_)),
+      memory_bytes_(o.memory_bytes_),
+      use_clock_(o.use_clock_) {}
 CompileCache::~CompileCache() = default;
 
 std::optional<CompileCache> CompileCache::open(const fs::path& dir, uint64_t max_bytes, std::string& error) {
@@ -418,8 +421,20 @@ std::optional<CompileCache> CompileCache::open(const fs::path& dir, uint64_t max
   return CompileCache(dir / "v1", max_bytes);
 }
 
+CompileCache CompileCache::in_memory(uint64_t max_bytes) {
+  return CompileCache(fs::path(), max_bytes);
+}
+
 std::optional<std::vector<uint8_t>> CompileCache::read_entry(const CacheKey& key) {
   const std::string name = hex(key);
+  if (dir_.empty()) {
+    std::lock_guard lock(mutex_);
+    auto found = memory_.find(name);
+    if (found == memory_.end()) return std::nullopt;
+    found->second.last_used = ++use_clock_;
+    used_.insert(name);
+    return found->second.payload;
+  }
   const fs::path path = dir_ / name.substr(0, 2) / name;
   const int fd = ::open(path.c_str(), O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
   if (fd < 0) {
@@ -573,7 +588,39 @@ void CompileCache::keep_finalized(const std::vector<uint32_t>& input, const Comp
   keep(finalize_key(input, options), std::move(w.bytes));
 }
 
+// A cache in memory: what was kept goes into the map, then the least recently used entries leave it
+// until it is within its bound, never one this run wrote or read.
+std::string CompileCache::flush_to_memory() {
+  std::lock_guard lock(mutex_);
+  std::set<std::string> keep = std::move(used_);
+  used_.clear();
+  for (Pending& p : pending_) {
+    std::string name = hex(p.key);
+    keep.insert(name);
+    auto [it, inserted] = memory_.try_emplace(std::move(name));
+    if (!inserted) continue;  // the same result twice in one run
+    memory_bytes_ += p.payload.size();
+    it->second = {std::move(p.payload), ++use_clock_};
+    ++written_;
+  }
+  pending_.clear();
+  if (memory_bytes_ <= max_bytes_) return "";
+  std::vector<std::pair<uint64_t, std::string>> by_use;
+  for (const auto& [name, entry] : memory_)
+    if (!keep.count(name)) by_use.emplace_back(entry.last_used, name);
+  std::sort(by_use.begin(), by_use.end());
+  for (const auto& [last_used, name] : by_use) {
+    if (memory_bytes_ <= max_bytes_) break;
+    auto it = memory_.find(name);
+    memory_bytes_ -= it->second.payload.size();
+    memory_.erase(it);
+    ++removed_;
+  }
+  return "";
+}
+
 std::string CompileCache::flush(const std::vector<InputFile>& inputs) {
+  if (dir_.empty()) return flush_to_memory();
   std::vector<Pending> pending;
   {
     std::lock_guard lock(mutex_);

@@ -38,6 +38,7 @@
 #include <atomic>
 #include <cstdint>
 #include <filesystem>
+#include <map>
 #include <mutex>
 #include <optional>
 #include <set>
@@ -59,6 +60,10 @@ class CompileCache {
   // Opens (creating it if needed) a cache directory; nullopt with `error` set when it cannot be used.
   static std::optional<CompileCache> open(const std::filesystem::path& dir, uint64_t max_bytes,
                                           std::string& error);
+  // A cache in memory, for the packs of one process (pack --watch without --cache-dir): the same
+  // entries, found the same way (#includes re-read and compared on a hit), kept in a map instead of
+  // files under the same kind of size bound. flush() only moves what was kept into the map.
+  static CompileCache in_memory(uint64_t max_bytes);
   CompileCache(CompileCache&&) noexcept;
   ~CompileCache();
 
@@ -106,13 +111,22 @@ class CompileCache {
   std::optional<std::vector<uint8_t>> read_entry(const CacheKey& key);
   void keep(const CacheKey& key, std::vector<uint8_t> payload);
 
-  std::filesystem::path dir_;  // DIR/v1
+  std::string flush_to_memory();
+
+  std::filesystem::path dir_;  // DIR/v1; empty for a cache in memory
   uint64_t max_bytes_;
-  std::mutex mutex_;  // pending_, used_
+  std::mutex mutex_;  // pending_, used_, memory_, use_clock_
   std::vector<Pending> pending_;
   std::set<std::string> used_;  // entries this run read: kept when it trims the cache
   std::atomic<size_t> hits_{0}, misses_{0}, damaged_{0};
   size_t written_ = 0, removed_ = 0;
+  // A cache in memory: its entries by name, each with the payload and when it was last used.
+  struct MemoryEntry {
+    std::vector<uint8_t> payload;
+    uint64_t last_used = 0;
+  };
+  std::map<std::string, MemoryEntry> memory_;
+  uint64_t memory_bytes_ = 0, use_clock_ = 0;
 };
 
 }  // namespace statepack::packager

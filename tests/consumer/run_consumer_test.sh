@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # An external CMake project packs its archive through statepack_add_archive: it builds, a second build
 # does nothing, touching an #include'd shader or the JSON repacks, and a broken shader fails the build
-# with the shader's file and line while the previous archive survives. Unix Makefiles build it into a new
+# with the shader's file and line while the previous archive survives; its <target>_watch target repacks
+# on an edit and ends on SIGINT. Unix Makefiles build it into a new
 # directory, Ninja Multi-Config packs it once for two configurations, and a misspelt keyword of the
 # function is named. Last, the C++ a user copies from README.md and docs/ compiles against the public
 # headers without warnings (compile_doc_snippets.sh).
@@ -35,6 +36,27 @@ sleep 1; printf '#define ANSWER undefined_name\n' > "$work/src/shaders/constants
 if out=$(build); then fail "a broken shader built: $out"; fi
 grep -q "constants.glsl:1" <<<"$out" || grep -q "work.comp:6" <<<"$out" || fail "no file:line for the error: $out"
 [[ "$(cksum < "$archive")" == "$before" ]] || fail "the failed pack changed the previous archive"
+
+# <target>_watch: not built by `all` (the builds above returned), it packs, repacks after an edit of an
+# #include with the new SPIR-V, and ends on SIGINT. It runs in a session of its own, so that the signal
+# reaches cmake, ninja and the packager, as Ctrl-C does.
+cp "$here/shaders/constants.glsl" "$work/src/shaders/constants.glsl"
+setsid cmake --build "$work/build" --target consumer_archive_watch >"$work/watch.log" 2>&1 &
+watch_pid=$!
+wait_for() {
+  for _ in $(seq 100); do grep -q "$1" "$work/watch.log" && return 0; sleep 0.1; done
+  kill -KILL -- -"$watch_pid" || true
+  fail "consumer_archive_watch: no '$1': $(cat "$work/watch.log")"
+}
+wait_for "^packed .*consumer.spk"
+first=$(cksum < "$archive")
+printf '#define ANSWER 43u\n' > "$work/src/shaders/constants.glsl"
+wait_for "^repacked .*consumer.spk.*(changed: .*constants.glsl)"
+[[ "$(cksum < "$archive")" != "$first" ]] || fail "consumer_archive_watch: the repack left the archive as it was"
+kill -INT -- -"$watch_pid"
+wait "$watch_pid" || true
+grep -q "^stopped by SIGINT" "$work/watch.log" || fail "consumer_archive_watch did not stop on SIGINT: $(cat "$work/watch.log")"
+[[ -z "$(find "$work/build" -maxdepth 1 -name '.*statepack-tmp*')" ]] || fail "consumer_archive_watch left a temporary"
 # Unix Makefiles too: the function creates the output's directory itself (Ninja does, Make does not).
 cp -r "$here" "$work/make-src"
 sed -i 's|OUTPUT consumer.spk|OUTPUT nested/dir/consumer.spk|' "$work/make-src/CMakeLists.txt"
