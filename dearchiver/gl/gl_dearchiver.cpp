@@ -14,6 +14,7 @@
 #include "gl_state.hpp"
 #include "runtime/api_guard.hpp"
 #include "runtime/archive_access.hpp"
+#include "support/printable.hpp"
 #include "support/suggest.hpp"
 
 namespace statepack::gl {
@@ -99,14 +100,37 @@ const char* kind_name(format::PipelineKind kind) {
 
 }  // namespace
 
+// What a program was made from, to compare with a new build (reload): the pipeline's record with its
+// shaders' places in the archive cleared, and a hash of each shader's SPIR-V.
+struct ProgramSource {
+  format::GlPipeline record;
+  std::vector<uint64_t> blobs;
+  bool operator==(const ProgramSource&) const = default;
+};
+
+ProgramSource source_of(const format::Contents& contents, const format::GlPipeline& pipeline) {
+  ProgramSource out{pipeline, {}};
+  for (auto& shader : out.record.shaders) {
+    const auto words = contents.spirv[shader.blob];
+    out.blobs.push_back(
+        format::hash_bytes({reinterpret_cast<const uint8_t*>(words.data()), words.size_bytes()}));
+    shader.blob = 0;
+  }
+  return out;
+}
+
 struct Dearchiver::State {
   detail::Extensions extensions;
   std::vector<Archive> archives;
   std::deque<Program> programs;  // stable addresses
   std::map<std::string, const Program*, std::less<>> by_name;
+  std::map<const Program*, ProgramSource> sources;  // every program, for reload
+  std::vector<GLuint> retired;                      // programs a reload replaced, until destroy_retired
+  uint64_t generation = 0;
 
   ~State() {
     for (const auto& p : programs) glDeleteProgram(p.program);
+    for (GLuint p : retired) glDeleteProgram(p);
   }
 
   const format::Contents& contents(size_t archive) const {
@@ -194,21 +218,9 @@ struct Dearchiver::State {
     return name.release();
   }
 
-  Result<const Program*> unpack(std::string_view name, format::PipelineKind kind) {
-    if (epoxy_gl_version() == 0)  // no context current on this thread (create() checked one was)
-      return Error{ErrorCode::unsupported,
-                   "unpacking '" + std::string(name) + "' needs an OpenGL context current on this thread"};
-    if (auto it = by_name.find(name); it != by_name.end()) {
-      const bool compute = kind == format::PipelineKind::compute;
-      if (it->second->compute != compute)
-        return Error{ErrorCode::wrong_type, "pipeline '" + std::string(name) + "' is a " +
-                                                (it->second->compute ? "compute" : "graphics") +
-                                                " pipeline, not a " + kind_name(kind) + " pipeline"};
-      return it->second;
-    }
-    auto found = find(name, kind);
-    if (!found) return found.error();
-    const format::GlPipeline& pipeline = *found->pipeline;
+  // A linked program and its state for an archived pipeline (nothing kept: the caller does that).
+  Result<Program> make_program(const Found& found, format::PipelineKind kind) const {
+    const format::GlPipeline& pipeline = *found.pipeline;
 
     Program out;
     out.name = pipeline.name;
@@ -233,7 +245,7 @@ struct Dearchiver::State {
     std::vector<GlName<delete_shader>> shaders;
     shaders.reserve(pipeline.shaders.size());
     for (const auto& s : pipeline.shaders) {
-      auto shader = create_shader(pipeline, s, *found->contents);
+      auto shader = create_shader(pipeline, s, *found.contents);
       if (!shader) return shader.error();
       shaders.emplace_back(*shader);
     }
@@ -249,10 +261,109 @@ struct Dearchiver::State {
       return Error{ErrorCode::gl_error,
                    "pipeline '" + pipeline.name + "': glLinkProgram failed: " + program_log(program.get())};
     out.program = program.release();
-    programs.push_back(std::move(out));
+    return out;
+  }
+
+  Result<const Program*> unpack(std::string_view name, format::PipelineKind kind) {
+    if (epoxy_gl_version() == 0)  // no context current on this thread (create() checked one was)
+      return Error{ErrorCode::unsupported,
+                   "unpacking '" + std::string(name) + "' needs an OpenGL context current on this thread"};
+    if (auto it = by_name.find(name); it != by_name.end()) {
+      const bool compute = kind == format::PipelineKind::compute;
+      if (it->second->compute != compute)
+        return Error{ErrorCode::wrong_type, "pipeline '" + std::string(name) + "' is a " +
+                                                (it->second->compute ? "compute" : "graphics") +
+                                                " pipeline, not a " + kind_name(kind) + " pipeline"};
+      return it->second;
+    }
+    auto found = find(name, kind);
+    if (!found) return found.error();
+    auto made = make_program(*found, kind);
+    if (!made) return made.error();
+    programs.push_back(std::move(*made));
     const Program* kept = &programs.back();
     by_name.emplace(kept->name, kept);
+    sources.emplace(kept, source_of(*found->contents, *found->pipeline));
     return kept;
+  }
+
+  // Re-creates the programs whose pipeline the new build changed, in the same Program (docs/api.md).
+  Result<ReloadReport> reload(Archive next, const ReloadOptions& options) {
+    if (epoxy_gl_version() == 0)
+      return Error{ErrorCode::unsupported,
+                   "gl::Dearchiver::reload needs an OpenGL context current on this thread"};
+    if (options.archive >= archives.size())
+      return Error{ErrorCode::invalid_argument,
+                   "gl::Dearchiver::reload: ReloadOptions::archive is " + std::to_string(options.archive) +
+                       ", but " + std::to_string(archives.size()) + " archive(s) were added"};
+    const format::Contents& incoming = statepack::detail::ArchiveAccess::contents(next);
+    if (incoming.gl_pipelines.empty())
+      return Error{ErrorCode::missing_backend,
+                   "gl::Dearchiver::reload: the new archive holds no OpenGL pipelines"};
+    if (auto checked = format::check_opengl(incoming, "gl::Dearchiver::reload"); !checked)
+      return checked.error();
+    if (!options.allow_content_version_change &&
+        next.content_version() != archives[options.archive].content_version())
+      return Error{ErrorCode::content_version_mismatch,
+                   "gl::Dearchiver::reload: the new archive's content version is " +
+                       std::to_string(next.content_version()) + ", the one it replaces has " +
+                       std::to_string(archives[options.archive].content_version()) +
+                       " (ReloadOptions::allow_content_version_change accepts it)"};
+    // The programs whose names resolved in the replaced archive; the others are not its.
+    const format::Contents* replaced = &contents(options.archive);
+    std::vector<Program*> affected;
+    for (Program& p : programs) {
+      auto named = by_name.find(p.name);
+      if (named == by_name.end() || named->second != &p) continue;  // removed by an earlier reload
+      auto found = find(p.name, p.compute ? format::PipelineKind::compute : format::PipelineKind::graphics);
+      if (found && found->contents == replaced) affected.push_back(&p);
+    }
+    ReloadReport report;
+    for (const auto& g : incoming.gl_pipelines)
+      if (std::none_of(replaced->gl_pipelines.begin(), replaced->gl_pipelines.end(),
+                       [&](const format::GlPipeline& o) { return o.name == g.name; }))
+        report.added.push_back(g.name);
+    archives[options.archive] = std::move(next);  // the programs keep no pointer into the old one
+    for (Program* p : affected) reload_program(*p, report);
+    if (!report.recreated.empty()) ++generation;
+    report.generation = generation;
+    return report;
+  }
+
+  void reload_program(Program& p, ReloadReport& report) {
+    const auto kind = p.compute ? format::PipelineKind::compute : format::PipelineKind::graphics;
+    auto now = find(p.name, kind);
+    if (!now) {
+      report.removed.push_back(p.name);
+      by_name.erase(p.name);  // the Program stays the application's
+      return;
+    }
+    ProgramSource& was = sources.at(&p);
+    ProgramSource next = source_of(*now->contents, *now->pipeline);
+    if (next == was) {
+      report.kept.push_back(p.name);
+      return;
+    }
+    const ObjectInfo info{p.name, p.compute ? ObjectKind::compute_pipeline : ObjectKind::graphics_pipeline};
+    if (next.record.bindings != was.record.bindings) {
+      report.failures.push_back(
+          {info,
+           Error{ErrorCode::layout_changed,
+                 "pipeline '" + statepack::detail::printable(p.name) +
+                     "': its bindings changed (a resource's name, namespace, binding, count or stages), "
+                     "which the application binds its buffers and textures by; the old program stays "
+                     "(unpack it in a new Dearchiver to use the new bindings)"}});
+      return;
+    }
+    auto made = make_program(*now, kind);
+    if (!made) {
+      report.failures.push_back({info, made.error()});
+      return;
+    }
+    retired.push_back(p.program);
+    p = std::move(*made);
+    was = std::move(next);
+    report.recreated.push_back(p.name);
   }
 };
 
@@ -297,6 +408,22 @@ Result<void> Dearchiver::add_archive(Archive archive) {
     state_->archives.push_back(std::move(archive));
     return {};
   });
+}
+
+Result<ReloadReport> Dearchiver::reload(Archive archive, const ReloadOptions& options) {
+  return api_guard("gl::Dearchiver::reload",
+                   [&]() -> Result<ReloadReport> { return state_->reload(std::move(archive), options); });
+}
+
+uint64_t Dearchiver::reload_generation() const {
+  return state_->generation;
+}
+
+size_t Dearchiver::destroy_retired() {
+  for (GLuint p : state_->retired) glDeleteProgram(p);
+  const size_t deleted = state_->retired.size();
+  state_->retired.clear();
+  return deleted;
 }
 
 std::vector<std::string> Dearchiver::program_names() const {

@@ -191,6 +191,18 @@ class STATEPACK_API Dearchiver {
   // The names of every GL pipeline of every added archive.
   std::vector<std::string> program_names() const;
 
+  // Replaces an added archive with a new build of it (statepack::Dearchiver::reload's OpenGL twin,
+  // docs/api.md): every program unpacked from it whose shaders or state changed is linked again from the
+  // new archive and written into the same Program (its `program` name changes; re-read it after a
+  // reload); unchanged ones stay. A change of a program's bindings is a `layout_changed` failure, and
+  // the old program stays, as for any failure. options.patch is not used (OpenGL programs are not
+  // patched). Needs the context current.
+  Result<ReloadReport> reload(Archive archive, const ReloadOptions& options = {});
+  uint64_t reload_generation() const;  // reloads that re-created a program
+  // Deletes the programs reloads replaced (OpenGL defers a delete while a program is in use, but
+  // commands may still reference it); returns how many.
+  size_t destroy_retired();
+
  private:
   struct State;
   explicit Dearchiver(std::unique_ptr<State> state);
