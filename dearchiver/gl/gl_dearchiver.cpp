@@ -105,11 +105,13 @@ const char* kind_name(format::PipelineKind kind) {
 struct ProgramSource {
   format::GlPipeline record;
   std::vector<uint64_t> blobs;
-  bool operator==(const ProgramSource&) const = default;
+  size_t archive = 0;  // the added archive (its place in the list) it was made from
+  bool same_content(const ProgramSource& o) const { return record == o.record && blobs == o.blobs; }
 };
 
-ProgramSource source_of(const format::Contents& contents, const format::GlPipeline& pipeline) {
-  ProgramSource out{pipeline, {}};
+ProgramSource source_of(const format::Contents& contents, const format::GlPipeline& pipeline,
+                        size_t archive) {
+  ProgramSource out{pipeline, {}, archive};
   for (auto& shader : out.record.shaders) {
     const auto words = contents.spirv[shader.blob];
     out.blobs.push_back(
@@ -150,6 +152,7 @@ struct Dearchiver::State {
   struct Found {
     const format::Contents* contents;
     const format::GlPipeline* pipeline;
+    size_t archive;
   };
 
   Result<Found> find(std::string_view name, format::PipelineKind kind) const {
@@ -162,7 +165,7 @@ struct Dearchiver::State {
         return Error{ErrorCode::wrong_type, "pipeline '" + std::string(name) + "' is a " +
                                                 kind_name(it->kind) + " pipeline, not a " + kind_name(kind) +
                                                 " pipeline"};
-      return Found{&contents(i), &*it};
+      return Found{&contents(i), &*it, i};
     }
     // Packed, but for Vulkan only?
     for (size_t i = 0; i < archives.size(); ++i)
@@ -283,7 +286,7 @@ struct Dearchiver::State {
     programs.push_back(std::move(*made));
     const Program* kept = &programs.back();
     by_name.emplace(kept->name, kept);
-    sources.emplace(kept, source_of(*found->contents, *found->pipeline));
+    sources.emplace(kept, source_of(*found->contents, *found->pipeline, found->archive));
     return kept;
   }
 
@@ -309,38 +312,42 @@ struct Dearchiver::State {
                        std::to_string(next.content_version()) + ", the one it replaces has " +
                        std::to_string(archives[options.archive].content_version()) +
                        " (ReloadOptions::allow_content_version_change accepts it)"};
-    // The programs whose names resolved in the replaced archive; the others are not its.
+    // The programs made from the replaced archive; the others are not its.
     const format::Contents* replaced = &contents(options.archive);
     std::vector<Program*> affected;
     for (Program& p : programs) {
       auto named = by_name.find(p.name);
       if (named == by_name.end() || named->second != &p) continue;  // removed by an earlier reload
-      auto found = find(p.name, p.compute ? format::PipelineKind::compute : format::PipelineKind::graphics);
-      if (found && found->contents == replaced) affected.push_back(&p);
+      if (sources.at(&p).archive == options.archive) affected.push_back(&p);
     }
     ReloadReport report;
     for (const auto& g : incoming.gl_pipelines)
       if (std::none_of(replaced->gl_pipelines.begin(), replaced->gl_pipelines.end(),
                        [&](const format::GlPipeline& o) { return o.name == g.name; }))
         report.added.push_back(g.name);
-    archives[options.archive] = std::move(next);  // the programs keep no pointer into the old one
-    for (Program* p : affected) reload_program(*p, report);
+    archives[options.archive] = std::move(next);        // the programs keep no pointer into the old one
+    retired.reserve(retired.size() + affected.size());  // so that retiring a program never throws
+    for (Program* p : affected) reload_program(*p, options.archive, report);
     if (!report.recreated.empty()) ++generation;
     report.generation = generation;
     return report;
   }
 
-  void reload_program(Program& p, ReloadReport& report) {
+  void reload_program(Program& p, size_t archive, ReloadReport& report) {
     const auto kind = p.compute ? format::PipelineKind::compute : format::PipelineKind::graphics;
-    auto now = find(p.name, kind);
-    if (!now) {
+    // Looked up in the new build only: a namesake in another archive is not this program's successor.
+    const auto& list = contents(archive).gl_pipelines;
+    auto it = std::find_if(list.begin(), list.end(),
+                           [&](const format::GlPipeline& g) { return g.name == p.name && g.kind == kind; });
+    if (it == list.end()) {
       report.removed.push_back(p.name);
       by_name.erase(p.name);  // the Program stays the application's
       return;
     }
+    const Found now{&contents(archive), &*it, archive};
     ProgramSource& was = sources.at(&p);
-    ProgramSource next = source_of(*now->contents, *now->pipeline);
-    if (next == was) {
+    ProgramSource next = source_of(*now.contents, *now.pipeline, archive);
+    if (next.same_content(was)) {
       report.kept.push_back(p.name);
       return;
     }
@@ -355,13 +362,17 @@ struct Dearchiver::State {
                      "(unpack it in a new Dearchiver to use the new bindings)"}});
       return;
     }
-    auto made = make_program(*now, kind);
+    auto made = make_program(now, kind);
     if (!made) {
       report.failures.push_back({info, made.error()});
       return;
     }
-    retired.push_back(p.program);
-    p = std::move(*made);
+    // The bindings are equal: only the program and its state change, so pointers into the Program (its
+    // bindings, found by name) stay valid.
+    retired.push_back(p.program);  // reserved: cannot throw
+    p.program = made->program;
+    p.state = made->state;
+    p.vertex_input = std::move(made->vertex_input);
     was = std::move(next);
     report.recreated.push_back(p.name);
   }

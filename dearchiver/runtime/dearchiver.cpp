@@ -123,10 +123,13 @@ const UnpackedPipeline* Dearchiver::State::keep(Plan& plan, std::string key) {
       auto [at, inserted] = recorded_keys.emplace(key, recorded.size());
       if (inserted) new_key = at;
       if (new_key) {
-        recorded.push_back({plan.source, plan.out.bind_point, plan.state});
+        recorded.push_back({plan.source, plan.out.bind_point, plan.state, false, key});
         state_recorded = true;
-      } else if (Recorded& again = recorded[at->second]; again.gone) {
-        again = {plan.source, plan.out.bind_point, plan.state};  // its pipeline came back in a reload
+      } else {
+        // Made before and released (or its pipeline gone in a reload and back): this state, from this
+        // archive, is what the entry records now. Built first, so that a throw changes nothing.
+        Recorded fresh{plan.source, plan.out.bind_point, plan.state, false, key};
+        recorded[at->second] = std::move(fresh);
       }
       recorded_at = at->second;
       variant = variants.emplace(std::move(key), kept).first;

@@ -100,6 +100,7 @@ struct Dearchiver::State {
     VkPipelineBindPoint bind_point;
     PatchableState settled;
     bool gone = false;  // its pipeline left the archive in a reload
+    std::string key;    // its entry in recorded_keys (empty once a reload changed its state)
   };
   std::vector<Recorded> recorded;
   std::map<std::string, size_t> recorded_keys;  // variant key -> its entry in `recorded`

@@ -114,6 +114,11 @@ Result<VkDescriptorSetLayout> ObjectCache::set_layout(size_t archive, uint32_t i
     return empty_set_layout_;
   }
   if (auto it = set_layouts_.find({archive, index}); it != set_layouts_.end()) return it->second;
+  // The immutable samplers first, by content as well: a layout found by content (made for another
+  // archive) still has this archive's samplers known, for immutable_sampler_of.
+  for (const auto& b : contents(archive).set_layouts[index].bindings)
+    if (b.immutable_sampler != format::kNone)
+      if (auto made = sampler(archive, b.immutable_sampler, b.name); !made) return made.error();
   const std::string content = set_layout_content(archive, contents(archive).set_layouts[index]);
   return find_or_create(
       set_layouts_, set_layouts_by_content_, {archive, index}, content,

@@ -8,6 +8,7 @@
 // application's descriptor sets and framebuffers, and the pipeline layouts made of them, stay good.
 #pragma once
 
+#include <algorithm>
 #include <map>
 #include <optional>
 #include <string>
@@ -52,7 +53,10 @@ class ObjectCache {
   const spirv::Module* walked(size_t archive, uint32_t blob);
 
   // A module the application was given (a standalone shader): never destroyed before the cache.
-  void hand_out(VkShaderModule module) { handed_out_.push_back(module); }
+  void hand_out(VkShaderModule module) {
+    if (std::find(handed_out_.begin(), handed_out_.end(), module) == handed_out_.end())
+      handed_out_.push_back(module);
+  }
   // The archive is gone (replaced by a reload, nothing made from it in use): its shader modules are
   // destroyed unless handed out (pipelines do not need them once created), and its index is forgotten.
   // Objects kept by content stay, for whoever uses them.

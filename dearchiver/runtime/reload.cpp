@@ -14,6 +14,7 @@
 #include "patchable_state.hpp"
 #include "support/printable.hpp"
 #include "variant_key.hpp"
+#include "vk_enum_names.hpp"
 
 namespace statepack {
 using namespace detail;
@@ -118,6 +119,37 @@ std::string layout_change(const format::Contents& ca, const format::Pipeline& a,
   return {};
 }
 
+// The first difference between the render targets a graphics pipeline was made for and those of its
+// new build (formats, count, samples, render pass attachments and subpass), in words; empty when the
+// application's attachments and framebuffers still fit.
+std::string target_change(const format::Contents& ca, const format::Pipeline& a, const PatchableState& was,
+                          const format::Contents& cb, const format::Pipeline& b, const PatchableState& now) {
+  if (a.kind != format::PipelineKind::graphics) return {};
+  if ((a.render_pass == format::kNone) != (b.render_pass == format::kNone) || a.subpass != b.subpass)
+    return "its render pass or subpass changed";
+  if (a.render_pass != format::kNone) {
+    const auto& x = ca.render_passes[a.render_pass].attachments;
+    const auto& y = cb.render_passes[b.render_pass].attachments;
+    bool same = x.size() == y.size();
+    for (size_t i = 0; same && i < x.size(); ++i)
+      same = x[i].format == y[i].format && x[i].samples == y[i].samples;
+    return same ? std::string() : "the attachments of its render pass changed (formats or samples)";
+  }
+  if (was.color_count != now.color_count)
+    return "its number of color targets changed from " + std::to_string(was.color_count) + " to " +
+           std::to_string(now.color_count);
+  for (uint32_t i = 0; i < was.color_count && i < was.color_formats.size(); ++i)
+    if (was.color_formats[i] != now.color_formats[i])
+      return "color target " + std::to_string(i) + " changed from " + vk_name(was.color_formats[i]) + " to " +
+             vk_name(now.color_formats[i]);
+  if (was.depth_stencil_format != now.depth_stencil_format)
+    return "its depth-stencil format changed from " + vk_name(was.depth_stencil_format) + " to " +
+           vk_name(now.depth_stencil_format);
+  if (was.samples != now.samples)
+    return "its sample count changed from " + vk_name(was.samples) + " to " + vk_name(now.samples);
+  return {};
+}
+
 const format::Pipeline* find_in(const format::Contents& c, const std::string& name,
                                 format::PipelineKind kind) {
   auto it = std::lower_bound(c.pipelines.begin(), c.pipelines.end(), name,
@@ -199,30 +231,41 @@ std::optional<Error> recreate(State& st, const UnpackedPipeline* pipeline, State
   if (refused) return *refused;
   if (!plan) return plan.error();
   Plan& made = **plan;
-  if (made.out.layout != pipeline->layout || made.out.set_layouts != pipeline->set_layouts) {
+  const std::string stays =
+      ", so the old pipeline stays (release it and unpack it again to use the new build)";
+  if (made.out.layout != pipeline->layout || made.out.set_layouts != pipeline->set_layouts ||
+      made.out.bindings.size() != pipeline->bindings.size()) {
     std::string why =
         layout_change(st.contents(place.source.archive), old, st.contents(now.archive), *now.pipeline);
     if (why.empty()) why = "its resource layout changed";
-    return Error{
-        ErrorCode::layout_changed,
-        "pipeline '" + printable(old.name) + "': " + why +
-            ", which descriptor sets and push constants made for the old layout would not fit; the old "
-            "pipeline stays (release it and unpack it again to use the new layout)"};
+    return Error{ErrorCode::layout_changed,
+                 "pipeline '" + printable(old.name) + "': " + why +
+                     ", which descriptor sets and push constants made for the old layout would not fit" +
+                     stays};
   }
+  const PatchableState was = patched ? st.recorded[place.recorded].settled : to_patchable(old);
+  if (std::string why = target_change(st.contents(place.source.archive), old, was, st.contents(now.archive),
+                                      *now.pipeline, made.state);
+      !why.empty())
+    return Error{ErrorCode::layout_changed, "pipeline '" + printable(old.name) + "': " + why +
+                                                ", which the application's attachments were made for" +
+                                                stays};
   if (auto created = st.create(made); !created) return created.error();
   // What may throw (allocations) before the swap; the new pipeline is destroyed if it does.
   try {
     st.retired.reserve(st.retired.size() + 1);
     if (patched) {
       std::string key = variant_key(old.name, made);
+      State::Recorded& entry = st.recorded[place.recorded];
+      if (auto k = st.recorded_keys.find(entry.key);
+          k != st.recorded_keys.end() && k->second == place.recorded)
+        st.recorded_keys.erase(k);
+      entry.key.clear();
       if (place.variant != st.variants.end()) {
-        if (auto k = st.recorded_keys.find(place.variant->first);
-            k != st.recorded_keys.end() && k->second == place.recorded)
-          st.recorded_keys.erase(k);
         st.variants.erase(place.variant);
         place.variant = st.variants.end();
       }
-      st.recorded_keys.emplace(key, place.recorded);
+      if (st.recorded_keys.emplace(key, place.recorded).second) entry.key = key;
       auto [at, inserted] = st.variants.emplace(std::move(key), pipeline);
       if (inserted) place.variant = at;  // else another variant settled the same: that one is found
     }
@@ -234,8 +277,15 @@ std::optional<Error> recreate(State& st, const UnpackedPipeline* pipeline, State
   st.retired.push_back({target.pipeline, generation});
   target.pipeline = made.out.pipeline;
   target.creation = made.out.creation;
-  target.bindings.swap(made.out.bindings);  // the same layout; the names may have changed
-  if (patched) st.recorded[place.recorded] = {now, made.out.bind_point, std::move(made.state)};
+  // The same layout, so the same bindings in the same order: only the names may have changed, swapped in
+  // place so that BindingInfo pointers the application holds stay valid (immutable samplers are the same).
+  for (size_t i = 0; i < target.bindings.size(); ++i) target.bindings[i].name.swap(made.out.bindings[i].name);
+  if (patched) {
+    State::Recorded& entry = st.recorded[place.recorded];
+    entry.source = now;
+    entry.bind_point = made.out.bind_point;
+    entry.settled = std::move(made.state);
+  }
   attach(st, place, pipeline, now);
   place.source = now;
   return std::nullopt;
@@ -259,6 +309,10 @@ void follow(State& st, State::Recorded& r, const format::Contents& next, size_t 
       return;
     }
     r.settled = std::move(settled);
+    // The key named the old settled state: an unpack of that state now is another variant.
+    if (auto k = st.recorded_keys.find(r.key); k != st.recorded_keys.end() && &st.recorded[k->second] == &r)
+      st.recorded_keys.erase(k);
+    r.key.clear();
   }
   r.source = {now, found};
 }

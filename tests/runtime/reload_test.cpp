@@ -371,6 +371,94 @@ TEST_F(ReloadTest, APatchedGraphicsPipelineIsRecreatedWithItsRunTimeFormatAndDra
   EXPECT_EQ(std::vector<uint8_t>(pixels.begin() + 60, pixels.end()), (std::vector<uint8_t>{0, 0, 255, 255}));
 }
 
+// The binding table the application holds stays where it is, immutable samplers included; a change of
+// render-target formats is refused as a layout change is.
+TEST_F(ReloadTest, BindingPointersAndImmutableSamplersSurviveAReloadAndAFormatChangeIsRefused) {
+  Project project("sampler");
+  auto states = [](const char* format) {
+    return std::string(R"({ "Pipelines": [ {
+      "PSODesc": { "Name": "Textured PSO", "ResourceLayout": { "ImmutableSamplers": [ { "ShaderStages": "PIXEL",
+        "SamplerOrTextureName": "tex", "Desc": { "MinFilter": "POINT", "MagFilter": "POINT", "MipFilter": "POINT" } } ] } },
+      "GraphicsPipeline": { "RasterizerDesc": { "CullMode": "NONE" }, "DepthStencilDesc": { "DepthEnable": false },
+                            "RTVFormats": { "0": ")") +
+           format + R"(" } },
+      "pVS": { "Desc": { "Name": "VS" }, "FilePath": "fill.vert" },
+      "pPS": { "Desc": { "Name": "PS" }, "FilePath": "fill.frag" } } ] })";
+  };
+  auto fragment = [](const char* scale) {
+    return std::string(
+               "#version 450\nlayout(set = 0, binding = 0) uniform sampler2D tex;\n"
+               "layout(location = 0) out vec4 o;\nvoid main() { o = texture(tex, vec2(0.5)) * ") +
+           scale + "; }\n";
+  };
+  project.write("states.json", states("RGBA8_UNORM"));
+  project.write("fill.vert", "#version 450\nvoid main() { gl_Position = vec4(0.0, 0.0, 0.0, 1.0); }\n");
+  project.write("fill.frag", fragment("1.0"));
+  project.pack();
+  Dearchiver d = dearchiver_for(project);
+  auto pso = d.unpack_graphics("Textured PSO");
+  ASSERT_TRUE(pso) << pso.error().message;
+  const BindingInfo* tex = (*pso)->find_binding("tex");
+  ASSERT_NE(tex, nullptr);
+  const VkSampler sampler = tex->immutable_sampler;
+  ASSERT_NE(sampler, VK_NULL_HANDLE);
+  const VkPipeline before = (*pso)->pipeline;
+
+  project.write("fill.frag", fragment("0.5"));
+  project.pack();
+  auto report = d.reload(project.load());
+  ASSERT_TRUE(report) << report.error().message;
+  ASSERT_TRUE(report->ok()) << report->failures[0].error.message;
+  EXPECT_EQ(report->recreated, std::vector<std::string>{"Textured PSO"});
+  EXPECT_NE((*pso)->pipeline, before);
+  EXPECT_EQ((*pso)->find_binding("tex"), tex);  // the same BindingInfo, still valid
+  EXPECT_EQ(tex->immutable_sampler, sampler);   // the same sampler object, found by content
+
+  project.write("states.json", states("RGBA16_FLOAT"));
+  project.pack();
+  auto refused = d.reload(project.load());
+  ASSERT_TRUE(refused) << refused.error().message;
+  ASSERT_EQ(refused->failures.size(), 1u);
+  EXPECT_EQ(refused->failures[0].error.code, ErrorCode::layout_changed);
+  EXPECT_NE(refused->failures[0].error.message.find(
+                "color target 0 changed from VK_FORMAT_R8G8B8A8_UNORM to VK_FORMAT_R16G16B16A16_SFLOAT"),
+            std::string::npos)
+      << refused->failures[0].error.message;
+}
+
+// A variant released before a reload that changes its archived state, then made again with the same
+// callback: recorded as the callback made it (kBase = 0), not as the reload followed it (the new build's
+// kBase = 9 with "no change").
+TEST_F(ReloadTest, AVariantMadeAgainAfterAReloadIsRecordedAsItsCallbackMadeIt) {
+  Project project("variant_again");
+  project.write("states.json", two_writers());
+  project.write("a.comp", writer_shader("kBase"));
+  project.write("b.comp", writer_shader("0u"));
+  project.pack();
+  Dearchiver d = dearchiver_for(project);
+  auto zero = [](PatchableState& s) { EXPECT_TRUE(s.set_constant("kBase", 0u)); };  // as archived: no change
+  const UnpackedPipeline* a = compute(d, "A", zero);
+  ASSERT_TRUE(a);
+  ASSERT_TRUE(d.release(a));
+  std::string nine = two_writers();
+  nine.replace(nine.find("\"Value\": 0"), 10, "\"Value\": 9");
+  project.write("states.json", nine);
+  project.pack();
+  ASSERT_TRUE(d.reload(project.load()));
+  a = compute(d, "A", zero);
+  ASSERT_TRUE(a);
+  EXPECT_EQ(run(*a), 0u);
+  bool recorded = false;
+  for (const auto& v : d.variants()) recorded = recorded || v.state.find("\"kBase\":0") != std::string::npos;
+  EXPECT_TRUE(recorded) << "variants() lost the callback's kBase = 0";
+  // And the next reload re-creates it with kBase = 0, as the callback set it.
+  project.write("a.comp", writer_shader("kBase + 100u"));
+  project.pack();
+  auto again = d.reload(project.load());
+  ASSERT_TRUE(again) << again.error().message;
+  EXPECT_EQ(run(*a), 100u);
+}
+
 // ArchiveFileWatch: only a complete archive with new bytes is handed back.
 TEST_F(ReloadTest, TheFileWatchHandsBackOnlyCompleteNewArchives) {
   Project project("watch");
