@@ -277,8 +277,7 @@ struct UnpackReport {
 };
 
 // What Dearchiver::reload did. The first four lists name the pipelines this Dearchiver had unpacked from
-// the replaced archive (a pipeline with several patched variants once per variant), in the order they
-// were made.
+// the replaced archive (a pipeline with several patched variants once per variant).
 struct ReloadReport {
   std::vector<std::string> recreated;   // changed: a new VkPipeline in the same UnpackedPipeline
   std::vector<std::string> kept;        // unchanged: the same VkPipeline
@@ -291,9 +290,9 @@ struct ReloadReport {
 
 struct ReloadOptions {
   size_t archive = 0;  // which added archive the new one replaces: 0 is the first add_archive gave
-  // Called for each patched pipeline being re-created, with the new archive's state after the changes
-  // its callback made at unpack time were applied again (what variants() records); it may change more.
-  // Empty: those changes alone. Unpatched pipelines are re-created unpatched.
+  // Called for each patched pipeline being re-created (not for unchanged ones), with the new archive's
+  // state after the changes its callback made at unpack time were applied again (what variants()
+  // records); it may change more. Empty: those changes alone. Unpatched pipelines are re-created unpatched.
   PatchCallback patch;
   // An archive whose content version differs from the replaced one's is refused unless this is set.
   bool allow_content_version_change = false;
@@ -441,11 +440,12 @@ class STATEPACK_API Dearchiver {
   // changes, then options.patch), and its new VkPipeline is written into the same UnpackedPipeline, so
   // every pointer the application holds stays valid and reads the new pipeline. The old VkPipeline is
   // retired, not destroyed: the GPU may still use it (destroy_retired). A change no reload can apply in
-  // place (the pipeline layout, which descriptor sets were made for) is a `layout_changed` failure in the
-  // report naming the pipeline and the change; any failure keeps the old pipeline. Later unpacks by name
-  // use the new archive. Waits for running unpack jobs first (never call it from their callbacks).
-  // Call it where the application does not read the pipelines meanwhile, e.g. between frames on the
-  // thread that records commands. An error is returned for what stops the whole reload (a wrong index,
+  // place (the pipeline layout, which descriptor sets were made for, or the render targets, which
+  // attachments were made for) is a `layout_changed` failure in the report naming the pipeline and the
+  // change; any failure keeps the old pipeline. BindingInfo pointers stay valid (names may change). Later
+  // unpacks by name use the new archive. Waits for running unpack jobs first (never call it from their
+  // callbacks). Call it where the application does not read the pipelines meanwhile, e.g. between frames on
+  // the thread that records commands. An error is returned for what stops the whole reload (a wrong index,
   // another content version); the archive is then not used.
   Result<ReloadReport> reload(Archive archive, const ReloadOptions& options = {});
   // How many reloads re-created a pipeline: a renderer that copies VkPipeline handles re-reads them

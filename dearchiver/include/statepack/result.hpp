@@ -31,7 +31,7 @@ enum class ErrorCode {
   out_of_memory,             // an allocation failed
   gl_error,                  // an OpenGL shader did not specialize or a program did not link (driver's log)
   cancelled,                 // an unpack job ended (UnpackJob or Dearchiver destroyed) before creating it
-  layout_changed,            // a reload would change a pipeline's resource layout: the old pipeline stays
+  layout_changed,            // a reload would change a pipeline's layout or render targets: the old one stays
 };
 
 STATEPACK_API const char* to_string(ErrorCode code);
