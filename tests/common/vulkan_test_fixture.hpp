@@ -4,11 +4,14 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
+#include <cstring>
 #include <functional>
 #include <memory>
 #include <span>
 #include <sstream>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "statepack/bootstrap/vulkan_context.hpp"
@@ -146,6 +149,32 @@ class VulkanTest : public ::testing::Test {
       const auto* bytes = static_cast<const uint8_t*>(readbacks[i]->mapped);
       out.pixels.emplace_back(bytes, bytes + size_t(width) * height * targets[i].bytes_per_pixel);
     }
+    return out;
+  }
+
+  // Runs a compute pipeline once (one work group) with a 16-byte host-visible storage buffer, filled with
+  // `fill` first, bound where the pipeline's binding `buffer_name` is; returns the buffer's bytes after.
+  std::array<uint8_t, 16> dispatch_once(const UnpackedPipeline& pso, std::string_view buffer_name,
+                                        uint8_t fill = 0) {
+    std::array<uint8_t, 16> out{};
+    auto buffer = bootstrap::create_host_buffer(*vk_, out.size(), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+    EXPECT_TRUE(buffer);
+    const BindingInfo* binding = pso.find_binding(buffer_name);
+    EXPECT_NE(binding, nullptr) << buffer_name;
+    if (!buffer || !binding) return out;
+    std::memset((*buffer)->mapped, fill, out.size());
+    auto set = bootstrap::bind_storage_buffer(*vk_, pso.set_layouts.at(binding->set), binding->binding,
+                                              (*buffer)->buffer);
+    EXPECT_TRUE(set);
+    if (!set) return out;
+    auto done = vk_->submit_and_wait([&](VkCommandBuffer cmd) {
+      vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pso.pipeline);
+      vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pso.layout, binding->set, 1, &(*set)->set,
+                              0, nullptr);
+      vkCmdDispatch(cmd, 1, 1, 1);
+    });
+    EXPECT_TRUE(done);
+    std::memcpy(out.data(), (*buffer)->mapped, out.size());
     return out;
   }
 

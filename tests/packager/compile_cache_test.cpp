@@ -12,6 +12,7 @@
 #include <thread>
 
 #include "common/run_command.hpp"
+#include "common/text_files.hpp"
 
 namespace {
 
@@ -19,14 +20,8 @@ namespace fs = std::filesystem;
 using statepack::testing::CommandResult;
 using statepack::testing::run_command;
 
-std::string read_file(const fs::path& path) {
-  std::ifstream file(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>()};
-}
-void write_file(const fs::path& path, const std::string& text) {
-  fs::create_directories(path.parent_path());
-  std::ofstream(path, std::ios::binary) << text;
-}
+using statepack::testing::read_file;
+using statepack::testing::write_file;
 
 struct CacheStats {
   int hits = -1, misses = -1, damaged = -1, written = -1, removed = -1;

@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "common/run_command.hpp"
+#include "common/text_files.hpp"
 
 namespace {
 
@@ -29,15 +30,8 @@ namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 using statepack::testing::run_command;
 
-std::string read_file(const fs::path& path) {
-  std::ifstream file(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>()};
-}
-// A save that truncates the file and writes it again (most editors' plain save).
-void write_file(const fs::path& path, const std::string& text) {
-  fs::create_directories(path.parent_path());
-  std::ofstream(path, std::ios::binary | std::ios::trunc) << text;
-}
+using statepack::testing::read_file;
+using statepack::testing::write_file;  // a save that truncates the file and writes it again
 // A save by rename: a temporary beside the file, renamed over it (vim, VS Code, Emacs' backups).
 void save_by_rename(const fs::path& path, const std::string& text) {
   const fs::path temporary = fs::path(path) += ".swp";

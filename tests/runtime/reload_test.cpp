@@ -8,6 +8,7 @@
 #include <thread>
 
 #include "common/run_command.hpp"
+#include "common/text_files.hpp"
 #include "common/vulkan_test_fixture.hpp"
 
 namespace statepack::testing {
@@ -38,9 +39,7 @@ class Project {
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }
-  void write(const std::string& file, const std::string& text) const {
-    std::ofstream(dir_ / file, std::ios::binary | std::ios::trunc) << text;
-  }
+  void write(const std::string& file, const std::string& text) const { write_file(dir_ / file, text); }
   fs::path archive_path() const { return dir_ / "out.spk"; }
   void pack(const std::string& extra = "") const {
     CommandResult r =
@@ -69,24 +68,9 @@ class ReloadTest : public VulkanTest {
   }
   // Runs a compute pipeline once through the pointer the application holds; returns what it wrote.
   uint32_t run(const UnpackedPipeline& pso) {
-    auto buffer = bootstrap::create_host_buffer(*vk_, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
-    EXPECT_TRUE(buffer);
-    std::memset((*buffer)->mapped, 0xEE, 16);
-    const BindingInfo* result = pso.find_binding("Result");
-    EXPECT_NE(result, nullptr);
-    if (!result) return ~0u;
-    auto set = bootstrap::bind_storage_buffer(*vk_, pso.set_layouts.at(result->set), result->binding,
-                                              (*buffer)->buffer);
-    EXPECT_TRUE(set);
-    auto done = vk_->submit_and_wait([&](VkCommandBuffer cmd) {
-      vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pso.pipeline);
-      vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pso.layout, result->set, 1, &(*set)->set,
-                              0, nullptr);
-      vkCmdDispatch(cmd, 1, 1, 1);
-    });
-    EXPECT_TRUE(done);
+    const std::array<uint8_t, 16> bytes = dispatch_once(pso, "Result", 0xEE);
     uint32_t value = 0;
-    std::memcpy(&value, (*buffer)->mapped, 4);
+    std::memcpy(&value, bytes.data(), 4);
     return value;
   }
   const UnpackedPipeline* compute(Dearchiver& d, std::string_view name, const ModifyCallback& modify = {}) {
@@ -472,17 +456,13 @@ TEST_F(ReloadTest, TheFileWatchHandsBackOnlyCompleteNewArchives) {
   ASSERT_TRUE(nothing);
   EXPECT_FALSE(*nothing);
 
-  auto read_all = [](const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    return std::string(std::istreambuf_iterator<char>(in), {});
-  };
-  const std::string first = read_all(project.archive_path());
+  const std::string first = statepack::testing::read_file(project.archive_path());
   project.write("a.comp", writer_shader("3u"));
   const fs::path built = project.dir() / "next.spk";
   CommandResult r = run_command("'" STATEPACK_EXE "' pack --vulkan -s '" + project.dir().string() + "' -o '" +
                                 built.string() + "' -i '" + (project.dir() / "states.json").string() + "'");
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  const std::string second = read_all(built);
+  const std::string second = statepack::testing::read_file(built);
   ASSERT_NE(first, second);
 
   // Half of the new archive written in place: never handed back, not an error.

@@ -21,24 +21,10 @@ class SpecializationTest : public VulkanTest {
   }
   // Runs the pipeline once; returns what the shader wrote: (value, scaled).
   std::pair<uint32_t, float> run(const UnpackedPipeline& pso) {
-    auto buffer = bootstrap::create_host_buffer(*vk_, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
-    EXPECT_TRUE(buffer);
-    std::memset((*buffer)->mapped, 0, 16);
-    const BindingInfo* result = pso.find_binding("Result");
-    EXPECT_NE(result, nullptr);
-    auto set = bootstrap::bind_storage_buffer(*vk_, pso.set_layouts.at(result->set), result->binding,
-                                              (*buffer)->buffer);
-    EXPECT_TRUE(set);
-    auto done = vk_->submit_and_wait([&](VkCommandBuffer cmd) {
-      vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pso.pipeline);
-      vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pso.layout, result->set, 1, &(*set)->set,
-                              0, nullptr);
-      vkCmdDispatch(cmd, 1, 1, 1);
-    });
-    EXPECT_TRUE(done);
+    const std::array<uint8_t, 16> bytes = dispatch_once(pso, "Result");
     std::pair<uint32_t, float> out;
-    std::memcpy(&out.first, (*buffer)->mapped, 4);
-    std::memcpy(&out.second, static_cast<const uint8_t*>((*buffer)->mapped) + 4, 4);
+    std::memcpy(&out.first, bytes.data(), 4);
+    std::memcpy(&out.second, bytes.data() + 4, 4);
     return out;
   }
 };

@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "common/run_command.hpp"
+#include "common/text_files.hpp"
 #include "pfm_image.hpp"
 
 #define STB_IMAGE_IMPLEMENTATION
@@ -26,10 +27,7 @@ namespace fs = std::filesystem;
 using Image = statepack::testing::PfmImage;
 using statepack::testing::read_pfm;
 
-std::string read_text(const fs::path& path) {
-  std::ifstream file(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>()};
-}
+using statepack::testing::read_file;
 
 int run(const std::string& args, std::string& output) {
   auto result =
@@ -225,7 +223,7 @@ TEST(PathTracer, HostileScenesAndOutputsAreErrorsNotCrashesOrBadImages) {
   EXPECT_NE(output.find("must be a number from -1e6 to 1e6 [/camera/position/2]"), std::string::npos)
       << output;
   // Radiance beyond what any light needs is refused before rendering (sums stay finite in float).
-  std::string bright = read_text(STATEPACK_DEFAULT_SCENE_FILE);
+  std::string bright = read_file(STATEPACK_DEFAULT_SCENE_FILE);
   ASSERT_NE(bright.find("\"intensity\": 15"), std::string::npos);
   bright.replace(bright.find("\"intensity\": 15"), 15, "\"intensity\": 3e38");
   std::ofstream(dir / "bright.json") << bright;
@@ -239,7 +237,7 @@ TEST(PathTracer, HostileScenesAndOutputsAreErrorsNotCrashesOrBadImages) {
   // Every other number of the scene and of the command line is range-checked too: a negative light
   // colour, a pitch beyond straight up, a rotation of 1e30 degrees, an exposure of NaN, infinity, zero
   // or below (CLI11's own Range would let NaN through).
-  const std::string scene = read_text(STATEPACK_DEFAULT_SCENE_FILE);
+  const std::string scene = read_file(STATEPACK_DEFAULT_SCENE_FILE);
   struct Bad {
     const char* file;
     const char* key;
@@ -276,7 +274,7 @@ TEST(PathTracer, HostileScenesAndOutputsAreErrorsNotCrashesOrBadImages) {
   // The output may not replace the scene it read (however the path reaches it), nor follow a link: a
   // usage error before any rendering.
   fs::copy_file(STATEPACK_DEFAULT_SCENE_FILE, dir / "scene.png");
-  const std::string before = read_text(dir / "scene.png");
+  const std::string before = read_file(dir / "scene.png");
   fs::create_directories(dir / "sub");
   fs::create_hard_link(dir / "scene.png", dir / "hard.png");
   for (const fs::path& out : {dir / "scene.png", dir / "sub" / ".." / "scene.png", dir / "hard.png"}) {
@@ -287,19 +285,19 @@ TEST(PathTracer, HostileScenesAndOutputsAreErrorsNotCrashesOrBadImages) {
         << out;
     EXPECT_NE(output.find("--out: refusing to write"), std::string::npos) << output;
     EXPECT_NE(output.find("it is the input"), std::string::npos) << output;
-    EXPECT_EQ(read_text(dir / "scene.png"), before);
+    EXPECT_EQ(read_file(dir / "scene.png"), before);
   }
   fs::create_symlink(dir / "scene.png", dir / "link.png");
   EXPECT_EQ(run("--width 16 --height 12 --spp 1 --out '" + (dir / "link.png").string() + "'", output), 2);
   EXPECT_NE(output.find("it is a symbolic link"), std::string::npos) << output;
-  EXPECT_EQ(read_text(dir / "scene.png"), before);
+  EXPECT_EQ(read_file(dir / "scene.png"), before);
   // The window's screenshot too, checked before a window opens (so no display is needed to see it).
   auto windowed = statepack::testing::run_command(
       std::string("DISPLAY=:statepack-none '") + STATEPACK_PATH_TRACER + "' --frames 1 --scene '" +
       (dir / "scene.png").string() + "' --screenshot '" + (dir / "hard.png").string() + "'");
   EXPECT_EQ(windowed.exit_code, 2) << windowed.output;
   EXPECT_NE(windowed.output.find("--screenshot: refusing to write"), std::string::npos) << windowed.output;
-  EXPECT_EQ(read_text(dir / "scene.png"), before);
+  EXPECT_EQ(read_file(dir / "scene.png"), before);
 }
 
 }  // namespace
@@ -321,7 +319,7 @@ TEST(PathTracer, WatchReloadsANewBuildWhileRenderingAndTheImageShowsTheEditedSha
   pack("pt.spk");
   // The edit: every pixel's mean radiance becomes one colour.
   const fs::path shader = dir / "shaders/path_tracer/path_trace.comp";
-  std::string text = read_text(shader);
+  std::string text = read_file(shader);
   const std::string store = "imageStore(accumulation, pixel, vec4(mean, 1.0));";
   const size_t at = text.find(store);
   ASSERT_NE(at, std::string::npos) << "the path-tracing shader no longer stores `mean`: update this test";
