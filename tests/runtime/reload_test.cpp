@@ -58,6 +58,16 @@ class Project {
   fs::path dir_;
 };
 
+// The usual project: compute pipelines A and B writing `a` and `b` (GLSL expressions), packed.
+Project writers(const std::string& name, const std::string& a, const std::string& b) {
+  Project project(name);
+  project.write("states.json", two_writers());
+  project.write("a.comp", writer_shader(a));
+  project.write("b.comp", writer_shader(b));
+  project.pack();
+  return project;
+}
+
 class ReloadTest : public VulkanTest {
  protected:
   Dearchiver dearchiver_for(const Project& project) {
@@ -81,11 +91,7 @@ class ReloadTest : public VulkanTest {
 };
 
 TEST_F(ReloadTest, AnEditedShaderRunsThroughTheSamePointerAndTheOtherPipelineKeepsItsHandle) {
-  Project project("edit");
-  project.write("states.json", two_writers());
-  project.write("a.comp", writer_shader("11u"));
-  project.write("b.comp", writer_shader("22u"));
-  project.pack();
+  Project project = writers("edit", "11u", "22u");
   Dearchiver d = dearchiver_for(project);
   const UnpackedPipeline* a = compute(d, "A");
   const UnpackedPipeline* b = compute(d, "B");
@@ -147,11 +153,7 @@ TEST_F(ReloadTest, AnIncludeOnlyChangeRecreatesThePipelinesThatIncludeIt) {
 }
 
 TEST_F(ReloadTest, ANotationEditThatRenamesAPipelineReportsItRemovedAndAddedAndTheOldOneStillRuns) {
-  Project project("rename");
-  project.write("states.json", two_writers());
-  project.write("a.comp", writer_shader("1u"));
-  project.write("b.comp", writer_shader("2u"));
-  project.pack();
+  Project project = writers("rename", "1u", "2u");
   Dearchiver d = dearchiver_for(project);
   const UnpackedPipeline* b = compute(d, "B");
   ASSERT_TRUE(b);
@@ -174,11 +176,7 @@ TEST_F(ReloadTest, ANotationEditThatRenamesAPipelineReportsItRemovedAndAddedAndT
 }
 
 TEST_F(ReloadTest, ALayoutChangeIsALayoutChangedFailureNamingThePipelineAndTheOldOneStays) {
-  Project project("layout");
-  project.write("states.json", two_writers());
-  project.write("a.comp", writer_shader("3u"));
-  project.write("b.comp", writer_shader("4u"));
-  project.pack();
+  Project project = writers("layout", "3u", "4u");
   Dearchiver d = dearchiver_for(project);
   const UnpackedPipeline* a = compute(d, "A");
   ASSERT_TRUE(a);
@@ -213,11 +211,7 @@ TEST_F(ReloadTest, ALayoutChangeIsALayoutChangedFailureNamingThePipelineAndTheOl
 }
 
 TEST_F(ReloadTest, APatchedPipelineIsRecreatedWithItsChangesAndAFailingPatchKeepsTheOldOne) {
-  Project project("patched");
-  project.write("states.json", two_writers());
-  project.write("a.comp", writer_shader("kBase + 1u"));
-  project.write("b.comp", writer_shader("0u"));
-  project.pack();
+  Project project = writers("patched", "kBase + 1u", "0u");
   Dearchiver d = dearchiver_for(project);
   const UnpackedPipeline* a =
       compute(d, "A", [](PatchableState& s) { EXPECT_TRUE(s.set_constant("kBase", 100u)); });
@@ -414,11 +408,7 @@ TEST_F(ReloadTest, BindingPointersAndImmutableSamplersSurviveAReloadAndAFormatCh
 // callback: recorded as the callback made it (kBase = 0), not as the reload followed it (the new build's
 // kBase = 9 with "no change").
 TEST_F(ReloadTest, AVariantMadeAgainAfterAReloadIsRecordedAsItsCallbackMadeIt) {
-  Project project("variant_again");
-  project.write("states.json", two_writers());
-  project.write("a.comp", writer_shader("kBase"));
-  project.write("b.comp", writer_shader("0u"));
-  project.pack();
+  Project project = writers("variant_again", "kBase", "0u");
   Dearchiver d = dearchiver_for(project);
   auto zero = [](PatchableState& s) { EXPECT_TRUE(s.set_constant("kBase", 0u)); };  // as archived: no change
   const UnpackedPipeline* a = compute(d, "A", zero);
@@ -445,11 +435,7 @@ TEST_F(ReloadTest, AVariantMadeAgainAfterAReloadIsRecordedAsItsCallbackMadeIt) {
 
 // ArchiveFileWatch: only a complete archive with new bytes is handed back.
 TEST_F(ReloadTest, TheFileWatchHandsBackOnlyCompleteNewArchives) {
-  Project project("watch");
-  project.write("states.json", two_writers());
-  project.write("a.comp", writer_shader("1u"));
-  project.write("b.comp", writer_shader("2u"));
-  project.pack();
+  Project project = writers("watch", "1u", "2u");
   auto watch = ArchiveFileWatch::create(project.archive_path());
   ASSERT_TRUE(watch) << watch.error().message;
   auto nothing = watch->poll();
@@ -518,11 +504,7 @@ namespace {
 // unpack_demo --watch, as a user runs it beside `statepack pack --watch`: one line per reload naming the
 // pipelines re-created and kept, and a clean end on Ctrl-C with no validation message.
 TEST(UnpackDemoWatch, PrintsOneLinePerReloadNamingWhatWasRecreatedAndKept) {
-  Project project("demo_watch");
-  project.write("states.json", two_writers());
-  project.write("a.comp", writer_shader("1u"));
-  project.write("b.comp", writer_shader("2u"));
-  project.pack();
+  Project project = writers("demo_watch", "1u", "2u");
   const std::string log = (project.dir() / "demo.log").string();
   const std::string wait_for =
       "for i in $(seq 100); do grep -q \"$1\" '" + log + "' && break; sleep 0.1; done";
