@@ -8,11 +8,13 @@
 // values: the Vulkan ABI fixes them, so they are as stable as our own codes would be.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <optional>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "statepack/result.hpp"
@@ -304,6 +306,15 @@ struct Contents {
   std::vector<Pipeline> pipelines;
   std::vector<GlPipeline> gl_pipelines;  // the OpenGL backend; sorted by name, written only when present
 };
+
+// The record of that name in a list the archive keeps sorted by name (Contents::pipelines and
+// gl_pipelines, checked on load), or null: one binary search.
+template <class Record>
+const Record* find_by_name(const std::vector<Record>& sorted, std::string_view name) {
+  auto it = std::lower_bound(sorted.begin(), sorted.end(), name,
+                             [](const Record& r, std::string_view n) { return r.name < n; });
+  return it != sorted.end() && it->name == name ? &*it : nullptr;
+}
 
 // Serialises `contents`, byte for byte deterministic. Pipelines must have unique names, and so must
 // standalone shaders; pipelines and standalone shaders are stored sorted by name.

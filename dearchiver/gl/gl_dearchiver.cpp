@@ -157,15 +157,13 @@ struct Dearchiver::State {
 
   Result<Found> find(std::string_view name, format::PipelineKind kind) const {
     for (size_t i = 0; i < archives.size(); ++i) {
-      const auto& list = contents(i).gl_pipelines;  // sorted by name (checked on load)
-      auto it = std::lower_bound(list.begin(), list.end(), name,
-                                 [](const format::GlPipeline& p, std::string_view n) { return p.name < n; });
-      if (it == list.end() || it->name != name) continue;
+      const format::GlPipeline* it = format::find_by_name(contents(i).gl_pipelines, name);
+      if (!it) continue;
       if (it->kind != kind)
         return Error{ErrorCode::wrong_type, "pipeline '" + std::string(name) + "' is a " +
                                                 kind_name(it->kind) + " pipeline, not a " + kind_name(kind) +
                                                 " pipeline"};
-      return Found{&contents(i), &*it, i};
+      return Found{&contents(i), it, i};
     }
     // Packed, but for Vulkan only?
     for (size_t i = 0; i < archives.size(); ++i)
@@ -322,9 +320,7 @@ struct Dearchiver::State {
     }
     ReloadReport report;
     for (const auto& g : incoming.gl_pipelines)
-      if (std::none_of(replaced->gl_pipelines.begin(), replaced->gl_pipelines.end(),
-                       [&](const format::GlPipeline& o) { return o.name == g.name; }))
-        report.added.push_back(g.name);
+      if (!format::find_by_name(replaced->gl_pipelines, g.name)) report.added.push_back(g.name);
     archives[options.archive] = std::move(next);        // the programs keep no pointer into the old one
     retired.reserve(retired.size() + affected.size());  // so that retiring a program never throws
     for (Program* p : affected) reload_program(*p, options.archive, report);
@@ -336,15 +332,13 @@ struct Dearchiver::State {
   void reload_program(Program& p, size_t archive, ReloadReport& report) {
     const auto kind = p.compute ? format::PipelineKind::compute : format::PipelineKind::graphics;
     // Looked up in the new build only: a namesake in another archive is not this program's successor.
-    const auto& list = contents(archive).gl_pipelines;
-    auto it = std::find_if(list.begin(), list.end(),
-                           [&](const format::GlPipeline& g) { return g.name == p.name && g.kind == kind; });
-    if (it == list.end()) {
+    const format::GlPipeline* it = format::find_by_name(contents(archive).gl_pipelines, p.name);
+    if (!it || it->kind != kind) {
       report.removed.push_back(p.name);
       by_name.erase(p.name);  // the Program stays the application's
       return;
     }
-    const Found now{&contents(archive), &*it, archive};
+    const Found now{&contents(archive), it, archive};
     ProgramSource& was = sources.at(&p);
     ProgramSource next = source_of(*now.contents, *now.pipeline, archive);
     if (next.same_content(was)) {

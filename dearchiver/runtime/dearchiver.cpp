@@ -52,17 +52,15 @@ std::vector<std::string> Dearchiver::State::pipeline_names() const {
 
 Result<ArchivedPipeline> Dearchiver::State::find(std::string_view name, format::PipelineKind kind) const {
   for (size_t i : active) {
-    const auto& list = contents(i).pipelines;  // sorted by name (checked on load)
-    auto it = std::lower_bound(list.begin(), list.end(), name,
-                               [](const format::Pipeline& p, std::string_view n) { return p.name < n; });
-    if (it == list.end() || it->name != name) continue;
+    const format::Pipeline* it = format::find_by_name(contents(i).pipelines, name);
+    if (!it) continue;
     if (it->kind != kind) {
       const char* actual = it->kind == format::PipelineKind::compute ? "compute" : "graphics";
       const char* wanted = kind == format::PipelineKind::compute ? "compute" : "graphics";
       return Error{ErrorCode::wrong_type, "pipeline '" + std::string(name) + "' is a " + actual +
                                               " pipeline, not a " + wanted + " pipeline"};
     }
-    return ArchivedPipeline{i, &*it};
+    return ArchivedPipeline{i, it};
   }
   auto names = pipeline_names();
   return Error{ErrorCode::not_found, "no pipeline named '" + std::string(name) + "' in " +

@@ -1,6 +1,5 @@
 #include "object_cache.hpp"
 
-#include <algorithm>
 #include <deque>
 
 #include "archive_access.hpp"
@@ -18,9 +17,9 @@ ObjectCache::~ObjectCache() {
     caps_.vk.vkDestroySampler(device, sampler, alloc);  // after their layouts
   for (auto& [key, pass] : render_passes_by_content_) caps_.vk.vkDestroyRenderPass(device, pass, alloc);
   if (empty_set_layout_) caps_.vk.vkDestroyDescriptorSetLayout(device, empty_set_layout_, alloc);
+  // A handed-out module may have left modules_ (its archive forgotten): destroyed from handed_out_.
   for (auto& [key, module] : modules_)
-    if (std::find(handed_out_.begin(), handed_out_.end(), module) == handed_out_.end())
-      caps_.vk.vkDestroyShaderModule(device, module, alloc);
+    if (!handed_out_.count(module)) caps_.vk.vkDestroyShaderModule(device, module, alloc);
   for (VkShaderModule module : handed_out_) caps_.vk.vkDestroyShaderModule(device, module, alloc);
 }
 
@@ -33,7 +32,7 @@ void ObjectCache::forget(size_t archive) {
     }
   };
   erase_archive(modules_, [&](VkShaderModule module) {
-    if (std::find(handed_out_.begin(), handed_out_.end(), module) == handed_out_.end())
+    if (!handed_out_.count(module))
       caps_.vk.vkDestroyShaderModule(context_.device, module, context_.allocator);
   });
   auto keep = [](auto) {};  // owned by content

@@ -8,9 +8,9 @@
 // application's descriptor sets and framebuffers, and the pipeline layouts made of them, stay good.
 #pragma once
 
-#include <algorithm>
 #include <map>
 #include <optional>
+#include <set>
 #include <string>
 #include <string_view>
 #include <tuple>
@@ -53,10 +53,7 @@ class ObjectCache {
   const spirv::Module* walked(size_t archive, uint32_t blob);
 
   // A module the application was given (a standalone shader): never destroyed before the cache.
-  void hand_out(VkShaderModule module) {
-    if (std::find(handed_out_.begin(), handed_out_.end(), module) == handed_out_.end())
-      handed_out_.push_back(module);
-  }
+  void hand_out(VkShaderModule module) { handed_out_.insert(module); }
   // The archive is gone (replaced by a reload, nothing made from it in use): its shader modules are
   // destroyed unless handed out (pipelines do not need them once created), and its index is forgotten.
   // Objects kept by content stay, for whoever uses them.
@@ -79,7 +76,7 @@ class ObjectCache {
   const EnabledFeatures& enabled_;  // features, and SPIR-V capabilities, are checked against it
   const std::vector<Archive>& archives_;
   std::map<Key, VkShaderModule> modules_;
-  std::vector<VkShaderModule> handed_out_;  // kept when their archive is forgotten
+  std::set<VkShaderModule> handed_out_;  // kept when their archive is forgotten
   std::map<Key, VkDescriptorSetLayout> set_layouts_;
   std::map<std::string, VkDescriptorSetLayout> set_layouts_by_content_;
   std::map<Key, VkSampler> samplers_;

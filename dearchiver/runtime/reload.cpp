@@ -25,6 +25,14 @@ bool same_blob(std::span<const uint32_t> a, std::span<const uint32_t> b) {
   return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size_bytes()) == 0;
 }
 
+// Whether two bindings have the same immutable sampler, by value (or both none).
+bool same_immutable_sampler(const format::Contents& ca, const format::Binding& x, const format::Contents& cb,
+                            const format::Binding& y) {
+  const bool fixed = x.immutable_sampler != format::kNone;
+  if (fixed != (y.immutable_sampler != format::kNone)) return false;
+  return !fixed || ca.samplers[x.immutable_sampler] == cb.samplers[y.immutable_sampler];
+}
+
 // A set layout as Vulkan and the application see it: its bindings, each with its immutable sampler's
 // values rather than its place in the archive.
 bool same_set_layout(const format::Contents& ca, uint32_t a, const format::Contents& cb, uint32_t b) {
@@ -34,11 +42,9 @@ bool same_set_layout(const format::Contents& ca, uint32_t a, const format::Conte
   if (la.name != lb.name || la.binding_index != lb.binding_index || la.bindings.size() != lb.bindings.size())
     return false;
   for (size_t i = 0; i < la.bindings.size(); ++i) {
+    if (!same_immutable_sampler(ca, la.bindings[i], cb, lb.bindings[i])) return false;
     format::Binding x = la.bindings[i], y = lb.bindings[i];
-    const bool fixed = x.immutable_sampler != format::kNone;
-    if (fixed != (y.immutable_sampler != format::kNone)) return false;
-    if (fixed && !(ca.samplers[x.immutable_sampler] == cb.samplers[y.immutable_sampler])) return false;
-    x.immutable_sampler = y.immutable_sampler = 0;
+    x.immutable_sampler = y.immutable_sampler = 0;  // compared by value above
     if (!(x == y)) return false;
   }
   return true;
@@ -70,14 +76,10 @@ bool same_pipeline(const format::Contents& ca, const format::Pipeline& a, const 
 }
 
 std::string binding_text(const format::Binding& b) {
+  char stages[16];
+  std::snprintf(stages, sizeof stages, "0x%X", b.stage_flags);
   return std::string(format::descriptor_type_name(b.descriptor_type)) + " '" + printable(b.name) + "'" +
-         (b.count > 1 ? " [" + std::to_string(b.count) + "]" : "") + " (stages 0x" +
-         [&] {
-           char hex[16];
-           std::snprintf(hex, sizeof hex, "%X", b.stage_flags);
-           return std::string(hex);
-         }() +
-         ")";
+         (b.count > 1 ? " [" + std::to_string(b.count) + "]" : "") + " (stages " + stages + ")";
 }
 
 // The first difference between two pipelines' resource layouts, in words; empty when Vulkan would see
@@ -106,13 +108,10 @@ std::string layout_change(const format::Contents& ca, const format::Pipeline& a,
       if (x.binding != y.binding)
         return where + std::to_string(std::min(x.binding, y.binding)) + " was " +
                (x.binding < y.binding ? "removed" : "added");
-      const bool fixed_x = x.immutable_sampler != format::kNone,
-                 fixed_y = y.immutable_sampler != format::kNone;
       if (x.descriptor_type != y.descriptor_type || x.count != y.count || x.stage_flags != y.stage_flags)
         return where + std::to_string(x.binding) + " changed from " + binding_text(x) + " to " +
                binding_text(y);
-      if (fixed_x != fixed_y ||
-          (fixed_x && !(ca.samplers[x.immutable_sampler] == cb.samplers[y.immutable_sampler])))
+      if (!same_immutable_sampler(ca, x, cb, y))
         return where + std::to_string(x.binding) + " changed its immutable sampler";
     }
   }
@@ -152,9 +151,8 @@ std::string target_change(const format::Contents& ca, const format::Pipeline& a,
 
 const format::Pipeline* find_in(const format::Contents& c, const std::string& name,
                                 format::PipelineKind kind) {
-  auto it = std::lower_bound(c.pipelines.begin(), c.pipelines.end(), name,
-                             [](const format::Pipeline& p, const std::string& n) { return p.name < n; });
-  return it != c.pipelines.end() && it->name == name && it->kind == kind ? &*it : nullptr;
+  const format::Pipeline* found = format::find_by_name(c.pipelines, name);
+  return found && found->kind == kind ? found : nullptr;
 }
 
 ObjectInfo info_of(const format::Pipeline& p) {
