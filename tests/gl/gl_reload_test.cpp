@@ -7,6 +7,7 @@
 #include <fstream>
 
 #include "common/run_command.hpp"
+#include "common/text_files.hpp"
 #include "gl_test_fixture.hpp"
 #include "statepack/gl_dearchiver.hpp"
 
@@ -25,17 +26,12 @@ class GlReloadTest : public GlTest {
  protected:
   void SetUp() override {
     GlTest::SetUp();
-    dir_ = fs::path(STATEPACK_TEST_OUTPUT_DIR) /
-           ("gl_reload_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    dir_ = fresh_test_dir(STATEPACK_TEST_OUTPUT_DIR, "gl_reload");
     write("states.json", R"({ "Pipelines": [
       { "PSODesc": { "Name": "A" }, "pCS": { "Desc": { "Name": "A CS" }, "FilePath": "a.comp" } },
       { "PSODesc": { "Name": "B" }, "pCS": { "Desc": { "Name": "B CS" }, "FilePath": "b.comp" } } ] })");
   }
-  void write(const std::string& file, const std::string& text) {
-    std::ofstream(dir_ / file, std::ios::binary | std::ios::trunc) << text;
-  }
+  void write(const std::string& file, const std::string& text) { write_file(dir_ / file, text); }
   Archive pack() {
     const fs::path out = dir_ / "out.spk";
     CommandResult r = run_command("'" STATEPACK_EXE "' pack --vulkan --opengl -s '" + dir_.string() +

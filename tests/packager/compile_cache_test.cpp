@@ -30,9 +30,7 @@ struct CacheStats {
 class CompileCacheTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::path(STATEPACK_TEST_OUTPUT_DIR) / "compile_cache" /
-           ::testing::UnitTest::GetInstance()->current_test_info()->name();
-    fs::remove_all(dir_);
+    dir_ = statepack::testing::fresh_test_dir(STATEPACK_TEST_OUTPUT_DIR, "compile_cache");
     // Two compute shaders sharing an #include (one of them including a second one from an -s
     // directory), and an inline HLSL shader.
     write_file(dir_ / "project.json", R"({"Pipelines": [

@@ -10,21 +10,15 @@
 #include <string>
 
 #include "common/run_command.hpp"
+#include "common/text_files.hpp"
 
 namespace statepack::testing::hostile {
 
 namespace fs = std::filesystem;
 using CliRun = statepack::testing::CommandResult;
 
-inline std::string read_file(const fs::path& path) {
-  std::ifstream file(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>()};
-}
-
-inline void write_file(const fs::path& path, const std::string& text) {
-  fs::create_directories(path.parent_path());
-  std::ofstream(path, std::ios::binary) << text;
-}
+using statepack::testing::read_file;
+using statepack::testing::write_file;
 
 inline size_t count_lines_with(const std::string& text, const std::string& needle) {
   size_t n = 0;
@@ -46,12 +40,7 @@ inline constexpr const char* kComputeShader =
 // Runs statepack in `dir_` (so messages show short relative paths), under a time limit: a hang fails.
 class HostileInput : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::path(STATEPACK_TEST_OUTPUT_DIR) / "hostile" /
-           ::testing::UnitTest::GetInstance()->current_test_info()->name();
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
+  void SetUp() override { dir_ = statepack::testing::fresh_test_dir(STATEPACK_TEST_OUTPUT_DIR, "hostile"); }
   CliRun statepack(const std::string& args, int seconds = 60) const {
     return statepack::testing::run_command("cd '" + dir_.string() + "' && timeout " +
                                            std::to_string(seconds) + " '" + STATEPACK_EXE + "' " + args);

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "common/run_command.hpp"
+#include "common/text_files.hpp"
 
 namespace {
 
@@ -25,24 +26,17 @@ CliRun statepack_in(const fs::path& dir, const std::string& args) {
   return statepack::testing::run_command("cd '" + dir.string() + "' && '" + STATEPACK_EXE + "' " + args);
 }
 
-std::string read_file(const fs::path& path) {
-  std::ifstream file(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>()};
-}
+using statepack::testing::read_file;
 
 class PackagerCli : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ =
-        fs::path(STATEPACK_TEST_OUTPUT_DIR) / ::testing::UnitTest::GetInstance()->current_test_info()->name();
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
+  void SetUp() override { dir_ = statepack::testing::fresh_test_dir(STATEPACK_TEST_OUTPUT_DIR, "cli"); }
   std::string data(const std::string& name) const {
     return std::string(STATEPACK_TEST_DATA_DIR) + "/" + name;
   }
-  std::string pack_args(const std::string& input, const fs::path& output) const {
-    return "pack -i '" + input + "' -s '" + STATEPACK_SHADER_DIR + "' -o '" + output.string() + "' --vulkan";
+  std::string pack_args(const std::string& input, const fs::path& output,
+                        const std::string& shader_dir = STATEPACK_SHADER_DIR) const {
+    return "pack -i '" + input + "' -s '" + shader_dir + "' -o '" + output.string() + "' --vulkan";
   }
   fs::path dir_;
 };
@@ -479,9 +473,8 @@ namespace {
 
 TEST_F(PackagerCli, InspectShowsTheWholeGraphicsState) {
   fs::path out = dir_ / "full.spk";
-  CliRun pack =
-      statepack("pack -i '" + std::string(STATEPACK_CORPUS_DIR) + "/valid/full_graphics_state.json' -s '" +
-                STATEPACK_CORPUS_DIR + "/shaders' -o '" + out.string() + "' --vulkan");
+  const std::string corpus = STATEPACK_CORPUS_DIR;
+  CliRun pack = statepack(pack_args(corpus + "/valid/full_graphics_state.json", out, corpus + "/shaders"));
   ASSERT_EQ(pack.exit_code, 0) << pack.output;
   CliRun text = statepack("inspect '" + out.string() + "'");
   for (const char* line :
@@ -598,8 +591,7 @@ TEST_F(PackagerCli, FileNamesAreRelativeToTheWorkingDirectoryHoweverTheInputIsSp
 TEST_F(PackagerCli, HlslPushConstantsBecomeThePipelinesRange) {
   fs::path out = dir_ / "push.spk";
   const std::string corpus = STATEPACK_CORPUS_DIR;
-  CliRun pack = statepack("pack -i '" + corpus + "/valid/hlsl_push_constants.json' -s '" + corpus +
-                          "/shaders' -o '" + out.string() + "' --vulkan");
+  CliRun pack = statepack(pack_args(corpus + "/valid/hlsl_push_constants.json", out, corpus + "/shaders"));
   ASSERT_EQ(pack.exit_code, 0) << pack.output;
   CliRun json = statepack("inspect --json '" + out.string() + "'");
   ASSERT_EQ(json.exit_code, 0) << json.output;
@@ -883,8 +875,8 @@ namespace {
 // The path tracer's states pack for both backends (its shaders say `#ifdef VULKAN` where they differ).
 TEST_F(PackagerCli, PathTracerStatesPackForOpenGlToo) {
   const fs::path out = dir_ / "path_tracer.spk";
-  CliRun pack = statepack("pack -i '" + std::string(STATEPACK_STATES_DIR) + "/path_tracer.json' -s '" +
-                          STATEPACK_SHADER_DIR + "' -o '" + out.string() + "' --vulkan --opengl");
+  CliRun pack =
+      statepack(pack_args(std::string(STATEPACK_STATES_DIR) + "/path_tracer.json", out) + " --opengl");
   ASSERT_EQ(pack.exit_code, 0) << pack.output;
   CliRun text = statepack("inspect '" + out.string() + "'");
   for (const char* line :
@@ -1061,9 +1053,7 @@ namespace {
 // "Spellings"), and shows a specialization constant as the value of the type its shader declares.
 TEST_F(PackagerCli, InspectSpellsAsTheNotationAndTypesConstants) {
   fs::path out = dir_ / "constants.spk";
-  CliRun pack =
-      statepack("pack -i '" + std::string(STATEPACK_TEST_DATA_DIR) + "/specialization/constants.json' -s '" +
-                STATEPACK_TEST_DATA_DIR + "/specialization' -o '" + out.string() + "' --vulkan");
+  CliRun pack = statepack(pack_args(data("specialization/constants.json"), out, data("specialization")));
   ASSERT_EQ(pack.exit_code, 0) << pack.output;
   CliRun text = statepack("inspect '" + out.string() + "'");
   for (const char* line : {"  COMPUTE: 'Constants CS', ",

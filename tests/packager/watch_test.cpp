@@ -72,9 +72,7 @@ constexpr uint32_t kShaderMark = 0x5EED1000, kIncludeMark = 0x5EED2000;
 class Watch : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::path(STATEPACK_TEST_OUTPUT_DIR) / "watch" /
-           ::testing::UnitTest::GetInstance()->current_test_info()->name();
-    fs::remove_all(dir_);
+    dir_ = statepack::testing::fresh_test_dir(STATEPACK_TEST_OUTPUT_DIR, "watch");
     write_file(dir_ / "inc" / "common.glsl", include(kIncludeMark));
     write_file(dir_ / "cs.comp", shader(kShaderMark));
     write_file(dir_ / "a.json", notation({compute_pipeline("P", "cs.comp")}));

@@ -39,12 +39,15 @@ class Project {
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }
+  // The pack command line of this project, writing `out` (its archive by default).
+  std::string pack_command(const std::string& extra = "", const fs::path& out = {}) const {
+    return "'" STATEPACK_EXE "' pack --vulkan " + extra + " -s '" + dir_.string() + "' -o '" +
+           (out.empty() ? archive_path() : out).string() + "' -i '" + (dir_ / "states.json").string() + "'";
+  }
   void write(const std::string& file, const std::string& text) const { write_file(dir_ / file, text); }
   fs::path archive_path() const { return dir_ / "out.spk"; }
   void pack(const std::string& extra = "") const {
-    CommandResult r =
-        run_command("'" STATEPACK_EXE "' pack --vulkan " + extra + " -s '" + dir_.string() + "' -o '" +
-                    archive_path().string() + "' -i '" + (dir_ / "states.json").string() + "'");
+    CommandResult r = run_command(pack_command(extra));
     ASSERT_EQ(r.exit_code, 0) << r.output;
   }
   Archive load() const {
@@ -445,8 +448,7 @@ TEST_F(ReloadTest, TheFileWatchHandsBackOnlyCompleteNewArchives) {
   const std::string first = statepack::testing::read_file(project.archive_path());
   project.write("a.comp", writer_shader("3u"));
   const fs::path built = project.dir() / "next.spk";
-  CommandResult r = run_command("'" STATEPACK_EXE "' pack --vulkan -s '" + project.dir().string() + "' -o '" +
-                                built.string() + "' -i '" + (project.dir() / "states.json").string() + "'");
+  CommandResult r = run_command(project.pack_command("", built));
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const std::string second = statepack::testing::read_file(built);
   ASSERT_NE(first, second);
@@ -492,6 +494,15 @@ TEST_F(ReloadTest, TheFileWatchHandsBackOnlyCompleteNewArchives) {
   ASSERT_TRUE(older) << older.error().message;
   ASSERT_TRUE(*older);  // other bytes than the last handed back
   EXPECT_EQ((*older)->content_version(), 0u);
+  // A directory where the archive was: a named error once, then nothing until it changes.
+  fs::remove(project.archive_path());
+  fs::create_directory(project.archive_path());
+  auto directory = watch->poll();
+  ASSERT_FALSE(directory);
+  EXPECT_NE(directory.error().message.find("directory"), std::string::npos) << directory.error().message;
+  auto after = watch->poll();
+  ASSERT_TRUE(after);
+  EXPECT_FALSE(*after);
 }
 
 }  // namespace
@@ -510,9 +521,7 @@ TEST(UnpackDemoWatch, PrintsOneLinePerReloadNamingWhatWasRecreatedAndKept) {
       "for i in $(seq 100); do grep -q \"$1\" '" + log + "' && break; sleep 0.1; done";
   auto pack = [&](const std::string& a) {
     project.write("a.comp", writer_shader(a));
-    return "'" STATEPACK_EXE "' pack --vulkan -s '" + project.dir().string() + "' -o '" +
-           project.archive_path().string() + "' -i '" + (project.dir() / "states.json").string() +
-           "' >/dev/null";
+    return project.pack_command() + " >/dev/null";
   };
   std::string script = "waitfor() { " + wait_for + "; }\n'" STATEPACK_UNPACK_DEMO "' --watch '" +
                        project.archive_path().string() + "' >'" + log + "' 2>&1 & pid=$!\nwaitfor watching\n";

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "common/run_command.hpp"
+#include "common/text_files.hpp"
 #include "common/vulkan_test_fixture.hpp"
 
 namespace statepack::testing {
@@ -23,10 +24,7 @@ class Variants : public VulkanTest {
   void SetUp() override {
     VulkanTest::SetUp();
     // One folder per test: ctest runs the tests of this fixture at once.
-    dir_ = fs::path(STATEPACK_TEST_OUTPUT_DIR) / "variants" /
-           ::testing::UnitTest::GetInstance()->current_test_info()->name();
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    dir_ = fresh_test_dir(STATEPACK_TEST_OUTPUT_DIR, "variants");
   }
 };
 
