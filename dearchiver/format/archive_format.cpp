@@ -458,7 +458,7 @@ struct Section {
   uint32_t offset = 0, size = 0, count = 0;
 };
 
-Error corrupt(std::string message) {
+[[gnu::cold]] Error corrupt(std::string message) {
   return Error{ErrorCode::corrupt, "corrupt archive: " + std::move(message)};
 }
 
@@ -482,7 +482,7 @@ struct Reader {
   std::optional<uint32_t> current_index;
   const std::string* current_name = nullptr;
 
-  void fail(std::string message) {
+  [[gnu::cold]] void fail(std::string message) {
     if (!problem) problem = std::move(message);
   }
   bool charge(uint64_t bytes) {
@@ -987,6 +987,10 @@ std::vector<uint8_t> encode(const Contents& input) {
   offsets.back() = uint32_t(data_start);
   std::vector<uint8_t>& data = sections.back().bytes;
   std::vector<uint8_t> blob_table;
+  size_t data_bytes = 0;  // sized once: growing by each blob copied the whole DATA section again and again
+  for (auto blob : c.spirv) data_bytes = align(data_bytes, kBlobAlignment) + blob.size_bytes();
+  data.reserve(data_bytes);
+  blob_table.reserve(c.spirv.size() * 16);
   for (auto blob : c.spirv) {
     data.resize(align(data.size(), kBlobAlignment));
     const auto* first = reinterpret_cast<const uint8_t*>(blob.data());
@@ -998,6 +1002,7 @@ std::vector<uint8_t> encode(const Contents& input) {
   sections[1].bytes = std::move(blob_table);
 
   std::vector<uint8_t> out;
+  out.reserve(data_start + data.size());
   out.insert(out.end(), kMagic.begin(), kMagic.end());
   put_u32(out, gl_tessellation ? kGlTessellationVersion : kWrittenVersion);
   put_u32(out, gl_tessellation ? kGlTessellationVersion

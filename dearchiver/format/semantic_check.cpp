@@ -25,7 +25,7 @@ std::string type_names(spirv::DescriptorTypeMask mask) {
 // No device has more vertex attributes than this; an input claiming more is hostile.
 constexpr uint32_t kMaxVertexLocations = 64;
 
-Error corrupt(std::string message) {
+[[gnu::cold]] Error corrupt(std::string message) {
   return Error{ErrorCode::corrupt, "corrupt archive: " + std::move(message)};
 }
 

@@ -26,15 +26,14 @@ enum class Quantifier : uint8_t { one, optional, many };
 struct Operand {
   Kind kind;
   Quantifier quantifier;
-  bool names_type;     // a type declaration's operand that must name a type (element, member, pointee ...)
-  uint16_t enum_kind;  // index into kEnumKinds for value_enum and bit_enum
+  bool names_type;    // a type declaration's operand that must name a type (element, member, pointee ...)
+  uint8_t enum_kind;  // index into kEnumKinds for value_enum and bit_enum
 };
 struct Enumerant {
   uint32_t value;
   uint16_t first_operand, operand_count;  // its parameters, in kOperands
 };
 struct EnumKind {
-  const char* name;
   bool bits;
   uint16_t first_enumerant, enumerant_count;  // only those with parameters, sorted by value
 };
@@ -49,9 +48,13 @@ struct Instruction {
   uint16_t first_operand;
   uint8_t operand_count;
   uint8_t flags;
-  const char* name;
+  uint16_t name;  // offset of its name ("OpTypeInt") in kInstructionNames: a table without pointers
 };
 
 #include "spirv_grammar_table.inc"
+
+inline const char* name_of(const Instruction& instruction) {
+  return kInstructionNames + instruction.name;
+}
 
 }  // namespace statepack::spirv::grammar

@@ -48,13 +48,15 @@ const Instruction* search_instruction(uint32_t opcode) {
 // beyond it (extensions' opcodes run to 6000 and more, sparsely).
 const Instruction* find_instruction(uint32_t opcode) {
   static constexpr uint32_t kDirect = 1024;
-  static const std::array<const Instruction*, kDirect> direct = [] {
-    std::array<const Instruction*, kDirect> table{};
-    for (const Instruction& i : kInstructions)
-      if (i.opcode < kDirect) table[i.opcode] = &i;
+  // Row numbers + 1 (0: no such opcode), not pointers: 2 KiB without a relocation per row.
+  static constexpr auto direct = [] {
+    std::array<uint16_t, kDirect> table{};
+    for (size_t row = 0; row < std::size(kInstructions); ++row)
+      if (kInstructions[row].opcode < kDirect) table[kInstructions[row].opcode] = uint16_t(row + 1);
     return table;
   }();
-  return opcode < kDirect ? direct[opcode] : search_instruction(opcode);
+  if (opcode >= kDirect) return search_instruction(opcode);
+  return direct[opcode] ? &kInstructions[direct[opcode] - 1] : nullptr;
 }
 
 // The parameters `value` of enum kind `kind` carries (none for most values).
@@ -126,13 +128,13 @@ struct Checker {
 
   Checker(std::span<const uint32_t> w) : words(w), bound(w[3]), definitions(w[3], w.size()) {}
 
-  bool fail(size_t word, const std::string& what) {
+  [[gnu::cold]] bool fail(size_t word, const std::string& what) {
     const Instruction* i = find_instruction(words[word] & 0xFFFFu);
-    error = Error{ErrorCode::corrupt, "SPIR-V " + std::string(i ? i->name : "instruction") + " at word " +
+    error = Error{ErrorCode::corrupt, "SPIR-V " + std::string(i ? name_of(*i) : "instruction") + " at word " +
                                           std::to_string(word) + ": " + what};
     return false;
   }
-  bool fail(const std::string& what) { return fail(at, what); }
+  [[gnu::cold]] bool fail(const std::string& what) { return fail(at, what); }
 
   const Definition* definition(uint32_t id) const { return id < bound ? definitions.find(id) : nullptr; }
   uint16_t opcode_of(uint32_t id) const {
@@ -156,8 +158,8 @@ struct Checker {
     ids.push_back(id);
     if (const Definition* d = definitions.find(id)) {
       if (names_type && !(d->flags & kDefinesType))
-        return fail("type operand " + id_text(id) + " is defined by " + find_instruction(d->opcode)->name +
-                    ", not a type");
+        return fail("type operand " + id_text(id) + " is defined by " +
+                    name_of(*find_instruction(d->opcode)) + ", not a type");
       return true;
     }
     if (forward_pointers.count(id) || in_function || (instruction->flags & kMayReferenceForward)) {

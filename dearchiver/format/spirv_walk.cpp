@@ -172,7 +172,7 @@ struct Walker {
   std::unordered_multimap<uint32_t, std::pair<uint32_t, uint32_t>> access_chains;  // base -> id, first index
   mutable uint64_t size_steps = 0;  // work spent in size_of, which branches over struct members
 
-  static Error fail(size_t at, const std::string& what) {
+  [[gnu::cold]] static Error fail(size_t at, const std::string& what) {
     return Error{ErrorCode::corrupt, "SPIR-V word " + std::to_string(at) + ": " + what};
   }
 

@@ -81,7 +81,7 @@ std::string EnabledFeatures::check_capabilities(const std::vector<uint32_t>& cap
         return it != features_.end() && word_at(it->second, e.offset) != 0;
       }
       case EnableKind::extension:
-        return extensions_.count(e.extension) != 0;
+        return extensions_.count(text(e.extension)) != 0;
       case EnableKind::property: {
         auto it = properties_.find(uint32_t(e.s_type));
         return it == properties_.end() ? !properties_known_
@@ -102,11 +102,11 @@ std::string EnabledFeatures::check_capabilities(const std::vector<uint32_t>& cap
                    std::to_string(VK_API_VERSION_MINOR(e.version));
           break;
         case EnableKind::extension:
-          needs += std::string("the extension ") + e.extension;
+          needs += std::string("the extension ") + text(e.extension);
           break;
         case EnableKind::feature:
         case EnableKind::property:
-          needs += e.what;
+          needs += text(e.what);
           break;
       }
     }
@@ -117,7 +117,7 @@ std::string EnabledFeatures::check_capabilities(const std::vector<uint32_t>& cap
     bool allowed = false;
     for (const CapabilityEnable& e : kCapabilityEnables) {
       if (e.capability != capability) continue;
-      name = e.name;
+      name = text(e.name);
       if ((allowed = allows(e))) break;
     }
     if (!name)

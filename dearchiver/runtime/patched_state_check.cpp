@@ -14,7 +14,7 @@ struct Checker {
   std::optional<Error> error;
 
   // Records the first bad value; `field` as the application spells it.
-  void fail(const std::string& field, int64_t value, const char* what) {
+  [[gnu::cold]] void fail(const std::string& field, int64_t value, const char* what) {
     if (error) return;
     error = Error{ErrorCode::invalid_argument, "pipeline '" + std::string(pipeline) +
                                                    "': the modify callback set PatchableState::" + field +

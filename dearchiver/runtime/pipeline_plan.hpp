@@ -94,7 +94,7 @@ class Planner {
   Result<uint32_t> settle_dynamic_states(const std::string& name, std::vector<VkDynamicState>& states);
   // The device features a graphics state needs, checked against the enabled ones.
   std::optional<Error> check_features(const std::string& name, const PatchableState& s);
-  static Error missing_feature(std::string_view pipeline, const char* feature);
+  [[gnu::cold]] static Error missing_feature(std::string_view pipeline, const char* feature);
   static std::optional<Error> run_modify(const std::string& pipeline, const ModifyCallback& modify,
                                          PatchableState& state);
 

@@ -150,11 +150,24 @@ def main(registry_path, grammar_path, header_path, target):
         for struct, s_type in sorted(structs.items()):
             out.write(f"    {{{s_type}, sizeof({struct})}},\n")
         out.write("};\n")
+        # The rows' words as offsets into one string (kCapabilityText), each string once, not as pointers:
+        # a pointer costs a position-independent program a relocation (24 bytes) beside its own 8.
+        text, at = [""], {"": 0}
+        def offset_of(quoted):
+            word = quoted.strip('"')
+            if word not in at:
+                at[word] = sum(len(t) + 1 for t in text)
+                text.append(word)
+            return at[word]
         out.write("constexpr CapabilityEnable kCapabilityEnables[] = {\n")
         for name, kind, version, s_type, offset, feature, extension, bits in rows:
-            out.write(f'    {{{numbers[name]}, "{name}", EnableKind::{kind}, {version}, VkStructureType({s_type}), '
-                      f"uint32_t({offset}), {feature}, {extension}, uint32_t({bits})}},\n")
+            out.write(f'    {{{numbers[name]}, {offset_of(name)}, EnableKind::{kind}, {version}, '
+                      f"VkStructureType({s_type}), uint32_t({offset}), {offset_of(feature)}, {offset_of(extension)}, "
+                      f"uint32_t({bits})}},\n")
         out.write("};\n")
+        if sum(len(t) + 1 for t in text) > 0xFFFF:
+            raise SystemExit("spirv_capability_gen: the rows' text exceeds 64 KiB: widen CapabilityEnable's offsets")
+        out.write("constexpr char kCapabilityText[] =\n" + "".join(f'    "{t}\\0"\n' for t in text) + ";\n")
         out.write("constexpr ExtensionStruct kCapabilityExtensions[] = {\n")
         for name, s_type, size in extension_rows:
             out.write(f'    {{"{name}", VkStructureType({s_type}), {size}}},\n')

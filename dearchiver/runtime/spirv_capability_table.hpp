@@ -17,15 +17,17 @@ struct StructSize {
   size_t size;
 };
 // One way to allow a capability (vk.xml's <enable>): any one of a capability's rows allows it.
+// Its words are offsets into kCapabilityText (text() reads them): a table without pointers, so without
+// a relocation per word in a position-independent program.
 struct CapabilityEnable {
   uint32_t capability;
-  const char* name;
+  uint16_t name;  // "Int8"
   EnableKind kind;
   uint32_t version;        // version: the core version that allows it
   VkStructureType s_type;  // feature, property: the structure
   uint32_t offset;         // ... and the VkBool32 / flags member's offset in it
-  const char* what;        // "VkPhysicalDeviceVulkan12Features::shaderInt8"
-  const char* extension;   // extension: the device extension that allows it
+  uint16_t what;           // "VkPhysicalDeviceVulkan12Features::shaderInt8"
+  uint16_t extension;      // extension: the device extension that allows it
   uint32_t bits;           // property: the bits the member must have (1: VK_TRUE)
 };
 // A device extension that allows capabilities, and one of its feature structures (none: 0, 0).
@@ -40,5 +42,9 @@ struct ExtensionDependency {
 };
 
 #include "spirv_capability_table.inc"
+
+inline const char* text(uint16_t offset) {
+  return kCapabilityText + offset;
+}
 
 }  // namespace statepack::detail::capability_table

@@ -11,5 +11,5 @@
 namespace statepack::detail {
 std::string vk_result_string(VkResult result);
 // A vulkan_error naming the call, the object and the result, which Error::vk_result also carries.
-Error vulkan_failure(const char* call, VkResult result, std::string_view object);
+[[gnu::cold]] Error vulkan_failure(const char* call, VkResult result, std::string_view object);
 }  // namespace statepack::detail

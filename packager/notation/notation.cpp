@@ -63,9 +63,16 @@ Location SourceTexts::at(const Location& object, const std::string& pointer) con
 }
 
 std::string display_path(const fs::path& path) {
-  std::error_code ec;
-  fs::path relative = path.lexically_relative(fs::current_path(ec));
-  if (ec || relative.empty() || *relative.begin() == "..") return path.string();
+  // The working directory, asked once: statepack never changes it, and asking per path was a system
+  // call per shader and #include of a pack.
+  static const std::optional<fs::path> cwd = [] {
+    std::error_code ec;
+    fs::path here = fs::current_path(ec);
+    return ec ? std::nullopt : std::optional<fs::path>(here);
+  }();
+  if (!cwd) return path.string();
+  fs::path relative = path.lexically_relative(*cwd);
+  if (relative.empty() || *relative.begin() == "..") return path.string();
   return relative.string();
 }
 
@@ -144,6 +151,7 @@ class FileReader {
     std::string pointer = std::string("/") + section;
     if (it == root.end() || !json_.expect_array(*it, pointer, (std::string("'") + section + "'").c_str()))
       return;
+    if (std::string_view(section) == "Pipelines") out_.pipelines.reserve(out_.pipelines.size() + it->size());
     for (size_t i = 0; i < it->size() && !json_.diagnostics().full(); ++i)
       f((*it)[i], pointer + "/" + std::to_string(i));
   }

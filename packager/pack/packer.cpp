@@ -122,34 +122,57 @@ std::string file_name_of(const std::string& name) {
   return out.empty() ? "_" : out;
 }
 
-// A compile and its reflection, from the cache when it has them (and kept there when it did not).
-void compile_cached(const ShaderDesc& shader, const CompileOptions& options, ShaderMessages& errors,
-                    CompileCache* cache, CompiledShader& compiled, Reflection& reflection) {
-  if (cache)
-    if (auto hit = cache->find_compile(shader, options)) {
-      compiled = std::move(hit->compiled);
-      reflection =
-          hit->reflection ? std::move(*hit->reflection) : reflect_spirv(compiled.spirv, shader.stage);
-      return;
-    }
+// A compile and its reflection from the cache, when it has both. Runs on any thread: nothing in it
+// recurses as a shader nests, so a hit needs no compile stack (a thread made per shader was most of a
+// warm pack of small shaders).
+bool compile_from_cache(const ShaderDesc& shader, const CompileOptions& options, CompileCache* cache,
+                        CompiledShader& compiled, Reflection& reflection) {
+  if (!cache) return false;
+  auto hit = cache->find_compile(shader, options);
+  if (!hit || !hit->reflection) return false;  // (every entry statepack writes has its reflection)
+  compiled = std::move(hit->compiled);
+  reflection = std::move(*hit->reflection);
+  return true;
+}
+
+// A compile and its reflection, kept in the cache. On the compile stack.
+void compile_and_keep(const ShaderDesc& shader, const CompileOptions& options, ShaderMessages& errors,
+                      CompileCache* cache, CompiledShader& compiled, Reflection& reflection) {
   compiled = compile_shader(shader, options, errors);
   if (!compiled.ok) return;
   reflection = reflect_spirv(compiled.spirv, shader.stage);
   if (cache) cache->keep_compile(shader, options, compiled, &reflection);
 }
 
-// finalize_spirv, from the cache when it has the result.
-std::string finalize_cached(std::vector<uint32_t>& words, const CompileOptions& options,
-                            CompileCache* cache) {
-  if (cache)
-    if (auto hit = cache->find_finalized(words, options)) {
-      words = std::move(*hit);
-      return "";
-    }
+// Both: from the cache when it has them. On the compile stack.
+void compile_cached(const ShaderDesc& shader, const CompileOptions& options, ShaderMessages& errors,
+                    CompileCache* cache, CompiledShader& compiled, Reflection& reflection) {
+  if (!compile_from_cache(shader, options, cache, compiled, reflection))
+    compile_and_keep(shader, options, errors, cache, compiled, reflection);
+}
+
+// finalize_spirv's result from the cache, when it has it (any thread, as compile_from_cache).
+bool finalized_from_cache(std::vector<uint32_t>& words, const CompileOptions& options, CompileCache* cache) {
+  if (!cache) return false;
+  auto hit = cache->find_finalized(words, options);
+  if (!hit) return false;
+  words = std::move(*hit);
+  return true;
+}
+
+// finalize_spirv, kept in the cache. On the compile stack.
+std::string finalize_and_keep(std::vector<uint32_t>& words, const CompileOptions& options,
+                              CompileCache* cache) {
   std::vector<uint32_t> input = cache ? words : std::vector<uint32_t>();
   std::string error = finalize_spirv(words, options);
   if (cache && error.empty()) cache->keep_finalized(input, options, words);
   return error;
+}
+
+// Both: from the cache when it has the result. On the compile stack.
+std::string finalize_cached(std::vector<uint32_t>& words, const CompileOptions& options,
+                            CompileCache* cache) {
+  return finalized_from_cache(words, options, cache) ? "" : finalize_and_keep(words, options, cache);
 }
 
 // Optimises, strips and validates each distinct module once, on all cores: the same patched module
@@ -160,7 +183,9 @@ class Finalizer {
   // `optimize` false: the shader said ShaderOptimizationLevel DISABLED; it is validated (and stripped)
   // but never optimised.
   size_t request(std::vector<uint32_t> words, bool optimize) {
-    std::string key(reinterpret_cast<const char*>(words.data()), words.size() * 4);
+    std::string key;
+    key.reserve(words.size() * 4 + 1);
+    key.append(reinterpret_cast<const char*>(words.data()), words.size() * 4);
     key += optimize ? 'o' : '-';
     auto [it, inserted] = job_by_content_.try_emplace(std::move(key), jobs_.size());
     if (inserted) jobs_.push_back({std::move(words), {}, optimize});
@@ -170,10 +195,10 @@ class Finalizer {
     CompileOptions unoptimized = options_;
     unoptimized.optimization = Optimization::none;
     detail::parallel_for(jobs_.size(), threads, [&](size_t i) {
-      if (std::string failed = on_compile_stack([&] {
-            jobs_[i].error =
-                finalize_cached(jobs_[i].words, jobs_[i].optimize ? options_ : unoptimized, cache_);
-          });
+      const CompileOptions& options = jobs_[i].optimize ? options_ : unoptimized;
+      if (finalized_from_cache(jobs_[i].words, options, cache_)) return;
+      if (std::string failed =
+              on_compile_stack([&] { jobs_[i].error = finalize_and_keep(jobs_[i].words, options, cache_); });
           !failed.empty())
         jobs_[i].error = failed;
     });
@@ -280,11 +305,12 @@ CompiledShaders compile_shaders(const Notation& notation, const PackOptions& opt
   detail::parallel_for(out.units.size(), options.threads, [&](size_t i) {
     CompiledUnit& u = out.units[i];
     if (u.desc.broken) return;  // its notation errors are reported; compiling it would guess
-    if (std::string failed = on_compile_stack([&] {
-          compile_cached(u.desc, options.compile, compile_errors, cache, u.compiled, u.reflection);
-        });
-        !failed.empty())
-      return diag.error(u.desc.where, "shader '" + u.desc.name + "': " + failed);
+    if (!compile_from_cache(u.desc, options.compile, cache, u.compiled, u.reflection))
+      if (std::string failed = on_compile_stack([&] {
+            compile_and_keep(u.desc, options.compile, compile_errors, cache, u.compiled, u.reflection);
+          });
+          !failed.empty())
+        return diag.error(u.desc.where, "shader '" + u.desc.name + "': " + failed);
     if (!u.compiled.ok) return;
     if (auto walked = spirv::walk(u.compiled.spirv)) u.module = std::move(*walked);  // here: on all cores
     for (ReflectedBinding& b : u.reflection.bindings)
@@ -345,6 +371,8 @@ Plan plan_archive(const Notation& notation, const CompiledShaders& compiled,
                   const LayoutOptions& layout_options, ContentsBuilder& builder, Finalizer& finalizer,
                   Diagnostics& diag) {
   Plan plan;
+  plan.pipelines.reserve(notation.pipelines.size());  // (a pipeline moved is copied: reserve, not grow)
+  builder.contents.pipelines.reserve(notation.pipelines.size());
   // Every signature and render pass is archived by name, used or not; Ignore.Signatures are not.
   for (const auto& sig : notation.signatures)
     if (!notation.ignored_signatures.count(sig.name))
@@ -692,6 +720,25 @@ std::string output_refusal(const PackOptions& options) {
   return "";
 }
 
+// What names a pack for its cache bundle (compile_cache.hpp): where it runs, what it reads first, and
+// the options that decide its entries (so that two builds of one notation with other options keep a
+// bundle each). Not the output: a pack to another file needs the same entries. Only a guess at which
+// entries the pack will need: each is still found by its own key.
+std::string bundle_project(const PackOptions& options) {
+  std::error_code ec;
+  std::string text = fs::current_path(ec).string();
+  for (const auto& input : options.inputs)
+    text += "\n-i " + fs::absolute(input, ec).lexically_normal().string();
+  const CompileOptions& c = options.compile;
+  for (const auto& dir : c.include_dirs) text += "\n-s " + dir.string();
+  for (const auto& [name, value] : c.global_macros) text += "\n-D " + name + "=" + value;
+  for (uint64_t value : {uint64_t(options.vulkan), uint64_t(options.opengl), uint64_t(c.vulkan_version),
+                         uint64_t(c.optimization), uint64_t(c.strip_debug_info),
+                         uint64_t(c.shader_environment), c.max_input_bytes})
+    text += "\n" + std::to_string(value);
+  return text;
+}
+
 }  // namespace
 
 int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err, PackSession* session) {
@@ -710,6 +757,7 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err, P
     err << "statepack: warning: --cache-dir: " << cache_error << "; packing without a cache\n";
   CompileCache* const cached = session && session->cache ? session->cache : cache ? &*cache : nullptr;
   const CompileCache::Stats stats_before = cached ? cached->stats() : CompileCache::Stats{};
+  if (cache) cache->use_bundle(bundle_project(options));
   Diagnostics diag(options.max_errors);
   Notation notation;
   for (const auto& input : options.inputs) read_notation(input, options.notation, notation, diag);
@@ -770,7 +818,9 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err, P
     s.written -= stats_before.written, s.removed -= stats_before.removed;
     times.note("cache: " + std::to_string(s.hits) + " hits, " + std::to_string(s.misses) + " misses, " +
                std::to_string(s.damaged) + " damaged, " + std::to_string(s.written) + " written, " +
-               std::to_string(s.removed) + " removed");
+               std::to_string(s.removed) + " removed; " +
+               std::to_string(s.from_bundle - stats_before.from_bundle) +
+               " entries read from the pack's bundle");
     times.done("cache");
   }
   if (!diag.has_errors()) note_unused_objects(notation, diag);

@@ -128,9 +128,17 @@ std::string hex(const CacheKey& key) {
   return out;
 }
 
+// The key an entry's name spells (hex() backwards; the name was made by hex()).
+CacheKey key_of(std::string_view name) {
+  auto digit = [](char c) { return uint8_t(c <= '9' ? c - '0' : c - 'a' + 10); };
+  CacheKey key{};
+  for (size_t i = 0; i < key.size(); ++i) key[i] = uint8_t(digit(name[2 * i]) << 4 | digit(name[2 * i + 1]));
+  return key;
+}
+
 // What decides a compile, its #includes aside (they are checked one by one on a hit).
 CacheKey compile_key(const ShaderDesc& shader, const CompileOptions& options,
-                     const std::array<uint8_t, 16>& text) {
+                     const std::array<uint8_t, 16>& text, const fs::path& cwd) {
   KeyBuilder k;
   k.add("compile").add(code_identity());
   k.add(uint64_t(options.vulkan_version)).add(uint64_t(options.opengl)).add(options.max_input_bytes);
@@ -138,8 +146,7 @@ CacheKey compile_key(const ShaderDesc& shader, const CompileOptions& options,
   for (const auto& d : options.include_dirs) k.add(d.string());
   k.add(uint64_t(options.global_macros.size()));
   for (const auto& [name, value] : options.global_macros) k.add(name).add(value);
-  std::error_code ec;
-  k.add(fs::current_path(ec).string());  // relative -s directories and file names resolve against it
+  k.add(cwd.string());  // relative -s directories and file names resolve against it
   k.add(uint64_t(shader.stage)).add(uint64_t(shader.language)).add(shader.entry_point);
   // The environment (definitions, macros, compile flags' pragmas, GLSLExtensions) and the #version a
   // source without one gets: everything glslang reads besides the source and its includes.
@@ -150,9 +157,7 @@ CacheKey compile_key(const ShaderDesc& shader, const CompileOptions& options,
   if (shader.file.empty())
     k.add(uint64_t(0)).add(shader.name);  // the inline source's name is its file name for glslang
   else
-    k.add(uint64_t(1))
-        .add(fs::absolute(shader.file, ec).lexically_normal().string())
-        .add(display_path(shader.file));
+    k.add(uint64_t(1)).add((cwd / shader.file).lexically_normal().string()).add(display_path(shader.file));
   k.add(std::string_view(reinterpret_cast<const char*>(text.data()), text.size()));
   return k.key();
 }
@@ -362,6 +367,13 @@ size_t trim(std::vector<FileOnDisk>& files, uint64_t target, const std::set<std:
   return removed;
 }
 
+uint64_t entry_bytes(const std::vector<FileOnDisk>& files) {
+  uint64_t total = 0;
+  for (const auto& f : files)
+    if (!f.temporary) total += f.size;
+  return total;
+}
+
 // Every entry and temporary of the cache's subdirectories (real directories only), oldest use first.
 std::vector<FileOnDisk> all_files(const fs::path& root) {
   std::vector<FileOnDisk> all;
@@ -378,6 +390,29 @@ std::vector<FileOnDisk> all_files(const fs::path& root) {
   return all;
 }
 
+// The entries' bytes as the last pack that wrote left them: DIR/v1/size, one decimal number. Packs sharing
+// the cache may overwrite each other's count (each adds what it wrote to what it read), so it can lag
+// behind; a count over the bound, a missing or unreadable one, lists the directories and is written
+// again exact. `cache prune` writes it exact too.
+constexpr const char* kSizeFile = "size";
+std::optional<uint64_t> read_size(const fs::path& root) {
+  const int fd = ::open((root / kSizeFile).c_str(), O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) return std::nullopt;
+  char text[32] = {};
+  const ssize_t n = ::read(fd, text, sizeof text - 1);
+  ::close(fd);
+  if (n <= 0) return std::nullopt;
+  char* end = nullptr;
+  const unsigned long long value = std::strtoull(text, &end, 10);
+  if (end == text || (*end != '\n' && *end != 0)) return std::nullopt;
+  return uint64_t(value);
+}
+void write_size(const fs::path& root, uint64_t bytes) {
+  const std::string text = std::to_string(bytes) + "\n";
+  (void)detail::write_file_atomically(root / kSizeFile,
+                                      {reinterpret_cast<const uint8_t*>(text.data()), text.size()});
+}
+
 // A subdirectory that is a real directory (created if missing), never a link planted in its place.
 bool usable_subdirectory(const fs::path& path) {
   if (::mkdir(path.c_str(), 0755) == 0) return true;
@@ -387,9 +422,13 @@ bool usable_subdirectory(const fs::path& path) {
 
 }  // namespace
 
-CompileCache::CompileCache(fs::path dir, uint64_t max_bytes) : dir_(std::move(dir)), max_bytes_(max_bytes) {}
+CompileCache::CompileCache(fs::path dir, uint64_t max_bytes) : dir_(std::move(dir)), max_bytes_(max_bytes) {
+  std::error_code ec;
+  cwd_ = fs::current_path(ec);  // once: asked per shader, it was a system call per hit
+}
 CompileCache::CompileCache(CompileCache&& o) noexcept
     : dir_(std::move(o.dir_)),
+      cwd_(std::move(o.cwd_)),
       max_bytes_(o.max_bytes_),
       pending_(std::move(o.pending_)),
       hits_(o.hits_.load()),
@@ -399,7 +438,13 @@ CompileCache::CompileCache(CompileCache&& o) noexcept
       removed_(o.removed_),
       memory_(std::move(o.memory_)),
       memory_bytes_(o.memory_bytes_),
-      use_clock_(o.use_clock_) {}
+      use_clock_(o.use_clock_),
+      bundle_key_(o.bundle_key_),
+      bundle_bytes_(std::move(o.bundle_bytes_)),  // the buffer moves: bundle_'s views stay valid
+      bundle_(std::move(o.bundle_)),
+      read_from_files_(std::move(o.read_from_files_)),
+      from_bundle_(o.from_bundle_.load()),
+      growth_(o.growth_) {}
 CompileCache::~CompileCache() = default;
 
 std::optional<CompileCache> CompileCache::open(const fs::path& dir, uint64_t max_bytes, std::string& error) {
@@ -435,30 +480,40 @@ std::optional<std::vector<uint8_t>> CompileCache::read_entry(const CacheKey& key
     used_.insert(name);
     return found->second.payload;
   }
+  if (auto in_bundle = bundle_.find(name); in_bundle != bundle_.end()) {
+    ++from_bundle_;
+    std::lock_guard lock(mutex_);
+    used_.insert(name);
+    return std::vector<uint8_t>(in_bundle->second.begin(), in_bundle->second.end());
+  }
   const fs::path path = dir_ / name.substr(0, 2) / name;
   const int fd = ::open(path.c_str(), O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
   if (fd < 0) {
     if (errno != ENOENT) ++damaged_;  // a link planted there (ELOOP), or what cannot be read: rewritten
     return std::nullopt;
   }
-  std::vector<uint8_t> bytes;
+  uint8_t header[kHeaderBytes];
+  std::vector<uint8_t> bytes;  // the payload
   struct stat st {};
   bool ok = ::fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && uint64_t(st.st_size) >= kHeaderBytes &&
             uint64_t(st.st_size) <= kMaxEntryBytes;
-  if (ok) {
-    bytes.resize(size_t(st.st_size));
+  // Reads exactly `size` bytes (a file that shrank underneath is a short read: damaged).
+  auto read_all = [fd](uint8_t* to, size_t size) {
     size_t done = 0;
-    while (done < bytes.size()) {
-      const ssize_t n = ::read(fd, bytes.data() + done, bytes.size() - done);
+    while (done < size) {
+      const ssize_t n = ::read(fd, to + done, size - done);
       if (n < 0 && errno == EINTR) continue;
       if (n <= 0) break;
       done += size_t(n);
     }
-    ok = done == bytes.size() && std::memcmp(bytes.data(), kMagic, 4) == 0 &&
-         get_u32(bytes.data() + 4) == kEntryVersion &&
-         std::memcmp(bytes.data() + 8, key.data(), key.size()) == 0 &&
-         get_u64(bytes.data() + 24) == bytes.size() - kHeaderBytes &&
-         get_u64(bytes.data() + 32) == XXH3_64bits(bytes.data() + kHeaderBytes, bytes.size() - kHeaderBytes);
+    return done == size;
+  };
+  if (ok) {
+    bytes.resize(size_t(st.st_size) - kHeaderBytes);
+    ok = read_all(header, kHeaderBytes) && read_all(bytes.data(), bytes.size()) &&
+         std::memcmp(header, kMagic, 4) == 0 && get_u32(header + 4) == kEntryVersion &&
+         std::memcmp(header + 8, key.data(), key.size()) == 0 && get_u64(header + 24) == bytes.size() &&
+         get_u64(header + 32) == XXH3_64bits(bytes.data(), bytes.size());
   }
   if (ok) {
     ::futimens(fd, nullptr);  // recently used: pruned last
@@ -470,8 +525,38 @@ std::optional<std::vector<uint8_t>> CompileCache::read_entry(const CacheKey& key
     ++damaged_;  // truncated, damaged or not ours: a miss, and written again
     return std::nullopt;
   }
-  bytes.erase(bytes.begin(), bytes.begin() + kHeaderBytes);
+  if (bundle_key_ && key != *bundle_key_) {
+    std::lock_guard lock(mutex_);
+    read_from_files_.try_emplace(name, bytes);
+  }
   return bytes;
+}
+
+void CompileCache::use_bundle(std::string_view project) {
+  if (dir_.empty()) return;  // a cache in memory has no files to save opening
+  KeyBuilder k;
+  bundle_key_ = k.add("bundle").add(code_identity()).add(project).key();
+  auto payload = read_entry(*bundle_key_);
+  if (!payload) return;
+  {
+    std::lock_guard lock(mutex_);
+    used_.erase(hex(*bundle_key_));  // an entry of the cache, not of this pack
+  }
+  // (16-byte key, u64 size, payload) until the end; anything out of place drops the whole bundle.
+  bundle_bytes_ = std::move(*payload);
+  const std::span<const uint8_t> all(bundle_bytes_);
+  for (size_t at = 0; at < all.size();) {
+    if (all.size() - at < 24 || get_u64(&all[at + 16]) > all.size() - at - 24) {
+      ++damaged_;
+      bundle_.clear();
+      return;
+    }
+    CacheKey key;
+    std::copy_n(&all[at], key.size(), key.begin());
+    const size_t size = size_t(get_u64(&all[at + 16]));
+    bundle_.insert_or_assign(hex(key), all.subspan(at + 24, size));
+    at += 24 + size;
+  }
 }
 
 void CompileCache::keep(const CacheKey& key, std::vector<uint8_t> payload) {
@@ -488,11 +573,10 @@ std::optional<CompileCache::Compile> CompileCache::find_compile(const ShaderDesc
     InputText input = read_input_file(shader.file, display_path(shader.file), options.max_input_bytes);
     if (!input.error.empty()) return std::nullopt;  // the compile reports it
     source = std::move(input.text);
-    std::error_code ec;
-    out.files_read.push_back({fs::absolute(shader.file, ec).lexically_normal(), input.identity});
+    out.files_read.push_back({(cwd_ / shader.file).lexically_normal(), input.identity});
   }
   out.source_hash = text_hash(source);
-  auto payload = read_entry(compile_key(shader, options, out.source_hash));
+  auto payload = read_entry(compile_key(shader, options, out.source_hash, cwd_));
   uint32_t flags = 0, count = 0;
   PayloadReader r(payload ? std::span<const uint8_t>(*payload) : std::span<const uint8_t>());
   // An #include record takes at least 29 bytes.
@@ -518,8 +602,7 @@ std::optional<CompileCache::Compile> CompileCache::find_compile(const ShaderDesc
     included += input.text.size();
     if (!input.error.empty() || text_hash(input.text) != rec.text_hash || included > options.max_input_bytes)
       return ++misses_, std::nullopt;
-    std::error_code ec;
-    out.files_read.push_back({fs::absolute(path, ec).lexically_normal(), input.identity});
+    out.files_read.push_back({(cwd_ / path).lexically_normal(), input.identity});
     out.includes.push_back(std::move(rec));
   }
   uint32_t names = 0;
@@ -564,7 +647,7 @@ void CompileCache::keep_compile(const ShaderDesc& shader, const CompileOptions& 
   w.str(compiled.entry_point);
   w.words(compiled.spirv);
   if (reflection) write_reflection(w, *reflection);
-  keep(compile_key(shader, options, compiled.source_hash), std::move(w.bytes));
+  keep(compile_key(shader, options, compiled.source_hash, cwd_), std::move(w.bytes));
 }
 
 std::optional<std::vector<uint32_t>> CompileCache::find_finalized(const std::vector<uint32_t>& input,
@@ -619,6 +702,90 @@ std::string CompileCache::flush_to_memory() {
   return "";
 }
 
+bool CompileCache::write_entry(const CacheKey& key, std::span<const uint8_t> payload,
+                               const std::set<FileIdentity>& inputs, std::string& warning) {
+  static std::atomic<uint64_t> counter{0};
+  const std::string name = hex(key);
+  const fs::path subdir = dir_ / name.substr(0, 2), path = subdir / name;
+  if (!usable_subdirectory(subdir)) {
+    warning = "'" + printable(subdir.string()) + "' is not a directory";
+    return false;
+  }
+  // The entry itself (not what a link planted there points to: rename() replaces the link).
+  struct stat st {};
+  const bool replaces = ::lstat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode);
+  if (replaces && inputs.count(FileIdentity{uint64_t(st.st_dev), uint64_t(st.st_ino)})) {
+    warning = "'" + printable(path.string()) + "' is one of this run's inputs; not replaced";
+    return false;
+  }
+  std::vector<uint8_t> bytes(kMagic, kMagic + 4);
+  bytes.reserve(kHeaderBytes + payload.size());
+  put_u32(bytes, kEntryVersion);
+  bytes.insert(bytes.end(), key.begin(), key.end());
+  put_u64(bytes, payload.size());
+  put_u64(bytes, XXH3_64bits(payload.data(), payload.size()));
+  bytes.insert(bytes.end(), payload.begin(), payload.end());
+  const fs::path temporary = subdir / (".tmp-" + std::to_string(::getpid()) + "-" +
+                                       std::to_string(counter++) + "-" + name.substr(0, 8));
+  const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
+  if (fd < 0) {
+    warning = "cannot write '" + printable(temporary.string()) + "': " + std::strerror(errno);
+    return false;
+  }
+  size_t written = 0;
+  int failure = 0;  // the errno of the first call that failed
+  while (written < bytes.size()) {
+    const ssize_t n = ::write(fd, bytes.data() + written, bytes.size() - written);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      failure = n < 0 ? errno : ENOSPC;
+      break;
+    }
+    written += size_t(n);
+  }
+  if (::close(fd) != 0 && !failure) failure = errno;
+  // rename() replaces a link planted at `path` rather than following it.
+  if (!failure && ::rename(temporary.c_str(), path.c_str()) != 0) failure = errno;
+  if (failure) {
+    warning = "cannot write '" + printable(path.string()) + "': " + std::strerror(failure);
+    ::unlink(temporary.c_str());
+    return false;
+  }
+  growth_ += int64_t(bytes.size()) - (replaces ? int64_t(st.st_size) : 0);
+  return true;
+}
+
+std::string CompileCache::write_bundle(const std::vector<Pending>& written,
+                                       const std::set<FileIdentity>& inputs, std::string& warning) {
+  if (!bundle_key_) return "";
+  // What this pack used: read (from the bundle or from files) or written.
+  std::map<std::string, std::span<const uint8_t>> used;
+  {
+    std::lock_guard lock(mutex_);
+    for (const std::string& name : used_) {
+      if (auto b = bundle_.find(name); b != bundle_.end())
+        used.emplace(name, b->second);
+      else if (auto f = read_from_files_.find(name); f != read_from_files_.end())
+        used.emplace(name, f->second);
+    }
+  }
+  // A rewritten entry (a compile whose #includes changed keeps its key) replaces what was read.
+  for (const Pending& p : written) used.insert_or_assign(hex(p.key), p.payload);
+  const bool same = used.size() == bundle_.size() &&
+                    std::equal(used.begin(), used.end(), bundle_.begin(),
+                               [](const auto& a, const auto& b) { return a.first == b.first; });
+  if (same || used.empty()) return "";
+  std::vector<uint8_t> payload;
+  for (const auto& [name, bytes] : used) {
+    const CacheKey key = key_of(name);
+    payload.insert(payload.end(), key.begin(), key.end());
+    put_u64(payload, bytes.size());
+    payload.insert(payload.end(), bytes.begin(), bytes.end());
+    if (payload.size() > kMaxEntryBytes - kHeaderBytes) return "";  // too large to read back: none
+  }
+  return write_entry(*bundle_key_, payload, inputs, warning) ? hex(*bundle_key_) : "";
+}
+
 std::string CompileCache::flush(const std::vector<InputFile>& inputs) {
   if (dir_.empty()) return flush_to_memory();
   std::vector<Pending> pending;
@@ -629,57 +796,19 @@ std::string CompileCache::flush(const std::vector<InputFile>& inputs) {
   std::set<FileIdentity> input_identities;
   for (const auto& f : inputs) input_identities.insert(f.identity);
   std::set<std::string> subdirectories, done;
+  std::vector<Pending> written;
   std::string warning;
-  static std::atomic<uint64_t> counter{0};
-  for (const Pending& p : pending) {
+  for (Pending& p : pending) {
     const std::string name = hex(p.key);
     if (!done.insert(name).second) continue;  // the same result twice in one run
-    const fs::path subdir = dir_ / name.substr(0, 2), path = subdir / name;
-    if (!usable_subdirectory(subdir)) {
-      warning = "'" + printable(subdir.string()) + "' is not a directory";
-      continue;
-    }
-    // The entry itself (not what a link planted there points to: rename() replaces the link).
-    struct stat st {};
-    if (::lstat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode) &&
-        input_identities.count(FileIdentity{uint64_t(st.st_dev), uint64_t(st.st_ino)})) {
-      warning = "'" + printable(path.string()) + "' is one of this run's inputs; not replaced";
-      continue;
-    }
-    std::vector<uint8_t> bytes(kMagic, kMagic + 4);
-    put_u32(bytes, kEntryVersion);
-    bytes.insert(bytes.end(), p.key.begin(), p.key.end());
-    put_u64(bytes, p.payload.size());
-    put_u64(bytes, XXH3_64bits(p.payload.data(), p.payload.size()));
-    bytes.insert(bytes.end(), p.payload.begin(), p.payload.end());
-    const fs::path temporary = subdir / (".tmp-" + std::to_string(::getpid()) + "-" +
-                                         std::to_string(counter++) + "-" + name.substr(0, 8));
-    const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
-    if (fd < 0) {
-      warning = "cannot write '" + printable(temporary.string()) + "': " + std::strerror(errno);
-      continue;
-    }
-    size_t written = 0;
-    int failure = 0;  // the errno of the first call that failed
-    while (written < bytes.size()) {
-      const ssize_t n = ::write(fd, bytes.data() + written, bytes.size() - written);
-      if (n < 0 && errno == EINTR) continue;
-      if (n <= 0) {
-        failure = n < 0 ? errno : ENOSPC;
-        break;
-      }
-      written += size_t(n);
-    }
-    if (::close(fd) != 0 && !failure) failure = errno;
-    // rename() replaces a link planted at `path` rather than following it.
-    if (!failure && ::rename(temporary.c_str(), path.c_str()) != 0) failure = errno;
-    if (failure) {
-      warning = "cannot write '" + printable(path.string()) + "': " + std::strerror(failure);
-      ::unlink(temporary.c_str());
-      continue;
-    }
+    if (!write_entry(p.key, p.payload, input_identities, warning)) continue;
     ++written_;
     subdirectories.insert(name.substr(0, 2));
+    written.push_back(std::move(p));
+  }
+  if (const std::string bundle = write_bundle(written, input_identities, warning); !bundle.empty()) {
+    done.insert(bundle);
+    subdirectories.insert(bundle.substr(0, 2));
   }
   // A run that wrote entries trims the cache to its bound, least recently used first; what this run
   // wrote or used stays. (A run that wrote nothing reads no directory listing.)
@@ -689,14 +818,25 @@ std::string CompileCache::flush(const std::vector<InputFile>& inputs) {
       std::lock_guard lock(mutex_);
       keep.insert(used_.begin(), used_.end());
     }
-    auto files = all_files(dir_);
-    removed_ += trim(files, max_bytes_, keep);
+    if (bundle_key_) keep.insert(hex(*bundle_key_));
+    // The cache's size as the last pack left it (kSizeFile), plus what this one added: the directories
+    // are listed (a stat per entry) only when that passes the bound, or when no size was left.
+    const std::optional<uint64_t> known = read_size(dir_);
+    const int64_t estimate = known ? std::max<int64_t>(0, int64_t(*known) + growth_) : 0;
+    if (known && uint64_t(estimate) <= max_bytes_) {
+      write_size(dir_, uint64_t(estimate));
+    } else {
+      auto files = all_files(dir_);
+      removed_ += trim(files, max_bytes_, keep);
+      write_size(dir_, entry_bytes(files));
+    }
+    growth_ = 0;
   }
   return warning;
 }
 
 CompileCache::Stats CompileCache::stats() const {
-  return {hits_.load(), misses_.load(), damaged_.load(), written_, removed_};
+  return {hits_.load(), misses_.load(), damaged_.load(), written_, removed_, from_bundle_.load()};
 }
 
 CompileCache::PruneResult CompileCache::prune(const fs::path& dir, uint64_t max_bytes) {
@@ -713,6 +853,7 @@ CompileCache::PruneResult CompileCache::prune(const fs::path& dir, uint64_t max_
   trim(all, max_bytes);
   for (const auto& f : all)
     if (!f.temporary) result.bytes_after += f.size, ++result.entries_after;
+  write_size(root, result.bytes_after);
   return result;
 }
 

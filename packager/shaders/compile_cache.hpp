@@ -16,8 +16,9 @@
 // hash of its contents, so a truncated or damaged one is a miss and is written again. Only successful
 // results are kept. The directory is kept under a size bound: a pack that writes entries trims the
 // cache to it, the least recently used first (a hit marks an entry used), never removing what it wrote
-// or read itself; `statepack cache prune` trims on demand. The archive is byte-identical with and
-// without a cache.
+// or read itself (the directories are listed only when the size the last pack left in DIR/v1/size, plus
+// what this one wrote, passes the bound); `statepack cache prune` trims on demand. The archive is
+// byte-identical with and without a cache.
 //
 // | entry bytes | meaning                                                                          |
 // |-------------|----------------------------------------------------------------------------------|
@@ -32,6 +33,14 @@
 // |             | module's Reflection, field by field as spirv_reflect.hpp declares them) or a     |
 // |             | finalisation's (u32 count and SPIR-V words). str: u32 length and bytes; all      |
 // |             | little-endian.                                                                   |
+//
+// A pack's bundle: one more entry, under a key made of the project (the working directory, the notation
+// files given, the output) instead of a shader, whose payload is every entry the last pack of that
+// project used, each as (16-byte key, u64 size, payload). A pack reads it first, in one read, and finds
+// its entries there before it opens an entry file: a warm pack of N shaders opens one file instead of
+// 2N. A bundle entry serves only under its own key, so a bundle that another project wrote, or one that
+// is stale, costs its read and nothing else; a pack that used other entries than its bundle holds
+// writes a new one. It is trimmed like any entry.
 #pragma once
 
 #include <array>
@@ -42,7 +51,9 @@
 #include <mutex>
 #include <optional>
 #include <set>
+#include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "notation/input_file.hpp"
@@ -83,6 +94,11 @@ class CompileCache {
   void keep_finalized(const std::vector<uint32_t>& input, const CompileOptions& options,
                       const std::vector<uint32_t>& output);
 
+  // Reads the bundle of `project` (a text naming the pack: directory, inputs, output), so that the
+  // entries the last pack of it used are found without opening their files; flush() writes the bundle
+  // again when this pack used others. Call before the first find_*.
+  void use_bundle(std::string_view project);
+
   // Writes what was kept, never over one of `inputs` (by identity) or through a link, then (when it
   // wrote anything) trims the cache to the size bound. Returns a warning ("" when all went well): a
   // cache that cannot be written costs time, not correctness.
@@ -90,6 +106,7 @@ class CompileCache {
 
   struct Stats {
     size_t hits = 0, misses = 0, damaged = 0, written = 0, removed = 0;
+    size_t from_bundle = 0;  // of the entries read, those found in the pack's bundle
   };
   Stats stats() const;
 
@@ -110,10 +127,17 @@ class CompileCache {
   };
   std::optional<std::vector<uint8_t>> read_entry(const CacheKey& key);
   void keep(const CacheKey& key, std::vector<uint8_t> payload);
+  // Writes one entry file atomically; false with `warning` set when it could not.
+  bool write_entry(const CacheKey& key, std::span<const uint8_t> payload,
+                   const std::set<FileIdentity>& inputs, std::string& warning);
+  // The bundle this pack used, rewritten when it used other entries; its name, or "".
+  std::string write_bundle(const std::vector<Pending>& written, const std::set<FileIdentity>& inputs,
+                           std::string& warning);
 
   std::string flush_to_memory();
 
   std::filesystem::path dir_;  // DIR/v1; empty for a cache in memory
+  std::filesystem::path cwd_;  // the working directory: relative paths in keys resolve against it
   uint64_t max_bytes_;
   std::mutex mutex_;  // pending_, used_, memory_, use_clock_
   std::vector<Pending> pending_;
@@ -127,6 +151,14 @@ class CompileCache {
   };
   std::map<std::string, MemoryEntry> memory_;
   uint64_t memory_bytes_ = 0, use_clock_ = 0;
+  // The pack's bundle: its key, its bytes, and the entries in them by name; the payloads this pack read
+  // from entry files (for the next bundle).
+  std::optional<CacheKey> bundle_key_;
+  std::vector<uint8_t> bundle_bytes_;
+  std::map<std::string, std::span<const uint8_t>, std::less<>> bundle_;
+  std::map<std::string, std::vector<uint8_t>> read_from_files_;
+  std::atomic<size_t> from_bundle_{0};
+  int64_t growth_ = 0;  // bytes this pack's writes added to the cache (less what they replaced)
 };
 
 }  // namespace statepack::packager

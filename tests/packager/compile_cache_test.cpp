@@ -3,6 +3,9 @@
 // ignored and rewritten, two packs sharing the cache at once, the size bound. The archive is always the
 // bytes a pack without a cache writes.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
+
+#include <algorithm>
 
 #include <filesystem>
 #include <fstream>
@@ -73,11 +76,25 @@ class CompileCacheTest : public ::testing::Test {
     pack("clean.spk", extra, false);
     return read_file(dir_ / "clean.spk");
   }
-  std::vector<fs::path> entries() const {
+  // The entry files: the shaders' (compiles and finalisations) and the pack's bundle, which holds all of
+  // them and so is the largest.
+  std::vector<fs::path> all_entries() const {
     std::vector<fs::path> out;
     for (const auto& e : fs::recursive_directory_iterator(dir_ / "cache" / "v1"))
       if (e.is_regular_file() && e.path().filename().string().size() == 32) out.push_back(e.path());
+    std::sort(out.begin(), out.end(),
+              [](const fs::path& a, const fs::path& b) { return fs::file_size(a) < fs::file_size(b); });
     return out;
+  }
+  std::vector<fs::path> entries() const {
+    std::vector<fs::path> out = all_entries();
+    if (!out.empty()) out.pop_back();
+    return out;
+  }
+  fs::path bundle() const { return all_entries().back(); }
+  static ino_t inode(const fs::path& path) {
+    struct stat st {};
+    return ::stat(path.c_str(), &st) == 0 ? st.st_ino : 0;
   }
 
   fs::path dir_;
@@ -92,12 +109,19 @@ TEST_F(CompileCacheTest, AnUnchangedProjectIsNotCompiledAgainAndTheBytesAreTheSa
   EXPECT_EQ(cold.hits, 0);
   EXPECT_EQ(cold.misses, kEntries);
   EXPECT_EQ(cold.written, kEntries);
-  EXPECT_EQ(entries().size(), size_t(kEntries));
+  EXPECT_EQ(all_entries().size(), size_t(kEntries + 1));  // and the pack's bundle
   EXPECT_TRUE(fs::exists(dir_ / "cache" / "CACHEDIR.TAG"));
+  const ino_t bundle_written = inode(bundle());
   CacheStats warm = pack("warm.spk");
   EXPECT_EQ(warm.hits, kEntries) << last_output_;
   EXPECT_EQ(warm.misses, 0);
   EXPECT_EQ(warm.written, 0);
+  // Every entry came from the bundle, which the warm pack did not need to write again.
+  EXPECT_NE(last_output_.find(std::to_string(kEntries) + " entries read from the pack's bundle"),
+            std::string::npos)
+      << last_output_;
+  EXPECT_EQ(all_entries().size(), size_t(kEntries + 1));
+  EXPECT_EQ(inode(bundle()), bundle_written);  // (a rewrite renames a new file into place)
   const std::string clean = clean_bytes();
   EXPECT_EQ(read_file(dir_ / "cold.spk"), clean);
   EXPECT_EQ(read_file(dir_ / "warm.spk"), clean);
@@ -171,6 +195,7 @@ TEST_F(CompileCacheTest, DamagedEntriesAreIgnoredAndRewritten) {
   write_file(all[2], "not an entry at all");
   fs::remove(all[3]);
   fs::create_symlink(dir_ / "project.json", all[3]);  // a planted link: never read through, replaced
+  fs::remove(bundle());                               // else the entries come from it
   const CacheStats s = pack("damaged.spk");
   EXPECT_EQ(s.damaged, 4) << last_output_;  // the link too
   EXPECT_EQ(s.misses, 4) << last_output_;
@@ -180,6 +205,64 @@ TEST_F(CompileCacheTest, DamagedEntriesAreIgnoredAndRewritten) {
   const CacheStats healed = pack("healed.spk");
   EXPECT_EQ(healed.hits, kEntries) << last_output_;
   EXPECT_EQ(read_file(dir_ / "healed.spk"), clean);
+}
+
+// A bundle damaged, planted, stale or another project's costs only its read: the entries come from their
+// own files, the archive is the same, and the next pack writes a whole bundle again.
+TEST_F(CompileCacheTest, ABundleThatCannotServeIsReadAroundAndWrittenAgain) {
+  pack("first.spk");
+  const std::string clean = clean_bytes();
+  const fs::path bundle_path = bundle();
+  const std::string whole = read_file(bundle_path);
+  std::string flipped = whole;
+  flipped[flipped.size() - 3] ^= 0x40;  // one bit of its payload
+  const std::string damages[] = {whole.substr(0, whole.size() / 2), flipped, "not a bundle"};
+  for (const std::string& damaged : damages) {
+    write_file(bundle_path, damaged);
+    const CacheStats s = pack("damaged.spk");
+    EXPECT_EQ(s.hits, kEntries) << last_output_;
+    EXPECT_EQ(s.damaged, 1) << last_output_;
+    EXPECT_NE(last_output_.find(" 0 entries read from the pack's bundle"), std::string::npos) << last_output_;
+    EXPECT_EQ(read_file(dir_ / "damaged.spk"), clean);
+    EXPECT_EQ(read_file(bundle_path), whole);  // written again, the same
+  }
+  // A link planted in its place is not read through, and is replaced.
+  fs::remove(bundle_path);
+  fs::create_symlink(dir_ / "project.json", bundle_path);
+  EXPECT_EQ(pack("linked.spk").hits, kEntries) << last_output_;
+  EXPECT_FALSE(fs::is_symlink(bundle_path));
+  EXPECT_EQ(read_file(bundle_path), whole);
+  EXPECT_NE(read_file(dir_ / "project.json").find("Pipelines"), std::string::npos);
+  // Stale: a shader changed since; its entries miss (the bundle's compile lists the old text's hash),
+  // the others come from the bundle, and the new bundle holds the new compile.
+  write_file(dir_ / "a.comp", read_file(dir_ / "a.comp") + "// edited\n");
+  const CacheStats stale = pack("stale.spk");
+  EXPECT_EQ(stale.misses, 1) << last_output_;  // A's compile (a comment: its finalisation is the same)
+  EXPECT_EQ(read_file(dir_ / "stale.spk"), clean_bytes());
+  EXPECT_EQ(pack("again.spk").hits, kEntries) << last_output_;
+  EXPECT_NE(last_output_.find(std::to_string(kEntries) + " entries read from the pack's bundle"),
+            std::string::npos)
+      << last_output_;
+  // An include changed under an unchanged shader keeps the compile's key: the bundle serves the old
+  // compile once (a miss, its include's hash differs), then the rewritten one.
+  write_file(dir_ / "common.glsl", "uint twice(uint x) { return x << 1u; }\n");
+  EXPECT_EQ(pack("include.spk").hits, 2) << last_output_;  // H
+  EXPECT_EQ(pack("include_again.spk").hits, kEntries) << last_output_;
+  EXPECT_NE(last_output_.find(std::to_string(kEntries) + " entries read from the pack's bundle"),
+            std::string::npos)
+      << last_output_;
+  EXPECT_EQ(read_file(dir_ / "include_again.spk"), clean_bytes());
+  // Another set of options has its own bundle: its first pack reads the entries it shares from files.
+  EXPECT_EQ(pack("optimized.spk", "--optimize size").hits, 3) << last_output_;  // the compiles
+  EXPECT_NE(last_output_.find(" 0 entries read from the pack's bundle"), std::string::npos) << last_output_;
+  EXPECT_EQ(pack("optimized.spk", "--optimize size").hits, kEntries) << last_output_;
+  EXPECT_NE(last_output_.find(std::to_string(kEntries) + " entries read from the pack's bundle"),
+            std::string::npos)
+      << last_output_;
+  EXPECT_EQ(pack("again.spk").hits, kEntries) << last_output_;  // the first set's bundle is still whole
+  EXPECT_NE(last_output_.find(std::to_string(kEntries) + " entries read from the pack's bundle"),
+            std::string::npos)
+      << last_output_;
 }
 
 // Two packs at once on one new cache: both succeed with the same bytes, and the cache they leave is whole.
@@ -210,7 +293,7 @@ TEST_F(CompileCacheTest, TwoPacksShareTheCacheAtOnce) {
 // cache prune` trims on demand; a subdirectory replaced by a link is not written through.
 TEST_F(CompileCacheTest, TheCacheStaysWithinItsBound) {
   pack("first.spk");
-  ASSERT_EQ(entries().size(), size_t(kEntries));
+  ASSERT_EQ(all_entries().size(), size_t(kEntries + 1));
   // A bound nothing fits in: the next pack that writes removes every entry it neither wrote nor read.
   write_file(dir_ / "common.glsl", "uint twice(uint x) { return x << 1u; }\n");  // A and B change, H not
   const CacheStats small = pack("small.spk", "--cache-max-size 1");
@@ -219,15 +302,15 @@ TEST_F(CompileCacheTest, TheCacheStaysWithinItsBound) {
   // finalisations; the old finalisations are removed.
   EXPECT_EQ(small.written, 4) << last_output_;
   EXPECT_EQ(small.removed, 2) << last_output_;
-  EXPECT_EQ(entries().size(), size_t(kEntries));
+  EXPECT_EQ(all_entries().size(), size_t(kEntries + 1));  // the bundle, rewritten, stays too
   // Nothing written: nothing trimmed, every entry a hit.
   EXPECT_EQ(pack("again.spk", "--cache-max-size 1").hits, kEntries) << last_output_;
   CommandResult prune =
       run_command("'" STATEPACK_EXE "' cache prune '" + (dir_ / "cache").string() + "' --max-size 0");
   EXPECT_EQ(prune.exit_code, 0) << prune.output;
-  EXPECT_NE(prune.output.find(": 6 entries, "), std::string::npos) << prune.output;
+  EXPECT_NE(prune.output.find(": 7 entries, "), std::string::npos) << prune.output;  // 6 and the bundle
   EXPECT_NE(prune.output.find("-> 0 entries, 0 bytes"), std::string::npos) << prune.output;
-  EXPECT_TRUE(entries().empty());
+  EXPECT_TRUE(all_entries().empty());
   CommandResult not_a_cache = run_command("'" STATEPACK_EXE "' cache prune '" + dir_.string() + "/inc'");
   EXPECT_EQ(not_a_cache.exit_code, 2) << not_a_cache.output;
   EXPECT_NE(not_a_cache.output.find("is not a statepack cache directory"), std::string::npos)
