@@ -248,7 +248,9 @@ class FileReader {
 
   std::optional<ShaderDesc> shader_object(const Json& j, const std::string& pointer, uint32_t slot_stage) {
     if (!j.is_object()) return read_shader(ctx_, j, pointer, slot_stage);  // reports the type error
-    auto shader = read_shader(ctx_, merge(defaults_.shader, j), pointer, slot_stage);
+    auto shader = defaults_.shader.empty()
+                      ? read_shader(ctx_, j, pointer, slot_stage)
+                      : read_shader(ctx_, merge(defaults_.shader, j), pointer, slot_stage);
     if (!shader) return shader;
     // One name, one shader, whether it is defined in the Shaders section or inline in a pipeline.
     auto name_of = [](const ShaderDesc& s) { return s.name; };
@@ -430,9 +432,15 @@ class FileReader {
     else if (has({"pGeneralShaders", "pTriangleHitShaders", "pProceduralHitShaders"}))
       type = 3;
     // Defaults apply before reading; a compute pipeline takes no GraphicsPipeline defaults.
-    Json defaults = defaults_.pipeline;
-    if (type && *type != 0) defaults.erase("GraphicsPipeline");
-    const Json j = merge(defaults, raw);
+    // (Without defaults, the object itself: a copy per pipeline was a good part of reading a large file.)
+    const Json* defaults = &defaults_.pipeline;
+    Json without_graphics, merged;
+    if (type && *type != 0 && defaults->contains("GraphicsPipeline")) {
+      without_graphics = *defaults;
+      without_graphics.erase("GraphicsPipeline");
+      defaults = &without_graphics;
+    }
+    const Json& j = defaults->empty() ? raw : (merged = merge(*defaults, raw));
 
     auto pso_desc = j.find("PSODesc");
     if (pso_desc == j.end()) return json_.error(pointer, "a pipeline needs 'PSODesc' with a 'Name'");

@@ -720,6 +720,22 @@ std::string output_refusal(const PackOptions& options) {
   return "";
 }
 
+// Writes what the pack kept to the cache (a warning when it cannot) and notes this pack's share of its
+// statistics (a cache may serve several packs) for --time-report.
+void flush_cache(CompileCache& cache, const CompileCache::Stats& before, const std::vector<InputFile>& inputs,
+                 PhaseTimes& times, std::ostream& err) {
+  if (std::string warning = cache.flush(inputs); !warning.empty())
+    err << "statepack: warning: --cache-dir: " << warning << "\n";
+  const CompileCache::Stats s = cache.stats();
+  times.note("cache: " + std::to_string(s.hits - before.hits) + " hits, " +
+             std::to_string(s.misses - before.misses) + " misses, " +
+             std::to_string(s.damaged - before.damaged) + " damaged, " +
+             std::to_string(s.written - before.written) + " written, " +
+             std::to_string(s.removed - before.removed) + " removed; " +
+             std::to_string(s.from_bundle - before.from_bundle) + " entries read from the pack's bundle");
+  times.done("cache");
+}
+
 // What names a pack for its cache bundle (compile_cache.hpp): where it runs, what it reads first, and
 // the options that decide its entries (so that two builds of one notation with other options keep a
 // bundle each). Not the output: a pack to another file needs the same entries. Only a guess at which
@@ -810,19 +826,7 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err, P
   }
   if (notation_ok && options.opengl) add_opengl(notation, gl_compiled, options, builder, diag, cached);
   // What compiled is kept whether or not the pack succeeds: the next run needs it either way.
-  if (cached) {
-    if (std::string warning = cached->flush(inputs); !warning.empty())
-      err << "statepack: warning: --cache-dir: " << warning << "\n";
-    CompileCache::Stats s = cached->stats();  // this pack's, of a cache that may serve several
-    s.hits -= stats_before.hits, s.misses -= stats_before.misses, s.damaged -= stats_before.damaged;
-    s.written -= stats_before.written, s.removed -= stats_before.removed;
-    times.note("cache: " + std::to_string(s.hits) + " hits, " + std::to_string(s.misses) + " misses, " +
-               std::to_string(s.damaged) + " damaged, " + std::to_string(s.written) + " written, " +
-               std::to_string(s.removed) + " removed; " +
-               std::to_string(s.from_bundle - stats_before.from_bundle) +
-               " entries read from the pack's bundle");
-    times.done("cache");
-  }
+  if (cached) flush_cache(*cached, stats_before, inputs, times, err);
   if (!diag.has_errors()) note_unused_objects(notation, diag);
   if (diag.has_errors()) {
     diag.print(err);

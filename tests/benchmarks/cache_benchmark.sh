@@ -1,15 +1,16 @@
 #!/usr/bin/env bash
-# The compile cache (pack --cache-dir) on a project of N shader files (generate_shader_project.sh):
+# The compile cache (pack --cache-dir) on a project of N shader files (generate_shader_project.sh, real or
+# small shaders):
 # a pack without a cache, a cold pack into an empty cache, a warm pack with nothing changed, and a pack
 # after one shader file changed, each with every core; prints a Markdown table with each figure's share
 # of the cold pack, and checks that every archive is the bytes of a pack without a cache.
-# Usage: cache_benchmark.sh <statepack> <repository root> [N=1000] [repeats=3]
-# Run it through CMake: cmake --build build --target bench_cache
+# Usage: cache_benchmark.sh <statepack> <repository root> [N=1000] [repeats=3] [real|small]
+# Run it through CMake: cmake --build build --target bench_cache (both kinds)
 set -euo pipefail
-statepack=$1 root=$2 count=${3:-1000} repeats=${4:-3}
+statepack=$1 root=$2 count=${3:-1000} repeats=${4:-3} kind=${5:-real}
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-bash "$(dirname "$0")/generate_shader_project.sh" "$root" "$work/project" "$count"
+bash "$(dirname "$0")/generate_shader_project.sh" "$root" "$work/project" "$count" "$kind"
 cd "$work/project"
 
 # Wall milliseconds and peak RSS (MiB) of one pack; sets $ms and $mib.
@@ -53,8 +54,13 @@ cmp -s reference.spk changed.spk || { echo "FAIL: changed.spk differs from a pac
 
 warm_ms=$(median "${warm[@]}") changed_ms=$(median "${changed[@]}")
 share() { awk -v a="$1" -v b="$2" 'BEGIN { printf "%.1f %%", 100 * a / b }'; }
-echo "statepack pack --cache-dir, $count shader files (the path tracer's compute shader, ~480 lines with its"
-echo "#includes, each copy compiling to its own module), -t $(nproc), $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ *//')"
+if [[ $kind == real ]]; then
+  what="the path tracer's compute shader, ~480 lines with its #includes, each copy compiling to its own module"
+else
+  what="small compute shaders of ten lines, each compiling to its own module"
+fi
+echo "statepack pack --cache-dir, $count shader files ($what), -t $(nproc),"
+echo "$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ *//')"
 echo "medians of $repeats runs (without a cache: ${plain[*]}; cold: ${cold[*]}; warm: ${warm[*]}; one changed:"
 echo "${changed[*]} ms); every archive byte-identical to a pack without a cache"
 echo

@@ -8,8 +8,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "statepack/bootstrap/host_tools.hpp"
-#include "statepack/bootstrap/vulkan_context.hpp"
+#include "min_device.hpp"
 
 int main(int argc, char** argv) {
   if (argc != 2) return std::fprintf(stderr, "usage: min_glslang <shader.comp>\n"), 2;
@@ -25,16 +24,16 @@ int main(int argc, char** argv) {
   shader.setEnvClient(glslang::EShClientVulkan, glslang::EShTargetVulkan_1_0);
   shader.setEnvTarget(glslang::EShTargetSpv, glslang::EShTargetSpv_1_0);
   if (!shader.parse(GetDefaultResources(), 450, false, EShMsgDefault))
-    return std::fprintf(stderr, "%s\n", statepack::bootstrap::printable(shader.getInfoLog()).c_str()), 1;
+    return std::fprintf(stderr, "%s\n", min_device::printable(shader.getInfoLog()).c_str()), 1;
   glslang::TProgram program;
   program.addShader(&shader);
   if (!program.link(EShMsgDefault)) return 1;
   std::vector<unsigned int> spirv;
   glslang::GlslangToSpv(*program.getIntermediate(EShLangCompute), spirv);
 
-  auto vk = statepack::bootstrap::VulkanContext::create({false, false, {}});
-  if (!vk) return 1;
-  VkDevice device = (*vk)->device;
+  min_device::Device vk;
+  if (!min_device::create(vk)) return 1;
+  VkDevice device = vk.device;
   VkShaderModuleCreateInfo module_info{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
   module_info.codeSize = spirv.size() * 4;
   module_info.pCode = spirv.data();
