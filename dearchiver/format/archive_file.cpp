@@ -1,5 +1,7 @@
 #include "archive_file.hpp"
 
+#include "support/failure.hpp"
+
 #include "semantic_check.hpp"
 #include "support/file_io.hpp"
 
@@ -9,22 +11,22 @@ Result<Contents> load_archive(std::span<const uint8_t> bytes, std::optional<uint
                               const std::string& origin, uint32_t threads,
                               std::vector<spirv::Module>* walked) {
   auto decoded = decode(bytes);
-  if (!decoded) return Error{decoded.error().code, origin + ": " + decoded.error().message};
+  if (!decoded) return detail::failure(decoded.error().code, origin + ": " + decoded.error().message);
   // What the SPIR-V declares must agree with the stored layouts before anything reaches Vulkan.
   if (auto consistent = check_shader_interfaces(*decoded, threads, walked); !consistent)
-    return Error{consistent.error().code, origin + ": " + consistent.error().message};
+    return detail::failure(consistent.error().code, origin + ": " + consistent.error().message);
   if (required && decoded->content_version != *required)
-    return Error{ErrorCode::content_version_mismatch, origin + ": content version " +
-                                                          std::to_string(decoded->content_version) +
-                                                          ", required " + std::to_string(*required)};
+    return detail::failure(ErrorCode::content_version_mismatch,
+                           origin + ": content version " + std::to_string(decoded->content_version) +
+                               ", required " + std::to_string(*required));
   return decoded;
 }
 
 Result<void> check_opengl(const Contents& contents, const std::string& origin) {
   if (auto valid = validate_gl(contents); !valid)
-    return Error{valid.error().code, origin + ": " + valid.error().message};
+    return detail::failure(valid.error().code, origin + ": " + valid.error().message);
   if (auto consistent = check_gl_shader_interfaces(contents); !consistent)
-    return Error{consistent.error().code, origin + ": " + consistent.error().message};
+    return detail::failure(consistent.error().code, origin + ": " + consistent.error().message);
   return {};
 }
 

@@ -60,6 +60,8 @@
 // do not know them ignore them (so they change no version number).
 #include "archive_format.hpp"
 
+#include "support/failure.hpp"
+
 #define XXH_STATIC_LINKING_ONLY  // XXH3_state_t on the stack
 #include <xxhash.h>
 
@@ -459,7 +461,7 @@ struct Section {
 };
 
 [[gnu::cold]] Error corrupt(std::string message) {
-  return Error{ErrorCode::corrupt, "corrupt archive: " + std::move(message)};
+  return detail::failure(ErrorCode::corrupt, "corrupt archive: " + std::move(message));
 }
 
 // Reads records; remembers the first problem instead of throwing. Section sizes were checked
@@ -1037,30 +1039,32 @@ namespace {
 // The fixed 64-byte header, before anything it points at is read.
 Result<void> check_header(std::span<const uint8_t> file) {
   if (reinterpret_cast<uintptr_t>(file.data()) % 4 != 0)
-    return Error{ErrorCode::misaligned_memory,
-                 "archive memory must be 4-byte aligned to hand SPIR-V to Vulkan"};
+    return detail::failure(ErrorCode::misaligned_memory,
+                           "archive memory must be 4-byte aligned to hand SPIR-V to Vulkan");
   if (file.size() >= kMagic.size() && !std::equal(kMagic.begin(), kMagic.end(), file.begin()))
-    return Error{ErrorCode::bad_magic, "not a statepack archive (wrong magic bytes)"};
+    return detail::failure(ErrorCode::bad_magic, "not a statepack archive (wrong magic bytes)");
   if (file.size() < kHeaderSize)
-    return Error{ErrorCode::truncated, "truncated archive: " + std::to_string(file.size()) +
-                                           " bytes is shorter than the 64-byte header"};
+    return detail::failure(ErrorCode::truncated, "truncated archive: " + std::to_string(file.size()) +
+                                                     " bytes is shorter than the 64-byte header");
   const uint8_t* h = file.data();
   uint32_t version = get_u32(h + 8), oldest = get_u32(h + 12), header_size = get_u32(h + 16);
   if (oldest > kFormatVersion)
-    return Error{ErrorCode::unsupported_version, "archive format version " + std::to_string(version) +
-                                                     " needs a reader of version " + std::to_string(oldest) +
-                                                     " or newer; this reader understands version " +
-                                                     std::to_string(kFormatVersion)};
+    return detail::failure(ErrorCode::unsupported_version,
+                           "archive format version " + std::to_string(version) +
+                               " needs a reader of version " + std::to_string(oldest) +
+                               " or newer; this reader understands version " +
+                               std::to_string(kFormatVersion));
   uint64_t file_size = get_u64(h + 32);
   if (file_size > file.size())
-    return Error{ErrorCode::truncated, "truncated archive: header says " + std::to_string(file_size) +
-                                           " bytes, got " + std::to_string(file.size())};
+    return detail::failure(ErrorCode::truncated, "truncated archive: header says " +
+                                                     std::to_string(file_size) + " bytes, got " +
+                                                     std::to_string(file.size()));
   if (file_size < file.size())
     return corrupt("header says " + std::to_string(file_size) + " bytes but " + std::to_string(file.size()) +
                    " were given (trailing data)");
   // Fuzzing builds skip the hashes so that mutated inputs reach the structural checks behind them.
   if (!kFuzzing && archive_checksum(file) != get_u64(h + kChecksumOffset))
-    return Error{ErrorCode::checksum_mismatch, "archive checksum mismatch: the file is damaged"};
+    return detail::failure(ErrorCode::checksum_mismatch, "archive checksum mismatch: the file is damaged");
   if (header_size < kHeaderSize || header_size > file.size()) return corrupt("bad header size");
   return {};
 }
@@ -1119,8 +1123,8 @@ Result<void> read_spirv_blobs(std::span<const uint8_t> file, Reader& r, Contents
       return corrupt("SPIR-V blob " + std::to_string(i) + " has a bad offset or size");
     std::span<const uint8_t> bytes = file.subspan(offset, size);
     if (!kFuzzing && hash_bytes(bytes) != get_u64(e + 8))
-      return Error{ErrorCode::checksum_mismatch,
-                   "SPIR-V blob " + std::to_string(i) + " content hash mismatch"};
+      return detail::failure(ErrorCode::checksum_mismatch,
+                             "SPIR-V blob " + std::to_string(i) + " content hash mismatch");
     if (get_u32(bytes.data()) != kSpirvMagic) return corrupt("blob " + std::to_string(i) + " is not SPIR-V");
     c.spirv.emplace_back(reinterpret_cast<const uint32_t*>(bytes.data()), size / 4);
   }

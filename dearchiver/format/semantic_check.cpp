@@ -1,5 +1,7 @@
 #include "semantic_check.hpp"
 
+#include "support/failure.hpp"
+
 #include "support/parallel_for.hpp"
 
 #include <algorithm>
@@ -26,7 +28,7 @@ std::string type_names(spirv::DescriptorTypeMask mask) {
 constexpr uint32_t kMaxVertexLocations = 64;
 
 [[gnu::cold]] Error corrupt(std::string message) {
-  return Error{ErrorCode::corrupt, "corrupt archive: " + std::move(message)};
+  return detail::failure(ErrorCode::corrupt, "corrupt archive: " + std::move(message));
 }
 
 // Names a pipeline and one of its shaders in messages. The strings are built only when a check fails:

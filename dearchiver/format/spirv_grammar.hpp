@@ -53,6 +53,7 @@ struct Instruction {
 
 #include "spirv_grammar_table.inc"
 
+// Its name, or "" for the instructions the table leaves unnamed (spirv_grammar_gen.py says which).
 inline const char* name_of(const Instruction& instruction) {
   return kInstructionNames + instruction.name;
 }

@@ -74,7 +74,7 @@ def main(source, target):
         bits = "true" if kinds[name]["category"] == "BitEnum" else "false"
         enum_rows.append(f'{{{bits}, {first}, {len(enumerants) - first}}}')
 
-    by_opcode, names, names_size = {}, [], 0
+    by_opcode, names, names_size = {}, [""], 1  # offset 0: no name
     for i in grammar["instructions"]:
         by_opcode.setdefault(i["opcode"], i)  # the first of aliases sharing an opcode
     for opcode in sorted(by_opcode):
@@ -95,6 +95,11 @@ def main(source, target):
             flags.append("kMayReferenceForward")
         # Names as offsets into one string, not pointers: a pointer per row costs the program a
         # relocation (24 bytes in a position-independent program) beside its own 8.
+        # Intel's instructions (OpenCL and FPGA work, more names than all the others) go unnamed:
+        # a message about one says its opcode.
+        if name.endswith("INTEL"):
+            instructions.append(f'{{{opcode}, {first}, {len(own)}, {" | ".join(flags)}, 0}}')
+            continue
         instructions.append(f'{{{opcode}, {first}, {len(own)}, {" | ".join(flags)}, {names_size}}}')
         names.append(name)
         names_size += len(name) + 1  # with its NUL

@@ -4,6 +4,8 @@
 // on input (enumerant parameters nest one level, fixed by the grammar).
 #include "spirv_structure.hpp"
 
+#include "support/failure.hpp"
+
 #include <algorithm>
 #include <array>
 #include <optional>
@@ -70,6 +72,14 @@ std::span<const Operand> parameters_of(uint16_t kind, uint32_t value) {
   return {kOperands + it->first_operand, it->operand_count};
 }
 
+// "OpTypeInt"; "opcode 5633" for an instruction the grammar table keeps unnamed; "instruction" for an
+// opcode SPIR-V does not have (the message says which).
+std::string instruction_text(uint32_t opcode) {
+  const Instruction* i = find_instruction(opcode);
+  if (!i) return "instruction";
+  return *name_of(*i) ? std::string(name_of(*i)) : "opcode " + std::to_string(opcode);
+}
+
 std::string id_text(uint32_t id) {
   return "%" + std::to_string(id);
 }
@@ -129,9 +139,8 @@ struct Checker {
   Checker(std::span<const uint32_t> w) : words(w), bound(w[3]), definitions(w[3], w.size()) {}
 
   [[gnu::cold]] bool fail(size_t word, const std::string& what) {
-    const Instruction* i = find_instruction(words[word] & 0xFFFFu);
-    error = Error{ErrorCode::corrupt, "SPIR-V " + std::string(i ? name_of(*i) : "instruction") + " at word " +
-                                          std::to_string(word) + ": " + what};
+    error = detail::failure(ErrorCode::corrupt, "SPIR-V " + instruction_text(words[word] & 0xFFFFu) +
+                                                    " at word " + std::to_string(word) + ": " + what);
     return false;
   }
   [[gnu::cold]] bool fail(const std::string& what) { return fail(at, what); }
@@ -158,8 +167,8 @@ struct Checker {
     ids.push_back(id);
     if (const Definition* d = definitions.find(id)) {
       if (names_type && !(d->flags & kDefinesType))
-        return fail("type operand " + id_text(id) + " is defined by " +
-                    name_of(*find_instruction(d->opcode)) + ", not a type");
+        return fail("type operand " + id_text(id) + " is defined by " + instruction_text(d->opcode) +
+                    ", not a type");
       return true;
     }
     if (forward_pointers.count(id) || in_function || (instruction->flags & kMayReferenceForward)) {
@@ -333,9 +342,10 @@ Result<void> check_structure(std::span<const uint32_t> words) {
   for (size_t at = 5; at < words.size();) {
     const uint32_t count = words[at] >> 16;
     if (count == 0 || count > words.size() - at)
-      return Error{ErrorCode::corrupt, "SPIR-V word " + std::to_string(at) +
-                                           (count == 0 ? ": instruction with a word count of zero"
-                                                       : ": instruction runs past the end of the module")};
+      return detail::failure(ErrorCode::corrupt,
+                             "SPIR-V word " + std::to_string(at) +
+                                 (count == 0 ? ": instruction with a word count of zero"
+                                             : ": instruction runs past the end of the module"));
     if (!c.step(at)) return *c.error;
     at += count;
   }

@@ -3,6 +3,8 @@
 // header's bound, and type recursion by a depth limit, so hostile words yield errors, not crashes.
 #include "spirv_walk.hpp"
 
+#include "support/failure.hpp"
+
 #include "spirv_structure.hpp"
 
 #include <vulkan/vulkan_core.h>
@@ -173,7 +175,7 @@ struct Walker {
   mutable uint64_t size_steps = 0;  // work spent in size_of, which branches over struct members
 
   [[gnu::cold]] static Error fail(size_t at, const std::string& what) {
-    return Error{ErrorCode::corrupt, "SPIR-V word " + std::to_string(at) + ": " + what};
+    return detail::failure(ErrorCode::corrupt, "SPIR-V word " + std::to_string(at) + ": " + what);
   }
 
   Result<void> record(size_t at, uint32_t op, std::span<const uint32_t> operands) {
@@ -487,13 +489,14 @@ struct Walker {
         r.array_size = static_cast<uint32_t>(elements);
         r.compatible = classify(pointee, v.storage);
         if (!d || !d->set || !d->binding)
-          return Error{ErrorCode::corrupt,
-                       "variable %" + std::to_string(v.id) + " has no descriptor set or binding"};
+          return detail::failure(ErrorCode::corrupt,
+                                 "variable %" + std::to_string(v.id) + " has no descriptor set or binding");
         r.set = *d->set;
         r.binding = *d->binding;
         module.resources.push_back(r);
       } else if (v.storage == kPushConstant) {
-        if (module.push_constants) return Error{ErrorCode::corrupt, "more than one push constant block"};
+        if (module.push_constants)
+          return detail::failure(ErrorCode::corrupt, "more than one push constant block");
         module.push_constants = PushConstantBlock{
             v.id, static_cast<uint32_t>(std::min<uint64_t>(size_of(pointee, nullptr, 0), 0xFFFFFFFFu))};
       } else if (v.storage == kOutput && writes_point_size(v.id, pointee, d)) {
@@ -534,14 +537,18 @@ bool Module::uses(const EntryPoint& entry, uint32_t variable) const {
 }
 
 Result<Module> walk(std::span<const uint32_t> words) {
-  if (words.size() < 5) return Error{ErrorCode::corrupt, "SPIR-V module is shorter than its 5-word header"};
-  if (words[0] != kMagic) return Error{ErrorCode::corrupt, "SPIR-V module has the wrong magic number"};
+  if (words.size() < 5)
+    return detail::failure(ErrorCode::corrupt, "SPIR-V module is shorter than its 5-word header");
+  if (words[0] != kMagic)
+    return detail::failure(ErrorCode::corrupt, "SPIR-V module has the wrong magic number");
   const uint32_t version = words[1];
   if ((version & 0xFF0000FFu) != 0 || version < 0x00010000u || version > 0x00010600u)
-    return Error{ErrorCode::corrupt, "SPIR-V module has an unknown version word " + std::to_string(version)};
+    return detail::failure(ErrorCode::corrupt,
+                           "SPIR-V module has an unknown version word " + std::to_string(version));
   if (words[3] == 0 || words[3] > kMaxBound)
-    return Error{ErrorCode::corrupt, "SPIR-V module has an invalid id bound " + std::to_string(words[3])};
-  if (words[4] != 0) return Error{ErrorCode::corrupt, "SPIR-V module has a non-zero schema word"};
+    return detail::failure(ErrorCode::corrupt,
+                           "SPIR-V module has an invalid id bound " + std::to_string(words[3]));
+  if (words[4] != 0) return detail::failure(ErrorCode::corrupt, "SPIR-V module has a non-zero schema word");
   if (auto ok = check_structure(words); !ok) return ok.error();
   Walker w;
   w.words = words;
@@ -581,18 +588,19 @@ Result<Module> walk(std::span<const uint32_t> words) {
     }
     at += count;
   }
-  if (in_function) return Error{ErrorCode::corrupt, "SPIR-V module ends inside a function"};
+  if (in_function) return detail::failure(ErrorCode::corrupt, "SPIR-V module ends inside a function");
   for (auto& entry : w.module.entry_points) std::sort(entry.interface.begin(), entry.interface.end());
-  if (w.module.entry_points.empty()) return Error{ErrorCode::corrupt, "SPIR-V module has no entry point"};
+  if (w.module.entry_points.empty())
+    return detail::failure(ErrorCode::corrupt, "SPIR-V module has no entry point");
   // Entry points are looked up linearly per shader record; real modules have a handful.
   if (w.module.entry_points.size() > kMaxEntryPoints)
-    return Error{ErrorCode::corrupt,
-                 "SPIR-V module declares more than " + std::to_string(kMaxEntryPoints) + " entry points"};
+    return detail::failure(ErrorCode::corrupt, "SPIR-V module declares more than " +
+                                                   std::to_string(kMaxEntryPoints) + " entry points");
   for (const auto& entry : w.module.entry_points)
     if (!functions.count(entry.function))
-      return Error{ErrorCode::corrupt,
-                   "SPIR-V entry point '" + entry.name + "' names no function of the module"};
-  if (auto ok = w.resolve(); !ok) return Error{ErrorCode::corrupt, "SPIR-V " + ok.error().message};
+      return detail::failure(ErrorCode::corrupt,
+                             "SPIR-V entry point '" + entry.name + "' names no function of the module");
+  if (auto ok = w.resolve(); !ok) return detail::failure(ErrorCode::corrupt, "SPIR-V " + ok.error().message);
   return std::move(w.module);
 }
 

@@ -2,6 +2,8 @@
 // archive's SPIR-V (glShaderBinary + glSpecializeShaderARB); no GLSL reaches the driver.
 #include "statepack/gl_dearchiver.hpp"
 
+#include "support/failure.hpp"
+
 #include <algorithm>
 #include <deque>
 #include <map>
@@ -160,21 +162,22 @@ struct Dearchiver::State {
       const format::GlPipeline* it = format::find_by_name(contents(i).gl_pipelines, name);
       if (!it) continue;
       if (it->kind != kind)
-        return Error{ErrorCode::wrong_type, "pipeline '" + std::string(name) + "' is a " +
-                                                kind_name(it->kind) + " pipeline, not a " + kind_name(kind) +
-                                                " pipeline"};
+        return statepack::detail::failure(ErrorCode::wrong_type,
+                                          "pipeline '" + std::string(name) + "' is a " + kind_name(it->kind) +
+                                              " pipeline, not a " + kind_name(kind) + " pipeline");
       return Found{&contents(i), it, i};
     }
     // Packed, but for Vulkan only?
     for (size_t i = 0; i < archives.size(); ++i)
       for (const auto& p : contents(i).pipelines)
         if (p.name == name)
-          return Error{
+          return statepack::detail::failure(
               ErrorCode::missing_backend,
-              "pipeline '" + std::string(name) + "' has no OpenGL version in its archive (only Vulkan)"};
-    return Error{ErrorCode::not_found, "no OpenGL pipeline named '" + std::string(name) + "' in " +
-                                           std::to_string(archives.size()) + " loaded archive(s)" +
-                                           did_you_mean(name, gl_names())};
+              "pipeline '" + std::string(name) + "' has no OpenGL version in its archive (only Vulkan)");
+    return statepack::detail::failure(ErrorCode::not_found, "no OpenGL pipeline named '" + std::string(name) +
+                                                                "' in " + std::to_string(archives.size()) +
+                                                                " loaded archive(s)" +
+                                                                did_you_mean(name, gl_names()));
   }
 
   // glCreateShader + glShaderBinary(SPIR-V) + glSpecializeShaderARB, checked.
@@ -184,25 +187,27 @@ struct Dearchiver::State {
                              " shader '" + shader.name + "'";
     const GLenum type = detail::shader_type(shader.stage);
     if (type == 0)
-      return Error{ErrorCode::unsupported,
-                   what + ": stage " + std::to_string(shader.stage) + " is not an OpenGL stage"};
+      return statepack::detail::failure(
+          ErrorCode::unsupported,
+          what + ": stage " + std::to_string(shader.stage) + " is not an OpenGL stage");
     if (shader.blob >= contents.spirv.size())  // the decoder checks this; a cheap second look
-      return Error{ErrorCode::corrupt,
-                   what + ": SPIR-V blob " + std::to_string(shader.blob) + " does not exist"};
+      return statepack::detail::failure(
+          ErrorCode::corrupt, what + ": SPIR-V blob " + std::to_string(shader.blob) + " does not exist");
     std::vector<GLuint> ids, values;
     for (const auto& c : pipeline.constants) {
       if (c.stage != shader.stage) continue;
       if (c.size != 4)
-        return Error{ErrorCode::unsupported, what + ": specialization constant '" + c.name + "' (id " +
-                                                 std::to_string(c.constant_id) + ") has " +
-                                                 std::to_string(c.size) +
-                                                 " bytes; glSpecializeShader takes 32-bit values only"};
+        return statepack::detail::failure(
+            ErrorCode::unsupported, what + ": specialization constant '" + c.name + "' (id " +
+                                        std::to_string(c.constant_id) + ") has " + std::to_string(c.size) +
+                                        " bytes; glSpecializeShader takes 32-bit values only");
       ids.push_back(c.constant_id);
       values.push_back(GLuint(c.value & 0xFFFFFFFFu));
     }
     const auto& spirv = contents.spirv[shader.blob];
     GlName<delete_shader> name(glCreateShader(type));
-    if (name.get() == 0) return Error{ErrorCode::gl_error, what + ": glCreateShader failed"};
+    if (name.get() == 0)
+      return statepack::detail::failure(ErrorCode::gl_error, what + ": glCreateShader failed");
     const GLuint handle = name.get();
     // Flags left by earlier calls would be read as this shader's by shader_log: cleared first (GL errors
     // are sticky until read; documented in gl_dearchiver.hpp).
@@ -214,8 +219,9 @@ struct Dearchiver::State {
     GLint compiled = GL_FALSE;
     glGetShaderiv(handle, GL_COMPILE_STATUS, &compiled);
     if (compiled != GL_TRUE)
-      return Error{ErrorCode::gl_error, what + ": glSpecializeShader (entry point '" + shader.entry_point +
-                                            "') failed: " + shader_log(handle)};
+      return statepack::detail::failure(ErrorCode::gl_error, what + ": glSpecializeShader (entry point '" +
+                                                                 shader.entry_point +
+                                                                 "') failed: " + shader_log(handle));
     return name.release();
   }
 
@@ -236,12 +242,14 @@ struct Dearchiver::State {
     }
     for (const auto& b : pipeline.bindings) {
       if (b.kind >= format::kGlNamespaceCount)
-        return Error{ErrorCode::corrupt, "pipeline '" + pipeline.name + "': binding '" + b.name +
-                                             "' has unknown namespace " + std::to_string(b.kind)};
+        return statepack::detail::failure(ErrorCode::corrupt, "pipeline '" + pipeline.name + "': binding '" +
+                                                                  b.name + "' has unknown namespace " +
+                                                                  std::to_string(b.kind));
       out.bindings.push_back({b.name, Binding::Kind(b.kind), b.binding, b.count, b.stages});
     }
     if (pipeline.shaders.empty())
-      return Error{ErrorCode::corrupt, "pipeline '" + pipeline.name + "' has no shaders"};
+      return statepack::detail::failure(ErrorCode::corrupt,
+                                        "pipeline '" + pipeline.name + "' has no shaders");
 
     std::vector<GlName<delete_shader>> shaders;
     shaders.reserve(pipeline.shaders.size());
@@ -252,29 +260,33 @@ struct Dearchiver::State {
     }
     GlName<delete_program> program(glCreateProgram());
     if (program.get() == 0)
-      return Error{ErrorCode::gl_error, "pipeline '" + pipeline.name + "': glCreateProgram failed"};
+      return statepack::detail::failure(ErrorCode::gl_error,
+                                        "pipeline '" + pipeline.name + "': glCreateProgram failed");
     for (const auto& s : shaders) glAttachShader(program.get(), s.get());
     glLinkProgram(program.get());
     GLint linked = GL_FALSE;
     glGetProgramiv(program.get(), GL_LINK_STATUS, &linked);
     for (const auto& s : shaders) glDetachShader(program.get(), s.get());  // the program keeps its code
     if (linked != GL_TRUE)
-      return Error{ErrorCode::gl_error,
-                   "pipeline '" + pipeline.name + "': glLinkProgram failed: " + program_log(program.get())};
+      return statepack::detail::failure(
+          ErrorCode::gl_error,
+          "pipeline '" + pipeline.name + "': glLinkProgram failed: " + program_log(program.get()));
     out.program = program.release();
     return out;
   }
 
   Result<const Program*> unpack(std::string_view name, format::PipelineKind kind) {
     if (epoxy_gl_version() == 0)  // no context current on this thread (create() checked one was)
-      return Error{ErrorCode::unsupported,
-                   "unpacking '" + std::string(name) + "' needs an OpenGL context current on this thread"};
+      return statepack::detail::failure(
+          ErrorCode::unsupported,
+          "unpacking '" + std::string(name) + "' needs an OpenGL context current on this thread");
     if (auto it = by_name.find(name); it != by_name.end()) {
       const bool compute = kind == format::PipelineKind::compute;
       if (it->second->compute != compute)
-        return Error{ErrorCode::wrong_type, "pipeline '" + std::string(name) + "' is a " +
-                                                (it->second->compute ? "compute" : "graphics") +
-                                                " pipeline, not a " + kind_name(kind) + " pipeline"};
+        return statepack::detail::failure(
+            ErrorCode::wrong_type, "pipeline '" + std::string(name) + "' is a " +
+                                       (it->second->compute ? "compute" : "graphics") + " pipeline, not a " +
+                                       kind_name(kind) + " pipeline");
       return it->second;
     }
     auto found = find(name, kind);
@@ -291,25 +303,27 @@ struct Dearchiver::State {
   // Re-creates the programs whose pipeline the new build changed, in the same Program (docs/api.md).
   Result<ReloadReport> reload(Archive next, const ReloadOptions& options) {
     if (epoxy_gl_version() == 0)
-      return Error{ErrorCode::unsupported,
-                   "gl::Dearchiver::reload needs an OpenGL context current on this thread"};
+      return statepack::detail::failure(
+          ErrorCode::unsupported, "gl::Dearchiver::reload needs an OpenGL context current on this thread");
     if (options.archive >= archives.size())
-      return Error{ErrorCode::invalid_argument,
-                   "gl::Dearchiver::reload: ReloadOptions::archive is " + std::to_string(options.archive) +
-                       ", but " + std::to_string(archives.size()) + " archive(s) were added"};
+      return statepack::detail::failure(ErrorCode::invalid_argument,
+                                        "gl::Dearchiver::reload: ReloadOptions::archive is " +
+                                            std::to_string(options.archive) + ", but " +
+                                            std::to_string(archives.size()) + " archive(s) were added");
     const format::Contents& incoming = statepack::detail::ArchiveAccess::contents(next);
     if (incoming.gl_pipelines.empty())
-      return Error{ErrorCode::missing_backend,
-                   "gl::Dearchiver::reload: the new archive holds no OpenGL pipelines"};
+      return statepack::detail::failure(ErrorCode::missing_backend,
+                                        "gl::Dearchiver::reload: the new archive holds no OpenGL pipelines");
     if (auto checked = format::check_opengl(incoming, "gl::Dearchiver::reload"); !checked)
       return checked.error();
     if (!options.allow_content_version_change &&
         next.content_version() != archives[options.archive].content_version())
-      return Error{ErrorCode::content_version_mismatch,
-                   "gl::Dearchiver::reload: the new archive's content version is " +
-                       std::to_string(next.content_version()) + ", the one it replaces has " +
-                       std::to_string(archives[options.archive].content_version()) +
-                       " (ReloadOptions::allow_content_version_change accepts it)"};
+      return statepack::detail::failure(ErrorCode::content_version_mismatch,
+                                        "gl::Dearchiver::reload: the new archive's content version is " +
+                                            std::to_string(next.content_version()) +
+                                            ", the one it replaces has " +
+                                            std::to_string(archives[options.archive].content_version()) +
+                                            " (ReloadOptions::allow_content_version_change accepts it)");
     // The programs made from the replaced archive; the others are not its.
     const format::Contents* replaced = &contents(options.archive);
     std::vector<Program*> affected;
@@ -348,12 +362,12 @@ struct Dearchiver::State {
     const ObjectInfo info{p.name, p.compute ? ObjectKind::compute_pipeline : ObjectKind::graphics_pipeline};
     if (next.record.bindings != was.record.bindings) {
       report.failures.push_back(
-          {info,
-           Error{ErrorCode::layout_changed,
-                 "pipeline '" + statepack::detail::printable(p.name) +
-                     "': its bindings changed (a resource's name, namespace, binding, count or stages), "
-                     "which the application binds its buffers and textures by; the old program stays "
-                     "(unpack it in a new Dearchiver to use the new bindings)"}});
+          {info, statepack::detail::failure(
+                     ErrorCode::layout_changed,
+                     "pipeline '" + statepack::detail::printable(p.name) +
+                         "': its bindings changed (a resource's name, namespace, binding, count or stages), "
+                         "which the application binds its buffers and textures by; the old program stays "
+                         "(unpack it in a new Dearchiver to use the new bindings)")});
       return;
     }
     auto made = make_program(now, kind);
@@ -381,18 +395,20 @@ Result<Dearchiver> Dearchiver::create() {
   return api_guard("gl::Dearchiver::create", [&]() -> Result<Dearchiver> {
     const int version = epoxy_gl_version();  // 45 for 4.5; 0 without a current context
     if (version == 0)
-      return Error{ErrorCode::unsupported,
-                   "gl::Dearchiver::create: no OpenGL context is current on the calling thread"};
+      return statepack::detail::failure(
+          ErrorCode::unsupported,
+          "gl::Dearchiver::create: no OpenGL context is current on the calling thread");
     if (!epoxy_is_desktop_gl())
-      return Error{ErrorCode::unsupported,
-                   "gl::Dearchiver::create: the current context is OpenGL ES, not OpenGL"};
+      return statepack::detail::failure(
+          ErrorCode::unsupported, "gl::Dearchiver::create: the current context is OpenGL ES, not OpenGL");
     if (version < 45)
-      return Error{ErrorCode::unsupported,
-                   "gl::Dearchiver::create: needs a current OpenGL 4.5 context; this one is " +
-                       std::to_string(version / 10) + "." + std::to_string(version % 10)};
+      return statepack::detail::failure(
+          ErrorCode::unsupported, "gl::Dearchiver::create: needs a current OpenGL 4.5 context; this one is " +
+                                      std::to_string(version / 10) + "." + std::to_string(version % 10));
     if (!epoxy_has_gl_extension("GL_ARB_gl_spirv"))
-      return Error{ErrorCode::unsupported,
-                   "gl::Dearchiver::create: the current context lacks GL_ARB_gl_spirv (SPIR-V shaders)"};
+      return statepack::detail::failure(
+          ErrorCode::unsupported,
+          "gl::Dearchiver::create: the current context lacks GL_ARB_gl_spirv (SPIR-V shaders)");
     auto state = std::make_unique<State>();
     state->extensions.polygon_offset_clamp =
         version >= 46 || epoxy_has_gl_extension("GL_ARB_polygon_offset_clamp");
@@ -404,9 +420,10 @@ Result<void> Dearchiver::add_archive(Archive archive) {
   return api_guard("gl::Dearchiver::add_archive", [&]() -> Result<void> {
     const auto& contents = statepack::detail::ArchiveAccess::contents(archive);
     if (contents.gl_pipelines.empty())
-      return Error{ErrorCode::missing_backend,
-                   "gl::Dearchiver::add_archive: the archive holds no OpenGL pipelines (pack it with "
-                   "`statepack --opengl`)"};
+      return statepack::detail::failure(
+          ErrorCode::missing_backend,
+          "gl::Dearchiver::add_archive: the archive holds no OpenGL pipelines (pack it with "
+          "`statepack --opengl`)");
     // Archive::from_* checked the Vulkan part only; the OpenGL block is checked here, where it is used.
     if (auto checked = format::check_opengl(contents, "gl::Dearchiver::add_archive"); !checked)
       return checked.error();

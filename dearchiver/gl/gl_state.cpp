@@ -1,6 +1,8 @@
 // FixedFunctionState: translated from format::GraphicsState (Vulkan enum values) and applied to a context.
 #include "gl_state.hpp"
 
+#include "support/failure.hpp"
+
 #include <cmath>
 #include <optional>
 #include <span>
@@ -72,8 +74,9 @@ constexpr GLenum kBlendOp[] = {GL_FUNC_ADD, GL_FUNC_SUBTRACT, GL_FUNC_REVERSE_SU
 Result<GLenum> lookup(std::span<const GLenum> table, uint32_t value, std::string_view pipeline,
                       const std::string& field) {
   if (value < table.size()) return table[value];
-  return Error{ErrorCode::unsupported, "pipeline '" + std::string(pipeline) + "': " + field + " " +
-                                           std::to_string(value) + " has no OpenGL equivalent"};
+  return statepack::detail::failure(ErrorCode::unsupported, "pipeline '" + std::string(pipeline) +
+                                                                "': " + field + " " + std::to_string(value) +
+                                                                " has no OpenGL equivalent");
 }
 
 // A VkFormat as a vertex attribute format, or nullopt for one GL cannot read from a buffer.
@@ -153,18 +156,20 @@ Result<VertexInput> translate_vertex_input(const format::GraphicsState& g, std::
   VertexInput input;
   for (const auto& b : g.vertex_bindings) {
     if (b.input_rate > 1)
-      return Error{ErrorCode::unsupported, "pipeline '" + std::string(pipeline) + "': vertex binding " +
-                                               std::to_string(b.binding) + " has unknown input rate " +
-                                               std::to_string(b.input_rate)};
+      return statepack::detail::failure(ErrorCode::unsupported,
+                                        "pipeline '" + std::string(pipeline) + "': vertex binding " +
+                                            std::to_string(b.binding) + " has unknown input rate " +
+                                            std::to_string(b.input_rate));
     input.bindings.push_back({b.binding, GLsizei(b.stride), b.input_rate == 1 ? 1u : 0u});
   }
   for (const auto& v : g.vertex_attributes) {
     auto a = vertex_format(v.format);
     if (!a)
-      return Error{ErrorCode::unsupported,
-                   "pipeline '" + std::string(pipeline) + "': vertex attribute at location " +
-                       std::to_string(v.location) + " has VkFormat " + std::to_string(v.format) +
-                       ", which OpenGL cannot read from a vertex buffer"};
+      return statepack::detail::failure(
+          ErrorCode::unsupported, "pipeline '" + std::string(pipeline) + "': vertex attribute at location " +
+                                      std::to_string(v.location) + " has VkFormat " +
+                                      std::to_string(v.format) +
+                                      ", which OpenGL cannot read from a vertex buffer");
     a->location = v.location, a->binding = v.binding, a->offset = v.offset;
     input.attributes.push_back(*a);
   }
@@ -195,7 +200,7 @@ Result<FixedFunctionState> translate_state(const format::GraphicsState& g, std::
   FixedFunctionState s;
   const std::string name(pipeline);
   auto fail = [&](std::string what) {
-    return Error{ErrorCode::unsupported, "pipeline '" + name + "': " + std::move(what)};
+    return statepack::detail::failure(ErrorCode::unsupported, "pipeline '" + name + "': " + std::move(what));
   };
   // Each lookup either sets its field or returns the error from here.
 #define STATEPACK_MAP(target, table, value, field)        \

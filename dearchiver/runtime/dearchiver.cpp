@@ -3,6 +3,8 @@
 // unpack_all and its jobs are unpack_job.cpp's, the variants file variants.cpp's.
 #include "statepack/dearchiver.hpp"
 
+#include "support/failure.hpp"
+
 #include <algorithm>
 #include <chrono>
 #include <mutex>
@@ -57,15 +59,15 @@ Result<ArchivedPipeline> Dearchiver::State::find(std::string_view name, format::
     if (it->kind != kind) {
       const char* actual = it->kind == format::PipelineKind::compute ? "compute" : "graphics";
       const char* wanted = kind == format::PipelineKind::compute ? "compute" : "graphics";
-      return Error{ErrorCode::wrong_type, "pipeline '" + std::string(name) + "' is a " + actual +
-                                              " pipeline, not a " + wanted + " pipeline"};
+      return detail::failure(ErrorCode::wrong_type, "pipeline '" + std::string(name) + "' is a " + actual +
+                                                        " pipeline, not a " + wanted + " pipeline");
     }
     return ArchivedPipeline{i, it};
   }
   auto names = pipeline_names();
-  return Error{ErrorCode::not_found, "no pipeline named '" + std::string(name) + "' in " +
-                                         std::to_string(active.size()) + " loaded archive(s)" +
-                                         did_you_mean(name, names)};
+  return detail::failure(ErrorCode::not_found, "no pipeline named '" + std::string(name) + "' in " +
+                                                   std::to_string(active.size()) + " loaded archive(s)" +
+                                                   did_you_mean(name, names));
 }
 
 Result<void> Dearchiver::State::create(Plan& plan) const {
@@ -161,9 +163,10 @@ const UnpackedPipeline* Dearchiver::State::earlier_variant(const std::string& ke
 Result<void> Dearchiver::State::release(const UnpackedPipeline* pipeline) {
   auto it = place_of.find(pipeline);
   if (it == place_of.end())
-    return Error{ErrorCode::invalid_argument,
-                 "Dearchiver::release: the pipeline is not one this Dearchiver holds (released already, or "
-                 "from another Dearchiver)"};
+    return detail::failure(
+        ErrorCode::invalid_argument,
+        "Dearchiver::release: the pipeline is not one this Dearchiver holds (released already, or "
+        "from another Dearchiver)");
   const Place place = it->second;
   place_of.erase(it);
   if (place.record) place.record->unmodified = nullptr;
@@ -237,7 +240,8 @@ Dearchiver::~Dearchiver() = default;
 Result<Dearchiver> Dearchiver::create(const DeviceContext& context) {
   return api_guard("Dearchiver::create", [&]() -> Result<Dearchiver> {
     if (context.device == VK_NULL_HANDLE || context.physical_device == VK_NULL_HANDLE)
-      return Error{ErrorCode::invalid_argument, "Dearchiver::create needs a VkPhysicalDevice and a VkDevice"};
+      return detail::failure(ErrorCode::invalid_argument,
+                             "Dearchiver::create needs a VkPhysicalDevice and a VkDevice");
     auto functions = load_vulkan_functions(context, "Dearchiver::create");
     if (!functions) return functions.error();
     auto state = std::make_unique<State>();
@@ -323,9 +327,9 @@ Result<const UnpackedSignature*> Dearchiver::unpack_signature(std::string_view n
       return std::nullopt;
     });
     if (!found) {
-      return Error{ErrorCode::not_found,
-                   "no resource signature named '" + std::string(name) + "'" +
-                       did_you_mean(name, state_->names_of({ObjectKind::resource_signature}))};
+      return detail::failure(ErrorCode::not_found,
+                             "no resource signature named '" + std::string(name) + "'" +
+                                 did_you_mean(name, state_->names_of({ObjectKind::resource_signature})));
     }
     if (auto it = state_->signature_by_layout.find(*found); it != state_->signature_by_layout.end())
       return it->second;
@@ -354,8 +358,9 @@ Result<VkRenderPass> Dearchiver::unpack_render_pass(std::string_view name) {
       return std::nullopt;
     });
     if (!found) {
-      return Error{ErrorCode::not_found, "no render pass named '" + std::string(name) + "'" +
-                                             did_you_mean(name, state_->names_of({ObjectKind::render_pass}))};
+      return detail::failure(ErrorCode::not_found,
+                             "no render pass named '" + std::string(name) + "'" +
+                                 did_you_mean(name, state_->names_of({ObjectKind::render_pass})));
     }
     return state_->cache.render_pass(found->first, found->second);
   });
@@ -371,8 +376,9 @@ Result<UnpackedShader> Dearchiver::unpack_shader(std::string_view name) {
       return std::nullopt;
     });
     if (!found) {
-      return Error{ErrorCode::not_found, "no standalone shader named '" + std::string(name) + "'" +
-                                             did_you_mean(name, state_->names_of({ObjectKind::shader}))};
+      return detail::failure(ErrorCode::not_found,
+                             "no standalone shader named '" + std::string(name) + "'" +
+                                 did_you_mean(name, state_->names_of({ObjectKind::shader})));
     }
     const format::Shader& shader = state_->contents(found->first).shaders[found->second];
     auto module = state_->cache.module(found->first, shader.blob, shader.name);

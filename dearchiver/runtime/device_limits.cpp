@@ -1,5 +1,7 @@
 #include "device_limits.hpp"
 
+#include "support/failure.hpp"
+
 #include "vk_enum_names.hpp"
 
 #include <algorithm>
@@ -36,9 +38,9 @@ class Lazy {
 
 Error over_limit(const std::string& object, const std::string& what, uint64_t value, const char* limit,
                  uint64_t allowed) {
-  return Error{ErrorCode::unsupported, object + ": " + what + " is " + std::to_string(value) +
-                                           ", beyond the device's " + limit + " of " +
-                                           std::to_string(allowed)};
+  return detail::failure(ErrorCode::unsupported, object + ": " + what + " is " + std::to_string(value) +
+                                                     ", beyond the device's " + limit + " of " +
+                                                     std::to_string(allowed));
 }
 
 // Descriptor totals by the limit classes of VkPhysicalDeviceLimits.
@@ -216,13 +218,15 @@ Result<void> check_numeric(const std::vector<spirv::Input>& variables, uint32_t 
   for (const auto& v : variables) {
     if (location < v.location || location >= uint64_t(v.location) + v.locations) continue;
     if (format == VK_FORMAT_UNDEFINED)
-      return Error{code, what() + " has no format" + by + ", but the shader's variable at location " +
-                             std::to_string(location) + " is there"};
+      return detail::failure(code, what() + " has no format" + by +
+                                       ", but the shader's variable at location " + std::to_string(location) +
+                                       " is there");
     const spirv::Numeric wanted = spirv::numeric_of_format(format);
     if (v.numeric != spirv::Numeric::other && wanted != spirv::Numeric::other && v.numeric != wanted)
-      return Error{code, what() + " has format " + vk_name(VkFormat(format)) + by + ", which holds " +
-                             numeric_name(wanted) + " values, but the shader's variable at location " +
-                             std::to_string(location) + " is " + numeric_name(v.numeric)};
+      return detail::failure(code, what() + " has format " + vk_name(VkFormat(format)) + by +
+                                       ", which holds " + numeric_name(wanted) +
+                                       " values, but the shader's variable at location " +
+                                       std::to_string(location) + " is " + numeric_name(v.numeric));
   }
   return {};
 }
@@ -255,14 +259,14 @@ Result<void> check_set_layout(const format::SetLayout& layout, const DeviceCaps&
     // Vulkan sets no limit on binding numbers, but drivers size a set layout by its largest one
     // (lavapipe fails with VK_ERROR_OUT_OF_HOST_MEMORY at 2^31), so a sparse absurd one is refused.
     if (b.binding > kMaxBindingNumber)
-      return Error{ErrorCode::unsupported, std::string(owner) + ": binding '" + b.name + "' has the number " +
-                                               std::to_string(b.binding) + ", beyond the " +
-                                               std::to_string(kMaxBindingNumber) +
-                                               " this dearchiver accepts"};
+      return detail::failure(ErrorCode::unsupported, std::string(owner) + ": binding '" + b.name +
+                                                         "' has the number " + std::to_string(b.binding) +
+                                                         ", beyond the " + std::to_string(kMaxBindingNumber) +
+                                                         " this dearchiver accepts");
     if (b.descriptor_type == VK_DESCRIPTOR_TYPE_INPUT_ATTACHMENT &&
         (b.stage_flags & ~VK_SHADER_STAGE_FRAGMENT_BIT))
-      return Error{ErrorCode::corrupt, std::string(owner) + ": input attachment '" + b.name +
-                                           "' is visible to stages other than the fragment stage"};
+      return detail::failure(ErrorCode::corrupt, std::string(owner) + ": input attachment '" + b.name +
+                                                     "' is visible to stages other than the fragment stage");
     totals.add(b.descriptor_type, b.count);
   }
   return check_layout_totals(totals, caps.properties.limits, [&] { return std::string(owner); });
@@ -273,7 +277,9 @@ Result<void> check_dependencies(const format::RenderPass& pass, const VkPhysical
   for (size_t i = 0; i < pass.dependencies.size(); ++i) {
     const auto& d = pass.dependencies[i];
     const std::string dependency = who() + ": dependency " + std::to_string(i);
-    auto bad = [&](const std::string& why) { return Error{ErrorCode::corrupt, dependency + " " + why}; };
+    auto bad = [&](const std::string& why) {
+      return detail::failure(ErrorCode::corrupt, dependency + " " + why);
+    };
     if (d.src_subpass == format::kNone && d.dst_subpass == format::kNone)
       return bad("is external on both sides");
     if (d.src_subpass != format::kNone && d.dst_subpass != format::kNone && d.src_subpass > d.dst_subpass)
@@ -312,23 +318,25 @@ Result<void> check_render_pass(const format::RenderPass& pass, const DeviceCaps&
   for (size_t i = 0; i < pass.attachments.size(); ++i) {
     const auto& a = pass.attachments[i];
     const std::string attachment = who() + ": attachment " + std::to_string(i);
-    if (a.format == VK_FORMAT_UNDEFINED) return Error{ErrorCode::corrupt, attachment + " has no format"};
+    if (a.format == VK_FORMAT_UNDEFINED)
+      return detail::failure(ErrorCode::corrupt, attachment + " has no format");
     if (a.final_layout == VK_IMAGE_LAYOUT_UNDEFINED || a.final_layout == VK_IMAGE_LAYOUT_PREINITIALIZED)
-      return Error{ErrorCode::corrupt, attachment + " has an invalid final layout"};
+      return detail::failure(ErrorCode::corrupt, attachment + " has an invalid final layout");
     const bool depth = is_depth_format(a.format);
     for (uint32_t layout : {a.initial_layout, a.final_layout})
       if (depth ? layout == VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL
                 : depth_layout(layout) && layout != VK_IMAGE_LAYOUT_GENERAL)
-        return Error{ErrorCode::corrupt, attachment + "'s initial or final layout does not fit its format"};
+        return detail::failure(ErrorCode::corrupt,
+                               attachment + "'s initial or final layout does not fit its format");
     const VkFormatFeatureFlags needed =
         depth ? VK_FORMAT_FEATURE_DEPTH_STENCIL_ATTACHMENT_BIT : VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BIT;
     if (!supports(caps.format(a.format), needed))
-      return Error{ErrorCode::unsupported,
-                   attachment + ": the device cannot render to format " + vk_name(VkFormat(a.format))};
+      return detail::failure(ErrorCode::unsupported, attachment + ": the device cannot render to format " +
+                                                         vk_name(VkFormat(a.format)));
     const VkSampleCountFlags counts = depth ? l.framebufferDepthSampleCounts : l.framebufferColorSampleCounts;
     if (!(counts & a.samples))
-      return Error{ErrorCode::unsupported, attachment + " has " + std::to_string(a.samples) +
-                                               " samples, which the device does not support"};
+      return detail::failure(ErrorCode::unsupported, attachment + " has " + std::to_string(a.samples) +
+                                                         " samples, which the device does not support");
   }
   // An attachment cleared on load must first be used in a layout that can be written.
   for (uint32_t i = 0; i < pass.attachments.size(); ++i) {
@@ -343,8 +351,8 @@ Result<void> check_render_pass(const format::RenderPass& pass, const DeviceCaps&
       if (sp.depth_stencil.attachment == i && !layout) layout = sp.depth_stencil.layout;
       if (!layout) continue;
       if (read_only_layout(*layout))
-        return Error{ErrorCode::corrupt, who() + ": attachment " + std::to_string(i) +
-                                             " is cleared but first used in a read-only layout"};
+        return detail::failure(ErrorCode::corrupt, who() + ": attachment " + std::to_string(i) +
+                                                       " is cleared but first used in a read-only layout");
       break;
     }
   }
@@ -363,12 +371,13 @@ Result<void> check_render_pass(const format::RenderPass& pass, const DeviceCaps&
       const auto& a = pass.attachments[r.attachment];
       if (color ? (is_depth_format(a.format) || !color_layout(r.layout))
                 : (!is_depth_format(a.format) || !depth_layout(r.layout)))
-        return Error{ErrorCode::corrupt, subpass + " uses attachment " + std::to_string(r.attachment) +
-                                             " as a " + (color ? "color" : "depth") +
-                                             " attachment with a format or layout "
-                                             "that does not fit"};
+        return detail::failure(ErrorCode::corrupt, subpass + " uses attachment " +
+                                                       std::to_string(r.attachment) + " as a " +
+                                                       (color ? "color" : "depth") +
+                                                       " attachment with a format or layout "
+                                                       "that does not fit");
       if (samples != 0 && samples != a.samples)
-        return Error{ErrorCode::corrupt, subpass + " mixes attachments of different sample counts"};
+        return detail::failure(ErrorCode::corrupt, subpass + " mixes attachments of different sample counts");
       samples = a.samples;
       return {};
     };
@@ -377,8 +386,9 @@ Result<void> check_render_pass(const format::RenderPass& pass, const DeviceCaps&
     if (auto ok = use(sp.depth_stencil, false); !ok) return ok;
     for (const auto& r : sp.inputs)
       if (r.attachment != format::kNone && !input_layout(r.layout))
-        return Error{ErrorCode::corrupt, subpass + " reads input attachment " + std::to_string(r.attachment) +
-                                             " in a layout that does not allow it"};
+        return detail::failure(ErrorCode::corrupt, subpass + " reads input attachment " +
+                                                       std::to_string(r.attachment) +
+                                                       " in a layout that does not allow it");
     for (size_t i = 0; i < sp.resolves.size(); ++i) {
       const auto& r = sp.resolves[i];
       if (r.attachment == format::kNone) continue;
@@ -387,8 +397,9 @@ Result<void> check_render_pass(const format::RenderPass& pass, const DeviceCaps&
           pass.attachments[r.attachment].samples != 1 ||
           pass.attachments[r.attachment].format != pass.attachments[color.attachment].format ||
           !color_layout(r.layout))
-        return Error{ErrorCode::corrupt, subpass + " resolves color attachment " + std::to_string(i) +
-                                             " into an attachment that does not fit"};
+        return detail::failure(ErrorCode::corrupt, subpass + " resolves color attachment " +
+                                                       std::to_string(i) +
+                                                       " into an attachment that does not fit");
     }
     // Every use of one attachment within a subpass is in one layout (VUID-VkSubpassDescription-layout-02519).
     std::map<uint32_t, uint32_t> layout_of;
@@ -396,21 +407,22 @@ Result<void> check_render_pass(const format::RenderPass& pass, const DeviceCaps&
       for (const auto& r : *list) {
         if (r.attachment == format::kNone) continue;
         if (auto [it, first] = layout_of.emplace(r.attachment, r.layout); !first && it->second != r.layout)
-          return Error{ErrorCode::corrupt, subpass + " uses attachment " + std::to_string(r.attachment) +
-                                               " in two different layouts"};
+          return detail::failure(
+              ErrorCode::corrupt,
+              subpass + " uses attachment " + std::to_string(r.attachment) + " in two different layouts");
       }
     if (sp.depth_stencil.attachment != format::kNone)
       if (auto it = layout_of.find(sp.depth_stencil.attachment);
           it != layout_of.end() && it->second != sp.depth_stencil.layout)
-        return Error{ErrorCode::corrupt, subpass + " uses attachment " +
-                                             std::to_string(sp.depth_stencil.attachment) +
-                                             " in two different layouts"};
+        return detail::failure(ErrorCode::corrupt, subpass + " uses attachment " +
+                                                       std::to_string(sp.depth_stencil.attachment) +
+                                                       " in two different layouts");
     for (uint32_t p : sp.preserve) {
       auto used = [&](const format::AttachmentRef& r) { return r.attachment == p; };
       if (p == format::kNone || std::any_of(sp.colors.begin(), sp.colors.end(), used) ||
           std::any_of(sp.inputs.begin(), sp.inputs.end(), used) ||
           std::any_of(sp.resolves.begin(), sp.resolves.end(), used) || used(sp.depth_stencil))
-        return Error{ErrorCode::corrupt, subpass + " preserves an attachment it uses"};
+        return detail::failure(ErrorCode::corrupt, subpass + " preserves an attachment it uses");
     }
   }
   return {};
@@ -419,7 +431,7 @@ Result<void> check_render_pass(const format::RenderPass& pass, const DeviceCaps&
 Result<void> check_sampler(const format::Sampler& s, const DeviceCaps& caps, std::string_view owner) {
   const VkPhysicalDeviceLimits& l = caps.properties.limits;
   auto who = [&] { return "immutable sampler of '" + std::string(owner) + "'"; };
-  auto bad = [&](const char* why) { return Error{ErrorCode::corrupt, who() + " " + why}; };
+  auto bad = [&](const char* why) { return detail::failure(ErrorCode::corrupt, who() + " " + why); };
   for (float f : {s.mip_lod_bias, s.max_anisotropy, s.min_lod, s.max_lod})
     if (!std::isfinite(f)) return bad("has a value that is not a finite number");
   if (std::fabs(s.mip_lod_bias) > l.maxSamplerLodBias) return bad("has a LOD bias beyond maxSamplerLodBias");
@@ -447,20 +459,20 @@ Result<void> check_workgroup_size(const std::string& pipeline, const spirv::Entr
   const auto& max = limits.maxComputeWorkGroupSize;
   for (size_t i = 0; i < 3; ++i) {
     if (size[i] == 0)
-      return Error{ErrorCode::invalid_argument,
-                   who() + ": the work-group size is " + text() + "; each dimension must be at least 1"};
+      return detail::failure(ErrorCode::invalid_argument, who() + ": the work-group size is " + text() +
+                                                              "; each dimension must be at least 1");
     if (size[i] > max[i])
-      return Error{ErrorCode::unsupported, who() + ": the work-group size " + text() +
-                                               " is beyond the device's maxComputeWorkGroupSize of (" +
-                                               std::to_string(max[0]) + ", " + std::to_string(max[1]) + ", " +
-                                               std::to_string(max[2]) + ")"};
+      return detail::failure(
+          ErrorCode::unsupported,
+          who() + ": the work-group size " + text() + " is beyond the device's maxComputeWorkGroupSize of (" +
+              std::to_string(max[0]) + ", " + std::to_string(max[1]) + ", " + std::to_string(max[2]) + ")");
   }
   const uint64_t invocations = size[0] * size[1] * size[2];
   if (invocations > limits.maxComputeWorkGroupInvocations)
-    return Error{ErrorCode::unsupported,
-                 who() + ": a work group of " + text() + " is " + std::to_string(invocations) +
-                     " invocations, beyond the device's maxComputeWorkGroupInvocations of " +
-                     std::to_string(limits.maxComputeWorkGroupInvocations)};
+    return detail::failure(ErrorCode::unsupported,
+                           who() + ": a work group of " + text() + " is " + std::to_string(invocations) +
+                               " invocations, beyond the device's maxComputeWorkGroupInvocations of " +
+                               std::to_string(limits.maxComputeWorkGroupInvocations));
   return {};
 }
 
@@ -472,10 +484,10 @@ Result<void> check_pipeline_layout(const format::Contents& c, const format::Pipe
     const auto& words = c.spirv[c.shaders[s].blob];  // the header was checked at load time
     const uint32_t needed = api_version_for_spirv(words[1]);
     if (caps.properties.apiVersion < needed)
-      return Error{ErrorCode::unsupported, who() + ": shader '" + c.shaders[s].name + "' is SPIR-V " +
-                                               std::to_string(words[1] >> 16) + "." +
-                                               std::to_string((words[1] >> 8) & 0xFF) +
-                                               ", which needs a newer Vulkan than the device's"};
+      return detail::failure(ErrorCode::unsupported, who() + ": shader '" + c.shaders[s].name +
+                                                         "' is SPIR-V " + std::to_string(words[1] >> 16) +
+                                                         "." + std::to_string((words[1] >> 8) & 0xFF) +
+                                                         ", which needs a newer Vulkan than the device's");
   }
   if (p.set_layouts.size() > l.maxBoundDescriptorSets)
     return over_limit(who(), "the descriptor set count", p.set_layouts.size(), "maxBoundDescriptorSets",
@@ -504,8 +516,8 @@ Result<void> check_pipeline_layout(const format::Contents& c, const format::Pipe
     return over_limit(who(), "the push constant size", p.push_constant_size, "maxPushConstantsSize",
                       l.maxPushConstantsSize);
   if (p.push_constant_size > 0 && p.push_constant_stages == 0)
-    return Error{ErrorCode::corrupt, who() + " has " + std::to_string(p.push_constant_size) +
-                                         " bytes of push constants for no shader stage"};
+    return detail::failure(ErrorCode::corrupt, who() + " has " + std::to_string(p.push_constant_size) +
+                                                   " bytes of push constants for no shader stage");
   return {};
 }
 
@@ -527,7 +539,7 @@ Result<void> check_vertex_input(const format::GraphicsState& g, Lazy who, const 
                         l.maxVertexInputBindingStride);
     for (size_t j = 0; j < i; ++j)
       if (g.vertex_bindings[j].binding == b.binding)
-        return Error{ErrorCode::corrupt, who() + " declares " + binding() + " twice"};
+        return detail::failure(ErrorCode::corrupt, who() + " declares " + binding() + " twice");
   }
   if (g.vertex_attributes.size() > l.maxVertexInputAttributes)
     return over_limit(who(), "the vertex attribute count", g.vertex_attributes.size(),
@@ -543,11 +555,11 @@ Result<void> check_vertex_input(const format::GraphicsState& g, Lazy who, const 
                         l.maxVertexInputAttributeOffset);
     for (size_t j = 0; j < i; ++j)
       if (g.vertex_attributes[j].location == a.location)
-        return Error{ErrorCode::corrupt, who() + " declares the " + attribute() + " twice"};
+        return detail::failure(ErrorCode::corrupt, who() + " declares the " + attribute() + " twice");
     if (!(caps.format(a.format).bufferFeatures & VK_FORMAT_FEATURE_VERTEX_BUFFER_BIT))
-      return Error{ErrorCode::unsupported, who() + ": the " + attribute() + " has format " +
-                                               vk_name(VkFormat(a.format)) +
-                                               ", which the device cannot read vertices from"};
+      return detail::failure(ErrorCode::unsupported, who() + ": the " + attribute() + " has format " +
+                                                         vk_name(VkFormat(a.format)) +
+                                                         ", which the device cannot read vertices from");
   }
   return {};
 }
@@ -559,22 +571,24 @@ Result<void> check_dynamic_rendering_targets(const GraphicsTargets& t, Lazy who,
     if (t.color_formats[i] == VK_FORMAT_UNDEFINED) continue;
     const VkFormatProperties f = caps.format(t.color_formats[i]);
     if (!supports(f, VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BIT))
-      return Error{ErrorCode::unsupported, who() + ": render target " + std::to_string(i) + " has format " +
-                                               vk_name(VkFormat(t.color_formats[i])) +
-                                               ", which the device cannot render to"};
+      return detail::failure(ErrorCode::unsupported, who() + ": render target " + std::to_string(i) +
+                                                         " has format " +
+                                                         vk_name(VkFormat(t.color_formats[i])) +
+                                                         ", which the device cannot render to");
     if (t.blend_enabled[i] && !supports(f, VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BLEND_BIT))
-      return Error{ErrorCode::unsupported, who() + ": render target " + std::to_string(i) +
-                                               " blends format " + vk_name(VkFormat(t.color_formats[i])) +
-                                               ", which the device cannot blend"};
+      return detail::failure(ErrorCode::unsupported,
+                             who() + ": render target " + std::to_string(i) + " blends format " +
+                                 vk_name(VkFormat(t.color_formats[i])) + ", which the device cannot blend");
   }
   if (t.depth_stencil_format != VK_FORMAT_UNDEFINED &&
       !supports(caps.format(t.depth_stencil_format), VK_FORMAT_FEATURE_DEPTH_STENCIL_ATTACHMENT_BIT))
-    return Error{ErrorCode::unsupported, who() + ": depth-stencil format " +
-                                             vk_name(VkFormat(t.depth_stencil_format)) +
-                                             " cannot be rendered to on this device"};
+    return detail::failure(ErrorCode::unsupported, who() + ": depth-stencil format " +
+                                                       vk_name(VkFormat(t.depth_stencil_format)) +
+                                                       " cannot be rendered to on this device");
   if (t.depth_stencil_format != VK_FORMAT_UNDEFINED && !(l.framebufferDepthSampleCounts & t.samples))
-    return Error{ErrorCode::unsupported, who() + " renders depth with " + std::to_string(t.samples) +
-                                             " samples, which the device does not support"};
+    return detail::failure(ErrorCode::unsupported, who() + " renders depth with " +
+                                                       std::to_string(t.samples) +
+                                                       " samples, which the device does not support");
   return {};
 }
 
@@ -584,24 +598,25 @@ Result<void> check_subpass_targets(const format::Contents& c, const format::Pipe
   const format::RenderPass& pass = c.render_passes[p.render_pass];
   const format::Subpass& sp = pass.subpasses[p.subpass];
   if (t.color_count != sp.colors.size())
-    return Error{ErrorCode::corrupt, who() + " blends " + std::to_string(t.color_count) +
-                                         " render target(s), but its subpass " + std::to_string(p.subpass) +
-                                         " of render pass '" + pass.name + "' has " +
-                                         std::to_string(sp.colors.size())};
+    return detail::failure(ErrorCode::corrupt, who() + " blends " + std::to_string(t.color_count) +
+                                                   " render target(s), but its subpass " +
+                                                   std::to_string(p.subpass) + " of render pass '" +
+                                                   pass.name + "' has " + std::to_string(sp.colors.size()));
   std::vector<format::AttachmentRef> used(sp.colors.begin(), sp.colors.end());
   used.push_back(sp.depth_stencil);
   for (const auto& r : used)
     if (r.attachment != format::kNone && pass.attachments[r.attachment].samples != t.samples)
-      return Error{ErrorCode::corrupt, who() + " renders with " + std::to_string(t.samples) +
-                                           " samples, but attachment " + std::to_string(r.attachment) +
-                                           " of render pass '" + pass.name + "' has " +
-                                           std::to_string(pass.attachments[r.attachment].samples)};
+      return detail::failure(ErrorCode::corrupt, who() + " renders with " + std::to_string(t.samples) +
+                                                     " samples, but attachment " +
+                                                     std::to_string(r.attachment) + " of render pass '" +
+                                                     pass.name + "' has " +
+                                                     std::to_string(pass.attachments[r.attachment].samples));
   for (uint32_t i = 0; i < t.color_count; ++i)
     if (t.blend_enabled[i] && sp.colors[i].attachment != format::kNone &&
         !supports(caps.format(pass.attachments[sp.colors[i].attachment].format),
                   VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BLEND_BIT))
-      return Error{ErrorCode::unsupported, who() + ": render target " + std::to_string(i) +
-                                               " blends a format the device cannot blend"};
+      return detail::failure(ErrorCode::unsupported, who() + ": render target " + std::to_string(i) +
+                                                         " blends a format the device cannot blend");
   return {};
 }
 
@@ -618,10 +633,11 @@ Result<void> check_point_size(const format::Contents& c, const format::Pipeline&
     const format::Shader& shader = c.shaders[index];
     if (shader.stage != VK_SHADER_STAGE_VERTEX_BIT) continue;
     const spirv::Module* module = module_of(shader.blob);
-    if (!module) return Error{ErrorCode::corrupt, "shader '" + shader.name + "' has no readable SPIR-V"};
+    if (!module)
+      return detail::failure(ErrorCode::corrupt, "shader '" + shader.name + "' has no readable SPIR-V");
     if (!module->writes_point_size)
-      return Error{ErrorCode::corrupt, who() + " draws points, but its vertex shader '" + shader.name +
-                                           "' does not write PointSize"};
+      return detail::failure(ErrorCode::corrupt, who() + " draws points, but its vertex shader '" +
+                                                     shader.name + "' does not write PointSize");
   }
   return {};
 }
@@ -633,7 +649,8 @@ Result<void> check_interface_formats(const format::Contents& c, const format::Pi
     const format::Shader& shader = c.shaders[index];
     if (shader.stage != VK_SHADER_STAGE_VERTEX_BIT && shader.stage != VK_SHADER_STAGE_FRAGMENT_BIT) continue;
     const spirv::Module* module = module_of(shader.blob);
-    if (!module) return Error{ErrorCode::corrupt, "shader '" + shader.name + "' has no readable SPIR-V"};
+    if (!module)
+      return detail::failure(ErrorCode::corrupt, "shader '" + shader.name + "' has no readable SPIR-V");
     if (shader.stage == VK_SHADER_STAGE_VERTEX_BIT) {
       for (const auto& a : p.graphics.vertex_attributes)
         if (auto ok = check_numeric(

@@ -106,7 +106,7 @@ std::string EnabledFeatures::check_capabilities(const std::vector<uint32_t>& cap
           break;
         case EnableKind::feature:
         case EnableKind::property:
-          needs += text(e.what);
+          needs += std::string(text(e.what)) + "::" + text(e.member);
           break;
       }
     }

@@ -1,5 +1,7 @@
 #include "object_cache.hpp"
 
+#include "support/failure.hpp"
+
 #include <deque>
 
 #include "archive_access.hpp"
@@ -88,7 +90,7 @@ Result<VkShaderModule> ObjectCache::module(size_t archive, uint32_t blob, std::s
     auto words = contents(archive).spirv[blob];
     if (const spirv::Module* declared = walked(archive, blob))
       if (std::string why = enabled_.check_capabilities(declared->capabilities); !why.empty())
-        return Error{ErrorCode::unsupported, "shader '" + std::string(owner) + "' " + why};
+        return detail::failure(ErrorCode::unsupported, "shader '" + std::string(owner) + "' " + why);
     VkShaderModuleCreateInfo info{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
     info.codeSize = words.size_bytes();
     info.pCode = words.data();  // straight from the archive bytes: no copy
@@ -165,9 +167,9 @@ Result<VkSampler> ObjectCache::sampler(size_t archive, uint32_t index, std::stri
         const format::Sampler& s = contents(archive).samplers[index];
         if (auto ok = check_sampler(s, caps_, binding); !ok) return ok.error();
         if (s.anisotropy_enable && !enabled_.core().samplerAnisotropy)
-          return Error{ErrorCode::unsupported,
-                       "immutable sampler of '" + std::string(binding) +
-                           "' uses anisotropic filtering, which the device does not support"};
+          return detail::failure(ErrorCode::unsupported,
+                                 "immutable sampler of '" + std::string(binding) +
+                                     "' uses anisotropic filtering, which the device does not support");
         VkSamplerCreateInfo info{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
         info.magFilter = static_cast<VkFilter>(s.mag_filter);
         info.minFilter = static_cast<VkFilter>(s.min_filter);

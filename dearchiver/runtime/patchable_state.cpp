@@ -1,5 +1,7 @@
 #include "patchable_state.hpp"
 
+#include "support/failure.hpp"
+
 #include "vk_enum_names.hpp"
 
 #include <bit>
@@ -99,14 +101,15 @@ Result<std::vector<SpecializationConstant>> settle_constants(const format::Pipel
   for (const auto& g : given) {
     auto it = index.find(g.name);
     if (it == index.end())
-      return Error{ErrorCode::invalid_argument, "pipeline '" + p.name + "' has no specialization constant '" +
-                                                    g.name + "' (the modify callback added it)"};
+      return detail::failure(ErrorCode::invalid_argument, "pipeline '" + p.name +
+                                                              "' has no specialization constant '" + g.name +
+                                                              "' (the modify callback added it)");
     SpecializationConstant& a = archived[it->second];
     if (g.size != a.size)
-      return Error{ErrorCode::invalid_argument, "pipeline '" + p.name + "': specialization constant '" +
-                                                    g.name + "' is " + std::to_string(a.size) +
-                                                    " bytes, but the modify callback gave " +
-                                                    std::to_string(g.size)};
+      return detail::failure(ErrorCode::invalid_argument,
+                             "pipeline '" + p.name + "': specialization constant '" + g.name + "' is " +
+                                 std::to_string(a.size) + " bytes, but the modify callback gave " +
+                                 std::to_string(g.size));
     a.value = g.value;  // a constant the callback removed keeps the archived value
   }
   return archived;

@@ -1,5 +1,7 @@
 #include "patched_state_check.hpp"
 
+#include "support/failure.hpp"
+
 #include "vk_enum_names.hpp"
 
 #include <bit>
@@ -16,19 +18,20 @@ struct Checker {
   // Records the first bad value; `field` as the application spells it.
   [[gnu::cold]] void fail(const std::string& field, int64_t value, const char* what) {
     if (error) return;
-    error = Error{ErrorCode::invalid_argument, "pipeline '" + std::string(pipeline) +
-                                                   "': the modify callback set PatchableState::" + field +
-                                                   " to " + std::to_string(value) + ", which is not " + what};
+    error = detail::failure(ErrorCode::invalid_argument,
+                            "pipeline '" + std::string(pipeline) +
+                                "': the modify callback set PatchableState::" + field + " to " +
+                                std::to_string(value) + ", which is not " + what);
   }
   void finite(const std::string& field, float value) {
     if (error || std::isfinite(value)) return;
-    error = Error{ErrorCode::invalid_argument, "pipeline '" + std::string(pipeline) +
-                                                   "': the modify callback set PatchableState::" + field +
-                                                   " to " +
-                                                   (std::isnan(value) ? "nan"
-                                                    : value < 0       ? "-inf"
-                                                                      : "inf") +
-                                                   ", which is not a finite number"};
+    error = detail::failure(ErrorCode::invalid_argument,
+                            "pipeline '" + std::string(pipeline) +
+                                "': the modify callback set PatchableState::" + field + " to " +
+                                (std::isnan(value) ? "nan"
+                                 : value < 0       ? "-inf"
+                                                   : "inf") +
+                                ", which is not a finite number");
   }
   void range(const std::string& field, int64_t value, int64_t last, const char* what) {
     if (value < 0 || value > last) fail(field, value, what);
@@ -41,18 +44,18 @@ struct Checker {
   void color_format(const std::string& field, VkFormat value) {
     format(field, value);
     if (error || !is_depth_stencil_format(value)) return;
-    error = Error{ErrorCode::invalid_argument,
-                  "pipeline '" + std::string(pipeline) +
-                      "': the modify callback set PatchableState::" + field + " to " + vk_name(value) +
-                      ", a depth-stencil format, which cannot be a colour render target"};
+    error = detail::failure(
+        ErrorCode::invalid_argument,
+        "pipeline '" + std::string(pipeline) + "': the modify callback set PatchableState::" + field +
+            " to " + vk_name(value) + ", a depth-stencil format, which cannot be a colour render target");
   }
   void depth_format(const std::string& field, VkFormat value) {
     format(field, value);
     if (error || value == VK_FORMAT_UNDEFINED || is_depth_stencil_format(value)) return;
-    error =
-        Error{ErrorCode::invalid_argument,
-              "pipeline '" + std::string(pipeline) + "': the modify callback set PatchableState::" + field +
-                  " to " + vk_name(value) + ", which has no depth or stencil component"};
+    error = detail::failure(ErrorCode::invalid_argument,
+                            "pipeline '" + std::string(pipeline) +
+                                "': the modify callback set PatchableState::" + field + " to " +
+                                vk_name(value) + ", which has no depth or stencil component");
   }
   void compare(const std::string& field, VkCompareOp value) {
     range(field, value, VK_COMPARE_OP_ALWAYS, "a VkCompareOp");

@@ -23,7 +23,9 @@
 #include <cstring>
 
 #include "api_guard.hpp"
+
 #include "statepack/dearchiver.hpp"
+#include "support/failure.hpp"
 #include "support/file_io.hpp"
 #include "vk_result_string.hpp"
 #include "vulkan_functions.hpp"
@@ -136,7 +138,8 @@ Result<PipelineCacheLoad> load_pipeline_cache(const DeviceContext& context,
     }
     if (VkResult r = vk->vkCreatePipelineCache(context.device, &info, context.allocator, &out.cache);
         r != VK_SUCCESS)
-      return Error{ErrorCode::vulkan_error, "vkCreatePipelineCache failed: " + vk_result_string(r), r};
+      return detail::failure(ErrorCode::vulkan_error, "vkCreatePipelineCache failed: " + vk_result_string(r),
+                             r);
     return out;
   });
 }
@@ -148,11 +151,13 @@ Result<void> save_pipeline_cache(const DeviceContext& context, VkPipelineCache c
     if (!vk) return vk.error();
     size_t size = 0;
     if (VkResult r = vk->vkGetPipelineCacheData(context.device, cache, &size, nullptr); r != VK_SUCCESS)
-      return Error{ErrorCode::vulkan_error, "vkGetPipelineCacheData failed: " + vk_result_string(r), r};
+      return detail::failure(ErrorCode::vulkan_error, "vkGetPipelineCacheData failed: " + vk_result_string(r),
+                             r);
     std::vector<uint8_t> file(kHeaderSize + size);
     if (VkResult r = vk->vkGetPipelineCacheData(context.device, cache, &size, file.data() + kHeaderSize);
         r != VK_SUCCESS)
-      return Error{ErrorCode::vulkan_error, "vkGetPipelineCacheData failed: " + vk_result_string(r), r};
+      return detail::failure(ErrorCode::vulkan_error, "vkGetPipelineCacheData failed: " + vk_result_string(r),
+                             r);
     file.resize(kHeaderSize + size);
     const Identity id = identity_of(*vk, context);
     std::memcpy(file.data(), kMagic, 8);

@@ -1,5 +1,7 @@
 #include "pipeline_plan.hpp"
 
+#include "support/failure.hpp"
+
 #include <algorithm>
 #include <bit>
 #include <exception>
@@ -29,7 +31,8 @@ Result<std::unique_ptr<Plan>> Planner::plan_common(const ArchivedPipeline& found
   const format::Pipeline& p = *found.pipeline;
   const auto& contents = cache_.contents(found.archive);
   if (!(contents.backends & format::kBackendVulkan))
-    return Error{ErrorCode::missing_backend, "pipeline '" + p.name + "': the archive has no Vulkan data"};
+    return detail::failure(ErrorCode::missing_backend,
+                           "pipeline '" + p.name + "': the archive has no Vulkan data");
   if (auto ok = check_pipeline_layout(contents, p, caps_); !ok) return ok.error();
   // Default-initialised, not value-initialised: every member has its initialiser, and zeroing the whole
   // plan first cost each pipeline a few hundred instructions.
@@ -55,7 +58,8 @@ Result<std::unique_ptr<Plan>> Planner::plan_common(const ArchivedPipeline& found
   out.layout = *layout;
   uint32_t stages = 0;
   if (p.shaders.size() > plan->constants.size())  // decode refuses two shaders for one stage
-    return Error{ErrorCode::corrupt, "pipeline '" + p.name + "' has more shader stages than Vulkan has"};
+    return detail::failure(ErrorCode::corrupt,
+                           "pipeline '" + p.name + "' has more shader stages than Vulkan has");
   std::unordered_map<std::string_view, const SpecializationConstant*> value_of;
   for (const auto& v : constants) value_of.emplace(v.name, &v);
   for (uint32_t s : p.shaders) {
@@ -90,10 +94,10 @@ Result<std::unique_ptr<Plan>> Planner::plan_common(const ArchivedPipeline& found
 }
 
 Error Planner::missing_feature(std::string_view pipeline, const char* feature) {
-  return Error{ErrorCode::unsupported, "pipeline '" + std::string(pipeline) + "' needs the device feature '" +
-                                           feature +
-                                           "', which is not enabled (DeviceContext::enabled_features says "
-                                           "what the device was created with)"};
+  return detail::failure(ErrorCode::unsupported,
+                         "pipeline '" + std::string(pipeline) + "' needs the device feature '" + feature +
+                             "', which is not enabled (DeviceContext::enabled_features says "
+                             "what the device was created with)");
 }
 
 // Runs the caller's callback. What it throws becomes an error naming the pipeline, here, so that an
@@ -107,10 +111,11 @@ std::optional<Error> Planner::run_modify(const std::string& pipeline, const Modi
   } catch (const std::bad_alloc&) {
     throw;
   } catch (const std::exception& e) {
-    return Error{ErrorCode::invalid_argument,
-                 "pipeline '" + pipeline + "': the modify callback threw: " + e.what()};
+    return detail::failure(ErrorCode::invalid_argument,
+                           "pipeline '" + pipeline + "': the modify callback threw: " + e.what());
   } catch (...) {
-    return Error{ErrorCode::invalid_argument, "pipeline '" + pipeline + "': the modify callback threw"};
+    return detail::failure(ErrorCode::invalid_argument,
+                           "pipeline '" + pipeline + "': the modify callback threw");
   }
 }
 
@@ -180,10 +185,10 @@ Result<PatchableState> Planner::settle_graphics(const ArchivedPipeline& found, c
     if (uses_render_pass &&
         (settled.color_count != before.color_count || settled.color_formats != before.color_formats ||
          settled.depth_stencil_format != before.depth_stencil_format || settled.samples != before.samples))
-      return Error{ErrorCode::invalid_argument,
-                   "pipeline '" + name +
-                       "' uses a render pass, which fixes its attachment formats and "
-                       "sample count; the modify callback may not change them"};
+      return detail::failure(ErrorCode::invalid_argument,
+                             "pipeline '" + name +
+                                 "' uses a render pass, which fixes its attachment formats and "
+                                 "sample count; the modify callback may not change them");
   }
   // Every value the callback left is checked as the archive's were at load, before any reaches Vulkan.
   if (modify)
@@ -191,25 +196,26 @@ Result<PatchableState> Planner::settle_graphics(const ArchivedPipeline& found, c
   // The notation may leave render targets to run time (pack notes it); what the pixel shader writes
   // must have a target once the callback has run, or the picture would silently stay blank.
   if (const uint32_t beyond = written & ~uint32_t((1ull << std::min(settled.color_count, 32u)) - 1))
-    return Error{ErrorCode::invalid_argument,
-                 "pipeline '" + name + "': its pixel shader '" + pixel_shader->name +
-                     "' writes render target " + std::to_string(std::countr_zero(beyond)) +
-                     ", but the pipeline has " + std::to_string(settled.color_count) +
-                     " render target(s): the notation leaves them to run time, so set "
-                     "PatchableState::color_count (to at least " +
-                     std::to_string(32 - std::countl_zero(written)) +
-                     ") and color_formats in the modify callback, or give NumRenderTargets and "
-                     "RTVFormats in the notation and pack again"};
+    return detail::failure(ErrorCode::invalid_argument,
+                           "pipeline '" + name + "': its pixel shader '" + pixel_shader->name +
+                               "' writes render target " + std::to_string(std::countr_zero(beyond)) +
+                               ", but the pipeline has " + std::to_string(settled.color_count) +
+                               " render target(s): the notation leaves them to run time, so set "
+                               "PatchableState::color_count (to at least " +
+                               std::to_string(32 - std::countl_zero(written)) +
+                               ") and color_formats in the modify callback, or give NumRenderTargets and "
+                               "RTVFormats in the notation and pack again");
   // UNKNOWN in RTVFormats means "set at run time" (a swapchain's format): left unset, it is an error
   // rather than a pipeline silently created for VK_FORMAT_UNDEFINED.
   if (!uses_render_pass)
     for (uint32_t i = 0; i < settled.color_count; ++i)
       if (settled.color_formats[i] == VK_FORMAT_UNDEFINED)
-        return Error{ErrorCode::invalid_argument,
-                     "pipeline '" + name + "': render target " + std::to_string(i) +
-                         " is UNKNOWN (a format set at run time); set PatchableState::color_formats[" +
-                         std::to_string(i) + "] in the modify callback, or give RTVFormats[" +
-                         std::to_string(i) + "] in the notation and pack again"};
+        return detail::failure(
+            ErrorCode::invalid_argument,
+            "pipeline '" + name + "': render target " + std::to_string(i) +
+                " is UNKNOWN (a format set at run time); set PatchableState::color_formats[" +
+                std::to_string(i) + "] in the modify callback, or give RTVFormats[" + std::to_string(i) +
+                "] in the notation and pack again");
   return settled;
 }
 
@@ -229,14 +235,16 @@ std::optional<Error> Planner::check_graphics(const ArchivedPipeline& found, cons
           (cache_.contents(found.archive).shaders[index].stage &
            (VK_SHADER_STAGE_TESSELLATION_CONTROL_BIT | VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT)) != 0;
     if (tessellation != (g.topology == VK_PRIMITIVE_TOPOLOGY_PATCH_LIST))
-      return Error{ErrorCode::corrupt, "pipeline '" + name + "' " +
-                                           (tessellation ? "tessellates without" : "draws patches without") +
-                                           " a patch list topology and tessellation shaders together"};
+      return detail::failure(ErrorCode::corrupt,
+                             "pipeline '" + name + "' " +
+                                 (tessellation ? "tessellates without" : "draws patches without") +
+                                 " a patch list topology and tessellation shaders together");
     if (g.patch_control_points > caps_.properties.limits.maxTessellationPatchSize)
-      return Error{ErrorCode::unsupported,
-                   "pipeline '" + name + "' has patches of " + std::to_string(g.patch_control_points) +
-                       " control points; the device allows " +
-                       std::to_string(caps_.properties.limits.maxTessellationPatchSize)};
+      return detail::failure(ErrorCode::unsupported,
+                             "pipeline '" + name + "' has patches of " +
+                                 std::to_string(g.patch_control_points) +
+                                 " control points; the device allows " +
+                                 std::to_string(caps_.properties.limits.maxTessellationPatchSize));
   }
   std::array<bool, 8> blend_enabled{};
   for (size_t i = 0; i < blend_enabled.size(); ++i) blend_enabled[i] = settled.blend[i].enable;
@@ -343,8 +351,9 @@ Result<std::unique_ptr<Plan>> Planner::plan_graphics(const ArchivedPipeline& fou
   const std::string& name = found.pipeline->name;
   const bool uses_render_pass = found.pipeline->render_pass != format::kNone;
   if (!uses_render_pass && !context_.dynamic_rendering_enabled)
-    return Error{ErrorCode::unsupported,
-                 "pipeline '" + name + "' uses dynamic rendering, which the device was not created with"};
+    return detail::failure(
+        ErrorCode::unsupported,
+        "pipeline '" + name + "' uses dynamic rendering, which the device was not created with");
   // The state is settled and checked first, so that nothing is created for a pipeline that fails.
   auto settled_or = settle_graphics(found, modify);
   if (!settled_or) return settled_or.error();
@@ -395,21 +404,21 @@ Result<uint32_t> Planner::settle_dynamic_states(const std::string& name,
   for (VkDynamicState state : states) {
     auto bit = dynamic_state_bit(state);
     if (!bit)
-      return Error{ErrorCode::unsupported, "pipeline '" + name + "': dynamic state " +
-                                               dynamic_state_name(state) +
-                                               " is not supported by the dearchiver"};
+      return detail::failure(ErrorCode::unsupported, "pipeline '" + name + "': dynamic state " +
+                                                         dynamic_state_name(state) +
+                                                         " is not supported by the dearchiver");
     if ((*bit & format::kDynamicExtendedMask) && caps_.properties.apiVersion < VK_API_VERSION_1_3)
-      return Error{ErrorCode::unsupported,
-                   "pipeline '" + name + "': dynamic state " + dynamic_state_name(state) +
-                       " needs Vulkan 1.3 (extended dynamic state), which the device lacks"};
+      return detail::failure(ErrorCode::unsupported,
+                             "pipeline '" + name + "': dynamic state " + dynamic_state_name(state) +
+                                 " needs Vulkan 1.3 (extended dynamic state), which the device lacks");
     if ((*bit & (format::kDynamicDepthBounds | (1u << 18))) && !features_.depthBounds)
       return missing_feature(name, "depthBounds");
     mask |= *bit;
   }
   if ((mask & format::kDynamicLegacy) != format::kDynamicLegacy)
-    return Error{
+    return detail::failure(
         ErrorCode::invalid_argument,
-        "pipeline '" + name + "': viewport and scissor must stay dynamic (the modify callback removed one)"};
+        "pipeline '" + name + "': viewport and scissor must stay dynamic (the modify callback removed one)");
   // Canonical order, duplicates gone: what Vulkan gets and what the callback of the next unpack sees.
   states.clear();
   for (uint32_t i = 0; i < 32; ++i)
@@ -439,8 +448,9 @@ std::optional<Error> Planner::check_features(const std::string& name, const Patc
   const VkSampleCountFlags counts =
       s.color_count > 0 ? limits.framebufferColorSampleCounts : limits.framebufferNoAttachmentsSampleCounts;
   if (!(counts & s.samples))
-    return Error{ErrorCode::unsupported, "pipeline '" + name + "' renders with " + std::to_string(s.samples) +
-                                             " samples, which the device does not support"};
+    return detail::failure(ErrorCode::unsupported, "pipeline '" + name + "' renders with " +
+                                                       std::to_string(s.samples) +
+                                                       " samples, which the device does not support");
   return std::nullopt;
 }
 

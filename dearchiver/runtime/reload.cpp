@@ -9,9 +9,11 @@
 #include <cstring>
 
 #include "api_guard.hpp"
+
 #include "archive_access.hpp"
 #include "dearchiver_state.hpp"
 #include "patchable_state.hpp"
+#include "support/failure.hpp"
 #include "support/printable.hpp"
 #include "variant_key.hpp"
 #include "vk_enum_names.hpp"
@@ -236,18 +238,18 @@ std::optional<Error> recreate(State& st, const UnpackedPipeline* pipeline, State
     std::string why =
         layout_change(st.contents(place.source.archive), old, st.contents(now.archive), *now.pipeline);
     if (why.empty()) why = "its resource layout changed";
-    return Error{ErrorCode::layout_changed,
-                 "pipeline '" + printable(old.name) + "': " + why +
-                     ", which descriptor sets and push constants made for the old layout would not fit" +
-                     stays};
+    return detail::failure(
+        ErrorCode::layout_changed,
+        "pipeline '" + printable(old.name) + "': " + why +
+            ", which descriptor sets and push constants made for the old layout would not fit" + stays);
   }
   const PatchableState was = patched ? st.recorded[place.recorded].settled : to_patchable(old);
   if (std::string why = target_change(st.contents(place.source.archive), old, was, st.contents(now.archive),
                                       *now.pipeline, made.state);
       !why.empty())
-    return Error{ErrorCode::layout_changed, "pipeline '" + printable(old.name) + "': " + why +
-                                                ", which the application's attachments were made for" +
-                                                stays};
+    return detail::failure(ErrorCode::layout_changed,
+                           "pipeline '" + printable(old.name) + "': " + why +
+                               ", which the application's attachments were made for" + stays);
   if (auto created = st.create(made); !created) return created.error();
   // What may throw (allocations) before the swap; the new pipeline is destroyed if it does.
   try {
@@ -335,16 +337,17 @@ void forget_unused_archives(State& st) {
 
 Result<ReloadReport> Dearchiver::State::reload(Archive archive, const ReloadOptions& options) {
   if (options.archive >= active.size())
-    return Error{ErrorCode::invalid_argument, "Dearchiver::reload: ReloadOptions::archive is " +
-                                                  std::to_string(options.archive) + ", but " +
-                                                  std::to_string(active.size()) + " archive(s) were added"};
+    return detail::failure(ErrorCode::invalid_argument, "Dearchiver::reload: ReloadOptions::archive is " +
+                                                            std::to_string(options.archive) + ", but " +
+                                                            std::to_string(active.size()) +
+                                                            " archive(s) were added");
   const size_t old = active[options.archive];
   if (!options.allow_content_version_change && archive.content_version() != archives[old].content_version())
-    return Error{ErrorCode::content_version_mismatch,
-                 "Dearchiver::reload: the new archive's content version is " +
-                     std::to_string(archive.content_version()) + ", the one it replaces has " +
-                     std::to_string(archives[old].content_version()) +
-                     " (ReloadOptions::allow_content_version_change accepts it)"};
+    return detail::failure(ErrorCode::content_version_mismatch,
+                           "Dearchiver::reload: the new archive's content version is " +
+                               std::to_string(archive.content_version()) + ", the one it replaces has " +
+                               std::to_string(archives[old].content_version()) +
+                               " (ReloadOptions::allow_content_version_change accepts it)");
   // Room first, as add_archive: the lists grow together.
   std::vector<Record> new_records(ArchiveAccess::contents(archive).pipelines.size());
   records.reserve(records.size() + 1);

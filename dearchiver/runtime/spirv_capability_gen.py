@@ -161,9 +161,11 @@ def main(registry_path, grammar_path, header_path, target):
             return at[word]
         out.write("constexpr CapabilityEnable kCapabilityEnables[] = {\n")
         for name, kind, version, s_type, offset, feature, extension, bits in rows:
+            # "Struct::member": the structure's name and the member's apart, each kept once.
+            struct, _, member = feature.strip('"').partition("::")
             out.write(f'    {{{numbers[name]}, {offset_of(name)}, EnableKind::{kind}, {version}, '
-                      f"VkStructureType({s_type}), uint32_t({offset}), {offset_of(feature)}, {offset_of(extension)}, "
-                      f"uint32_t({bits})}},\n")
+                      f"VkStructureType({s_type}), uint32_t({offset}), {offset_of(struct)}, {offset_of(member)}, "
+                      f"{offset_of(extension)}, uint32_t({bits})}},\n")
         out.write("};\n")
         if sum(len(t) + 1 for t in text) > 0xFFFF:
             raise SystemExit("spirv_capability_gen: the rows' text exceeds 64 KiB: widen CapabilityEnable's offsets")

@@ -26,7 +26,8 @@ struct CapabilityEnable {
   uint32_t version;        // version: the core version that allows it
   VkStructureType s_type;  // feature, property: the structure
   uint32_t offset;         // ... and the VkBool32 / flags member's offset in it
-  uint16_t what;           // "VkPhysicalDeviceVulkan12Features::shaderInt8"
+  uint16_t what;           // the structure, "VkPhysicalDeviceVulkan12Features"
+  uint16_t member;         // ... and its member, "shaderInt8" (a property's: "... with VK_TRUE")
   uint16_t extension;      // extension: the device extension that allows it
   uint32_t bits;           // property: the bits the member must have (1: VK_TRUE)
 };

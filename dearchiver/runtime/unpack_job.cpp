@@ -13,8 +13,10 @@
 #include <unordered_set>
 
 #include "api_guard.hpp"
+
 #include "archive_access.hpp"
 #include "dearchiver_state.hpp"
+#include "support/failure.hpp"
 #include "support/suggest.hpp"
 #include "variant_key.hpp"
 
@@ -133,7 +135,7 @@ struct UnpackJob::Shared {
   void make_instead(Entry& e) {
     auto own = std::make_shared<PipelineSlot>();
     std::unique_lock lock(state->mutex);
-    Result<const UnpackedPipeline*> made = Error{ErrorCode::cancelled, ""};
+    Result<const UnpackedPipeline*> made = detail::failure(ErrorCode::cancelled, "");
     if (!e.plan) {  // unpatched: planned without a callback, so the single-object path does it all
       const bool existed = state->record_of(e.source).unmodified != nullptr;
       made = state->unpack(lock, e.object.name,
@@ -171,7 +173,7 @@ struct UnpackJob::Shared {
       std::lock_guard lock(sync->mutex);
       if (e.settled) return;
       if (!e.slot->finished) {
-        e.slot->error = Error{ErrorCode::out_of_memory, "out of memory"};
+        e.slot->error = detail::failure(ErrorCode::out_of_memory, "out of memory");
         e.slot->finished = true;
       }
       settle_locked(e);
@@ -225,9 +227,9 @@ struct UnpackJob::Shared {
     std::lock_guard lock(progress_mutex);
     if (thrown)
       callback_failures.push_back(
-          {e.object, Error{ErrorCode::invalid_argument,
-                           "the progress callback threw while told of pipeline '" + e.object.name + "'" +
-                               (thrown->empty() ? "" : ": ") + *thrown}});
+          {e.object, detail::failure(ErrorCode::invalid_argument,
+                                     "the progress callback threw while told of pipeline '" + e.object.name +
+                                         "'" + (thrown->empty() ? "" : ": ") + *thrown)});
     reporting = false;
     progress_turn.notify_all();
   }
@@ -243,11 +245,11 @@ struct UnpackJob::Shared {
 
   // A pipeline nobody made, or (once the Dearchiver is gone) one destroyed with it.
   Error cancelled_error(const std::string& name) const {  // sync->mutex held
-    return Error{
+    return detail::failure(
         ErrorCode::cancelled,
         "pipeline '" + name + "': " +
             (state ? "the unpack job was destroyed before it created the pipeline"
-                   : "the Dearchiver was destroyed (with every pipeline it made) while its unpack job ran")};
+                   : "the Dearchiver was destroyed (with every pipeline it made) while its unpack job ran"));
   }
 };
 
@@ -465,7 +467,7 @@ Error combined_error(const std::vector<UnpackFailure>& failures) {
     message +=
         "; and " + std::to_string(failures.size() - kListed) + " more (unpack_all(options) lists each)";
   Error first = failures.front().error;
-  return Error{first.code, std::move(message), first.vk_result};
+  return detail::failure(first.code, std::move(message), first.vk_result);
 }
 
 }  // namespace
@@ -490,8 +492,8 @@ Result<const UnpackedPipeline*> UnpackJob::wait(std::string_view name) {
       std::vector<std::string> names;
       if (shared_)
         for (const auto& entry : shared_->entries) names.push_back(entry.object.name);
-      return Error{ErrorCode::not_found, "the unpack job creates no pipeline named '" + std::string(name) +
-                                             "'" + did_you_mean(name, names)};
+      return detail::failure(ErrorCode::not_found, "the unpack job creates no pipeline named '" +
+                                                       std::string(name) + "'" + did_you_mean(name, names));
     }
     std::unique_lock lock(shared_->sync->mutex);
     shared_->sync->finished.wait(lock, [&] { return e->slot->finished || e->settled; });

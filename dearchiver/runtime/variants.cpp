@@ -26,8 +26,10 @@
 #include <limits>
 
 #include "api_guard.hpp"
+
 #include "dearchiver_state.hpp"
 #include "patchable_state.hpp"
+#include "support/failure.hpp"
 #include "support/file_io.hpp"
 #include "support/printable.hpp"
 #include "support/suggest.hpp"
@@ -331,9 +333,9 @@ bool shallow_enough(std::string_view text) {
 }
 
 Error file_error(std::string_view name, const std::string& where, const std::string& what) {
-  return Error{ErrorCode::invalid_argument, "variants file '" + printable(name) + "'" +
-                                                (where.empty() ? "" : " at " + printable(where)) + ": " +
-                                                what};
+  return detail::failure(ErrorCode::invalid_argument, "variants file '" + printable(name) + "'" +
+                                                          (where.empty() ? "" : " at " + printable(where)) +
+                                                          ": " + what);
 }
 
 }  // namespace
@@ -362,10 +364,10 @@ Result<std::vector<PipelineVariant>> parse_variants(std::string_view text, std::
       return file_error(name, "/statepack_variants",
                         "missing, or not a version number (this reader writes 1)");
     if (version->get<uint64_t>() > kVariantsVersion)
-      return Error{ErrorCode::unsupported_version, "variants file '" + printable(name) + "' has version " +
-                                                       std::to_string(version->get<uint64_t>()) +
-                                                       "; this statepack reads version " +
-                                                       std::to_string(kVariantsVersion)};
+      return detail::failure(ErrorCode::unsupported_version,
+                             "variants file '" + printable(name) + "' has version " +
+                                 std::to_string(version->get<uint64_t>()) +
+                                 "; this statepack reads version " + std::to_string(kVariantsVersion));
     auto list = doc.find("variants");
     if (list == doc.end() || !list->is_array())
       return file_error(name, "/variants", "missing, or not an array");
@@ -415,9 +417,9 @@ Result<void> PipelineVariant::apply(PatchableState& s) const {
     const std::string who =
         origin.empty() ? "variant of pipeline '" + printable(pipeline) + "': state" : origin + "/state";
     if (changes.is_discarded() || !shallow_enough(state))
-      return Error{ErrorCode::invalid_argument, who + ": not a JSON object of fields"};
+      return detail::failure(ErrorCode::invalid_argument, who + ": not a JSON object of fields");
     if (auto bad = apply_state(changes, kind == ObjectKind::compute_pipeline, s, true))
-      return Error{ErrorCode::invalid_argument, who + printable(bad->where) + ": " + bad->reason};
+      return detail::failure(ErrorCode::invalid_argument, who + printable(bad->where) + ": " + bad->reason);
     return {};
   });
 }
@@ -478,14 +480,14 @@ Result<const UnpackedPipeline*> Dearchiver::unpack_variant(const PipelineVariant
     if (bad) return *bad;
     if (made || variant.origin.empty()) return made;
     if (made.error().code == ErrorCode::wrong_type)  // the file's "kind" names the other kind
-      return Error{ErrorCode::wrong_type, variant.origin + "/kind: " + made.error().message};
+      return detail::failure(ErrorCode::wrong_type, variant.origin + "/kind: " + made.error().message);
     if (made.error().code != ErrorCode::invalid_argument) return made;
     // The checks after the callback are the ones every callback's values get, and say so; here the
     // values are the file's, so the message names the variant's place in it instead.
     std::string message = made.error().message;
     for (size_t at = 0; (at = message.find("the modify callback", at)) != std::string::npos;)
       message.replace(at, 19, "the variant");
-    return Error{ErrorCode::invalid_argument, variant.origin + ": " + message};
+    return detail::failure(ErrorCode::invalid_argument, variant.origin + ": " + message);
   });
 }
 

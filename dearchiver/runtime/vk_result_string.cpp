@@ -1,5 +1,7 @@
 #include "vk_result_string.hpp"
 
+#include "support/failure.hpp"
+
 #include <vulkan/vulkan.hpp>  // brings vk::to_string
 
 namespace statepack::detail {
@@ -11,9 +13,9 @@ std::string vk_result_string(VkResult result) {
 }
 
 Error vulkan_failure(const char* call, VkResult result, std::string_view object) {
-  return Error{ErrorCode::vulkan_error,
-               std::string(call) + " failed for '" + std::string(object) + "': " + vk_result_string(result),
-               result};
+  return detail::failure(
+      ErrorCode::vulkan_error,
+      std::string(call) + " failed for '" + std::string(object) + "': " + vk_result_string(result), result);
 }
 
 }  // namespace statepack::detail

@@ -1,5 +1,7 @@
 #include "vulkan_functions.hpp"
 
+#include "support/failure.hpp"
+
 #include <dlfcn.h>
 
 #include <string>
@@ -18,8 +20,8 @@ void* system_loader() {
 }
 
 Error missing(const char* caller, const char* name, const char* from) {
-  return Error{ErrorCode::not_found, std::string(caller) + ": " + from + " has no " + name +
-                                         "; the runtime needs it (Vulkan 1.0 core)"};
+  return detail::failure(ErrorCode::not_found, std::string(caller) + ": " + from + " has no " + name +
+                                                   "; the runtime needs it (Vulkan 1.0 core)");
 }
 
 }  // namespace
@@ -30,18 +32,18 @@ Result<VulkanFunctions> load_vulkan_functions(const DeviceContext& context, cons
   void* loader = nullptr;
   if (context.get_instance_proc_addr) {
     if (context.instance == VK_NULL_HANDLE)
-      return Error{ErrorCode::invalid_argument,
-                   std::string(caller) +
-                       ": DeviceContext::get_instance_proc_addr needs DeviceContext::instance "
-                       "(the VkInstance the physical device belongs to)"};
+      return detail::failure(ErrorCode::invalid_argument,
+                             std::string(caller) +
+                                 ": DeviceContext::get_instance_proc_addr needs DeviceContext::instance "
+                                 "(the VkInstance the physical device belongs to)");
   } else {
     loader = system_loader();
     if (!loader)
-      return Error{
+      return detail::failure(
           ErrorCode::not_found,
           std::string(caller) +
               ": no Vulkan loader (libvulkan.so.1) could be opened; install it "
-              "(Debian: libvulkan1) or pass your own dispatch in DeviceContext::get_instance_proc_addr"};
+              "(Debian: libvulkan1) or pass your own dispatch in DeviceContext::get_instance_proc_addr");
     from = "the system Vulkan loader (libvulkan.so.1)";
   }
   // Instance-level functions through the application's dispatch, or the loader's exported symbols.

@@ -3,6 +3,7 @@
 #include <dirent.h>
 #include <fcntl.h>
 #include <link.h>
+#include <sys/mman.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -440,7 +441,7 @@ CompileCache::CompileCache(CompileCache&& o) noexcept
       memory_bytes_(o.memory_bytes_),
       use_clock_(o.use_clock_),
       bundle_key_(o.bundle_key_),
-      bundle_bytes_(std::move(o.bundle_bytes_)),  // the buffer moves: bundle_'s views stay valid
+      bundle_map_(std::move(o.bundle_map_)),  // the mapping moves: bundle_'s views stay valid
       bundle_(std::move(o.bundle_)),
       read_from_files_(std::move(o.read_from_files_)),
       from_bundle_(o.from_bundle_.load()),
@@ -536,26 +537,50 @@ void CompileCache::use_bundle(std::string_view project) {
   if (dir_.empty()) return;  // a cache in memory has no files to save opening
   KeyBuilder k;
   bundle_key_ = k.add("bundle").add(code_identity()).add(project).key();
-  auto payload = read_entry(*bundle_key_);
-  if (!payload) return;
-  {
-    std::lock_guard lock(mutex_);
-    used_.erase(hex(*bundle_key_));  // an entry of the cache, not of this pack
+  // Mapped, not read: a bundle of real-sized shaders is tens of megabytes, and reading it into fresh
+  // memory costs a page fault per page; mapped, the page cache's pages are used as they are.
+  const std::string name = hex(*bundle_key_);
+  const fs::path path = dir_ / name.substr(0, 2) / name;
+  const int fd = ::open(path.c_str(), O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) {
+    if (errno != ENOENT) ++damaged_;  // a link planted there, or what cannot be read: written again
+    return;
   }
+  struct stat st {};
+  const bool sized = ::fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && uint64_t(st.st_size) >= kHeaderBytes &&
+                     uint64_t(st.st_size) <= kMaxEntryBytes;
+  void* mapped = sized ? ::mmap(nullptr, size_t(st.st_size), PROT_READ, MAP_PRIVATE, fd, 0) : MAP_FAILED;
+  if (mapped != MAP_FAILED) ::futimens(fd, nullptr);  // recently used: pruned last
+  ::close(fd);
+  if (mapped == MAP_FAILED) {
+    ++damaged_;
+    return;
+  }
+  const size_t size = size_t(st.st_size);
+  bundle_map_ =
+      std::shared_ptr<const uint8_t>(static_cast<const uint8_t*>(mapped),
+                                     [size](const uint8_t* at) { ::munmap(const_cast<uint8_t*>(at), size); });
+  const uint8_t* header = bundle_map_.get();
+  const std::span<const uint8_t> all(header + kHeaderBytes, size - kHeaderBytes);
+  bool ok = std::memcmp(header, kMagic, 4) == 0 && get_u32(header + 4) == kEntryVersion &&
+            std::memcmp(header + 8, bundle_key_->data(), 16) == 0 && get_u64(header + 24) == all.size() &&
+            get_u64(header + 32) == XXH3_64bits(all.data(), all.size());
   // (16-byte key, u64 size, payload) until the end; anything out of place drops the whole bundle.
-  bundle_bytes_ = std::move(*payload);
-  const std::span<const uint8_t> all(bundle_bytes_);
-  for (size_t at = 0; at < all.size();) {
+  for (size_t at = 0; ok && at < all.size();) {
     if (all.size() - at < 24 || get_u64(&all[at + 16]) > all.size() - at - 24) {
-      ++damaged_;
-      bundle_.clear();
-      return;
+      ok = false;
+      break;
     }
     CacheKey key;
     std::copy_n(&all[at], key.size(), key.begin());
-    const size_t size = size_t(get_u64(&all[at + 16]));
-    bundle_.insert_or_assign(hex(key), all.subspan(at + 24, size));
-    at += 24 + size;
+    const size_t entry = size_t(get_u64(&all[at + 16]));
+    bundle_.insert_or_assign(hex(key), all.subspan(at + 24, entry));
+    at += 24 + entry;
+  }
+  if (!ok) {
+    ++damaged_;
+    bundle_.clear();
+    bundle_map_.reset();
   }
 }
 

@@ -48,6 +48,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <map>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <set>
@@ -151,10 +152,10 @@ class CompileCache {
   };
   std::map<std::string, MemoryEntry> memory_;
   uint64_t memory_bytes_ = 0, use_clock_ = 0;
-  // The pack's bundle: its key, its bytes, and the entries in them by name; the payloads this pack read
+  // The pack's bundle: its key, its file, and the entries in it by name; the payloads this pack read
   // from entry files (for the next bundle).
   std::optional<CacheKey> bundle_key_;
-  std::vector<uint8_t> bundle_bytes_;
+  std::shared_ptr<const uint8_t> bundle_map_;  // the bundle file, mapped
   std::map<std::string, std::span<const uint8_t>, std::less<>> bundle_;
   std::map<std::string, std::vector<uint8_t>> read_from_files_;
   std::atomic<size_t> from_bundle_{0};

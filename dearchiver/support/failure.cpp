@@ -1,0 +1,11 @@
+#include "failure.hpp"
+
+#include <utility>
+
+namespace statepack::detail {
+
+Error failure(ErrorCode code, std::string message, VkResult vk_result) {
+  return Error{code, std::move(message), vk_result};
+}
+
+}  // namespace statepack::detail
