@@ -30,6 +30,7 @@ constexpr size_t kHeaderBytes = 40;
 constexpr uint64_t kMaxEntryBytes = uint64_t(256) << 20;  // larger than any module statepack writes
 constexpr size_t kSubdirectories = 256;
 constexpr int64_t kStaleTemporarySeconds = 3600;  // a temporary this old belongs to a run that died
+constexpr size_t kMaxBundledPayload = 16 << 10;   // larger entries stay in their own files only
 
 // Builds a key from typed fields, each length-prefixed so that no two field lists hash alike.
 class KeyBuilder {
@@ -445,7 +446,8 @@ CompileCache::CompileCache(CompileCache&& o) noexcept
       bundle_(std::move(o.bundle_)),
       read_from_files_(std::move(o.read_from_files_)),
       from_bundle_(o.from_bundle_.load()),
-      growth_(o.growth_) {}
+      growth_(o.growth_),
+      checked_subdirectories_(std::move(o.checked_subdirectories_)) {}
 CompileCache::~CompileCache() = default;
 
 std::optional<CompileCache> CompileCache::open(const fs::path& dir, uint64_t max_bytes, std::string& error) {
@@ -526,7 +528,7 @@ std::optional<std::vector<uint8_t>> CompileCache::read_entry(const CacheKey& key
     ++damaged_;  // truncated, damaged or not ours: a miss, and written again
     return std::nullopt;
   }
-  if (bundle_key_ && key != *bundle_key_) {
+  if (bundle_key_ && key != *bundle_key_ && bytes.size() <= kMaxBundledPayload) {  // (the next bundle's)
     std::lock_guard lock(mutex_);
     read_from_files_.try_emplace(name, bytes);
   }
@@ -732,9 +734,14 @@ bool CompileCache::write_entry(const CacheKey& key, std::span<const uint8_t> pay
   static std::atomic<uint64_t> counter{0};
   const std::string name = hex(key);
   const fs::path subdir = dir_ / name.substr(0, 2), path = subdir / name;
-  if (!usable_subdirectory(subdir)) {
-    warning = "'" + printable(subdir.string()) + "' is not a directory";
-    return false;
+  // Each subdirectory checked (and made) once per flush: a system call per entry was a tenth of a cold
+  // pack of small shaders.
+  if (!checked_subdirectories_.count(name.substr(0, 2))) {
+    if (!usable_subdirectory(subdir)) {
+      warning = "'" + printable(subdir.string()) + "' is not a directory";
+      return false;
+    }
+    checked_subdirectories_.insert(name.substr(0, 2));
   }
   // The entry itself (not what a link planted there points to: rename() replaces the link).
   struct stat st {};
@@ -783,7 +790,10 @@ bool CompileCache::write_entry(const CacheKey& key, std::span<const uint8_t> pay
 std::string CompileCache::write_bundle(const std::vector<Pending>& written,
                                        const std::set<FileIdentity>& inputs, std::string& warning) {
   if (!bundle_key_) return "";
-  // What this pack used: read (from the bundle or from files) or written.
+  // What this pack used: read (from the bundle or from files) or written; small entries only. Opening a
+  // file costs about as much as reading a few tens of kilobytes, so a large entry (a real-sized shader's
+  // module) gains nothing in a bundle, while a bundle of them would be rewritten whole, tens of megabytes,
+  // whenever one shader changed.
   std::map<std::string, std::span<const uint8_t>> used;
   {
     std::lock_guard lock(mutex_);
@@ -796,6 +806,7 @@ std::string CompileCache::write_bundle(const std::vector<Pending>& written,
   }
   // A rewritten entry (a compile whose #includes changed keeps its key) replaces what was read.
   for (const Pending& p : written) used.insert_or_assign(hex(p.key), p.payload);
+  std::erase_if(used, [](const auto& entry) { return entry.second.size() > kMaxBundledPayload; });
   const bool same = used.size() == bundle_.size() &&
                     std::equal(used.begin(), used.end(), bundle_.begin(),
                                [](const auto& a, const auto& b) { return a.first == b.first; });
@@ -857,6 +868,7 @@ std::string CompileCache::flush(const std::vector<InputFile>& inputs) {
     }
     growth_ = 0;
   }
+  checked_subdirectories_.clear();  // (the next flush may find them replaced)
   return warning;
 }
 

@@ -35,12 +35,13 @@
 // |             | little-endian.                                                                   |
 //
 // A pack's bundle: one more entry, under a key made of the project (the working directory, the notation
-// files given, the output) instead of a shader, whose payload is every entry the last pack of that
-// project used, each as (16-byte key, u64 size, payload). A pack reads it first, in one read, and finds
-// its entries there before it opens an entry file: a warm pack of N shaders opens one file instead of
-// 2N. A bundle entry serves only under its own key, so a bundle that another project wrote, or one that
-// is stale, costs its read and nothing else; a pack that used other entries than its bundle holds
-// writes a new one. It is trimmed like any entry.
+// files given, the options that decide entries; not the output) instead of a shader, whose payload is
+// every small entry (16 KiB at most) the last pack of that project used, each as (16-byte key, u64 size,
+// payload). A pack maps it first and finds its entries there before it opens an entry file: a warm pack
+// of N small shaders opens one file instead of 2N (a large entry is worth its own file's opening, and
+// would make the bundle costly to rewrite). A bundle entry serves only under its own key, so a bundle
+// that another project wrote, or one that is stale, costs its read and nothing else; a pack that used
+// other small entries than its bundle holds writes a new one. It is trimmed like any entry.
 #pragma once
 
 #include <array>
@@ -160,6 +161,7 @@ class CompileCache {
   std::map<std::string, std::vector<uint8_t>> read_from_files_;
   std::atomic<size_t> from_bundle_{0};
   int64_t growth_ = 0;  // bytes this pack's writes added to the cache (less what they replaced)
+  std::set<std::string> checked_subdirectories_;  // during a flush: those found to be real directories
 };
 
 }  // namespace statepack::packager
