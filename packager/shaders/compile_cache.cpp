@@ -807,7 +807,8 @@ std::string CompileCache::write_bundle(const std::vector<Pending>& written,
   // A rewritten entry (a compile whose #includes changed keeps its key) replaces what was read.
   for (const Pending& p : written) used.insert_or_assign(hex(p.key), p.payload);
   std::erase_if(used, [](const auto& entry) { return entry.second.size() > kMaxBundledPayload; });
-  const bool same = used.size() == bundle_.size() &&
+  // (Written: a new entry, or one rewritten under its old name, whose new bytes the bundle must hold.)
+  const bool same = written.empty() && used.size() == bundle_.size() &&
                     std::equal(used.begin(), used.end(), bundle_.begin(),
                                [](const auto& a, const auto& b) { return a.first == b.first; });
   if (same || used.empty()) return "";

@@ -252,6 +252,15 @@ TEST_F(CompileCacheTest, ABundleThatCannotServeIsReadAroundAndWrittenAgain) {
             std::string::npos)
       << last_output_;
   EXPECT_EQ(read_file(dir_ / "include_again.spk"), clean_bytes());
+  // The same with an include change that leaves every module as it was (a comment): the compiles are
+  // rewritten under their old names, the finalisations hit, and the bundle must still take the new
+  // compiles (else every later pack would miss them again).
+  write_file(dir_ / "common.glsl", read_file(dir_ / "common.glsl") + "// a comment\n");
+  EXPECT_EQ(pack("comment.spk").misses, 2) << last_output_;  // A's and B's compiles
+  EXPECT_EQ(pack("comment_again.spk").hits, kEntries) << last_output_;
+  EXPECT_NE(last_output_.find(std::to_string(kEntries) + " entries read from the pack's bundle"),
+            std::string::npos)
+      << last_output_;
   // Another set of options has its own bundle: its first pack reads the entries it shares from files.
   EXPECT_EQ(pack("optimized.spk", "--optimize size").hits, 3) << last_output_;  // the compiles
   EXPECT_NE(last_output_.find(" 0 entries read from the pack's bundle"), std::string::npos) << last_output_;
