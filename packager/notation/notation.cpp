@@ -62,16 +62,19 @@ Location SourceTexts::at(const Location& object, const std::string& pointer) con
   return where;
 }
 
-std::string display_path(const fs::path& path) {
-  // The working directory, asked once: statepack never changes it, and asking per path was a system
-  // call per shader and #include of a pack.
-  static const std::optional<fs::path> cwd = [] {
+const fs::path& working_directory() {
+  static const fs::path cwd = [] {
     std::error_code ec;
     fs::path here = fs::current_path(ec);
-    return ec ? std::nullopt : std::optional<fs::path>(here);
+    return ec ? fs::path() : here;
   }();
-  if (!cwd) return path.string();
-  fs::path relative = path.lexically_relative(*cwd);
+  return cwd;
+}
+
+std::string display_path(const fs::path& path) {
+  const fs::path& cwd = working_directory();
+  if (cwd.empty()) return path.string();
+  fs::path relative = path.lexically_relative(cwd);
   if (relative.empty() || *relative.begin() == "..") return path.string();
   return relative.string();
 }

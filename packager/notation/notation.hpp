@@ -200,6 +200,10 @@ void read_notation(const std::filesystem::path& input, const NotationOptions& op
 // every named signature and render pass exists.
 void resolve_references(Notation& notation, Diagnostics& diagnostics);
 
+// The working directory, asked of the system once (statepack never changes it; asked per path, it was a
+// system call per shader and #include of a pack); empty when it cannot be known.
+const std::filesystem::path& working_directory();
+
 // `path` relative to the working directory when it lies below it, else as it is: for messages.
 std::string display_path(const std::filesystem::path& path);
 

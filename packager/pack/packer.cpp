@@ -742,7 +742,7 @@ void flush_cache(CompileCache& cache, const CompileCache::Stats& before, const s
 // entries the pack will need: each is still found by its own key.
 std::string bundle_project(const PackOptions& options) {
   std::error_code ec;
-  std::string text = fs::current_path(ec).string();
+  std::string text = working_directory().string();
   for (const auto& input : options.inputs)
     text += "\n-i " + fs::absolute(input, ec).lexically_normal().string();
   const CompileOptions& c = options.compile;

@@ -140,7 +140,8 @@ CacheKey key_of(std::string_view name) {
 
 // What decides a compile, its #includes aside (they are checked one by one on a hit).
 CacheKey compile_key(const ShaderDesc& shader, const CompileOptions& options,
-                     const std::array<uint8_t, 16>& text, const fs::path& cwd) {
+                     const std::array<uint8_t, 16>& text) {
+  const fs::path& cwd = working_directory();
   KeyBuilder k;
   k.add("compile").add(code_identity());
   k.add(uint64_t(options.vulkan_version)).add(uint64_t(options.opengl)).add(options.max_input_bytes);
@@ -320,6 +321,14 @@ bool is_entry_name(std::string_view name) {
   return name.size() == 32 && name.find_first_not_of("0123456789abcdef") == std::string_view::npos;
 }
 
+// Whether `header` (kHeaderBytes) and `payload` are a whole entry stored under `key`: magic, layout
+// version, key, payload size and hash.
+bool whole_entry(const uint8_t* header, std::span<const uint8_t> payload, const CacheKey& key) {
+  return std::memcmp(header, kMagic, 4) == 0 && get_u32(header + 4) == kEntryVersion &&
+         std::memcmp(header + 8, key.data(), key.size()) == 0 && get_u64(header + 24) == payload.size() &&
+         get_u64(header + 32) == XXH3_64bits(payload.data(), payload.size());
+}
+
 // Every entry (and temporary) of one subdirectory, oldest use first.
 struct FileOnDisk {
   int64_t mtime;
@@ -348,10 +357,16 @@ std::vector<FileOnDisk> files_of(const fs::path& subdir) {
 // Removes the oldest entries of `files` until the entries hold at most `target` bytes (temporaries do
 // not count: another pack may be writing them), never one named in `keep` (written by this run), and
 // temporaries of runs that died.
-size_t trim(std::vector<FileOnDisk>& files, uint64_t target, const std::set<std::string>& keep = {}) {
+// The bytes of the entries among `files` (temporaries do not count).
+uint64_t entry_bytes(const std::vector<FileOnDisk>& files) {
   uint64_t total = 0;
   for (const auto& f : files)
     if (!f.temporary) total += f.size;
+  return total;
+}
+
+size_t trim(std::vector<FileOnDisk>& files, uint64_t target, const std::set<std::string>& keep = {}) {
+  uint64_t total = entry_bytes(files);
   size_t removed = 0;
   const int64_t now = int64_t(::time(nullptr));
   std::vector<FileOnDisk> kept;
@@ -367,13 +382,6 @@ size_t trim(std::vector<FileOnDisk>& files, uint64_t target, const std::set<std:
   }
   files = std::move(kept);
   return removed;
-}
-
-uint64_t entry_bytes(const std::vector<FileOnDisk>& files) {
-  uint64_t total = 0;
-  for (const auto& f : files)
-    if (!f.temporary) total += f.size;
-  return total;
 }
 
 // Every entry and temporary of the cache's subdirectories (real directories only), oldest use first.
@@ -397,6 +405,7 @@ std::vector<FileOnDisk> all_files(const fs::path& root) {
 // behind; a count over the bound, a missing or unreadable one, lists the directories and is written
 // again exact. `cache prune` writes it exact too.
 constexpr const char* kSizeFile = "size";
+// (Not detail::read_regular_file: that follows links, and nothing under the cache is read through one.)
 std::optional<uint64_t> read_size(const fs::path& root) {
   const int fd = ::open((root / kSizeFile).c_str(), O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
   if (fd < 0) return std::nullopt;
@@ -424,13 +433,9 @@ bool usable_subdirectory(const fs::path& path) {
 
 }  // namespace
 
-CompileCache::CompileCache(fs::path dir, uint64_t max_bytes) : dir_(std::move(dir)), max_bytes_(max_bytes) {
-  std::error_code ec;
-  cwd_ = fs::current_path(ec);  // once: asked per shader, it was a system call per hit
-}
+CompileCache::CompileCache(fs::path dir, uint64_t max_bytes) : dir_(std::move(dir)), max_bytes_(max_bytes) {}
 CompileCache::CompileCache(CompileCache&& o) noexcept
     : dir_(std::move(o.dir_)),
-      cwd_(std::move(o.cwd_)),
       max_bytes_(o.max_bytes_),
       pending_(std::move(o.pending_)),
       hits_(o.hits_.load()),
@@ -514,9 +519,7 @@ std::optional<std::vector<uint8_t>> CompileCache::read_entry(const CacheKey& key
   if (ok) {
     bytes.resize(size_t(st.st_size) - kHeaderBytes);
     ok = read_all(header, kHeaderBytes) && read_all(bytes.data(), bytes.size()) &&
-         std::memcmp(header, kMagic, 4) == 0 && get_u32(header + 4) == kEntryVersion &&
-         std::memcmp(header + 8, key.data(), key.size()) == 0 && get_u64(header + 24) == bytes.size() &&
-         get_u64(header + 32) == XXH3_64bits(bytes.data(), bytes.size());
+         whole_entry(header, bytes, key);
   }
   if (ok) {
     ::futimens(fd, nullptr);  // recently used: pruned last
@@ -564,9 +567,7 @@ void CompileCache::use_bundle(std::string_view project) {
                                      [size](const uint8_t* at) { ::munmap(const_cast<uint8_t*>(at), size); });
   const uint8_t* header = bundle_map_.get();
   const std::span<const uint8_t> all(header + kHeaderBytes, size - kHeaderBytes);
-  bool ok = std::memcmp(header, kMagic, 4) == 0 && get_u32(header + 4) == kEntryVersion &&
-            std::memcmp(header + 8, bundle_key_->data(), 16) == 0 && get_u64(header + 24) == all.size() &&
-            get_u64(header + 32) == XXH3_64bits(all.data(), all.size());
+  bool ok = whole_entry(header, all, *bundle_key_);
   // (16-byte key, u64 size, payload) until the end; anything out of place drops the whole bundle.
   for (size_t at = 0; ok && at < all.size();) {
     if (all.size() - at < 24 || get_u64(&all[at + 16]) > all.size() - at - 24) {
@@ -600,10 +601,10 @@ std::optional<CompileCache::Compile> CompileCache::find_compile(const ShaderDesc
     InputText input = read_input_file(shader.file, display_path(shader.file), options.max_input_bytes);
     if (!input.error.empty()) return std::nullopt;  // the compile reports it
     source = std::move(input.text);
-    out.files_read.push_back({(cwd_ / shader.file).lexically_normal(), input.identity});
+    out.files_read.push_back({(working_directory() / shader.file).lexically_normal(), input.identity});
   }
   out.source_hash = text_hash(source);
-  auto payload = read_entry(compile_key(shader, options, out.source_hash, cwd_));
+  auto payload = read_entry(compile_key(shader, options, out.source_hash));
   uint32_t flags = 0, count = 0;
   PayloadReader r(payload ? std::span<const uint8_t>(*payload) : std::span<const uint8_t>());
   // An #include record takes at least 29 bytes.
@@ -629,7 +630,7 @@ std::optional<CompileCache::Compile> CompileCache::find_compile(const ShaderDesc
     included += input.text.size();
     if (!input.error.empty() || text_hash(input.text) != rec.text_hash || included > options.max_input_bytes)
       return ++misses_, std::nullopt;
-    out.files_read.push_back({(cwd_ / path).lexically_normal(), input.identity});
+    out.files_read.push_back({(working_directory() / path).lexically_normal(), input.identity});
     out.includes.push_back(std::move(rec));
   }
   uint32_t names = 0;
@@ -674,7 +675,7 @@ void CompileCache::keep_compile(const ShaderDesc& shader, const CompileOptions& 
   w.str(compiled.entry_point);
   w.words(compiled.spirv);
   if (reflection) write_reflection(w, *reflection);
-  keep(compile_key(shader, options, compiled.source_hash, cwd_), std::move(w.bytes));
+  keep(compile_key(shader, options, compiled.source_hash), std::move(w.bytes));
 }
 
 std::optional<std::vector<uint32_t>> CompileCache::find_finalized(const std::vector<uint32_t>& input,

@@ -139,7 +139,6 @@ class CompileCache {
   std::string flush_to_memory();
 
   std::filesystem::path dir_;  // DIR/v1; empty for a cache in memory
-  std::filesystem::path cwd_;  // the working directory: relative paths in keys resolve against it
   uint64_t max_bytes_;
   std::mutex mutex_;  // pending_, used_, memory_, use_clock_
   std::vector<Pending> pending_;
