@@ -460,9 +460,7 @@ struct Section {
   uint32_t offset = 0, size = 0, count = 0;
 };
 
-[[gnu::cold]] Error corrupt(std::string message) {
-  return detail::failure(ErrorCode::corrupt, "corrupt archive: " + std::move(message));
-}
+using detail::corrupt;
 
 // Reads records; remembers the first problem instead of throwing. Section sizes were checked
 // against their record counts before any record is read, and every list against its section.

@@ -27,9 +27,7 @@ std::string type_names(spirv::DescriptorTypeMask mask) {
 // No device has more vertex attributes than this; an input claiming more is hostile.
 constexpr uint32_t kMaxVertexLocations = 64;
 
-[[gnu::cold]] Error corrupt(std::string message) {
-  return detail::failure(ErrorCode::corrupt, "corrupt archive: " + std::move(message));
-}
+using detail::corrupt;
 
 // Names a pipeline and one of its shaders in messages. The strings are built only when a check fails:
 // building them for every check cost a load of 100 pipelines a sixth of its own time.

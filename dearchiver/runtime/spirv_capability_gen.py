@@ -156,7 +156,8 @@ def main(registry_path, grammar_path, header_path, target):
         def offset_of(quoted):
             word = quoted.strip('"')
             if word not in at:
-                at[word] = sum(len(t) + 1 for t in text)
+                last = text[-1]
+                at[word] = at[last] + len(last) + 1  # after the last word and its NUL
                 text.append(word)
             return at[word]
         out.write("constexpr CapabilityEnable kCapabilityEnables[] = {\n")
@@ -167,7 +168,7 @@ def main(registry_path, grammar_path, header_path, target):
                       f"VkStructureType({s_type}), uint32_t({offset}), {offset_of(struct)}, {offset_of(member)}, "
                       f"{offset_of(extension)}, uint32_t({bits})}},\n")
         out.write("};\n")
-        if sum(len(t) + 1 for t in text) > 0xFFFF:
+        if at[text[-1]] + len(text[-1]) + 1 > 0xFFFF:
             raise SystemExit("spirv_capability_gen: the rows' text exceeds 64 KiB: widen CapabilityEnable's offsets")
         out.write("constexpr char kCapabilityText[] =\n" + "".join(f'    "{t}\\0"\n' for t in text) + ";\n")
         out.write("constexpr ExtensionStruct kCapabilityExtensions[] = {\n")

@@ -14,4 +14,7 @@ namespace statepack::detail {
 
 [[gnu::cold]] Error failure(ErrorCode code, std::string message, VkResult vk_result = VK_SUCCESS);
 
+// ErrorCode::corrupt, "corrupt archive: <message>": what the archive's decode and checks report.
+[[gnu::cold]] Error corrupt(std::string message);
+
 }  // namespace statepack::detail
