@@ -472,14 +472,18 @@ TEST_F(ReloadTest, TheFileWatchHandsBackOnlyCompleteNewArchives) {
   auto same = watch->poll();
   ASSERT_TRUE(same);
   EXPECT_FALSE(*same);
-  // Not an archive: an error once, then nothing until it changes.
+  // An error naming `needle` once, then nothing until the file changes.
+  auto error_once = [&](const char* needle) {
+    auto failed = watch->poll();
+    ASSERT_FALSE(failed);
+    EXPECT_NE(failed.error().message.find(needle), std::string::npos) << failed.error().message;
+    auto quiet = watch->poll();
+    ASSERT_TRUE(quiet);
+    EXPECT_FALSE(*quiet);
+  };
+  // Not an archive.
   project.write("out.spk", std::string(256, 'x'));
-  auto garbage = watch->poll();
-  ASSERT_FALSE(garbage);
-  EXPECT_NE(garbage.error().message.find("out.spk"), std::string::npos) << garbage.error().message;
-  auto quiet = watch->poll();
-  ASSERT_TRUE(quiet);
-  EXPECT_FALSE(*quiet);
+  ASSERT_NO_FATAL_FAILURE(error_once("out.spk"));
   // Deleted: nothing; restored by rename: the archive.
   fs::remove(project.archive_path());
   auto missing = watch->poll();
@@ -494,15 +498,10 @@ TEST_F(ReloadTest, TheFileWatchHandsBackOnlyCompleteNewArchives) {
   ASSERT_TRUE(older) << older.error().message;
   ASSERT_TRUE(*older);  // other bytes than the last handed back
   EXPECT_EQ((*older)->content_version(), 0u);
-  // A directory where the archive was: a named error once, then nothing until it changes.
+  // A directory where the archive was.
   fs::remove(project.archive_path());
   fs::create_directory(project.archive_path());
-  auto directory = watch->poll();
-  ASSERT_FALSE(directory);
-  EXPECT_NE(directory.error().message.find("directory"), std::string::npos) << directory.error().message;
-  auto after = watch->poll();
-  ASSERT_TRUE(after);
-  EXPECT_FALSE(*after);
+  ASSERT_NO_FATAL_FAILURE(error_once("directory"));
 }
 
 }  // namespace
