@@ -80,7 +80,8 @@ struct PackCommand {
   WatchOptions watch_options;
   std::vector<std::string> inputs, render_state_dirs, shader_dirs, defines;
   std::string output, vulkan_version = "1.0", depfile, dump_dir, optimize = "none", cache_dir,
-                      shader_environment = "diligent";
+                      shader_environment = "diligent", shard;
+  std::optional<std::string> remote_cache;
   bool strip_debug = false;
   uint64_t max_input_size = kMaxInputBytes;
   bool vulkan = false, opengl = false, opengles = false, dx11 = false, dx12 = false, metal_macos = false,
@@ -158,6 +159,17 @@ struct PackCommand {
         ->capture_default_str()
         ->transform(CLI::AsSizeValue(false));
     not_negative(app->get_option("--cache-max-size"));
+    app->add_option("--remote-cache", remote_cache,
+                    "Servers behind the compile cache, ccache's remote_storage syntax: 'URL[|attr...] ...' "
+                    "with http://, redis:// or file: URLs (docs/cli.md \"Teams and CI\"); default: "
+                    "$STATEPACK_REMOTE_CACHE; '' for none. Entries are signed with $STATEPACK_CACHE_KEY (or "
+                    "the file $STATEPACK_CACHE_KEY_FILE names) when set, and unsigned ones refused");
+    app->add_option("--shard", shard,
+                    "K/N: compile only the shaders whose compile key falls in shard K of N (1 <= K <= N) into "
+                    "the caches, and write no archive (a CI matrix job; then pack with --no-compile)");
+    app->add_flag("--no-compile", options.compile.no_compile,
+                  "Assemble the archive from the caches (local and remote): a shader they do not have is an "
+                  "error naming it, not a compile");
     app->add_flag("--vulkan", vulkan, "Produce the Vulkan backend (SPIR-V)");
     app->add_flag("--opengl", opengl,
                   "Produce the OpenGL backend (OpenGL 4.5 + GL_ARB_gl_spirv) from the same sources: each "
@@ -170,6 +182,73 @@ struct PackCommand {
                   "Metal macOS backend (not produced on this platform: warning)");
     app->add_flag("--metal_ios", metal_ios, "Metal iOS backend (not produced on this platform: warning)");
     app->add_flag("--webgpu", webgpu, "WebGPU backend (not produced: warning)");
+  }
+
+  // The shared cache's options and environment (--remote-cache, the team key, --shard, --no-compile).
+  bool settle_cache(std::ostream& err) {
+    const char* from_environment = std::getenv("STATEPACK_REMOTE_CACHE");
+    const std::string remote = remote_cache ? *remote_cache : from_environment ? from_environment : "";
+    if (remote.find_first_not_of(" \t\n") != std::string::npos) {
+      std::string error;
+      auto specs = parse_remote_storage(remote, error);
+      if (!specs) {
+        err << "statepack: error: " << (remote_cache ? "--remote-cache" : "STATEPACK_REMOTE_CACHE") << ": "
+            << printable(error) << "\n";
+        return false;
+      }
+      options.remote_cache = std::move(*specs);
+    }
+    if (!read_signing_key(err)) return false;
+    const bool any_cache = !cache_dir.empty() || !options.remote_cache.empty();
+    if (!shard.empty()) {
+      unsigned k = 0, n = 0;
+      char slash = 0, rest = 0;
+      std::istringstream in(shard);
+      if (!(in >> k >> slash >> n) || slash != '/' || in >> rest || k < 1 || k > n || n > 65536) {
+        err << "statepack: error: --shard must be K/N with 1 <= K <= N <= 65536, not '" << printable(shard)
+            << "'\n";
+        return false;
+      }
+      options.shard = k, options.shards = n;
+      if (output_option->count() > 0 || !depfile.empty() || options.check_only || watch) {
+        err << "statepack: error: --shard compiles into the caches and writes no archive: drop -o, --depfile, "
+               "--check and --watch\n";
+        return false;
+      }
+    }
+    if ((options.shards || options.compile.no_compile) && !any_cache) {
+      err << "statepack: error: " << (options.shards ? "--shard" : "--no-compile")
+          << " needs a compile cache: --cache-dir, --remote-cache or STATEPACK_REMOTE_CACHE\n";
+      return false;
+    }
+    if (options.shards && options.compile.no_compile) {
+      err << "statepack: error: --shard compiles; --no-compile forbids it: drop one of them\n";
+      return false;
+    }
+    return true;
+  }
+
+  // The team's key: STATEPACK_CACHE_KEY itself, or the file STATEPACK_CACHE_KEY_FILE names (never an
+  // argument: a command line is visible to every user of the machine). A trailing newline is not part of it.
+  bool read_signing_key(std::ostream& err) {
+    std::string key;
+    if (const char* text = std::getenv("STATEPACK_CACHE_KEY"); text && *text) {
+      key = text;
+    } else if (const char* file = std::getenv("STATEPACK_CACHE_KEY_FILE"); file && *file) {
+      InputText input = read_input_file(file, file, 64 << 10);
+      if (!input.error.empty()) {
+        err << "statepack: error: STATEPACK_CACHE_KEY_FILE: " << printable(input.error) << "\n";
+        return false;
+      }
+      key = std::move(input.text);
+      while (!key.empty() && (key.back() == '\n' || key.back() == '\r')) key.pop_back();
+      if (key.empty()) {
+        err << "statepack: error: STATEPACK_CACHE_KEY_FILE: '" << printable(file) << "' holds no key\n";
+        return false;
+      }
+    }
+    options.cache_signing_key.assign(key.begin(), key.end());
+    return true;
   }
 
   // Turns the options into `options`; false (with the error printed) for a usage error.
@@ -187,7 +266,8 @@ struct PackCommand {
       err << "statepack: error: --watch-quiet-ms is for --watch\n";
       return false;
     }
-    if (output_option->count() == 0 && !options.check_only) {
+    if (!settle_cache(err)) return false;
+    if (output_option->count() == 0 && !options.check_only && !options.shards) {
       err << "statepack: error: --output is required (or --check to write nothing)\n";
       return false;
     }

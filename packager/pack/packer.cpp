@@ -72,6 +72,8 @@ struct CompiledUnit {
   CompiledShader compiled;
   Reflection reflection;
   std::optional<spirv::Module> module;  // the compiled SPIR-V walked, for the layout's checks
+  bool in_shard = false;                // --shard: this unit's compile key falls in the pack's shard
+  bool compiled_here = false;           // not found in a cache: compiled by this pack
 };
 
 // A path in a depfile, written so that Make and Ninja both read it back as the path (tried with GNU
@@ -122,6 +124,16 @@ std::string file_name_of(const std::string& name) {
   return out.empty() ? "_" : out;
 }
 
+constexpr const char* kNotInCache =
+    "not in the compile cache (local or remote), and --no-compile forbids compiling it";
+
+// Whether a compile key falls in shard `shard` of `shards` (1-based): its first 8 bytes modulo the count.
+bool in_shard(const CacheKey& key, uint32_t shard, uint32_t shards) {
+  uint64_t point = 0;
+  for (size_t i = 0; i < 8; ++i) point = point << 8 | key[i];
+  return point % shards == shard - 1;
+}
+
 // A compile and its reflection from the cache, when it has both. Runs on any thread: nothing in it
 // recurses as a shader nests, so a hit needs no compile stack (a thread made per shader was most of a
 // warm pack of small shaders).
@@ -142,13 +154,6 @@ void compile_and_keep(const ShaderDesc& shader, const CompileOptions& options, S
   if (!compiled.ok) return;
   reflection = reflect_spirv(compiled.spirv, shader.stage);
   if (cache) cache->keep_compile(shader, options, compiled, &reflection);
-}
-
-// Both: from the cache when it has them. On the compile stack.
-void compile_cached(const ShaderDesc& shader, const CompileOptions& options, ShaderMessages& errors,
-                    CompileCache* cache, CompiledShader& compiled, Reflection& reflection) {
-  if (!compile_from_cache(shader, options, cache, compiled, reflection))
-    compile_and_keep(shader, options, errors, cache, compiled, reflection);
 }
 
 // finalize_spirv's result from the cache, when it has it (any thread, as compile_from_cache).
@@ -305,12 +310,20 @@ CompiledShaders compile_shaders(const Notation& notation, const PackOptions& opt
   detail::parallel_for(out.units.size(), options.threads, [&](size_t i) {
     CompiledUnit& u = out.units[i];
     if (u.desc.broken) return;  // its notation errors are reported; compiling it would guess
-    if (!compile_from_cache(u.desc, options.compile, cache, u.compiled, u.reflection))
+    if (options.shards) {  // --shard: another machine compiles what falls in another shard
+      const auto key = compile_cache_key(u.desc, options.compile);
+      if (key && !in_shard(*key, options.shard, options.shards)) return;
+      u.in_shard = true;
+    }
+    if (!compile_from_cache(u.desc, options.compile, cache, u.compiled, u.reflection)) {
+      if (options.compile.no_compile) return diag.error(u.desc.where, "shader '" + u.desc.name + "': " + kNotInCache);
+      u.compiled_here = true;
       if (std::string failed = on_compile_stack([&] {
             compile_and_keep(u.desc, options.compile, compile_errors, cache, u.compiled, u.reflection);
           });
           !failed.empty())
         return diag.error(u.desc.where, "shader '" + u.desc.name + "': " + failed);
+    }
     if (!u.compiled.ok) return;
     if (auto walked = spirv::walk(u.compiled.spirv)) u.module = std::move(*walked);  // here: on all cores
     for (ReflectedBinding& b : u.reflection.bindings)
@@ -466,7 +479,10 @@ void make_opengl_unit(const CompiledUnit& vulkan, const PackOptions& options, Co
     }
     CompileOptions gl = options.compile;
     gl.opengl = true;
-    compile_cached(vulkan.desc, gl, direct_errors, cache, out.compiled, out.reflection);
+    if (!compile_from_cache(vulkan.desc, gl, cache, out.compiled, out.reflection)) {
+      if (gl.no_compile) return diag.error(vulkan.desc.where, who + ": " + kNotInCache);
+      compile_and_keep(vulkan.desc, gl, direct_errors, cache, out.compiled, out.reflection);
+    }
   } else {
     // What is translated must be valid SPIR-V: SPIRV-Cross would carry a fault (two outputs at one
     // location, as glslang makes of some HLSL) into GLSL that then fails to compile. With --vulkan the
@@ -723,17 +739,54 @@ std::string output_refusal(const PackOptions& options) {
 // Writes what the pack kept to the cache (a warning when it cannot) and notes this pack's share of its
 // statistics (a cache may serve several packs) for --time-report.
 void flush_cache(CompileCache& cache, const CompileCache::Stats& before, const std::vector<InputFile>& inputs,
-                 PhaseTimes& times, std::ostream& err) {
+                 const RemoteCache* remote, PhaseTimes& times, std::ostream& err) {
   if (std::string warning = cache.flush(inputs); !warning.empty())
     err << "statepack: warning: --cache-dir: " << warning << "\n";
   const CompileCache::Stats s = cache.stats();
-  times.note("cache: " + std::to_string(s.hits - before.hits) + " hits, " +
-             std::to_string(s.misses - before.misses) + " misses, " +
-             std::to_string(s.damaged - before.damaged) + " damaged, " +
-             std::to_string(s.written - before.written) + " written, " +
-             std::to_string(s.removed - before.removed) + " removed; " +
-             std::to_string(s.from_bundle - before.from_bundle) + " entries read from the pack's bundle");
+  std::string note = "cache: " + std::to_string(s.hits - before.hits) + " hits, " +
+                     std::to_string(s.misses - before.misses) + " misses, " +
+                     std::to_string(s.damaged - before.damaged) + " damaged, " +
+                     std::to_string(s.written - before.written) + " written, " +
+                     std::to_string(s.removed - before.removed) + " removed; " +
+                     std::to_string(s.from_bundle - before.from_bundle) + " entries read from the pack's bundle";
+  if (remote) {
+    const RemoteCache::Stats r = remote->stats();
+    note += "; remote: " + std::to_string(s.remote_hits - before.remote_hits) + " hits, " +
+            std::to_string(r.misses) + " misses, " + std::to_string(s.remote_refused - before.remote_refused) +
+            " refused, " + std::to_string(r.errors) + " errors, " + std::to_string(r.written) + " written, " +
+            std::to_string(r.bytes_read) + " bytes read, " + std::to_string(r.bytes_written) + " bytes written";
+    if (std::string warning = remote->warning(); !warning.empty())
+      for (size_t at = 0; at < warning.size();) {
+        const size_t end = std::min(warning.find('\n', at), warning.size());
+        err << "statepack: warning: " << warning.substr(at, end - at) << "; the pack went on without it\n";
+        at = end + 1;
+      }
+    if (size_t refused = s.remote_refused - before.remote_refused)
+      err << "statepack: warning: remote cache: " << refused << " entr" << (refused == 1 ? "y" : "ies")
+          << " refused (the first, " << printable(cache.first_refusal()) << "); made here instead\n";
+  }
+  times.note(note);
   times.done("cache");
+}
+
+// --shard K/N: the compiles are in the caches; nothing is laid out or written. Says what the shard did.
+int finish_shard(const PackOptions& options, const CompiledShaders& compiled, CompileCache& cache,
+                 const CompileCache::Stats& before, const std::vector<InputFile>& inputs,
+                 const RemoteCache* remote, PhaseTimes& times, Diagnostics& diag, std::ostream& out,
+                 std::ostream& err) {
+  flush_cache(cache, before, inputs, remote, times, err);
+  size_t mine = 0, made = 0;
+  for (const CompiledUnit& u : compiled.units) mine += u.in_shard, made += u.compiled_here;
+  diag.print(err);
+  if (diag.has_errors()) {
+    err << "statepack: " << diag.error_count() << " error(s) in shard " << options.shard << "/" << options.shards
+        << "\n";
+    return kExitInputError;
+  }
+  out << "shard " << options.shard << "/" << options.shards << ": " << mine << " of " << compiled.units.size()
+      << " shader compiles (" << made << " compiled, " << (mine - made)
+      << " already cached); no archive written (--shard)\n";
+  return kExitSuccess;
 }
 
 // What names a pack for its cache bundle (compile_cache.hpp): where it runs, what it reads first, and
@@ -771,7 +824,16 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err, P
           : std::nullopt;
   if (!cache_error.empty())
     err << "statepack: warning: --cache-dir: " << cache_error << "; packing without a cache\n";
+  // Servers behind the cache: without a cache directory, what they serve is kept for this pack only.
+  const auto remote =
+      options.remote_cache.empty() ? nullptr : std::make_shared<RemoteCache>(options.remote_cache);
+  if (remote && !cache && !(session && session->cache))
+    cache.emplace(CompileCache::in_memory(CompileCache::kDefaultMaxBytes));
   CompileCache* const cached = session && session->cache ? session->cache : cache ? &*cache : nullptr;
+  if (cached) {
+    cached->use_remote(remote);
+    cached->set_signing_key(options.cache_signing_key);
+  }
   const CompileCache::Stats stats_before = cached ? cached->stats() : CompileCache::Stats{};
   if (cache) cache->use_bundle(bundle_project(options));
   Diagnostics diag(options.max_errors);
@@ -807,6 +869,8 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err, P
       inputs.insert(inputs.end(), u.compiled.files_read.begin(), u.compiled.files_read.end());
   if (session)
     for (const auto& f : inputs) session->files_read.push_back(f.path);
+  if (options.shards) return finish_shard(options, compiled, *cached, stats_before, inputs, remote.get(),
+                                          times, diag, out, err);
 
   ContentsBuilder builder;
   builder.contents.producer_version = kProducerVersion;
@@ -826,7 +890,7 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err, P
   }
   if (notation_ok && options.opengl) add_opengl(notation, gl_compiled, options, builder, diag, cached);
   // What compiled is kept whether or not the pack succeeds: the next run needs it either way.
-  if (cached) flush_cache(*cached, stats_before, inputs, times, err);
+  if (cached) flush_cache(*cached, stats_before, inputs, remote.get(), times, err);
   if (!diag.has_errors()) note_unused_objects(notation, diag);
   if (diag.has_errors()) {
     diag.print(err);

@@ -10,6 +10,7 @@
 
 #include "notation/diagnostics.hpp"
 #include "notation/notation.hpp"
+#include "shaders/remote_cache.hpp"
 #include "shaders/shader_compiler.hpp"
 
 namespace statepack::packager {
@@ -43,6 +44,15 @@ struct PackOptions {
   // --cache-dir: compiled and finalised SPIR-V kept between runs (compile_cache.hpp); its size bound.
   std::optional<std::filesystem::path> cache_dir;
   uint64_t cache_max_bytes = uint64_t(1) << 30;
+  // --remote-cache (or STATEPACK_REMOTE_CACHE): servers behind the cache (remote_cache.hpp); without
+  // --cache-dir the pack keeps what it reads from them in memory only.
+  std::vector<RemoteSpec> remote_cache;
+  // STATEPACK_CACHE_KEY or the file STATEPACK_CACHE_KEY_FILE names: the team's key that signs every
+  // entry written and must sign every entry read (compile_cache.hpp).
+  std::vector<uint8_t> cache_signing_key;
+  // --shard K/N (1 <= K <= N): compile only the shaders whose compile key falls in shard K, into the
+  // caches; lay out nothing, write no archive. 0/0: no sharding.
+  uint32_t shard = 0, shards = 0;
   size_t max_errors =
       Diagnostics::kDefaultMaxErrors;  // 0: no limit  // --check: pack and validate everything, write nothing
 };

@@ -7,16 +7,15 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#define XXH_STATIC_LINKING_ONLY  // XXH3_state_t on the stack
-#include <xxhash.h>
-
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <map>
 #include <set>
 
+#include "digest.hpp"
 #include "notation/notation.hpp"
+#include "remote_cache.hpp"
 #include "shader_environment.hpp"
 #include "support/printable.hpp"
 
@@ -25,49 +24,42 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr char kMagic[4] = {'S', 'P', 'K', 'C'};
-constexpr uint32_t kEntryVersion = 1;
-constexpr size_t kHeaderBytes = 40;
+constexpr uint32_t kEntryVersion = 2;
+constexpr size_t kHeaderBytes = 112;
+constexpr const char* kLayoutDirectory = "v2";  // (v1: 0.4's XXH3 keys, left alone)
 constexpr uint64_t kMaxEntryBytes = uint64_t(256) << 20;  // larger than any module statepack writes
 constexpr size_t kSubdirectories = 256;
 constexpr int64_t kStaleTemporarySeconds = 3600;  // a temporary this old belongs to a run that died
 constexpr size_t kMaxBundledPayload = 16 << 10;   // larger entries stay in their own files only
 
-// Builds a key from typed fields, each length-prefixed so that no two field lists hash alike.
+// Builds a key from typed fields, each length-prefixed so that no two field lists hash alike. SHA-256: a
+// shared cache is written by other machines, and no one may construct two inputs with one key.
 class KeyBuilder {
  public:
-  KeyBuilder() { XXH3_128bits_reset(&state_); }
   KeyBuilder& add(std::string_view text) {
     add(uint64_t(text.size()));
-    XXH3_128bits_update(&state_, text.data(), text.size());
+    hash_.update(text);
     return *this;
   }
   KeyBuilder& add(uint64_t value) {
     uint8_t bytes[8];
     for (int i = 0; i < 8; ++i) bytes[i] = uint8_t(value >> (8 * i));
-    XXH3_128bits_update(&state_, bytes, sizeof bytes);
+    hash_.update(bytes);
     return *this;
   }
   KeyBuilder& add(const CacheKey& key) {
-    XXH3_128bits_update(&state_, key.data(), key.size());
+    hash_.update(key);
     return *this;
   }
   KeyBuilder& add(const std::vector<uint32_t>& words) {
     add(uint64_t(words.size()));
-    XXH3_128bits_update(&state_, words.data(), words.size() * 4);
+    hash_.update({reinterpret_cast<const uint8_t*>(words.data()), words.size() * 4});
     return *this;
   }
-  CacheKey key() const {
-    const XXH128_hash_t h = XXH3_128bits_digest(&state_);
-    CacheKey out{};
-    for (int i = 0; i < 8; ++i) {
-      out[size_t(i)] = uint8_t(h.low64 >> (8 * i));
-      out[size_t(8 + i)] = uint8_t(h.high64 >> (8 * i));
-    }
-    return out;
-  }
+  CacheKey key() { return hash_.finish(); }
 
  private:
-  XXH3_state_t state_{};
+  Sha256 hash_;
 };
 
 // The GNU build ID of a loaded object (a hash the linker computes over the whole file), if it has one.
@@ -138,18 +130,19 @@ CacheKey key_of(std::string_view name) {
   return key;
 }
 
-// What decides a compile, its #includes aside (they are checked one by one on a hit).
-CacheKey compile_key(const ShaderDesc& shader, const CompileOptions& options,
-                     const std::array<uint8_t, 16>& text) {
-  const fs::path& cwd = working_directory();
+// What decides a compile, its #includes aside (they are checked one by one on a hit). No path enters it
+// as it lies on this machine: files enter by the name glslang is given (relative to the working directory
+// when they lie below it, as the CMake function's packs do), the -s directories likewise; so two checkouts
+// at different paths share every entry. (An #include is found again on a hit, wherever the -s directories
+// now lie, and must be the same name with the same text.)
+CacheKey compile_key(const ShaderDesc& shader, const CompileOptions& options, const Digest& text) {
   KeyBuilder k;
   k.add("compile").add(code_identity());
   k.add(uint64_t(options.vulkan_version)).add(uint64_t(options.opengl)).add(options.max_input_bytes);
   k.add(uint64_t(options.include_dirs.size()));
-  for (const auto& d : options.include_dirs) k.add(d.string());
+  for (const auto& d : options.include_dirs) k.add(display_path(d));
   k.add(uint64_t(options.global_macros.size()));
   for (const auto& [name, value] : options.global_macros) k.add(name).add(value);
-  k.add(cwd.string());  // relative -s directories and file names resolve against it
   k.add(uint64_t(shader.stage)).add(uint64_t(shader.language)).add(shader.entry_point);
   // The environment (definitions, macros, compile flags' pragmas, GLSLExtensions) and the #version a
   // source without one gets: everything glslang reads besides the source and its includes.
@@ -160,8 +153,8 @@ CacheKey compile_key(const ShaderDesc& shader, const CompileOptions& options,
   if (shader.file.empty())
     k.add(uint64_t(0)).add(shader.name);  // the inline source's name is its file name for glslang
   else
-    k.add(uint64_t(1)).add((cwd / shader.file).lexically_normal().string()).add(display_path(shader.file));
-  k.add(std::string_view(reinterpret_cast<const char*>(text.data()), text.size()));
+    k.add(uint64_t(1)).add(display_path(shader.file));
+  k.add(text);
   return k.key();
 }
 
@@ -318,15 +311,46 @@ void put_u64(std::vector<uint8_t>& out, uint64_t v) {
 }
 
 bool is_entry_name(std::string_view name) {
-  return name.size() == 32 && name.find_first_not_of("0123456789abcdef") == std::string_view::npos;
+  return name.size() == 64 && name.find_first_not_of("0123456789abcdef") == std::string_view::npos;
 }
 
-// Whether `header` (kHeaderBytes) and `payload` are a whole entry stored under `key`: magic, layout
-// version, key, payload size and hash.
-bool whole_entry(const uint8_t* header, std::span<const uint8_t> payload, const CacheKey& key) {
-  return std::memcmp(header, kMagic, 4) == 0 && get_u32(header + 4) == kEntryVersion &&
-         std::memcmp(header + 8, key.data(), key.size()) == 0 && get_u64(header + 24) == payload.size() &&
-         get_u64(header + 32) == XXH3_64bits(payload.data(), payload.size());
+// The signature of an entry: HMAC-SHA-256 under the team's key of the entry's key and payload hash.
+Digest signature(std::span<const uint8_t> secret, const CacheKey& key, const Digest& payload_hash) {
+  uint8_t message[64];
+  std::copy(key.begin(), key.end(), message);
+  std::copy(payload_hash.begin(), payload_hash.end(), message + 32);
+  return hmac_sha256(secret, message);
+}
+
+// Why `header` (kHeaderBytes) and `payload` are not a whole entry stored under `key` (magic, layout
+// version, key, payload size and SHA-256, and with a team key its signature), or "".
+std::string_view entry_problem(const uint8_t* header, std::span<const uint8_t> payload, const CacheKey& key,
+                               std::span<const uint8_t> secret) {
+  if (std::memcmp(header, kMagic, 4) != 0 || get_u32(header + 4) != kEntryVersion) return "not an entry";
+  if (std::memcmp(header + 8, key.data(), key.size()) != 0) return "stored under another key";
+  if (get_u64(header + 40) != payload.size()) return "truncated";
+  Digest stored, hash = sha256(payload);
+  std::copy_n(header + 48, stored.size(), stored.begin());
+  if (stored != hash) return "damaged (its payload hash does not match)";
+  if (secret.empty()) return "";
+  std::copy_n(header + 80, stored.size(), stored.begin());
+  return same_digest(stored, signature(secret, key, hash)) ? "" : "not signed with the team's key";
+}
+
+// An entry's bytes: the header (signed when a team key is set), then the payload.
+std::vector<uint8_t> encode_entry(const CacheKey& key, std::span<const uint8_t> payload,
+                                  std::span<const uint8_t> secret) {
+  std::vector<uint8_t> bytes(kMagic, kMagic + 4);
+  bytes.reserve(kHeaderBytes + payload.size());
+  put_u32(bytes, kEntryVersion);
+  bytes.insert(bytes.end(), key.begin(), key.end());
+  put_u64(bytes, payload.size());
+  const Digest hash = sha256(payload);
+  bytes.insert(bytes.end(), hash.begin(), hash.end());
+  const Digest signed_by = secret.empty() ? Digest{} : signature(secret, key, hash);
+  bytes.insert(bytes.end(), signed_by.begin(), signed_by.end());
+  bytes.insert(bytes.end(), payload.begin(), payload.end());
+  return bytes;
 }
 
 // Every entry (and temporary) of one subdirectory, oldest use first.
@@ -400,7 +424,7 @@ std::vector<FileOnDisk> all_files(const fs::path& root) {
   return all;
 }
 
-// The entries' bytes as the last pack that wrote left them: DIR/v1/size, one decimal number. Packs sharing
+// The entries' bytes as the last pack that wrote left them: DIR/v2/size, one decimal number. Packs sharing
 // the cache may overwrite each other's count (each adds what it wrote to what it read), so it can lag
 // behind; a count over the bound, a missing or unreadable one, lists the directories and is written
 // again exact. `cache prune` writes it exact too.
@@ -452,14 +476,19 @@ CompileCache::CompileCache(CompileCache&& o) noexcept
       read_from_files_(std::move(o.read_from_files_)),
       from_bundle_(o.from_bundle_.load()),
       growth_(o.growth_),
-      checked_subdirectories_(std::move(o.checked_subdirectories_)) {}
+      checked_subdirectories_(std::move(o.checked_subdirectories_)),
+      remote_(std::move(o.remote_)),
+      secret_(std::move(o.secret_)),
+      remote_hits_(o.remote_hits_),
+      remote_refused_(o.remote_refused_),
+      first_refusal_(std::move(o.first_refusal_)) {}
 CompileCache::~CompileCache() = default;
 
 std::optional<CompileCache> CompileCache::open(const fs::path& dir, uint64_t max_bytes, std::string& error) {
   std::error_code ec;
-  fs::create_directories(dir / "v1", ec);
-  // v1 itself must be a directory, not a link planted in its place (everything is written below it).
-  if (ec || !fs::is_directory(fs::symlink_status(dir / "v1", ec))) {
+  fs::create_directories(dir / kLayoutDirectory, ec);
+  // v2 itself must be a directory, not a link planted in its place (everything is written below it).
+  if (ec || !fs::is_directory(fs::symlink_status(dir / kLayoutDirectory, ec))) {
     error = "cannot use '" + printable(dir.string()) +
             "' as a cache directory: " + (ec ? ec.message() : std::string("not a directory"));
     return std::nullopt;
@@ -471,15 +500,41 @@ std::optional<CompileCache> CompileCache::open(const fs::path& dir, uint64_t max
         "Signature: 8a477f597d28d172789f06886806bc55\n# statepack's compile cache\n";
     (void)detail::write_file_atomically(tag, {reinterpret_cast<const uint8_t*>(text.data()), text.size()});
   }
-  return CompileCache(dir / "v1", max_bytes);
+  return CompileCache(dir / kLayoutDirectory, max_bytes);
 }
 
 CompileCache CompileCache::in_memory(uint64_t max_bytes) {
   return CompileCache(fs::path(), max_bytes);
 }
 
-std::optional<std::vector<uint8_t>> CompileCache::read_entry(const CacheKey& key) {
+std::optional<std::vector<uint8_t>> CompileCache::read_entry(const CacheKey& key, const PayloadCheck& check) {
   const std::string name = hex(key);
+  if (auto local = read_local(key, name)) return local;
+  if (!remote_) return std::nullopt;
+  // From the remote: checked as a local entry is (a server is written by other machines), then kept
+  // in the local cache so that the next pack does not ask again.
+  auto bytes = remote_->get(name, kMaxEntryBytes);
+  if (!bytes) return std::nullopt;
+  std::string_view problem = bytes->size() < kHeaderBytes ? "truncated" : "";
+  const std::span<const uint8_t> payload =
+      problem.empty() ? std::span<const uint8_t>(*bytes).subspan(kHeaderBytes) : std::span<const uint8_t>();
+  if (problem.empty()) problem = entry_problem(bytes->data(), payload, key, secret_);
+  std::string why(problem);
+  if (why.empty() && check) why = check(payload);
+  std::lock_guard lock(mutex_);
+  if (!why.empty()) {
+    if (remote_refused_++ == 0) first_refusal_ = name + ": " + why;
+    return std::nullopt;
+  }
+  ++remote_hits_;
+  std::vector<uint8_t> out(payload.begin(), payload.end());
+  pending_.push_back({key, out, false});
+  used_.insert(name);
+  if (bundle_key_ && out.size() <= kMaxBundledPayload) read_from_files_.try_emplace(name, out);
+  return out;
+}
+
+std::optional<std::vector<uint8_t>> CompileCache::read_local(const CacheKey& key, const std::string& name) {
   if (dir_.empty()) {
     std::lock_guard lock(mutex_);
     auto found = memory_.find(name);
@@ -519,7 +574,7 @@ std::optional<std::vector<uint8_t>> CompileCache::read_entry(const CacheKey& key
   if (ok) {
     bytes.resize(size_t(st.st_size) - kHeaderBytes);
     ok = read_all(header, kHeaderBytes) && read_all(bytes.data(), bytes.size()) &&
-         whole_entry(header, bytes, key);
+         entry_problem(header, bytes, key, secret_).empty();
   }
   if (ok) {
     ::futimens(fd, nullptr);  // recently used: pruned last
@@ -528,7 +583,7 @@ std::optional<std::vector<uint8_t>> CompileCache::read_entry(const CacheKey& key
   }
   ::close(fd);
   if (!ok) {
-    ++damaged_;  // truncated, damaged or not ours: a miss, and written again
+    ++damaged_;  // truncated, damaged, unsigned or not ours: a miss, and written again
     return std::nullopt;
   }
   if (bundle_key_ && key != *bundle_key_ && bytes.size() <= kMaxBundledPayload) {  // (the next bundle's)
@@ -567,18 +622,18 @@ void CompileCache::use_bundle(std::string_view project) {
                                      [size](const uint8_t* at) { ::munmap(const_cast<uint8_t*>(at), size); });
   const uint8_t* header = bundle_map_.get();
   const std::span<const uint8_t> all(header + kHeaderBytes, size - kHeaderBytes);
-  bool ok = whole_entry(header, all, *bundle_key_);
-  // (16-byte key, u64 size, payload) until the end; anything out of place drops the whole bundle.
+  bool ok = entry_problem(header, all, *bundle_key_, secret_).empty();
+  // (32-byte key, u64 size, payload) until the end; anything out of place drops the whole bundle.
   for (size_t at = 0; ok && at < all.size();) {
-    if (all.size() - at < 24 || get_u64(&all[at + 16]) > all.size() - at - 24) {
+    if (all.size() - at < 40 || get_u64(&all[at + 32]) > all.size() - at - 40) {
       ok = false;
       break;
     }
     CacheKey key;
     std::copy_n(&all[at], key.size(), key.begin());
-    const size_t entry = size_t(get_u64(&all[at + 16]));
-    bundle_.insert_or_assign(hex(key), all.subspan(at + 24, entry));
-    at += 24 + entry;
+    const size_t entry = size_t(get_u64(&all[at + 32]));
+    bundle_.insert_or_assign(hex(key), all.subspan(at + 40, entry));
+    at += 40 + entry;
   }
   if (!ok) {
     ++damaged_;
@@ -589,7 +644,7 @@ void CompileCache::use_bundle(std::string_view project) {
 
 void CompileCache::keep(const CacheKey& key, std::vector<uint8_t> payload) {
   std::lock_guard lock(mutex_);
-  pending_.push_back({key, std::move(payload)});
+  pending_.push_back({key, std::move(payload), true});
 }
 
 std::optional<CompileCache::Compile> CompileCache::find_compile(const ShaderDesc& shader,
@@ -607,8 +662,8 @@ std::optional<CompileCache::Compile> CompileCache::find_compile(const ShaderDesc
   auto payload = read_entry(compile_key(shader, options, out.source_hash));
   uint32_t flags = 0, count = 0;
   PayloadReader r(payload ? std::span<const uint8_t>(*payload) : std::span<const uint8_t>());
-  // An #include record takes at least 29 bytes.
-  if (!payload || !r.u32(flags) || !r.u32(count) || !r.room_for(count, 29)) {
+  // An #include record takes at least 45 bytes.
+  if (!payload || !r.u32(flags) || !r.u32(count) || !r.room_for(count, 45)) {
     if (payload) ++damaged_;
     ++misses_;
     return std::nullopt;
@@ -625,7 +680,7 @@ std::optional<CompileCache::Compile> CompileCache::find_compile(const ShaderDesc
     }
     rec.local = local != 0;
     const fs::path path = resolve_include(rec.header, rec.includer, rec.local, options.include_dirs);
-    if (path.string() != rec.path) return ++misses_, std::nullopt;
+    if (path.empty() || display_path(path) != rec.path) return ++misses_, std::nullopt;
     InputText input = read_input_file(path, display_path(path), options.max_input_bytes);
     included += input.text.size();
     if (!input.error.empty() || text_hash(input.text) != rec.text_hash || included > options.max_input_bytes)
@@ -665,7 +720,7 @@ void CompileCache::keep_compile(const ShaderDesc& shader, const CompileOptions& 
     w.str(rec.header);
     w.str(rec.includer);
     w.bytes.push_back(rec.local ? 1 : 0);
-    w.str(rec.path);
+    w.str(display_path(rec.path));  // (as glslang names it: the same in every checkout)
     w.bytes.insert(w.bytes.end(), rec.text_hash.begin(), rec.text_hash.end());
   }
   w.u32(uint32_t(compiled.combined_image_samplers.size()));
@@ -680,7 +735,15 @@ void CompileCache::keep_compile(const ShaderDesc& shader, const CompileOptions& 
 
 std::optional<std::vector<uint32_t>> CompileCache::find_finalized(const std::vector<uint32_t>& input,
                                                                   const CompileOptions& options) {
-  auto payload = read_entry(finalize_key(input, options));
+  // A finalised module from a server passes the validation a fresh one ends with before it is used.
+  auto validate = [&](std::span<const uint8_t> payload) -> std::string {
+    std::vector<uint32_t> words;
+    PayloadReader r(payload);
+    if (!r.words(words) || !r.done() || words.empty()) return "not a module";
+    const std::string error = validate_spirv(words, options);
+    return error.empty() ? "" : "its module " + error.substr(error.find("fails"));
+  };
+  auto payload = read_entry(finalize_key(input, options), validate);
   std::vector<uint32_t> words;
   PayloadReader r(payload ? std::span<const uint8_t>(*payload) : std::span<const uint8_t>());
   if (!payload || !r.words(words) || !r.done() || words.empty()) {
@@ -703,6 +766,7 @@ void CompileCache::keep_finalized(const std::vector<uint32_t>& input, const Comp
 // until it is within its bound, never one this run wrote or read.
 std::string CompileCache::flush_to_memory() {
   std::lock_guard lock(mutex_);
+  write_to_remote(pending_);
   std::set<std::string> keep = std::move(used_);
   used_.clear();
   for (Pending& p : pending_) {
@@ -751,13 +815,7 @@ bool CompileCache::write_entry(const CacheKey& key, std::span<const uint8_t> pay
     warning = "'" + printable(path.string()) + "' is one of this run's inputs; not replaced";
     return false;
   }
-  std::vector<uint8_t> bytes(kMagic, kMagic + 4);
-  bytes.reserve(kHeaderBytes + payload.size());
-  put_u32(bytes, kEntryVersion);
-  bytes.insert(bytes.end(), key.begin(), key.end());
-  put_u64(bytes, payload.size());
-  put_u64(bytes, XXH3_64bits(payload.data(), payload.size()));
-  bytes.insert(bytes.end(), payload.begin(), payload.end());
+  const std::vector<uint8_t> bytes = encode_entry(key, payload, secret_);
   const fs::path temporary = subdir / (".tmp-" + std::to_string(::getpid()) + "-" +
                                        std::to_string(counter++) + "-" + name.substr(0, 8));
   const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
@@ -831,6 +889,7 @@ std::string CompileCache::flush(const std::vector<InputFile>& inputs) {
     std::lock_guard lock(mutex_);
     pending.swap(pending_);
   }
+  write_to_remote(pending);
   std::set<FileIdentity> input_identities;
   for (const auto& f : inputs) input_identities.insert(f.identity);
   std::set<std::string> subdirectories, done;
@@ -875,15 +934,38 @@ std::string CompileCache::flush(const std::vector<InputFile>& inputs) {
 }
 
 CompileCache::Stats CompileCache::stats() const {
-  return {hits_.load(), misses_.load(), damaged_.load(), written_, removed_, from_bundle_.load()};
+  std::lock_guard lock(mutex_);
+  return {hits_.load(),  misses_.load(),       damaged_.load(), written_, removed_, from_bundle_.load(),
+          remote_hits_, remote_refused_};
+}
+
+std::string CompileCache::first_refusal() const {
+  std::lock_guard lock(mutex_);
+  return first_refusal_;
+}
+
+void CompileCache::write_to_remote(const std::vector<Pending>& pending) {
+  if (!remote_) return;
+  for (const Pending& p : pending)
+    if (p.to_remote) remote_->put(hex(p.key), encode_entry(p.key, p.payload, secret_));
+}
+
+std::optional<CacheKey> compile_cache_key(const ShaderDesc& shader, const CompileOptions& options) {
+  std::string source = shader.source;
+  if (!shader.file.empty()) {
+    InputText input = read_input_file(shader.file, display_path(shader.file), options.max_input_bytes);
+    if (!input.error.empty()) return std::nullopt;
+    source = std::move(input.text);
+  }
+  return compile_key(shader, options, text_hash(source));
 }
 
 CompileCache::PruneResult CompileCache::prune(const fs::path& dir, uint64_t max_bytes) {
   PruneResult result;
   std::error_code ec;
-  const fs::path root = dir / "v1";
+  const fs::path root = dir / kLayoutDirectory;
   if (!fs::is_directory(fs::symlink_status(root, ec))) {
-    result.error = "'" + printable(dir.string()) + "' is not a statepack cache directory (no v1/ in it)";
+    result.error = "'" + printable(dir.string()) + "' is not a statepack cache directory (no " + std::string(kLayoutDirectory) + "/ in it)";
     return result;
   }
   std::vector<FileOnDisk> all = all_files(root);

@@ -48,6 +48,7 @@
 #include <atomic>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -58,13 +59,15 @@
 #include <string_view>
 #include <vector>
 
+#include "digest.hpp"
 #include "notation/input_file.hpp"
 #include "shader_compiler.hpp"
 #include "spirv_reflect.hpp"
 
 namespace statepack::packager {
 
-using CacheKey = std::array<uint8_t, 16>;
+using CacheKey = Digest;
+class RemoteCache;
 
 class CompileCache {
  public:
@@ -101,6 +104,13 @@ class CompileCache {
   // again when this pack used others. Call before the first find_*.
   void use_bundle(std::string_view project);
 
+  // Servers behind this cache (--remote-cache): asked after a local miss; what they return is checked
+  // as a local entry is, used, and kept locally; what this pack compiles is written to them by flush().
+  void use_remote(std::shared_ptr<RemoteCache> remote) { remote_ = std::move(remote); }
+  // A team's key (STATEPACK_CACHE_KEY or its file): every entry written is signed with it, and an entry
+  // read (local or remote) that is not signed with it is not used.
+  void set_signing_key(std::vector<uint8_t> secret) { secret_ = std::move(secret); }
+
   // Writes what was kept, never over one of `inputs` (by identity) or through a link, then (when it
   // wrote anything) trims the cache to the size bound. Returns a warning ("" when all went well): a
   // cache that cannot be written costs time, not correctness.
@@ -109,7 +119,11 @@ class CompileCache {
   struct Stats {
     size_t hits = 0, misses = 0, damaged = 0, written = 0, removed = 0;
     size_t from_bundle = 0;  // of the entries read, those found in the pack's bundle
+    size_t remote_hits = 0;     // entries a remote server had (after a local miss), checked and used
+    size_t remote_refused = 0;  // entries a remote server returned that failed their check: not used
   };
+  // Why the first entry a server returned was refused ("" when none was).
+  std::string first_refusal() const;
   Stats stats() const;
 
   // `statepack cache prune`: removes the least recently used entries until the cache holds at most
@@ -126,8 +140,13 @@ class CompileCache {
   struct Pending {
     CacheKey key;
     std::vector<uint8_t> payload;
+    bool to_remote = true;  // made by this pack (a remote's own entry is only kept locally)
   };
-  std::optional<std::vector<uint8_t>> read_entry(const CacheKey& key);
+  // A check of a payload from a remote server beyond its entry's (why it is refused, or "").
+  using PayloadCheck = std::function<std::string(std::span<const uint8_t>)>;
+  std::optional<std::vector<uint8_t>> read_entry(const CacheKey& key, const PayloadCheck& check = {});
+  std::optional<std::vector<uint8_t>> read_local(const CacheKey& key, const std::string& name);
+  void write_to_remote(const std::vector<Pending>& pending);
   void keep(const CacheKey& key, std::vector<uint8_t> payload);
   // Writes one entry file atomically; false with `warning` set when it could not.
   bool write_entry(const CacheKey& key, std::span<const uint8_t> payload,
@@ -140,7 +159,7 @@ class CompileCache {
 
   std::filesystem::path dir_;  // DIR/v1; empty for a cache in memory
   uint64_t max_bytes_;
-  std::mutex mutex_;  // pending_, used_, memory_, use_clock_
+  mutable std::mutex mutex_;  // pending_, used_, memory_, use_clock_, the remote's counts
   std::vector<Pending> pending_;
   std::set<std::string> used_;  // entries this run read: kept when it trims the cache
   std::atomic<size_t> hits_{0}, misses_{0}, damaged_{0};
@@ -161,6 +180,14 @@ class CompileCache {
   std::atomic<size_t> from_bundle_{0};
   int64_t growth_ = 0;  // bytes this pack's writes added to the cache (less what they replaced)
   std::set<std::string> checked_subdirectories_;  // during a flush: those found to be real directories
+  std::shared_ptr<RemoteCache> remote_;
+  std::vector<uint8_t> secret_;
+  size_t remote_hits_ = 0, remote_refused_ = 0;  // (under mutex_)
+  std::string first_refusal_;
 };
+
+// The key of a shader's compile (its file read and hashed), for --shard; nullopt when its file cannot be
+// read (the compile reports why).
+std::optional<CacheKey> compile_cache_key(const ShaderDesc& shader, const CompileOptions& options);
 
 }  // namespace statepack::packager

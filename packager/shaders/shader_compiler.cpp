@@ -9,7 +9,6 @@
 #include <spirv-tools/optimizer.hpp>
 
 #include <vulkan/vulkan_core.h>
-#include <xxhash.h>
 
 #include "allocation_budget.hpp"
 #include "glslang_tree.hpp"
@@ -646,15 +645,7 @@ fs::path resolve_include(const std::string& header, const std::string& includer,
   return resolve_file(header, local ? fs::path(includer).parent_path() : fs::path(), include_dirs);
 }
 
-std::array<uint8_t, 16> text_hash(std::string_view text) {
-  const XXH128_hash_t h = XXH3_128bits(text.data(), text.size());
-  std::array<uint8_t, 16> out{};
-  for (int i = 0; i < 8; ++i) {
-    out[size_t(i)] = uint8_t(h.low64 >> (8 * i));
-    out[size_t(8 + i)] = uint8_t(h.high64 >> (8 * i));
-  }
-  return out;
-}
+Digest text_hash(std::string_view text) { return sha256(text); }
 
 bool tests_backend_macros(std::string_view text) {
   size_t start = 0;
@@ -725,6 +716,14 @@ std::string finalize_spirv(std::vector<uint32_t>& spirv, const CompileOptions& o
   tools.SetMessageConsumer(consumer);
   if (!tools.Validate(spirv)) return "the SPIR-V fails validation: " + messages;
   return "";
+}
+
+std::string validate_spirv(const std::vector<uint32_t>& spirv, const CompileOptions& options) {
+  CompileOptions validate_only = options;
+  validate_only.optimization = Optimization::none;
+  validate_only.strip_debug_info = false;
+  std::vector<uint32_t> copy = spirv;
+  return finalize_spirv(copy, validate_only);
 }
 
 std::string disassemble_spirv(const std::vector<uint32_t>& spirv, const CompileOptions& options) {

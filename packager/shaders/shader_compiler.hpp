@@ -8,6 +8,7 @@
 #include <string_view>
 #include <vector>
 
+#include "digest.hpp"
 #include "hlsl_vertex_inputs.hpp"
 #include "notation/diagnostics.hpp"
 #include "notation/input_file.hpp"
@@ -34,6 +35,9 @@ struct CompileOptions {
   bool shader_environment = true;
   // --max-input-size: each shader file and #include at most this, and a shader's includes in all.
   uint64_t max_input_bytes = kMaxInputBytes;
+  // --no-compile: a shader the compile cache does not have is an error instead of a compile (the
+  // archive assembled from what other machines compiled). Decides no result: in no cache key.
+  bool no_compile = false;
 };
 
 // An #include glslang asked for while compiling, as the compile cache replays it (compile_cache.hpp).
@@ -42,12 +46,12 @@ struct IncludeRecord {
   std::string includer;  // glslang's name for the including file (where a local include is looked for first)
   bool local = true;
   std::string path;  // where it was found
-  std::array<uint8_t, 16> text_hash{};
+  Digest text_hash{};
 };
 
 struct CompiledShader {
   std::vector<uint32_t> spirv;
-  std::array<uint8_t, 16> source_hash{};  // of the text glslang compiled (the shader's file or Source)
+  Digest source_hash{};  // of the text glslang compiled (the shader's file or Source)
   std::vector<IncludeRecord> includes;    // in the order glslang asked for them
   std::vector<InputFile> files_read;      // the source and every #include, for the depfile and output checks
   bool backend_specific = false;          // GLSL whose text (or an #include's) tests_backend_macros
@@ -82,12 +86,14 @@ bool tests_backend_macros(std::string_view source);
 std::filesystem::path resolve_include(const std::string& header, const std::string& includer, bool local,
                                       const std::vector<std::filesystem::path>& include_dirs);
 
-// XXH3-128 of text, as IncludeRecord and the compile cache keep it.
-std::array<uint8_t, 16> text_hash(std::string_view text);
+// SHA-256 of text, as IncludeRecord and the compile cache keep it.
+Digest text_hash(std::string_view text);
 
 // Optimises and strips `spirv` as the options say, then validates it with SPIRV-Tools.
 // Returns an empty string on success, else the reason.
 std::string finalize_spirv(std::vector<uint32_t>& spirv, const CompileOptions& options);
+// Only the validation finalize_spirv ends with (a finalised module from a shared cache).
+std::string validate_spirv(const std::vector<uint32_t>& spirv, const CompileOptions& options);
 
 // SPIR-V assembly text of `spirv`, for --dump_dir.
 std::string disassemble_spirv(const std::vector<uint32_t>& spirv, const CompileOptions& options);

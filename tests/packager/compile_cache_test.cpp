@@ -80,8 +80,8 @@ class CompileCacheTest : public ::testing::Test {
   // them and so is the largest.
   std::vector<fs::path> all_entries() const {
     std::vector<fs::path> out;
-    for (const auto& e : fs::recursive_directory_iterator(dir_ / "cache" / "v1"))
-      if (e.is_regular_file() && e.path().filename().string().size() == 32) out.push_back(e.path());
+    for (const auto& e : fs::recursive_directory_iterator(dir_ / "cache" / "v2"))
+      if (e.is_regular_file() && e.path().filename().string().size() == 64) out.push_back(e.path());
     std::sort(out.begin(), out.end(),
               [](const fs::path& a, const fs::path& b) { return fs::file_size(a) < fs::file_size(b); });
     return out;
@@ -294,7 +294,7 @@ TEST_F(CompileCacheTest, TwoPacksShareTheCacheAtOnce) {
   const CacheStats after = pack("after.spk");
   EXPECT_EQ(after.hits, kEntries) << last_output_;
   EXPECT_EQ(after.damaged, 0);
-  for (const auto& e : fs::recursive_directory_iterator(dir_ / "cache" / "v1"))
+  for (const auto& e : fs::recursive_directory_iterator(dir_ / "cache" / "v2"))
     EXPECT_FALSE(e.path().filename().string().starts_with(".tmp-")) << e.path();
 }
 
@@ -326,13 +326,13 @@ TEST_F(CompileCacheTest, TheCacheStaysWithinItsBound) {
       << not_a_cache.output;
 
   // Every entry's subdirectory replaced by a link to a directory of its own: nothing is written there.
-  fs::remove_all(dir_ / "cache" / "v1");
-  fs::create_directories(dir_ / "cache" / "v1");
+  fs::remove_all(dir_ / "cache" / "v2");
+  fs::create_directories(dir_ / "cache" / "v2");
   fs::create_directories(dir_ / "elsewhere");
   for (int i = 0; i < 256; ++i) {
     char name[3];
     std::snprintf(name, sizeof name, "%02x", i);
-    fs::create_directory_symlink(dir_ / "elsewhere", dir_ / "cache" / "v1" / name);
+    fs::create_directory_symlink(dir_ / "elsewhere", dir_ / "cache" / "v2" / name);
   }
   CommandResult linked =
       run_command("cd '" + dir_.string() +

@@ -1,0 +1,588 @@
+#include "remote_cache.hpp"
+
+#include <curl/curl.h>
+#include <fcntl.h>
+#include <hiredis/hiredis.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cerrno>
+#include <charconv>
+#include <cstring>
+#include <filesystem>
+
+#include "digest.hpp"
+#include "support/printable.hpp"
+
+namespace statepack::packager {
+namespace fs = std::filesystem;
+using detail::printable;
+namespace {
+
+bool parse_uint(std::string_view text, uint32_t& out) {
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), out);
+  return ec == std::errc() && end == text.data() + text.size() && !text.empty();
+}
+
+// "a,b(2),c" -> shards with weights.
+bool parse_shards(std::string_view text, std::vector<RemoteSpec::Shard>& out, std::string& error) {
+  while (!text.empty()) {
+    const size_t comma = text.find(',');
+    std::string_view item = text.substr(0, comma);
+    text = comma == std::string_view::npos ? std::string_view() : text.substr(comma + 1);
+    RemoteSpec::Shard shard;
+    if (const size_t open = item.find('('); open != std::string_view::npos) {
+      uint32_t weight = 0;
+      if (item.back() != ')' || !parse_uint(item.substr(open + 1, item.size() - open - 2), weight) || !weight) {
+        error = "shards: '" + std::string(item) + "': a weight is a positive whole number in parentheses";
+        return false;
+      }
+      shard.weight = weight;
+      item = item.substr(0, open);
+    }
+    if (item.empty()) {
+      error = "shards: an empty shard name";
+      return false;
+    }
+    shard.name = item;
+    out.push_back(std::move(shard));
+  }
+  if (out.empty()) error = "shards: no shard named";
+  return !out.empty();
+}
+
+bool parse_attribute(std::string_view attribute, RemoteSpec& spec, std::string& error) {
+  const size_t eq = attribute.find('=');
+  const std::string_view name = attribute.substr(0, eq);
+  const std::string_view value = eq == std::string_view::npos ? std::string_view() : attribute.substr(eq + 1);
+  if (name == "read-only" && eq == std::string_view::npos) return spec.read_only = true;
+  if (name == "connect-timeout" || name == "operation-timeout") {
+    uint32_t& ms = name == "connect-timeout" ? spec.connect_timeout_ms : spec.operation_timeout_ms;
+    if (!parse_uint(value, ms) || ms == 0) {
+      error = std::string(name) + ": milliseconds, a positive whole number (got '" + std::string(value) + "')";
+      return false;
+    }
+    return true;
+  }
+  if (name == "layout") {
+    if (value == "subdirs") return spec.layout = RemoteSpec::Layout::subdirs, true;
+    if (value == "flat") return spec.layout = RemoteSpec::Layout::flat, true;
+    if (value == "bazel") return spec.layout = RemoteSpec::Layout::bazel, true;
+    error = "layout: subdirs, flat or bazel (got '" + std::string(value) + "')";
+    return false;
+  }
+  if (name == "shards") return parse_shards(value, spec.shards, error);
+  error = "unknown attribute '" + std::string(attribute) +
+          "' (read-only, connect-timeout=MS, operation-timeout=MS, layout=..., shards=...)";
+  return false;
+}
+
+// A URL's host and port ("host", "host:port", "[v6]:port"), checked.
+bool parse_host_port(std::string_view authority, std::string& host, uint32_t& port, std::string& error) {
+  if (authority.starts_with('[')) {
+    const size_t close = authority.find(']');
+    if (close == std::string_view::npos) return error = "unclosed '[' in the host", false;
+    host = authority.substr(1, close - 1);
+    authority.remove_prefix(close + 1);
+    if (!authority.empty() && !authority.starts_with(':')) return error = "junk after the host", false;
+  } else {
+    host = authority.substr(0, authority.find(':'));
+    authority.remove_prefix(host.size());
+  }
+  if (host.empty()) return error = "no host", false;
+  if (authority.starts_with(':') && (!parse_uint(authority.substr(1), port) || port == 0 || port > 65535))
+    return error = "the port is not a number from 1 to 65535", false;
+  return true;
+}
+
+bool check_url(RemoteSpec& spec, std::string& error) {
+  std::string_view url = spec.url;
+  if (url.starts_with("file:")) {
+    spec.kind = RemoteSpec::Kind::file;
+    url.remove_prefix(5);
+    if (url.starts_with("//")) url.remove_prefix(2);
+    if (url.empty()) return error = "file: names no directory", false;
+    return true;
+  }
+  std::string host;
+  uint32_t port = 0;
+  if (url.starts_with("http://") || url.starts_with("https://")) {
+    spec.kind = RemoteSpec::Kind::http;
+    url.remove_prefix(url.find("//") + 2);
+    std::string_view authority = url.substr(0, url.find('/'));
+    if (const size_t at = authority.rfind('@'); at != std::string_view::npos) authority.remove_prefix(at + 1);
+    return parse_host_port(authority, host, port, error);
+  }
+  if (url.starts_with("redis://")) {
+    spec.kind = RemoteSpec::Kind::redis;
+    url.remove_prefix(8);
+    std::string_view authority = url.substr(0, url.find('/'));
+    if (const size_t at = authority.rfind('@'); at != std::string_view::npos) authority.remove_prefix(at + 1);
+    uint32_t db = 0;
+    if (const size_t slash = url.find('/'); slash != std::string_view::npos && slash + 1 < url.size() &&
+                                             !parse_uint(url.substr(slash + 1), db))
+      return error = "the database after '/' is not a number", false;
+    return parse_host_port(authority, host, port, error);
+  }
+  error = "not a remote cache URL (http://, https://, redis:// or file:)";
+  return false;
+}
+
+}  // namespace
+
+std::string display_url(const std::string& url) {
+  const size_t scheme = url.find("://");
+  if (scheme == std::string::npos) return url;
+  const size_t end = url.find('/', scheme + 3), at = url.rfind('@', end);
+  if (at == std::string::npos || at < scheme) return url;
+  return url.substr(0, scheme + 3) + "***@" + url.substr(at + 1);  // no password in a log
+}
+
+namespace {
+
+// Where an entry lies below a URL or directory.
+std::string entry_path(const RemoteSpec& spec, const std::string& name) {
+  switch (spec.layout) {
+    case RemoteSpec::Layout::flat: return name;
+    case RemoteSpec::Layout::bazel: return "ac/" + name;
+    case RemoteSpec::Layout::subdirs: break;
+  }
+  return name.substr(0, 2) + "/" + name.substr(2);
+}
+
+std::string without_trailing_slash(std::string text) {
+  while (text.size() > 1 && text.back() == '/') text.pop_back();
+  return text;
+}
+
+// ---- HTTP (libcurl) ----
+
+class HttpBackend final : public RemoteBackend {
+ public:
+  HttpBackend(const RemoteSpec& spec, std::string base) : spec_(spec), base_(without_trailing_slash(base)) {
+    static const bool initialised = curl_global_init(CURL_GLOBAL_DEFAULT) == CURLE_OK;
+    (void)initialised;
+    curl_ = curl_easy_init();
+  }
+  ~HttpBackend() override {
+    if (curl_) curl_easy_cleanup(curl_);
+  }
+
+  Got get(const std::string& name, uint64_t max_bytes, std::vector<uint8_t>& out, std::string& error) override {
+    Sink sink{&out, max_bytes, false};
+    out.clear();
+    prepare(name);
+    curl_easy_setopt(curl_, CURLOPT_HTTPGET, 1L);
+    curl_easy_setopt(curl_, CURLOPT_WRITEFUNCTION, &HttpBackend::write_to);
+    curl_easy_setopt(curl_, CURLOPT_WRITEDATA, &sink);
+    const CURLcode rc = curl_easy_perform(curl_);
+    long status = 0;
+    curl_easy_getinfo(curl_, CURLINFO_RESPONSE_CODE, &status);
+    if (rc == CURLE_OK && status == 200) return Got::hit;
+    if (rc == CURLE_OK && status == 404) return Got::miss;
+    error = sink.too_large ? "an answer larger than any entry"
+            : rc != CURLE_OK ? curl_easy_strerror(rc)
+                             : "HTTP status " + std::to_string(status) + " to GET";
+    return Got::failed;
+  }
+
+  bool put(const std::string& name, std::span<const uint8_t> bytes, std::string& error) override {
+    Source source{bytes, 0};
+    prepare(name);
+    curl_easy_setopt(curl_, CURLOPT_UPLOAD, 1L);
+    curl_easy_setopt(curl_, CURLOPT_READFUNCTION, &HttpBackend::read_from);
+    curl_easy_setopt(curl_, CURLOPT_READDATA, &source);
+    curl_easy_setopt(curl_, CURLOPT_INFILESIZE_LARGE, curl_off_t(bytes.size()));
+    std::vector<uint8_t> ignored;
+    Sink sink{&ignored, 1 << 16, false};
+    curl_easy_setopt(curl_, CURLOPT_WRITEFUNCTION, &HttpBackend::write_to);
+    curl_easy_setopt(curl_, CURLOPT_WRITEDATA, &sink);
+    const CURLcode rc = curl_easy_perform(curl_);
+    long status = 0;
+    curl_easy_getinfo(curl_, CURLINFO_RESPONSE_CODE, &status);
+    curl_easy_setopt(curl_, CURLOPT_UPLOAD, 0L);
+    if (rc == CURLE_OK && status >= 200 && status < 300) return true;
+    error = rc != CURLE_OK ? curl_easy_strerror(rc) : "HTTP status " + std::to_string(status) + " to PUT";
+    return false;
+  }
+
+ private:
+  struct Sink {
+    std::vector<uint8_t>* out;
+    uint64_t max_bytes;
+    bool too_large;
+  };
+  struct Source {
+    std::span<const uint8_t> bytes;
+    size_t at;
+  };
+  static size_t write_to(char* data, size_t size, size_t count, void* user) {
+    auto& sink = *static_cast<Sink*>(user);
+    const size_t n = size * count;
+    if (sink.out->size() + n > sink.max_bytes) return sink.too_large = true, 0;  // ends the transfer
+    sink.out->insert(sink.out->end(), data, data + n);
+    return n;
+  }
+  static size_t read_from(char* to, size_t size, size_t count, void* user) {
+    auto& source = *static_cast<Source*>(user);
+    const size_t n = std::min(size * count, source.bytes.size() - source.at);
+    std::memcpy(to, source.bytes.data() + source.at, n);
+    source.at += n;
+    return n;
+  }
+  void prepare(const std::string& name) {
+    const std::string url = base_ + "/" + entry_path(spec_, name);
+    curl_easy_setopt(curl_, CURLOPT_URL, url.c_str());
+    curl_easy_setopt(curl_, CURLOPT_NOSIGNAL, 1L);  // time-outs without SIGALRM: the pack has threads
+    curl_easy_setopt(curl_, CURLOPT_CONNECTTIMEOUT_MS, long(spec_.connect_timeout_ms));
+    curl_easy_setopt(curl_, CURLOPT_TIMEOUT_MS, long(spec_.operation_timeout_ms));
+    curl_easy_setopt(curl_, CURLOPT_FOLLOWLOCATION, 0L);
+    curl_easy_setopt(curl_, CURLOPT_PROTOCOLS_STR, "http,https");
+    static curl_slist* const headers = curl_slist_append(nullptr, "Expect:");  // no 100-continue wait
+    curl_easy_setopt(curl_, CURLOPT_HTTPHEADER, headers);
+  }
+
+  RemoteSpec spec_;
+  std::string base_;
+  CURL* curl_ = nullptr;
+};
+
+// ---- Redis (hiredis) ----
+
+class RedisBackend final : public RemoteBackend {
+ public:
+  RedisBackend(const RemoteSpec& spec, std::string url) : spec_(spec), url_(std::move(url)) {}
+  ~RedisBackend() override {
+    if (context_) redisFree(context_);
+  }
+
+  Got get(const std::string& name, uint64_t max_bytes, std::vector<uint8_t>& out, std::string& error) override {
+    if (!connect(error)) return Got::failed;
+    const std::string key = "statepack:" + name;
+    auto* reply = static_cast<redisReply*>(redisCommand(context_, "GET %b", key.data(), key.size()));
+    if (!reply) return error = failure(), Got::failed;
+    Got got = Got::failed;
+    if (reply->type == REDIS_REPLY_NIL) {
+      got = Got::miss;
+    } else if (reply->type == REDIS_REPLY_STRING && uint64_t(reply->len) <= max_bytes) {
+      out.assign(reinterpret_cast<const uint8_t*>(reply->str), reinterpret_cast<const uint8_t*>(reply->str) + reply->len);
+      got = Got::hit;
+    } else {
+      error = reply->type == REDIS_REPLY_ERROR ? std::string("Redis: ") + reply->str
+                                               : "Redis: an answer to GET that is not an entry";
+    }
+    freeReplyObject(reply);
+    return got;
+  }
+
+  bool put(const std::string& name, std::span<const uint8_t> bytes, std::string& error) override {
+    if (!connect(error)) return false;
+    const std::string key = "statepack:" + name;
+    auto* reply = static_cast<redisReply*>(
+        redisCommand(context_, "SET %b %b", key.data(), key.size(), bytes.data(), bytes.size()));
+    if (!reply) return error = failure(), false;
+    const bool ok = reply->type == REDIS_REPLY_STATUS;
+    if (!ok)
+      error = reply->type == REDIS_REPLY_ERROR ? std::string("Redis: ") + reply->str : "Redis: SET not acknowledged";
+    freeReplyObject(reply);
+    return ok;
+  }
+
+ private:
+  std::string failure() const {
+    return context_ && context_->err ? std::string("Redis: ") + context_->errstr : "Redis: no answer";
+  }
+  static timeval milliseconds(uint32_t ms) { return {time_t(ms / 1000), suseconds_t(ms % 1000 * 1000)}; }
+  // Connects on first use, then authenticates and selects the database the URL names.
+  bool connect(std::string& error) {
+    if (context_) return true;
+    std::string_view rest = std::string_view(url_).substr(8);
+    std::string_view authority = rest.substr(0, rest.find('/'));
+    const std::string_view db = rest.size() > authority.size() + 1 ? rest.substr(authority.size() + 1) : "";
+    std::string_view credentials;
+    if (const size_t at = authority.rfind('@'); at != std::string_view::npos)
+      credentials = authority.substr(0, at), authority.remove_prefix(at + 1);
+    std::string host;
+    uint32_t port = 6379;
+    std::string ignored;
+    parse_host_port(authority, host, port, ignored);
+    context_ = redisConnectWithTimeout(host.c_str(), int(port), milliseconds(spec_.connect_timeout_ms));
+    if (!context_ || context_->err) return error = failure(), false;
+    redisSetTimeout(context_, milliseconds(spec_.operation_timeout_ms));
+    auto command = [&](const char* format, auto... args) {
+      auto* reply = static_cast<redisReply*>(redisCommand(context_, format, args...));
+      const bool ok = reply && reply->type != REDIS_REPLY_ERROR;
+      if (!ok) error = reply ? std::string("Redis: ") + reply->str : failure();
+      if (reply) freeReplyObject(reply);
+      return ok;
+    };
+    if (!credentials.empty()) {
+      const size_t colon = credentials.find(':');
+      const std::string user(colon == std::string_view::npos ? "" : credentials.substr(0, colon));
+      const std::string password(colon == std::string_view::npos ? credentials : credentials.substr(colon + 1));
+      if (!(user.empty() ? command("AUTH %s", password.c_str())
+                         : command("AUTH %s %s", user.c_str(), password.c_str())))
+        return false;
+    }
+    if (!db.empty() && !command("SELECT %s", std::string(db).c_str())) return false;
+    return true;
+  }
+
+  RemoteSpec spec_;
+  std::string url_;
+  redisContext* context_ = nullptr;
+};
+
+// ---- a directory (file:) ----
+
+class FileBackend final : public RemoteBackend {
+ public:
+  FileBackend(const RemoteSpec& spec, std::string url) : spec_(spec) {
+    std::string_view dir = std::string_view(url).substr(5);
+    if (dir.starts_with("//")) dir.remove_prefix(2);
+    dir_ = fs::path(dir);
+  }
+
+  Got get(const std::string& name, uint64_t max_bytes, std::vector<uint8_t>& out, std::string& error) override {
+    const fs::path path = dir_ / entry_path(spec_, name);
+    const int fd = ::open(path.c_str(), O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
+    if (fd < 0) {
+      if (errno == ENOENT) return Got::miss;
+      error = "cannot read '" + printable(path.string()) + "': " + std::strerror(errno);
+      return Got::failed;
+    }
+    struct stat st {};
+    bool ok = ::fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && uint64_t(st.st_size) <= max_bytes;
+    if (ok) {
+      out.resize(size_t(st.st_size));
+      size_t done = 0;
+      while (done < out.size()) {
+        const ssize_t n = ::read(fd, out.data() + done, out.size() - done);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) break;
+        done += size_t(n);
+      }
+      ok = done == out.size();
+    }
+    ::close(fd);
+    if (!ok) error = "'" + printable(path.string()) + "' is not an entry file";
+    return ok ? Got::hit : Got::failed;
+  }
+
+  bool put(const std::string& name, std::span<const uint8_t> bytes, std::string& error) override {
+    static std::atomic<uint64_t> counter{0};
+    const fs::path path = dir_ / entry_path(spec_, name);
+    std::error_code ec;
+    fs::create_directories(path.parent_path(), ec);
+    // A temporary beside it, renamed: readers on other machines only ever see whole entries, and a link
+    // planted at the entry's name is replaced, not followed.
+    const fs::path temporary = path.parent_path() / (".tmp-" + std::to_string(::getpid()) + "-" +
+                                                     std::to_string(counter++) + "-" + name.substr(0, 8));
+    const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
+    if (fd < 0) {
+      error = "cannot write '" + printable(temporary.string()) + "': " + std::strerror(errno);
+      return false;
+    }
+    size_t done = 0;
+    while (done < bytes.size()) {
+      const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0) break;
+      done += size_t(n);
+    }
+    const bool ok = ::close(fd) == 0 && done == bytes.size() && ::rename(temporary.c_str(), path.c_str()) == 0;
+    if (!ok) {
+      error = "cannot write '" + printable(path.string()) + "': " + std::strerror(errno);
+      ::unlink(temporary.c_str());
+    }
+    return ok;
+  }
+
+ private:
+  RemoteSpec spec_;
+  fs::path dir_;
+};
+
+std::unique_ptr<RemoteBackend> make_backend(const RemoteSpec& spec, std::string url) {
+  switch (spec.kind) {
+    case RemoteSpec::Kind::http: return std::make_unique<HttpBackend>(spec, std::move(url));
+    case RemoteSpec::Kind::redis: return std::make_unique<RedisBackend>(spec, std::move(url));
+    case RemoteSpec::Kind::file: return std::make_unique<FileBackend>(spec, std::move(url));
+  }
+  return nullptr;
+}
+
+}  // namespace
+
+std::optional<std::vector<RemoteSpec>> parse_remote_storage(std::string_view text, std::string& error) {
+  std::vector<RemoteSpec> specs;
+  while (true) {
+    const size_t start = text.find_first_not_of(" \t\n");
+    if (start == std::string_view::npos) break;
+    text.remove_prefix(start);
+    const std::string_view item = text.substr(0, text.find_first_of(" \t\n"));
+    text.remove_prefix(item.size());
+    RemoteSpec spec;
+    std::string_view rest = item;
+    spec.url = rest.substr(0, rest.find('|'));
+    rest.remove_prefix(spec.url.size());
+    std::string why;
+    bool ok = check_url(spec, why);
+    while (ok && !rest.empty()) {
+      rest.remove_prefix(1);
+      const std::string_view attribute = rest.substr(0, rest.find('|'));
+      rest.remove_prefix(attribute.size());
+      ok = parse_attribute(attribute, spec, why);
+    }
+    const bool starred = spec.url.find('*') != std::string::npos;
+    if (ok && starred != !spec.shards.empty()) {
+      why = starred ? "'*' in the URL needs shards=..." : "shards=... needs a '*' in the URL for the shard's name";
+      ok = false;
+    }
+    if (!ok) {
+      error = "'" + printable(std::string(item)) + "': " + why;
+      return std::nullopt;
+    }
+    specs.push_back(std::move(spec));
+  }
+  if (specs.empty()) {
+    error = "no remote cache URL given";
+    return std::nullopt;
+  }
+  return specs;
+}
+
+// One server: its shards' backends (made on first use), whether it failed (then left alone), its count.
+struct RemoteCache::Server {
+  RemoteSpec spec;
+  std::mutex mutex;  // one request at a time per server (a connection each)
+  std::vector<std::unique_ptr<RemoteBackend>> backends;
+  bool read_failed = false, write_failed = false;
+  size_t failures = 0, skipped = 0;  // requests that failed; requests not sent after a failure
+  std::string first_failure;
+
+  // The backend an entry's name goes to: rendezvous hashing over the shards (each name scores every
+  // shard; the highest weighted score wins, so adding a shard moves only the entries it wins).
+  RemoteBackend& backend_for(const std::string& name) {
+    if (backends.empty()) {
+      if (spec.shards.empty()) {
+        backends.push_back(make_backend(spec, spec.url));
+      } else {
+        for (const auto& shard : spec.shards) {
+          std::string url = spec.url;
+          url.replace(url.find('*'), 1, shard.name);
+          backends.push_back(make_backend(spec, url));
+        }
+      }
+    }
+    size_t best = 0;
+    double best_score = -1;
+    for (size_t i = 0; i < spec.shards.size(); ++i) {
+      const Digest d = sha256(spec.shards[i].name + "\n" + name);
+      uint64_t h = 0;
+      for (int b = 0; b < 8; ++b) h = h << 8 | d[size_t(b)];
+      const double score = spec.shards[i].weight * (double(h >> 11) / double(uint64_t(1) << 53));
+      if (score > best_score) best_score = score, best = i;
+    }
+    return *backends[best];
+  }
+  void failed(const std::string& why) {
+    if (failures++ == 0) first_failure = why;
+  }
+};
+
+RemoteCache::RemoteCache(std::vector<RemoteSpec> specs) {
+  for (auto& spec : specs) {
+    servers_.push_back(std::make_unique<Server>());
+    servers_.back()->spec = std::move(spec);
+  }
+}
+RemoteCache::~RemoteCache() = default;
+
+std::optional<std::vector<uint8_t>> RemoteCache::get(const std::string& name, uint64_t max_bytes) {
+  for (auto& server : servers_) {
+    std::vector<uint8_t> bytes;
+    std::string error;
+    RemoteBackend::Got got;
+    {
+      std::lock_guard lock(server->mutex);
+      if (server->read_failed) {
+        ++server->skipped;
+        continue;
+      }
+      got = server->backend_for(name).get(name, max_bytes, bytes, error);
+      if (got == RemoteBackend::Got::failed) {
+        server->read_failed = server->write_failed = true;  // left alone for the rest of the pack
+        server->failed(error);
+      }
+    }
+    std::lock_guard lock(mutex_);
+    if (got == RemoteBackend::Got::failed) {
+      ++stats_.errors;
+    } else if (got == RemoteBackend::Got::hit) {
+      ++stats_.hits;
+      stats_.bytes_read += bytes.size();
+      return bytes;
+    }
+  }
+  std::lock_guard lock(mutex_);
+  ++stats_.misses;
+  return std::nullopt;
+}
+
+void RemoteCache::put(const std::string& name, std::span<const uint8_t> bytes) {
+  for (auto& server : servers_) {
+    if (server->spec.read_only) continue;
+    std::string error;
+    bool ok;
+    {
+      std::lock_guard lock(server->mutex);
+      if (server->write_failed) {
+        ++server->skipped;
+        continue;
+      }
+      ok = server->backend_for(name).put(name, bytes, error);
+      if (!ok) {
+        server->write_failed = true;  // (reads go on: a server may refuse writes and still serve)
+        server->failed(error);
+      }
+    }
+    std::lock_guard lock(mutex_);
+    if (ok) {
+      ++stats_.written;
+      stats_.bytes_written += bytes.size();
+    } else {
+      ++stats_.errors;
+    }
+  }
+}
+
+RemoteCache::Stats RemoteCache::stats() const {
+  std::lock_guard lock(mutex_);
+  return stats_;
+}
+
+std::string RemoteCache::warning() const {
+  std::string text;
+  for (const auto& server : servers_) {
+    if (!server->failures) continue;
+    if (!text.empty()) text += "\n";
+    text += "remote cache '" + printable(display_url(server->spec.url)) + "': " + printable(server->first_failure) +
+            (server->read_failed ? "; not asked again in this pack (" : "; not written again in this pack (") +
+            std::to_string(server->skipped) + " requests not sent)";
+  }
+  return text;
+}
+
+void RemoteCache::reset_failures() {
+  for (auto& server : servers_) {
+    std::lock_guard lock(server->mutex);
+    server->read_failed = server->write_failed = false;
+    server->failures = server->skipped = 0;
+    server->first_failure.clear();
+    server->backends.clear();  // (a connection that failed is made again)
+  }
+}
+
+}  // namespace statepack::packager
