@@ -164,9 +164,10 @@ struct PackCommand {
                     "with http://, redis:// or file: URLs (docs/cli.md \"Teams and CI\"); default: "
                     "$STATEPACK_REMOTE_CACHE; '' for none. Entries are signed with $STATEPACK_CACHE_KEY (or "
                     "the file $STATEPACK_CACHE_KEY_FILE names) when set, and unsigned ones refused");
-    app->add_option("--shard", shard,
-                    "K/N: compile only the shaders whose compile key falls in shard K of N (1 <= K <= N) into "
-                    "the caches, and write no archive (a CI matrix job; then pack with --no-compile)");
+    app->add_option(
+        "--shard", shard,
+        "K/N: compile only the shaders whose compile key falls in shard K of N (1 <= K <= N) into "
+        "the caches, and write no archive (a CI matrix job; then pack with --no-compile)");
     app->add_flag("--no-compile", options.compile.no_compile,
                   "Assemble the archive from the caches (local and remote): a shader they do not have is an "
                   "error naming it, not a compile");
@@ -211,7 +212,8 @@ struct PackCommand {
       }
       options.shard = k, options.shards = n;
       if (output_option->count() > 0 || !depfile.empty() || options.check_only || watch) {
-        err << "statepack: error: --shard compiles into the caches and writes no archive: drop -o, --depfile, "
+        err << "statepack: error: --shard compiles into the caches and writes no archive: drop -o, "
+               "--depfile, "
                "--check and --watch\n";
         return false;
       }

@@ -310,13 +310,14 @@ CompiledShaders compile_shaders(const Notation& notation, const PackOptions& opt
   detail::parallel_for(out.units.size(), options.threads, [&](size_t i) {
     CompiledUnit& u = out.units[i];
     if (u.desc.broken) return;  // its notation errors are reported; compiling it would guess
-    if (options.shards) {  // --shard: another machine compiles what falls in another shard
+    if (options.shards) {       // --shard: another machine compiles what falls in another shard
       const auto key = compile_cache_key(u.desc, options.compile);
       if (key && !in_shard(*key, options.shard, options.shards)) return;
       u.in_shard = true;
     }
     if (!compile_from_cache(u.desc, options.compile, cache, u.compiled, u.reflection)) {
-      if (options.compile.no_compile) return diag.error(u.desc.where, "shader '" + u.desc.name + "': " + kNotInCache);
+      if (options.compile.no_compile)
+        return diag.error(u.desc.where, "shader '" + u.desc.name + "': " + kNotInCache);
       u.compiled_here = true;
       if (std::string failed = on_compile_stack([&] {
             compile_and_keep(u.desc, options.compile, compile_errors, cache, u.compiled, u.reflection);
@@ -720,7 +721,7 @@ int write_outputs(const PackOptions& options, const std::vector<InputFile>& inpu
 // Why an output of this pack can never be written (checked before any work; inputs are checked once
 // known), or empty. A device or directory given as the output gets a hint for packing without one.
 std::string output_refusal(const PackOptions& options) {
-  if (options.check_only) return "";
+  if (options.check_only || options.shards) return "";
   detail::OutputSet none({});
   for (const auto* path : {&options.output, options.depfile ? &*options.depfile : nullptr}) {
     if (!path) continue;
@@ -743,18 +744,19 @@ void flush_cache(CompileCache& cache, const CompileCache::Stats& before, const s
   if (std::string warning = cache.flush(inputs); !warning.empty())
     err << "statepack: warning: --cache-dir: " << warning << "\n";
   const CompileCache::Stats s = cache.stats();
-  std::string note = "cache: " + std::to_string(s.hits - before.hits) + " hits, " +
-                     std::to_string(s.misses - before.misses) + " misses, " +
-                     std::to_string(s.damaged - before.damaged) + " damaged, " +
-                     std::to_string(s.written - before.written) + " written, " +
-                     std::to_string(s.removed - before.removed) + " removed; " +
-                     std::to_string(s.from_bundle - before.from_bundle) + " entries read from the pack's bundle";
+  std::string note =
+      "cache: " + std::to_string(s.hits - before.hits) + " hits, " +
+      std::to_string(s.misses - before.misses) + " misses, " + std::to_string(s.damaged - before.damaged) +
+      " damaged, " + std::to_string(s.written - before.written) + " written, " +
+      std::to_string(s.removed - before.removed) + " removed; " +
+      std::to_string(s.from_bundle - before.from_bundle) + " entries read from the pack's bundle";
   if (remote) {
     const RemoteCache::Stats r = remote->stats();
-    note += "; remote: " + std::to_string(s.remote_hits - before.remote_hits) + " hits, " +
-            std::to_string(r.misses) + " misses, " + std::to_string(s.remote_refused - before.remote_refused) +
-            " refused, " + std::to_string(r.errors) + " errors, " + std::to_string(r.written) + " written, " +
-            std::to_string(r.bytes_read) + " bytes read, " + std::to_string(r.bytes_written) + " bytes written";
+    note +=
+        "; remote: " + std::to_string(s.remote_hits - before.remote_hits) + " hits, " +
+        std::to_string(r.misses) + " misses, " + std::to_string(s.remote_refused - before.remote_refused) +
+        " refused, " + std::to_string(r.errors) + " errors, " + std::to_string(r.written) + " written, " +
+        std::to_string(r.bytes_read) + " bytes read, " + std::to_string(r.bytes_written) + " bytes written";
     if (std::string warning = remote->warning(); !warning.empty())
       for (size_t at = 0; at < warning.size();) {
         const size_t end = std::min(warning.find('\n', at), warning.size());
@@ -779,8 +781,8 @@ int finish_shard(const PackOptions& options, const CompiledShaders& compiled, Co
   for (const CompiledUnit& u : compiled.units) mine += u.in_shard, made += u.compiled_here;
   diag.print(err);
   if (diag.has_errors()) {
-    err << "statepack: " << diag.error_count() << " error(s) in shard " << options.shard << "/" << options.shards
-        << "\n";
+    err << "statepack: " << diag.error_count() << " error(s) in shard " << options.shard << "/"
+        << options.shards << "\n";
     return kExitInputError;
   }
   out << "shard " << options.shard << "/" << options.shards << ": " << mine << " of " << compiled.units.size()
@@ -869,8 +871,9 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err, P
       inputs.insert(inputs.end(), u.compiled.files_read.begin(), u.compiled.files_read.end());
   if (session)
     for (const auto& f : inputs) session->files_read.push_back(f.path);
-  if (options.shards) return finish_shard(options, compiled, *cached, stats_before, inputs, remote.get(),
-                                          times, diag, out, err);
+  if (options.shards)
+    return finish_shard(options, compiled, *cached, stats_before, inputs, remote.get(), times, diag, out,
+                        err);
 
   ContentsBuilder builder;
   builder.contents.producer_version = kProducerVersion;

@@ -26,7 +26,7 @@ namespace {
 constexpr char kMagic[4] = {'S', 'P', 'K', 'C'};
 constexpr uint32_t kEntryVersion = 2;
 constexpr size_t kHeaderBytes = 112;
-constexpr const char* kLayoutDirectory = "v2";  // (v1: 0.4's XXH3 keys, left alone)
+constexpr const char* kLayoutDirectory = "v2";            // (v1: 0.4's XXH3 keys, left alone)
 constexpr uint64_t kMaxEntryBytes = uint64_t(256) << 20;  // larger than any module statepack writes
 constexpr size_t kSubdirectories = 256;
 constexpr int64_t kStaleTemporarySeconds = 3600;  // a temporary this old belongs to a run that died
@@ -935,8 +935,8 @@ std::string CompileCache::flush(const std::vector<InputFile>& inputs) {
 
 CompileCache::Stats CompileCache::stats() const {
   std::lock_guard lock(mutex_);
-  return {hits_.load(),  misses_.load(),       damaged_.load(), written_, removed_, from_bundle_.load(),
-          remote_hits_, remote_refused_};
+  return {hits_.load(), misses_.load(),      damaged_.load(), written_,
+          removed_,     from_bundle_.load(), remote_hits_,    remote_refused_};
 }
 
 std::string CompileCache::first_refusal() const {
@@ -965,7 +965,8 @@ CompileCache::PruneResult CompileCache::prune(const fs::path& dir, uint64_t max_
   std::error_code ec;
   const fs::path root = dir / kLayoutDirectory;
   if (!fs::is_directory(fs::symlink_status(root, ec))) {
-    result.error = "'" + printable(dir.string()) + "' is not a statepack cache directory (no " + std::string(kLayoutDirectory) + "/ in it)";
+    result.error = "'" + printable(dir.string()) + "' is not a statepack cache directory (no " +
+                   std::string(kLayoutDirectory) + "/ in it)";
     return result;
   }
   std::vector<FileOnDisk> all = all_files(root);

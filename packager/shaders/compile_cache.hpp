@@ -118,7 +118,7 @@ class CompileCache {
 
   struct Stats {
     size_t hits = 0, misses = 0, damaged = 0, written = 0, removed = 0;
-    size_t from_bundle = 0;  // of the entries read, those found in the pack's bundle
+    size_t from_bundle = 0;     // of the entries read, those found in the pack's bundle
     size_t remote_hits = 0;     // entries a remote server had (after a local miss), checked and used
     size_t remote_refused = 0;  // entries a remote server returned that failed their check: not used
   };

@@ -45,11 +45,14 @@ Digest sha256(std::span<const uint8_t> bytes) {
 Digest hmac_sha256(std::span<const uint8_t> secret, std::span<const uint8_t> message) {
   Digest out{};
   unsigned int size = 0;
-  if (!HMAC(EVP_sha256(), secret.data(), int(secret.size()), message.data(), message.size(), out.data(), &size))
+  if (!HMAC(EVP_sha256(), secret.data(), int(secret.size()), message.data(), message.size(), out.data(),
+            &size))
     throw std::runtime_error("OpenSSL: HMAC-SHA-256 is not available");
   return out;
 }
 
-bool same_digest(const Digest& a, const Digest& b) { return CRYPTO_memcmp(a.data(), b.data(), a.size()) == 0; }
+bool same_digest(const Digest& a, const Digest& b) {
+  return CRYPTO_memcmp(a.data(), b.data(), a.size()) == 0;
+}
 
 }  // namespace statepack::packager

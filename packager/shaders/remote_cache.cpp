@@ -34,7 +34,8 @@ bool parse_shards(std::string_view text, std::vector<RemoteSpec::Shard>& out, st
     RemoteSpec::Shard shard;
     if (const size_t open = item.find('('); open != std::string_view::npos) {
       uint32_t weight = 0;
-      if (item.back() != ')' || !parse_uint(item.substr(open + 1, item.size() - open - 2), weight) || !weight) {
+      if (item.back() != ')' || !parse_uint(item.substr(open + 1, item.size() - open - 2), weight) ||
+          !weight) {
         error = "shards: '" + std::string(item) + "': a weight is a positive whole number in parentheses";
         return false;
       }
@@ -60,7 +61,8 @@ bool parse_attribute(std::string_view attribute, RemoteSpec& spec, std::string& 
   if (name == "connect-timeout" || name == "operation-timeout") {
     uint32_t& ms = name == "connect-timeout" ? spec.connect_timeout_ms : spec.operation_timeout_ms;
     if (!parse_uint(value, ms) || ms == 0) {
-      error = std::string(name) + ": milliseconds, a positive whole number (got '" + std::string(value) + "')";
+      error =
+          std::string(name) + ": milliseconds, a positive whole number (got '" + std::string(value) + "')";
       return false;
     }
     return true;
@@ -120,8 +122,8 @@ bool check_url(RemoteSpec& spec, std::string& error) {
     std::string_view authority = url.substr(0, url.find('/'));
     if (const size_t at = authority.rfind('@'); at != std::string_view::npos) authority.remove_prefix(at + 1);
     uint32_t db = 0;
-    if (const size_t slash = url.find('/'); slash != std::string_view::npos && slash + 1 < url.size() &&
-                                             !parse_uint(url.substr(slash + 1), db))
+    if (const size_t slash = url.find('/');
+        slash != std::string_view::npos && slash + 1 < url.size() && !parse_uint(url.substr(slash + 1), db))
       return error = "the database after '/' is not a number", false;
     return parse_host_port(authority, host, port, error);
   }
@@ -144,9 +146,12 @@ namespace {
 // Where an entry lies below a URL or directory.
 std::string entry_path(const RemoteSpec& spec, const std::string& name) {
   switch (spec.layout) {
-    case RemoteSpec::Layout::flat: return name;
-    case RemoteSpec::Layout::bazel: return "ac/" + name;
-    case RemoteSpec::Layout::subdirs: break;
+    case RemoteSpec::Layout::flat:
+      return name;
+    case RemoteSpec::Layout::bazel:
+      return "ac/" + name;
+    case RemoteSpec::Layout::subdirs:
+      break;
   }
   return name.substr(0, 2) + "/" + name.substr(2);
 }
@@ -169,7 +174,8 @@ class HttpBackend final : public RemoteBackend {
     if (curl_) curl_easy_cleanup(curl_);
   }
 
-  Got get(const std::string& name, uint64_t max_bytes, std::vector<uint8_t>& out, std::string& error) override {
+  Got get(const std::string& name, uint64_t max_bytes, std::vector<uint8_t>& out,
+          std::string& error) override {
     Sink sink{&out, max_bytes, false};
     out.clear();
     prepare(name);
@@ -181,7 +187,7 @@ class HttpBackend final : public RemoteBackend {
     curl_easy_getinfo(curl_, CURLINFO_RESPONSE_CODE, &status);
     if (rc == CURLE_OK && status == 200) return Got::hit;
     if (rc == CURLE_OK && status == 404) return Got::miss;
-    error = sink.too_large ? "an answer larger than any entry"
+    error = sink.too_large   ? "an answer larger than any entry"
             : rc != CURLE_OK ? curl_easy_strerror(rc)
                              : "HTTP status " + std::to_string(status) + " to GET";
     return Got::failed;
@@ -257,7 +263,8 @@ class RedisBackend final : public RemoteBackend {
     if (context_) redisFree(context_);
   }
 
-  Got get(const std::string& name, uint64_t max_bytes, std::vector<uint8_t>& out, std::string& error) override {
+  Got get(const std::string& name, uint64_t max_bytes, std::vector<uint8_t>& out,
+          std::string& error) override {
     if (!connect(error)) return Got::failed;
     const std::string key = "statepack:" + name;
     auto* reply = static_cast<redisReply*>(redisCommand(context_, "GET %b", key.data(), key.size()));
@@ -266,7 +273,8 @@ class RedisBackend final : public RemoteBackend {
     if (reply->type == REDIS_REPLY_NIL) {
       got = Got::miss;
     } else if (reply->type == REDIS_REPLY_STRING && uint64_t(reply->len) <= max_bytes) {
-      out.assign(reinterpret_cast<const uint8_t*>(reply->str), reinterpret_cast<const uint8_t*>(reply->str) + reply->len);
+      out.assign(reinterpret_cast<const uint8_t*>(reply->str),
+                 reinterpret_cast<const uint8_t*>(reply->str) + reply->len);
       got = Got::hit;
     } else {
       error = reply->type == REDIS_REPLY_ERROR ? std::string("Redis: ") + reply->str
@@ -284,7 +292,8 @@ class RedisBackend final : public RemoteBackend {
     if (!reply) return error = failure(), false;
     const bool ok = reply->type == REDIS_REPLY_STATUS;
     if (!ok)
-      error = reply->type == REDIS_REPLY_ERROR ? std::string("Redis: ") + reply->str : "Redis: SET not acknowledged";
+      error = reply->type == REDIS_REPLY_ERROR ? std::string("Redis: ") + reply->str
+                                               : "Redis: SET not acknowledged";
     freeReplyObject(reply);
     return ok;
   }
@@ -320,7 +329,8 @@ class RedisBackend final : public RemoteBackend {
     if (!credentials.empty()) {
       const size_t colon = credentials.find(':');
       const std::string user(colon == std::string_view::npos ? "" : credentials.substr(0, colon));
-      const std::string password(colon == std::string_view::npos ? credentials : credentials.substr(colon + 1));
+      const std::string password(colon == std::string_view::npos ? credentials
+                                                                 : credentials.substr(colon + 1));
       if (!(user.empty() ? command("AUTH %s", password.c_str())
                          : command("AUTH %s %s", user.c_str(), password.c_str())))
         return false;
@@ -344,7 +354,8 @@ class FileBackend final : public RemoteBackend {
     dir_ = fs::path(dir);
   }
 
-  Got get(const std::string& name, uint64_t max_bytes, std::vector<uint8_t>& out, std::string& error) override {
+  Got get(const std::string& name, uint64_t max_bytes, std::vector<uint8_t>& out,
+          std::string& error) override {
     const fs::path path = dir_ / entry_path(spec_, name);
     const int fd = ::open(path.c_str(), O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
     if (fd < 0) {
@@ -391,7 +402,8 @@ class FileBackend final : public RemoteBackend {
       if (n <= 0) break;
       done += size_t(n);
     }
-    const bool ok = ::close(fd) == 0 && done == bytes.size() && ::rename(temporary.c_str(), path.c_str()) == 0;
+    const bool ok =
+        ::close(fd) == 0 && done == bytes.size() && ::rename(temporary.c_str(), path.c_str()) == 0;
     if (!ok) {
       error = "cannot write '" + printable(path.string()) + "': " + std::strerror(errno);
       ::unlink(temporary.c_str());
@@ -406,9 +418,12 @@ class FileBackend final : public RemoteBackend {
 
 std::unique_ptr<RemoteBackend> make_backend(const RemoteSpec& spec, std::string url) {
   switch (spec.kind) {
-    case RemoteSpec::Kind::http: return std::make_unique<HttpBackend>(spec, std::move(url));
-    case RemoteSpec::Kind::redis: return std::make_unique<RedisBackend>(spec, std::move(url));
-    case RemoteSpec::Kind::file: return std::make_unique<FileBackend>(spec, std::move(url));
+    case RemoteSpec::Kind::http:
+      return std::make_unique<HttpBackend>(spec, std::move(url));
+    case RemoteSpec::Kind::redis:
+      return std::make_unique<RedisBackend>(spec, std::move(url));
+    case RemoteSpec::Kind::file:
+      return std::make_unique<FileBackend>(spec, std::move(url));
   }
   return nullptr;
 }
@@ -437,7 +452,8 @@ std::optional<std::vector<RemoteSpec>> parse_remote_storage(std::string_view tex
     }
     const bool starred = spec.url.find('*') != std::string::npos;
     if (ok && starred != !spec.shards.empty()) {
-      why = starred ? "'*' in the URL needs shards=..." : "shards=... needs a '*' in the URL for the shard's name";
+      why = starred ? "'*' in the URL needs shards=..."
+                    : "shards=... needs a '*' in the URL for the shard's name";
       ok = false;
     }
     if (!ok) {
@@ -568,9 +584,11 @@ std::string RemoteCache::warning() const {
   for (const auto& server : servers_) {
     if (!server->failures) continue;
     if (!text.empty()) text += "\n";
-    text += "remote cache '" + printable(display_url(server->spec.url)) + "': " + printable(server->first_failure) +
-            (server->read_failed ? "; not asked again in this pack (" : "; not written again in this pack (") +
-            std::to_string(server->skipped) + " requests not sent)";
+    text +=
+        "remote cache '" + printable(display_url(server->spec.url)) +
+        "': " + printable(server->first_failure) +
+        (server->read_failed ? "; not asked again in this pack (" : "; not written again in this pack (") +
+        std::to_string(server->skipped) + " requests not sent)";
   }
   return text;
 }

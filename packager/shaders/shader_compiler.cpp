@@ -645,7 +645,9 @@ fs::path resolve_include(const std::string& header, const std::string& includer,
   return resolve_file(header, local ? fs::path(includer).parent_path() : fs::path(), include_dirs);
 }
 
-Digest text_hash(std::string_view text) { return sha256(text); }
+Digest text_hash(std::string_view text) {
+  return sha256(text);
+}
 
 bool tests_backend_macros(std::string_view text) {
   size_t start = 0;

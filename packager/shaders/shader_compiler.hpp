@@ -51,10 +51,10 @@ struct IncludeRecord {
 
 struct CompiledShader {
   std::vector<uint32_t> spirv;
-  Digest source_hash{};  // of the text glslang compiled (the shader's file or Source)
-  std::vector<IncludeRecord> includes;    // in the order glslang asked for them
-  std::vector<InputFile> files_read;      // the source and every #include, for the depfile and output checks
-  bool backend_specific = false;          // GLSL whose text (or an #include's) tests_backend_macros
+  Digest source_hash{};                 // of the text glslang compiled (the shader's file or Source)
+  std::vector<IncludeRecord> includes;  // in the order glslang asked for them
+  std::vector<InputFile> files_read;    // the source and every #include, for the depfile and output checks
+  bool backend_specific = false;        // GLSL whose text (or an #include's) tests_backend_macros
   // HLSL textures and samplers declared [[vk::combinedImageSampler]] (hlsl_combined_image_samplers.hpp)
   std::vector<std::string> combined_image_samplers;
   // An HLSL vertex shader's inputs and their semantics (ATTRIBn already placed at location n), for an
