@@ -810,6 +810,31 @@ std::string bundle_project(const PackOptions& options) {
   return text;
 }
 
+// The pack's compile cache: the session's, or --cache-dir opened (in memory when only servers are given),
+// with the servers behind it and the team's key.
+struct PackCache {
+  std::optional<CompileCache> owned;
+  CompileCache* cache = nullptr;
+  std::shared_ptr<RemoteCache> remote;
+};
+void open_cache(const PackOptions& options, PackSession* session, PackCache& out, std::ostream& err) {
+  std::string cache_error;
+  const bool own = !(session && session->cache);
+  if (options.cache_dir && own)
+    if (auto opened = CompileCache::open(*options.cache_dir, options.cache_max_bytes, cache_error))
+      out.owned.emplace(std::move(*opened));
+  if (!cache_error.empty())
+    err << "statepack: warning: --cache-dir: " << cache_error << "; packing without a cache\n";
+  if (!options.remote_cache.empty()) out.remote = std::make_shared<RemoteCache>(options.remote_cache);
+  if (out.remote && !out.owned && own)
+    out.owned.emplace(CompileCache::in_memory(CompileCache::kDefaultMaxBytes));
+  out.cache = own ? (out.owned ? &*out.owned : nullptr) : session->cache;
+  if (out.cache) {
+    out.cache->use_remote(out.remote);
+    out.cache->set_signing_key(options.cache_signing_key);
+  }
+}
+
 }  // namespace
 
 int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err, PackSession* session) {
@@ -819,23 +844,11 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err, P
     err << "statepack: error: " << printable(reason) << '\n';
     return kExitUsage;
   }
-  std::string cache_error;
-  std::optional<CompileCache> cache =
-      options.cache_dir && !(session && session->cache)
-          ? CompileCache::open(*options.cache_dir, options.cache_max_bytes, cache_error)
-          : std::nullopt;
-  if (!cache_error.empty())
-    err << "statepack: warning: --cache-dir: " << cache_error << "; packing without a cache\n";
-  // Servers behind the cache: without a cache directory, what they serve is kept for this pack only.
-  const auto remote =
-      options.remote_cache.empty() ? nullptr : std::make_shared<RemoteCache>(options.remote_cache);
-  if (remote && !cache && !(session && session->cache))
-    cache.emplace(CompileCache::in_memory(CompileCache::kDefaultMaxBytes));
-  CompileCache* const cached = session && session->cache ? session->cache : cache ? &*cache : nullptr;
-  if (cached) {
-    cached->use_remote(remote);
-    cached->set_signing_key(options.cache_signing_key);
-  }
+  PackCache pack_cache;
+  open_cache(options, session, pack_cache, err);
+  CompileCache* const cached = pack_cache.cache;
+  const auto& remote = pack_cache.remote;
+  std::optional<CompileCache>& cache = pack_cache.owned;
   const CompileCache::Stats stats_before = cached ? cached->stats() : CompileCache::Stats{};
   if (cache) cache->use_bundle(bundle_project(options));
   Diagnostics diag(options.max_errors);
