@@ -14,6 +14,8 @@
 #     [VERIFY]                        # also run `statepack verify` on the local Vulkan device
 #     [CACHE_DIR <dir> | NO_CACHE]    # compile cache (--cache-dir); default: statepack-cache in the top
 #                                     # binary dir, shared by every archive of the build
+#     [REMOTE_CACHE <servers>]        # --remote-cache behind it (docs/cli.md "Teams and CI"); default:
+#                                     # the cache variable STATEPACK_REMOTE_CACHE, else the environment's
 #     [ARGS <extra packager args>...])
 #
 # Relative INPUTS are looked up in the current source dir, then in each RENDER_STATE_DIRS entry; one
@@ -27,15 +29,18 @@
 # records a passed verification, so it runs again only when the archive changes. A second target,
 # <target>_watch (not built by `all`), runs the same pack with --watch: it repacks whenever an input
 # changes, until Ctrl-C (docs/cli.md, "Development loop"); it does not verify.
+set(STATEPACK_REMOTE_CACHE "" CACHE STRING
+    "Compile cache servers behind every statepack_add_archive's local cache (ccache's remote_storage syntax)")
+
 function(statepack_add_archive target)
-  cmake_parse_arguments(PARSE_ARGV 1 ARG "VERIFY;OPENGL;NO_CACHE" "OUTPUT;CONTENT_VERSION;VULKAN_VERSION;PACKAGER;CACHE_DIR"
+  cmake_parse_arguments(PARSE_ARGV 1 ARG "VERIFY;OPENGL;NO_CACHE" "OUTPUT;CONTENT_VERSION;VULKAN_VERSION;PACKAGER;CACHE_DIR;REMOTE_CACHE"
                         "INPUTS;SHADER_DIRS;RENDER_STATE_DIRS;DEFINES;ARGS")
   # An unknown keyword first: it is usually a misspelt OUTPUT or INPUTS, which would otherwise be reported
   # as missing.
   if(ARG_UNPARSED_ARGUMENTS)
     message(FATAL_ERROR "statepack_add_archive(${target}): unknown arguments ${ARG_UNPARSED_ARGUMENTS} "
                         "(keywords: OUTPUT INPUTS SHADER_DIRS RENDER_STATE_DIRS DEFINES CONTENT_VERSION "
-                        "VULKAN_VERSION OPENGL PACKAGER VERIFY CACHE_DIR NO_CACHE ARGS)")
+                        "VULKAN_VERSION OPENGL PACKAGER VERIFY CACHE_DIR NO_CACHE REMOTE_CACHE ARGS)")
   endif()
   if(NOT ARG_OUTPUT OR NOT ARG_INPUTS)
     message(FATAL_ERROR "statepack_add_archive(${target}): OUTPUT and INPUTS are required")
@@ -117,6 +122,15 @@ function(statepack_add_archive target)
       set(cache_dir "${CMAKE_BINARY_DIR}/statepack-cache")
     endif()
     list(APPEND args --cache-dir "${cache_dir}")
+    # A team's servers behind it: the keyword, else the cache variable (-DSTATEPACK_REMOTE_CACHE=...), else
+    # $STATEPACK_REMOTE_CACHE as the build runs (read by statepack itself).
+    if(DEFINED ARG_REMOTE_CACHE)
+      list(APPEND args --remote-cache "${ARG_REMOTE_CACHE}")
+    elseif(STATEPACK_REMOTE_CACHE)
+      list(APPEND args --remote-cache "${STATEPACK_REMOTE_CACHE}")
+    endif()
+  elseif(DEFINED ARG_REMOTE_CACHE)
+    message(FATAL_ERROR "statepack_add_archive(${target}): REMOTE_CACHE sits behind the local cache; drop NO_CACHE")
   endif()
   list(APPEND args ${ARG_ARGS})
 

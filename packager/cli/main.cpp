@@ -336,7 +336,9 @@ struct PackCommand {
 struct CacheCommand {
   CLI::App* app = nullptr;
   CLI::App* prune = nullptr;
-  std::string dir;
+  CLI::App* export_command = nullptr;
+  CLI::App* import_command = nullptr;
+  std::string dir, file;
   uint64_t max_bytes = uint64_t(1) << 30;
 
   void add_to(CLI::App& parent) {
@@ -349,8 +351,36 @@ struct CacheCommand {
         ->capture_default_str()
         ->transform(CLI::AsSizeValue(false));
     not_negative(prune->get_option("--max-size"));
+    export_command = app->add_subcommand(
+        "export",
+        "Write every entry of a cache directory into one file (a build artifact for another machine)");
+    export_command->add_option("dir", dir, "The cache directory")->required();
+    export_command->add_option("file", file, "The file to write ('-': standard output)")->required();
+    import_command = app->add_subcommand(
+        "import",
+        "Add the entries of an exported file to a cache directory, each checked (and, with "
+        "$STATEPACK_CACHE_KEY or $STATEPACK_CACHE_KEY_FILE, its signature) first");
+    import_command->add_option("dir", dir, "The cache directory (created if missing)")->required();
+    import_command->add_option("file", file, "The exported file")->required();
   }
-  int run() {
+  int run(const std::vector<uint8_t>& secret) {
+    if (export_command->parsed() || import_command->parsed()) {
+      const bool exporting = export_command->parsed();
+      const auto r = exporting ? CompileCache::export_entries(dir, file)
+                               : CompileCache::import_entries(dir, file, secret);
+      if (!r.error.empty()) {
+        std::cerr << "statepack: error: " << printable(r.error) << '\n';
+        return r.entries || r.refused ? kExitInputError : kExitUsage;
+      }
+      (exporting && file == "-" ? std::cerr : std::cout)
+          << printable(exporting ? file : dir) << ": " << r.entries << " entries, " << r.bytes << " bytes "
+          << (exporting ? "exported" : "imported")
+          << (exporting ? ""
+                        : "; " + std::to_string(r.present) + " already present, " +
+                              std::to_string(r.refused) + " refused")
+          << '\n';
+      return r.refused ? kExitInputError : kExitSuccess;
+    }
     auto r = CompileCache::prune(dir, max_bytes);
     if (!r.error.empty()) {
       std::cerr << "statepack: error: " << r.error << '\n';
@@ -505,7 +535,10 @@ int run(int argc, char** argv) {
     return kExitSuccess;
   }
   if (merge.app->parsed()) return merge.run();
-  if (cache.app->parsed()) return cache.run();
+  if (cache.app->parsed()) {
+    if (!pack.read_signing_key(std::cerr)) return kExitUsage;
+    return cache.run(pack.options.cache_signing_key);
+  }
   if (verify.app->parsed()) return verify.run();
   if (!pack.settle(std::cerr)) return kExitUsage;
   if (pack.watch) return run_watch(pack.options, pack.watch_options, std::cout, std::cerr);

@@ -979,4 +979,84 @@ CompileCache::PruneResult CompileCache::prune(const fs::path& dir, uint64_t max_
   return result;
 }
 
+namespace {
+constexpr char kTransferMagic[4] = {'S', 'P', 'K', 'X'};
+constexpr uint32_t kTransferVersion = 1;
+}  // namespace
+
+CompileCache::TransferResult CompileCache::export_entries(const fs::path& dir, const fs::path& file) {
+  TransferResult result;
+  std::error_code ec;
+  const fs::path root = dir / kLayoutDirectory;
+  if (!fs::is_directory(fs::symlink_status(root, ec))) {
+    result.error = "'" + printable(dir.string()) + "' is not a statepack cache directory (no " +
+                   std::string(kLayoutDirectory) + "/ in it)";
+    return result;
+  }
+  std::vector<uint8_t> out(kTransferMagic, kTransferMagic + 4);
+  put_u32(out, kTransferVersion);
+  std::vector<fs::path> entries;  // (the export may not replace one of them)
+  for (const FileOnDisk& f : all_files(root)) {
+    if (f.temporary) continue;
+    InputText entry = read_input_file(f.path, f.path.string(), kMaxEntryBytes);
+    if (!entry.error.empty() || entry.text.size() < kHeaderBytes) continue;  // (removed meanwhile)
+    entries.push_back(f.path);
+    put_u64(out, entry.text.size());
+    out.insert(out.end(), entry.text.begin(), entry.text.end());
+    ++result.entries, result.bytes += entry.text.size();
+  }
+  if (file.string() == "-") {
+    std::fwrite(out.data(), 1, out.size(), stdout);
+  } else if (auto written = detail::write_file_atomically(file, out, entries); !written) {
+    result.error = written.error().message;
+  }
+  return result;
+}
+
+CompileCache::TransferResult CompileCache::import_entries(const fs::path& dir, const fs::path& file,
+                                                          std::span<const uint8_t> secret) {
+  TransferResult result;
+  std::string error;
+  auto cache = open(dir, kDefaultMaxBytes, error);
+  if (!cache) return result.error = error, result;
+  cache->secret_.assign(secret.begin(), secret.end());
+  InputText input = read_input_file(file, file.string(), uint64_t(64) << 30);
+  if (!input.error.empty()) return result.error = input.error, result;
+  const auto* bytes = reinterpret_cast<const uint8_t*>(input.text.data());
+  const size_t size = input.text.size();
+  if (size < 8 || std::memcmp(bytes, kTransferMagic, 4) != 0 || get_u32(bytes + 4) != kTransferVersion) {
+    result.error = "'" + printable(file.string()) + "' is not an export of a statepack cache";
+    return result;
+  }
+  std::set<FileIdentity> inputs{input.identity};
+  for (size_t at = 8; at < size;) {
+    if (size - at < 8 || get_u64(bytes + at) > size - at - 8 || get_u64(bytes + at) < kHeaderBytes) {
+      result.error = "'" + printable(file.string()) + "' is truncated or damaged after " +
+                     std::to_string(result.entries) + " entries";
+      break;
+    }
+    const size_t length = size_t(get_u64(bytes + at));
+    const uint8_t* entry = bytes + at + 8;
+    at += 8 + length;
+    CacheKey key;
+    std::copy_n(entry + 8, key.size(), key.begin());
+    const std::span<const uint8_t> payload(entry + kHeaderBytes, length - kHeaderBytes);
+    if (!entry_problem(entry, payload, key, secret).empty()) {
+      ++result.refused;
+      continue;
+    }
+    const std::string name = hex(key);
+    struct stat st {};
+    if (::lstat((cache->dir_ / name.substr(0, 2) / name).c_str(), &st) == 0 && S_ISREG(st.st_mode)) {
+      ++result.present;
+      continue;
+    }
+    std::string warning;
+    if (!cache->write_entry(key, payload, inputs, warning)) return result.error = warning, result;
+    ++result.entries, result.bytes += length;
+  }
+  write_size(cache->dir_, entry_bytes(all_files(cache->dir_)));
+  return result;
+}
+
 }  // namespace statepack::packager

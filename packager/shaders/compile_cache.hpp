@@ -135,6 +135,19 @@ class CompileCache {
   };
   static PruneResult prune(const std::filesystem::path& dir, uint64_t max_bytes);
 
+  // `statepack cache export`/`import`: a cache's entries as one file, to move them between machines as a
+  // build artifact (no shared server). The file: "SPKX", u32 version 1, then per entry u64 size and the
+  // entry's bytes as its file holds them (header with key, payload hash and signature). Import checks each
+  // entry as a read does (and its signature when `secret` is given) and writes the good ones.
+  struct TransferResult {
+    size_t entries = 0, present = 0, refused = 0;
+    uint64_t bytes = 0;
+    std::string error;
+  };
+  static TransferResult export_entries(const std::filesystem::path& dir, const std::filesystem::path& file);
+  static TransferResult import_entries(const std::filesystem::path& dir, const std::filesystem::path& file,
+                                       std::span<const uint8_t> secret);
+
  private:
   CompileCache(std::filesystem::path dir, uint64_t max_bytes);
   struct Pending {

@@ -338,6 +338,40 @@ TEST_F(RemoteCacheTest, ShardsThenNoCompileAssembleTheSameArchive) {
   EXPECT_EQ(read_file(dir_ / "elsewhere" / "b.spk"), clean);
 }
 
+// Without a server: entries move as one file (a build artifact); the import checks each one.
+TEST_F(RemoteCacheTest, ExportedEntriesImportedElsewhereServeANoCompilePack) {
+  const std::string clean = clean_archive();
+  ASSERT_EQ(pack(dir_ / "first", "../a.spk", "--cache-dir ../cache-a", "STATEPACK_CACHE_KEY=team").exit_code,
+            0);
+  const std::string sp = "'" STATEPACK_EXE "' cache ";
+  const std::string a = (dir_ / "cache-a").string(), b = (dir_ / "cache-b").string(),
+                    x = (dir_ / "x.spkx").string();
+  CommandResult r = run_command(sp + "export '" + a + "' '" + x + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find(": 7 entries"), std::string::npos) << r.output;  // six and the pack's bundle
+  r = run_command("STATEPACK_CACHE_KEY=other " + sp + "import '" + b + "' '" + x + "'");
+  EXPECT_EQ(r.exit_code, 1) << r.output;  // signed with another key: every entry refused
+  EXPECT_NE(r.output.find("0 entries, 0 bytes imported; 0 already present, 7 refused"), std::string::npos)
+      << r.output;
+  r = run_command("STATEPACK_CACHE_KEY=team " + sp + "import '" + b + "' '" + x + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const fs::path second = second_checkout();
+  const PackRun run =
+      pack(second, "../b.spk", "--no-compile --cache-dir ../../cache-b", "STATEPACK_CACHE_KEY=team");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_EQ(run.misses, 0) << run.output;
+  EXPECT_EQ(read_file(dir_ / "elsewhere" / "b.spk"), clean);
+  // A file that is not an export, or one cut short, is an error naming it; the entries before the cut stay.
+  write_file(dir_ / "garbage.spkx", "not an export");
+  r = run_command(sp + "import '" + b + "' '" + (dir_ / "garbage.spkx").string() + "'");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("is not an export of a statepack cache"), std::string::npos) << r.output;
+  write_file(dir_ / "cut.spkx", read_file(x).substr(0, read_file(x).size() - 100));
+  r = run_command(sp + "import '" + (dir_ / "cache-c").string() + "' '" + (dir_ / "cut.spkx").string() + "'");
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("is truncated or damaged after 6 entries"), std::string::npos) << r.output;
+}
+
 TEST_F(RemoteCacheTest, UsageErrorsExitTwo) {
   for (const char* args :
        {"--remote-cache 'ftp://host/x'", "--remote-cache 'http://'", "--remote-cache 'http://h:99999/'",
