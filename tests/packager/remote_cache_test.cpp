@@ -263,6 +263,44 @@ TEST_F(RemoteCacheTest, EntriesThatFailTheirCheckAreNeverUsed) {
   EXPECT_EQ(read_file(dir_ / "elsewhere" / "b.spk"), clean);
 }
 
+// A finalised module whose entry is whole (its hash made again over a changed payload, as anyone who can
+// write to the server can) but whose SPIR-V fails validation is refused, as a fresh compile's would be.
+TEST_F(RemoteCacheTest, AnUnsignedModuleThatFailsValidationIsNeverUsed) {
+  const std::string clean = clean_archive();
+  const std::string url = "file:" + (dir_ / "shared").string();
+  ASSERT_EQ(pack(dir_ / "first", "../a.spk", "--cache-dir ../cache-a --remote-cache '" + url + "'").exit_code,
+            0);
+  // Each finalisation (payload: u32 count, then SPIR-V from its magic number): its OpMemoryModel's memory
+  // model set to 77 (none such), and the header's SHA-256 of the payload made again.
+  write_file(dir_ / "forge.py", R"(import hashlib, pathlib, struct, sys
+forged = 0
+for path in pathlib.Path(sys.argv[1]).rglob('*'):
+    data = bytearray(path.read_bytes()) if path.is_file() else b''
+    if len(data) < 120 or data[116:120] != bytes.fromhex('03022307'): continue
+    words = 116 + 20
+    while words + 4 <= len(data):
+        op = struct.unpack_from('<I', data, words)[0]
+        if op & 0xffff == 14:  # OpMemoryModel
+            struct.pack_into('<I', data, words + 8, 77)
+            break
+        words += 4 * (op >> 16)
+    data[48:80] = hashlib.sha256(bytes(data[112:])).digest()
+    path.write_bytes(bytes(data))
+    forged += 1
+print(forged)
+)");
+  const CommandResult forged =
+      run_command("python3 '" + (dir_ / "forge.py").string() + "' '" + (dir_ / "shared").string() + "'");
+  ASSERT_EQ(forged.exit_code, 0) << forged.output;
+  EXPECT_EQ(std::stoi(forged.output), 3) << forged.output;
+  const PackRun run =
+      pack(second_checkout(), "../b.spk", "--cache-dir ../cache-b --remote-cache '" + url + "'");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_EQ(run.refused, 3) << run.output;
+  EXPECT_NE(run.output.find("its module fails validation"), std::string::npos) << run.output;
+  EXPECT_EQ(read_file(dir_ / "elsewhere" / "b.spk"), clean);
+}
+
 // With a team key, every entry written is signed and only entries signed with the same key are used.
 TEST_F(RemoteCacheTest, OnlyEntriesSignedWithTheTeamKeyAreUsed) {
   const std::string clean = clean_archive();
