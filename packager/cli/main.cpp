@@ -76,7 +76,7 @@ struct PackCommand {
   CLI::Option* output_option = nullptr;
   CLI::Option* quiet_option = nullptr;
   PackOptions options;
-  bool watch = false;
+  bool watch = false, list_inputs = false;
   WatchOptions watch_options;
   std::vector<std::string> inputs, render_state_dirs, shader_dirs, defines;
   std::string output, vulkan_version = "1.0", depfile, dump_dir, optimize = "none", cache_dir,
@@ -168,6 +168,10 @@ struct PackCommand {
         "--shard", shard,
         "K/N: compile only the shaders whose compile key falls in shard K of N (1 <= K <= N) into "
         "the caches, and write no archive (a CI matrix job; then pack with --no-compile)");
+    app->add_flag("--list-inputs", list_inputs,
+                  "Print every file the pack read (notation files, imports, shaders, #includes), one per "
+                  "line, relative to the working directory when below it; with --check, the inputs a "
+                  "hermetic build declares");
     app->add_flag("--no-compile", options.compile.no_compile,
                   "Assemble the archive from the caches (local and remote): a shader they do not have is an "
                   "error naming it, not a compile");
@@ -258,6 +262,10 @@ struct PackCommand {
     if (watch && options.check_only) {
       err << "statepack: error: --watch repacks the archive at -o whenever an input changes; --check writes "
              "nothing: drop one of them\n";
+      return false;
+    }
+    if (watch && list_inputs) {
+      err << "statepack: error: --list-inputs lists what one pack read; --watch repacks: drop one of them\n";
       return false;
     }
     if (watch && output_option->count() == 0) {
@@ -478,6 +486,16 @@ struct VerifyCommand {
   }
 };
 
+// pack --list-inputs: the pack, then every file it read (also when it failed: what it managed to read).
+int pack_and_list_inputs(const PackOptions& options) {
+  PackSession session;
+  const int code = run_pack(options, std::cout, std::cerr, &session);
+  std::set<std::string> names;
+  for (const auto& path : session.files_read) names.insert(display_path(path));
+  for (const auto& name : names) std::cout << printable(name) << '\n';
+  return code;
+}
+
 int run(int argc, char** argv) {
   // Diligent command lines have no subcommand: "statepack -i a.json ..." means "statepack pack -i a.json
   // ...".
@@ -542,6 +560,7 @@ int run(int argc, char** argv) {
   if (verify.app->parsed()) return verify.run();
   if (!pack.settle(std::cerr)) return kExitUsage;
   if (pack.watch) return run_watch(pack.options, pack.watch_options, std::cout, std::cerr);
+  if (pack.list_inputs) return pack_and_list_inputs(pack.options);
   return run_pack(pack.options, std::cout, std::cerr);
 }
 

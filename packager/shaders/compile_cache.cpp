@@ -948,8 +948,10 @@ std::string CompileCache::first_refusal() const {
 
 void CompileCache::write_to_remote(const std::vector<Pending>& pending) {
   if (!remote_) return;
+  std::vector<std::pair<std::string, std::vector<uint8_t>>> entries;
   for (const Pending& p : pending)
-    if (p.to_remote) remote_->put(hex(p.key), encode_entry(p.key, p.payload, secret_));
+    if (p.to_remote) entries.emplace_back(hex(p.key), encode_entry(p.key, p.payload, secret_));
+  remote_->put_all(entries);
 }
 
 std::optional<CacheKey> compile_cache_key(const ShaderDesc& shader, const CompileOptions& options) {

@@ -1,47 +1,59 @@
 // statepack pack --cache-dir: compiled and finalised SPIR-V kept between runs, so an unchanged shader
-// is never compiled (or optimised and validated) again. An entry is found by a hash of everything that
-// decides its result:
+// is never compiled (or optimised and validated) again. An entry is found by a SHA-256 of everything that
+// decides its result (a shared cache is written by other machines: no two inputs may be made to share a
+// key):
 //
-// - a compile: statepack's own code (glslang and SPIRV-Tools are linked into it: the hash of its loaded
-//   read-only segments), the options (target, -D macros, -s directories, --max-input-size), the
-//   working directory, the shader's stage, language, entry point, macros, path and text. Its #includes
-//   are not in the key: the entry lists each one glslang asked for (the name, who included it, where it
-//   was found, a hash of its text), and a hit re-resolves and re-reads every one of them. Same text and
-//   same includes found in the same files with the same text give the same preprocessed source, so the
-//   same SPIR-V (an include that now resolves elsewhere, or changed, is a miss).
+// - a compile: statepack's own code (glslang and SPIRV-Tools are linked into it: the build IDs of its
+//   loaded objects), the options (target, -D macros, -s directories, --max-input-size), the shader's
+//   stage, language, entry point, macros, file name and text. No path enters as it lies on this machine:
+//   a file and an -s directory enter by the name glslang is given (display_path: relative to the working
+//   directory when below it), so two checkouts at different paths share entries. Its #includes are not
+//   in the key: the entry lists each one glslang asked for (the name, who included it, where it was found
+//   (by the same kind of name), a SHA-256 of its text), and a hit re-resolves and re-reads every one of
+//   them. Same text and same includes found in the same files with the same text give the same
+//   preprocessed source, so the same SPIR-V (an include that now resolves elsewhere, or changed, is a miss).
 // - a finalisation (optimise, strip, validate): the code, the options and the module's words.
 //
-// Entries are files DIR/v1/XX/<32 hex digits> (XX: the first two), each written to a temporary beside it
+// Entries are files DIR/v2/XX/<64 hex digits> (XX: the first two), each written to a temporary beside it
 // and renamed, so two packs sharing the directory at once only ever see whole entries; each holds a
-// hash of its contents, so a truncated or damaged one is a miss and is written again. Only successful
+// SHA-256 of its payload, so a truncated or damaged one is a miss and is written again. Only successful
 // results are kept. The directory is kept under a size bound: a pack that writes entries trims the
 // cache to it, the least recently used first (a hit marks an entry used), never removing what it wrote
-// or read itself (the directories are listed only when the size the last pack left in DIR/v1/size, plus
+// or read itself (the directories are listed only when the size the last pack left in DIR/v2/size, plus
 // what this one wrote, passes the bound); `statepack cache prune` trims on demand. The archive is
-// byte-identical with and without a cache.
+// byte-identical with and without a cache. (DIR/v1 holds 0.4's entries, XXH3-keyed; never read.)
 //
 // | entry bytes | meaning                                                                          |
 // |-------------|----------------------------------------------------------------------------------|
 // | 0..3        | "SPKC"                                                                           |
-// | 4..7        | u32 entry layout version (1)                                                     |
-// | 8..23       | the 128-bit key (the file's name, repeated: a renamed entry is not a hit)        |
-// | 24..31      | u64 payload size                                                                 |
-// | 32..39      | u64 XXH3-64 of the payload                                                       |
-// | 40..        | payload: a compile's (u32 backend-specific flag; u32 count and per #include str  |
-// |             | header, str includer, u8 local, str path, 16-byte text hash; u32 count and strs  |
-// |             | of combined image samplers; u32 count and SPIR-V words; with flag 2, the         |
-// |             | module's Reflection, field by field as spirv_reflect.hpp declares them) or a     |
+// | 4..7        | u32 entry layout version (2)                                                     |
+// | 8..39       | the 256-bit key (the file's name, repeated: an entry under another name is not   |
+// |             | a hit)                                                                           |
+// | 40..47      | u64 payload size                                                                 |
+// | 48..79      | SHA-256 of the payload                                                           |
+// | 80..111     | with a team key: HMAC-SHA-256 under it of bytes 8..39 and 48..79; else zeros     |
+// | 112..       | payload: a compile's (u32 backend-specific flag; u32 count and per #include str  |
+// |             | header, str includer, u8 local, str path, 32-byte text hash; u32 count and strs  |
+// |             | of combined image samplers; u32 count and (u32 variable, str semantic) of vertex |
+// |             | inputs; str entry point; u32 count and SPIR-V words; with flag 2, the module's   |
+// |             | Reflection, field by field as spirv_reflect.hpp declares them) or a              |
 // |             | finalisation's (u32 count and SPIR-V words). str: u32 length and bytes; all      |
 // |             | little-endian.                                                                   |
 //
+// The same entry bytes go to and come from the servers of --remote-cache (remote_cache.hpp), behind the
+// local directory: a local miss asks them, and what they return is checked as a local entry is (key,
+// size, hash, signature) and, unless signed with the team's key, a finalised module is validated as a
+// fresh one is; then it is used and kept locally. What a pack makes is written to both.
+//
 // A pack's bundle: one more entry, under a key made of the project (the working directory, the notation
 // files given, the options that decide entries; not the output) instead of a shader, whose payload is
-// every small entry (16 KiB at most) the last pack of that project used, each as (16-byte key, u64 size,
+// every small entry (16 KiB at most) the last pack of that project used, each as (32-byte key, u64 size,
 // payload). A pack maps it first and finds its entries there before it opens an entry file: a warm pack
 // of N small shaders opens one file instead of 2N (a large entry is worth its own file's opening, and
 // would make the bundle costly to rewrite). A bundle entry serves only under its own key, so a bundle
 // that another project wrote, or one that is stale, costs its read and nothing else; a pack that used
-// other small entries than its bundle holds writes a new one. It is trimmed like any entry.
+// other small entries than its bundle holds writes a new one. It is trimmed like any entry; it stays
+// local (never sent to a server).
 #pragma once
 
 #include <array>

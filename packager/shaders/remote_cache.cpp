@@ -13,6 +13,7 @@
 #include <filesystem>
 
 #include "digest.hpp"
+#include "support/parallel_for.hpp"
 #include "support/printable.hpp"
 
 namespace statepack::packager {
@@ -469,29 +470,36 @@ std::optional<std::vector<RemoteSpec>> parse_remote_storage(std::string_view tex
   return specs;
 }
 
-// One server: its shards' backends (made on first use), whether it failed (then left alone), its count.
+// One server: its connections (one backend per shard each; idle ones kept for the next request, so that
+// the pack's threads talk to it at once), whether it failed (then left alone), its counts.
 struct RemoteCache::Server {
+  using Connection = std::vector<std::unique_ptr<RemoteBackend>>;
   RemoteSpec spec;
-  std::mutex mutex;  // one request at a time per server (a connection each)
-  std::vector<std::unique_ptr<RemoteBackend>> backends;
+  std::mutex mutex;  // everything below
+  std::vector<std::unique_ptr<Connection>> idle;
   bool read_failed = false, write_failed = false;
   size_t failures = 0, skipped = 0;  // requests that failed; requests not sent after a failure
   std::string first_failure;
 
-  // The backend an entry's name goes to: rendezvous hashing over the shards (each name scores every
-  // shard; the highest weighted score wins, so adding a shard moves only the entries it wins).
-  RemoteBackend& backend_for(const std::string& name) {
-    if (backends.empty()) {
-      if (spec.shards.empty()) {
-        backends.push_back(make_backend(spec, spec.url));
-      } else {
-        for (const auto& shard : spec.shards) {
-          std::string url = spec.url;
-          url.replace(url.find('*'), 1, shard.name);
-          backends.push_back(make_backend(spec, url));
-        }
-      }
+  // An idle connection, or a new one. Under `mutex`.
+  std::unique_ptr<Connection> take() {
+    if (!idle.empty()) {
+      auto c = std::move(idle.back());
+      idle.pop_back();
+      return c;
     }
+    auto c = std::make_unique<Connection>();
+    if (spec.shards.empty()) c->push_back(make_backend(spec, spec.url));
+    for (const auto& shard : spec.shards) {
+      std::string url = spec.url;
+      url.replace(url.find('*'), 1, shard.name);
+      c->push_back(make_backend(spec, url));
+    }
+    return c;
+  }
+  // The shard an entry's name goes to: rendezvous hashing (each name scores every shard; the highest
+  // weighted score wins, so adding a shard moves only the entries it wins).
+  size_t shard_of(const std::string& name) const {
     size_t best = 0;
     double best_score = -1;
     for (size_t i = 0; i < spec.shards.size(); ++i) {
@@ -501,9 +509,17 @@ struct RemoteCache::Server {
       const double score = spec.shards[i].weight * (double(h >> 11) / double(uint64_t(1) << 53));
       if (score > best_score) best_score = score, best = i;
     }
-    return *backends[best];
+    return best;
   }
-  void failed(const std::string& why) {
+  // After a request: its connection kept for the next one, or, when it failed, the server left alone
+  // for reading and writing (`reading`) or for writing. Under `mutex`.
+  void done(std::unique_ptr<Connection> connection, bool ok, bool reading, const std::string& why) {
+    if (ok) {
+      idle.push_back(std::move(connection));
+      return;
+    }
+    write_failed = true;
+    read_failed = read_failed || reading;  // (a server may refuse writes and still serve)
     if (failures++ == 0) first_failure = why;
   }
 };
@@ -518,20 +534,21 @@ RemoteCache::~RemoteCache() = default;
 
 std::optional<std::vector<uint8_t>> RemoteCache::get(const std::string& name, uint64_t max_bytes) {
   for (auto& server : servers_) {
-    std::vector<uint8_t> bytes;
-    std::string error;
-    RemoteBackend::Got got;
+    std::unique_ptr<Server::Connection> connection;
     {
       std::lock_guard lock(server->mutex);
       if (server->read_failed) {
         ++server->skipped;
         continue;
       }
-      got = server->backend_for(name).get(name, max_bytes, bytes, error);
-      if (got == RemoteBackend::Got::failed) {
-        server->read_failed = server->write_failed = true;  // left alone for the rest of the pack
-        server->failed(error);
-      }
+      connection = server->take();
+    }
+    std::vector<uint8_t> bytes;
+    std::string error;
+    const RemoteBackend::Got got = (*connection)[server->shard_of(name)]->get(name, max_bytes, bytes, error);
+    {
+      std::lock_guard lock(server->mutex);
+      server->done(std::move(connection), got != RemoteBackend::Got::failed, true, error);
     }
     std::lock_guard lock(mutex_);
     if (got == RemoteBackend::Got::failed) {
@@ -550,19 +567,20 @@ std::optional<std::vector<uint8_t>> RemoteCache::get(const std::string& name, ui
 void RemoteCache::put(const std::string& name, std::span<const uint8_t> bytes) {
   for (auto& server : servers_) {
     if (server->spec.read_only) continue;
-    std::string error;
-    bool ok;
+    std::unique_ptr<Server::Connection> connection;
     {
       std::lock_guard lock(server->mutex);
       if (server->write_failed) {
         ++server->skipped;
         continue;
       }
-      ok = server->backend_for(name).put(name, bytes, error);
-      if (!ok) {
-        server->write_failed = true;  // (reads go on: a server may refuse writes and still serve)
-        server->failed(error);
-      }
+      connection = server->take();
+    }
+    std::string error;
+    const bool ok = (*connection)[server->shard_of(name)]->put(name, bytes, error);
+    {
+      std::lock_guard lock(server->mutex);
+      server->done(std::move(connection), ok, false, error);
     }
     std::lock_guard lock(mutex_);
     if (ok) {
@@ -572,6 +590,12 @@ void RemoteCache::put(const std::string& name, std::span<const uint8_t> bytes) {
       ++stats_.errors;
     }
   }
+}
+
+void RemoteCache::put_all(const std::vector<std::pair<std::string, std::vector<uint8_t>>>& entries) {
+  // A few requests in flight at once: a write waits on the network, not on this machine's cores.
+  detail::parallel_for(entries.size(), kConnections,
+                       [&](size_t i) { put(entries[i].first, entries[i].second); });
 }
 
 RemoteCache::Stats RemoteCache::stats() const {
@@ -599,7 +623,6 @@ void RemoteCache::reset_failures() {
     server->read_failed = server->write_failed = false;
     server->failures = server->skipped = 0;
     server->first_failure.clear();
-    server->backends.clear();  // (a connection that failed is made again)
   }
 }
 

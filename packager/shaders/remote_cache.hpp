@@ -17,9 +17,11 @@
 // |                       |   weighted), so a cache can be spread over several servers              |
 //
 // Entries are found by name (the key in hex); what comes back is checked by the compile cache (header,
-// key, payload hash, signature) before use. A server never fails a pack: the first failure (refused
+// key, payload hash, signature) before use. Each thread of the pack has a connection of its own to a
+// server (kept open between requests). A server never fails a pack: the first failure (refused
 // connection, time-out, an HTTP status other than found/not found, a Redis error) leaves that server
-// alone for the rest of the pack, counted, and reported once as a warning.
+// alone for the rest of the pack (requests already in flight on other connections end as they end),
+// counted, and reported once as a warning.
 #pragma once
 
 #include <cstdint>
@@ -29,6 +31,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace statepack::packager {
@@ -74,6 +77,9 @@ class RemoteCache {
   std::optional<std::vector<uint8_t>> get(const std::string& name, uint64_t max_bytes);
   // Writes an entry to every server that is not read-only and has not failed. Thread-safe.
   void put(const std::string& name, std::span<const uint8_t> bytes);
+  // put() for each entry, kConnections at once.
+  static constexpr uint32_t kConnections = 4;
+  void put_all(const std::vector<std::pair<std::string, std::vector<uint8_t>>>& entries);
 
   struct Stats {
     size_t hits = 0, misses = 0, errors = 0, written = 0;

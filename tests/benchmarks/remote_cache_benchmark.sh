@@ -82,7 +82,10 @@ rm -rf "$work/cache-b"
 pack "$work/elsewhere/b" "$work/dead.spk" --cache-dir "$work/cache-b" --remote-cache "http://127.0.0.1:$port/cache"
 same "$work/dead.spk"
 grep -q "not asked again" <<< "$report" || { echo "FAIL: no warning for the server that is down"; exit 1; }
-rows+=("| http server killed before B's pack (connect time-out 100 ms) | $ms ms | $(share "$ms" "$plain_ms") |")
+rows+=("| http server killed before B's pack, with B's empty --cache-dir | $ms ms | $(share "$ms" "$plain_ms") |")
+pack "$work/elsewhere/b" "$work/dead.spk" --remote-cache "http://127.0.0.1:$port/cache"
+same "$work/dead.spk"
+rows+=("| http server killed before B's pack, no --cache-dir | $ms ms | $(share "$ms" "$plain_ms") |")
 
 # Two shards on two processes, then the assembly.
 shard_out=()

@@ -51,7 +51,7 @@ class LoopbackServer {
   ~LoopbackServer() { stop(); }
 
   // nginx serving (GET) and storing (WebDAV PUT) files under `dir`/root; PUT under /fails/ answers 500,
-  // and /no-put/ allows GET only (405 to PUT).
+  // under /missing/ 404, and /no-put/ allows GET only (405 to PUT).
   bool start_nginx(const std::filesystem::path& dir) {
     port_ = free_loopback_port();
     std::filesystem::create_directories(dir / "root");
@@ -66,6 +66,7 @@ class LoopbackServer {
                    "/root;\n    client_max_body_size 256m;\n"
                    "    location / { dav_methods PUT; create_full_put_path on; }\n"
                    "    location /fails/ { if ($request_method = PUT) { return 500; } }\n"
+                                       "    location /missing/ { if ($request_method = PUT) { return 404; } }\n"
                    "    location /no-put/ { }\n  }\n}\n");
     return launch({"nginx", "-e", d + "/error.log", "-p", d, "-c", d + "/nginx.conf"}, dir / "nginx.out");
   }

@@ -162,7 +162,8 @@ TEST_F(RemoteCacheTest, AServerThatIsDownCostsOneFailureAndAWarning) {
            "--cache-dir ../cache --remote-cache 'http://127.0.0.1:" + std::to_string(port) + "/c'");
   const auto took = std::chrono::steady_clock::now() - start;
   ASSERT_EQ(run.exit_code, 0) << run.output;
-  EXPECT_EQ(run.errors, 1) << run.output;
+  EXPECT_GE(run.errors, 1) << run.output;  // (one per connection in flight when the first failed)
+  EXPECT_LE(run.errors, 4) << run.output;
   EXPECT_EQ(run.misses, 6) << run.output;
   EXPECT_NE(run.output.find("warning: remote cache 'http://127.0.0.1:"), std::string::npos) << run.output;
   EXPECT_NE(run.output.find("not asked again in this pack"), std::string::npos) << run.output;
@@ -175,13 +176,19 @@ TEST_F(RemoteCacheTest, ASlowServerIsWaitedForOnceThenLeftAlone) {
   LoopbackServer nginx;
   ASSERT_TRUE(nginx.start_nginx(dir_ / "nginx"));
   nginx.pause();  // connections are accepted by the kernel, nothing answers
+  const auto start = std::chrono::steady_clock::now();
   const PackRun run =
       pack(dir_ / "first", "../a.spk",
            "--cache-dir ../cache --remote-cache 'http://127.0.0.1:" + std::to_string(nginx.port()) +
                "/c|operation-timeout=300'");
+  const auto took = std::chrono::steady_clock::now() - start;
   nginx.resume();
   ASSERT_EQ(run.exit_code, 0) << run.output;
-  EXPECT_EQ(run.errors, 1) << "one time-out, then no request: " << run.output;
+  // One time-out on each connection in flight (one per thread at most), at once; then no request.
+  EXPECT_GE(run.errors, 1) << run.output;
+  EXPECT_LE(run.errors, 4) << run.output;
+  EXPECT_NE(run.output.find("not asked again in this pack"), std::string::npos) << run.output;
+  EXPECT_LT(took, std::chrono::seconds(3)) << "more than one time-out's wait: " << run.output;
   EXPECT_NE(run.output.find("imeout"), std::string::npos) << run.output;
   EXPECT_EQ(read_file(dir_ / "a.spk"), clean);
 }
@@ -207,12 +214,13 @@ TEST_F(RemoteCacheTest, RefusedWritesAreReportedAndReadsGoOn) {
   LoopbackServer nginx;
   ASSERT_TRUE(nginx.start_nginx(dir_ / "nginx"));
   const std::string base = "http://127.0.0.1:" + std::to_string(nginx.port());
-  for (const char* path : {"/fails", "/no-put"}) {
+  for (const char* path : {"/fails", "/missing", "/no-put"}) {
     fs::remove_all(dir_ / "cache");
     const PackRun run =
         pack(dir_ / "first", "../a.spk", "--cache-dir ../cache --remote-cache '" + base + path + "'");
     ASSERT_EQ(run.exit_code, 0) << run.output;
-    EXPECT_EQ(run.errors, 1) << run.output;
+    EXPECT_GE(run.errors, 1) << run.output;  // (one per connection in flight when the first failed)
+    EXPECT_LE(run.errors, 4) << run.output;
     EXPECT_EQ(run.written, 0) << run.output;
     EXPECT_NE(run.output.find(std::string("to PUT; not written again in this pack")), std::string::npos)
         << run.output;
@@ -408,6 +416,18 @@ TEST_F(RemoteCacheTest, ExportedEntriesImportedElsewhereServeANoCompilePack) {
   r = run_command(sp + "import '" + (dir_ / "cache-c").string() + "' '" + (dir_ / "cut.spkx").string() + "'");
   EXPECT_EQ(r.exit_code, 1) << r.output;
   EXPECT_NE(r.output.find("is truncated or damaged after 6 entries"), std::string::npos) << r.output;
+}
+
+// What a hermetic build declares: every file a pack reads, #includes found through -s included, named
+// relative to the working directory (the same list in every checkout).
+TEST_F(RemoteCacheTest, ListInputsNamesEveryFileThePackReads) {
+  for (const fs::path& checkout : {dir_ / "first", second_checkout()}) {
+    const CommandResult r =
+        run_command("cd '" + checkout.string() + "' && '" STATEPACK_EXE "' pack -i project.json -s '" +
+                    (checkout / "inc").string() + "' --vulkan --check --list-inputs");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_EQ(r.output, "a.comp\nb.comp\ncommon.glsl\ninc/helper.glsl\nproject.json\n");
+  }
 }
 
 TEST_F(RemoteCacheTest, UsageErrorsExitTwo) {
