@@ -737,12 +737,12 @@ std::string output_refusal(const PackOptions& options) {
   return "";
 }
 
-// Writes what the pack kept to the cache (a warning when it cannot) and notes this pack's share of its
-// statistics (a cache may serve several packs) for --time-report.
-void flush_cache(CompileCache& cache, const CompileCache::Stats& before, const std::vector<InputFile>& inputs,
-                 const RemoteCache* remote, PhaseTimes& times, std::ostream& err) {
-  if (std::string warning = cache.flush(inputs); !warning.empty())
-    err << "statepack: warning: --cache-dir: " << warning << "\n";
+// Prints the warnings of a cache's flush and notes this pack's share of its statistics (a cache may serve
+// several packs) for --time-report.
+void report_flush(const CompileCache& cache, const CompileCache::Stats& before,
+                  const std::string& flush_warning, const RemoteCache* remote, PhaseTimes& times,
+                  std::ostream& err) {
+  if (!flush_warning.empty()) err << "statepack: warning: --cache-dir: " << flush_warning << "\n";
   const CompileCache::Stats s = cache.stats();
   std::string note =
       "cache: " + std::to_string(s.hits - before.hits) + " hits, " +
@@ -770,6 +770,47 @@ void flush_cache(CompileCache& cache, const CompileCache::Stats& before, const s
   times.note(note);
   times.done("cache");
 }
+
+// Writes what the pack kept to the cache (a warning when it cannot), and reports it.
+void flush_cache(CompileCache& cache, const CompileCache::Stats& before, const std::vector<InputFile>& inputs,
+                 const RemoteCache* remote, PhaseTimes& times, std::ostream& err) {
+  report_flush(cache, before, cache.flush(inputs), remote, times, err);
+}
+
+// The cache written on a thread of its own while the pack encodes, checks and writes the archive (a
+// cold pack writes a file per compile and finalisation, a pack from a server keeps every entry it
+// fetched, and sends what it compiled); reported when the pack ends, whichever way it ends.
+class BackgroundFlush {
+ public:
+  BackgroundFlush(CompileCache* cache, const CompileCache::Stats& before, std::vector<InputFile> inputs,
+                  const RemoteCache* remote, PhaseTimes& times, std::ostream& err)
+      : cache_(cache),
+        before_(before),
+        inputs_(std::move(inputs)),
+        remote_(remote),
+        times_(times),
+        err_(err) {
+    if (cache_) thread_ = std::thread([this] { warning_ = cache_->flush(inputs_); });
+  }
+  BackgroundFlush(const BackgroundFlush&) = delete;
+  BackgroundFlush& operator=(const BackgroundFlush&) = delete;
+  ~BackgroundFlush() { finish(); }
+  void finish() {
+    if (!thread_.joinable()) return;
+    thread_.join();
+    report_flush(*cache_, before_, warning_, remote_, times_, err_);
+  }
+
+ private:
+  CompileCache* cache_;
+  CompileCache::Stats before_;
+  std::vector<InputFile> inputs_;
+  const RemoteCache* remote_;
+  PhaseTimes& times_;
+  std::ostream& err_;
+  std::string warning_;
+  std::thread thread_;
+};
 
 // --shard K/N: the compiles are in the caches; nothing is laid out or written. Says what the shard did.
 int finish_shard(const PackOptions& options, const CompiledShaders& compiled, CompileCache& cache,
@@ -906,7 +947,7 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err, P
   }
   if (notation_ok && options.opengl) add_opengl(notation, gl_compiled, options, builder, diag, cached);
   // What compiled is kept whether or not the pack succeeds: the next run needs it either way.
-  if (cached) flush_cache(*cached, stats_before, inputs, remote.get(), times, err);
+  BackgroundFlush flushing(cached, stats_before, inputs, remote.get(), times, err);
   if (!diag.has_errors()) note_unused_objects(notation, diag);
   if (diag.has_errors()) {
     diag.print(err);
