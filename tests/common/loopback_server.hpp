@@ -66,7 +66,7 @@ class LoopbackServer {
                    "/root;\n    client_max_body_size 256m;\n"
                    "    location / { dav_methods PUT; create_full_put_path on; }\n"
                    "    location /fails/ { if ($request_method = PUT) { return 500; } }\n"
-                                       "    location /missing/ { if ($request_method = PUT) { return 404; } }\n"
+                   "    location /missing/ { if ($request_method = PUT) { return 404; } }\n"
                    "    location /no-put/ { }\n  }\n}\n");
     return launch({"nginx", "-e", d + "/error.log", "-p", d, "-c", d + "/nginx.conf"}, dir / "nginx.out");
   }
