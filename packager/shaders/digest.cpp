@@ -8,13 +8,22 @@
 
 namespace statepack::packager {
 
+namespace {
+// SHA-256 fetched from OpenSSL's provider once (EVP_sha256() looks it up again at every use).
+const EVP_MD* sha256_md() {
+  static EVP_MD* const md = EVP_MD_fetch(nullptr, "SHA256", nullptr);
+  if (!md) throw std::runtime_error("OpenSSL: SHA-256 is not available");
+  return md;
+}
+}  // namespace
+
 struct Sha256::Context {
   EVP_MD_CTX* md = nullptr;
 };
 
 Sha256::Sha256() : context_(std::make_unique<Context>()) {
   context_->md = EVP_MD_CTX_new();
-  if (!context_->md || EVP_DigestInit_ex(context_->md, EVP_sha256(), nullptr) != 1)
+  if (!context_->md || EVP_DigestInit_ex(context_->md, sha256_md(), nullptr) != 1)
     throw std::runtime_error("OpenSSL: SHA-256 is not available");
 }
 
@@ -37,7 +46,7 @@ Digest Sha256::finish() {
 Digest sha256(std::span<const uint8_t> bytes) {
   Digest out{};
   unsigned int size = 0;
-  if (EVP_Digest(bytes.data(), bytes.size(), out.data(), &size, EVP_sha256(), nullptr) != 1)
+  if (EVP_Digest(bytes.data(), bytes.size(), out.data(), &size, sha256_md(), nullptr) != 1)
     throw std::runtime_error("OpenSSL: SHA-256 is not available");
   return out;
 }

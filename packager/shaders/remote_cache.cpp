@@ -1,6 +1,7 @@
 #include "remote_cache.hpp"
 
 #include <curl/curl.h>
+#include <dlfcn.h>
 #include <fcntl.h>
 #include <hiredis/hiredis.h>
 #include <sys/stat.h>
@@ -11,6 +12,9 @@
 #include <charconv>
 #include <cstring>
 #include <filesystem>
+#include <optional>
+#include <type_traits>
+#include <utility>
 
 #include "digest.hpp"
 #include "support/parallel_for.hpp"
@@ -162,55 +166,117 @@ std::string without_trailing_slash(std::string text) {
   return text;
 }
 
+// libcurl and hiredis are opened when a pack first talks to a server, not linked: linked, they and the
+// 26 libraries they need (TLS, Kerberos, LDAP, ...) were loaded by every pack, a tenth of a warm repack of
+// small shaders. Their sonames are the ones the build found (STATEPACK_*_SONAME, set by CMake).
+struct CurlApi {
+  decltype(&curl_global_init) global_init;
+  decltype(&curl_easy_init) easy_init;
+  decltype(&curl_easy_cleanup) easy_cleanup;
+  CURLcode (*easy_setopt)(CURL*, CURLoption, ...);
+  decltype(&curl_easy_perform) easy_perform;
+  CURLcode (*easy_getinfo)(CURL*, CURLINFO, ...);
+  decltype(&curl_easy_strerror) easy_strerror;
+  decltype(&curl_slist_append) slist_append;
+};
+struct HiredisApi {
+  decltype(&redisConnectWithTimeout) connect_with_timeout;
+  decltype(&redisSetTimeout) set_timeout;
+  decltype(&redisCommand) command;
+  decltype(&freeReplyObject) free_reply;
+  decltype(&redisFree) free_context;
+};
+
+// Opens `soname` and finds every symbol `resolve` asks for; nullptr with `error` set when one is missing.
+template <class Api, class Resolve>
+const Api* load_library(const char* soname, std::string& error, Resolve resolve) {
+  static const std::pair<std::optional<Api>, std::string> loaded =
+      [&]() -> std::pair<std::optional<Api>, std::string> {
+    void* library = ::dlopen(soname, RTLD_NOW | RTLD_LOCAL);
+    if (!library) return {std::nullopt, std::string("cannot load ") + soname + ": " + ::dlerror()};
+    Api api{};
+    std::string missing;
+    auto find = [&](auto& slot, const char* name) {
+      slot = reinterpret_cast<std::remove_reference_t<decltype(slot)>>(::dlsym(library, name));
+      if (!slot) missing = name;
+    };
+    resolve(api, find);
+    if (!missing.empty()) return {std::nullopt, std::string(soname) + " has no " + missing};
+    return {api, ""};
+  }();
+  if (!loaded.first) error = loaded.second;
+  return loaded.first ? &*loaded.first : nullptr;
+}
+
+const CurlApi* curl_api(std::string& error) {
+  const CurlApi* api = load_library<CurlApi>(STATEPACK_LIBCURL_SONAME, error, [](CurlApi& a, auto find) {
+    find(a.global_init, "curl_global_init"), find(a.easy_init, "curl_easy_init");
+    find(a.easy_cleanup, "curl_easy_cleanup"), find(a.easy_setopt, "curl_easy_setopt");
+    find(a.easy_perform, "curl_easy_perform"), find(a.easy_getinfo, "curl_easy_getinfo");
+    find(a.easy_strerror, "curl_easy_strerror"), find(a.slist_append, "curl_slist_append");
+  });
+  static const bool initialised = api && api->global_init(CURL_GLOBAL_DEFAULT) == CURLE_OK;
+  if (api && !initialised) error = "libcurl did not initialise";
+  return initialised ? api : nullptr;
+}
+
+const HiredisApi* hiredis_api(std::string& error) {
+  return load_library<HiredisApi>(STATEPACK_HIREDIS_SONAME, error, [](HiredisApi& a, auto find) {
+    find(a.connect_with_timeout, "redisConnectWithTimeout"), find(a.set_timeout, "redisSetTimeout");
+    find(a.command, "redisCommand"), find(a.free_reply, "freeReplyObject"), find(a.free_context, "redisFree");
+  });
+}
+
 // ---- HTTP (libcurl) ----
 
 class HttpBackend final : public RemoteBackend {
  public:
   HttpBackend(const RemoteSpec& spec, std::string base) : spec_(spec), base_(without_trailing_slash(base)) {
-    static const bool initialised = curl_global_init(CURL_GLOBAL_DEFAULT) == CURLE_OK;
-    (void)initialised;
-    curl_ = curl_easy_init();
+    api_ = curl_api(unusable_);
+    if (api_ && !(curl_ = api_->easy_init())) unusable_ = "libcurl: no handle";
   }
   ~HttpBackend() override {
-    if (curl_) curl_easy_cleanup(curl_);
+    if (curl_) api_->easy_cleanup(curl_);
   }
 
   Got get(const std::string& name, uint64_t max_bytes, std::vector<uint8_t>& out,
           std::string& error) override {
+    if (!curl_) return error = unusable_, Got::failed;
     Sink sink{&out, max_bytes, false};
     out.clear();
     prepare(name);
-    curl_easy_setopt(curl_, CURLOPT_HTTPGET, 1L);
-    curl_easy_setopt(curl_, CURLOPT_WRITEFUNCTION, &HttpBackend::write_to);
-    curl_easy_setopt(curl_, CURLOPT_WRITEDATA, &sink);
-    const CURLcode rc = curl_easy_perform(curl_);
+    api_->easy_setopt(curl_, CURLOPT_HTTPGET, 1L);
+    api_->easy_setopt(curl_, CURLOPT_WRITEFUNCTION, &HttpBackend::write_to);
+    api_->easy_setopt(curl_, CURLOPT_WRITEDATA, &sink);
+    const CURLcode rc = api_->easy_perform(curl_);
     long status = 0;
-    curl_easy_getinfo(curl_, CURLINFO_RESPONSE_CODE, &status);
+    api_->easy_getinfo(curl_, CURLINFO_RESPONSE_CODE, &status);
     if (rc == CURLE_OK && status == 200) return Got::hit;
     if (rc == CURLE_OK && status == 404) return Got::miss;
     error = sink.too_large   ? "an answer larger than any entry"
-            : rc != CURLE_OK ? curl_easy_strerror(rc)
+            : rc != CURLE_OK ? api_->easy_strerror(rc)
                              : "HTTP status " + std::to_string(status) + " to GET";
     return Got::failed;
   }
 
   bool put(const std::string& name, std::span<const uint8_t> bytes, std::string& error) override {
+    if (!curl_) return error = unusable_, false;
     Source source{bytes, 0};
     prepare(name);
-    curl_easy_setopt(curl_, CURLOPT_UPLOAD, 1L);
-    curl_easy_setopt(curl_, CURLOPT_READFUNCTION, &HttpBackend::read_from);
-    curl_easy_setopt(curl_, CURLOPT_READDATA, &source);
-    curl_easy_setopt(curl_, CURLOPT_INFILESIZE_LARGE, curl_off_t(bytes.size()));
+    api_->easy_setopt(curl_, CURLOPT_UPLOAD, 1L);
+    api_->easy_setopt(curl_, CURLOPT_READFUNCTION, &HttpBackend::read_from);
+    api_->easy_setopt(curl_, CURLOPT_READDATA, &source);
+    api_->easy_setopt(curl_, CURLOPT_INFILESIZE_LARGE, curl_off_t(bytes.size()));
     std::vector<uint8_t> ignored;
     Sink sink{&ignored, 1 << 16, false};
-    curl_easy_setopt(curl_, CURLOPT_WRITEFUNCTION, &HttpBackend::write_to);
-    curl_easy_setopt(curl_, CURLOPT_WRITEDATA, &sink);
-    const CURLcode rc = curl_easy_perform(curl_);
+    api_->easy_setopt(curl_, CURLOPT_WRITEFUNCTION, &HttpBackend::write_to);
+    api_->easy_setopt(curl_, CURLOPT_WRITEDATA, &sink);
+    const CURLcode rc = api_->easy_perform(curl_);
     long status = 0;
-    curl_easy_getinfo(curl_, CURLINFO_RESPONSE_CODE, &status);
-    curl_easy_setopt(curl_, CURLOPT_UPLOAD, 0L);
+    api_->easy_getinfo(curl_, CURLINFO_RESPONSE_CODE, &status);
+    api_->easy_setopt(curl_, CURLOPT_UPLOAD, 0L);
     if (rc == CURLE_OK && status >= 200 && status < 300) return true;
-    error = rc != CURLE_OK ? curl_easy_strerror(rc) : "HTTP status " + std::to_string(status) + " to PUT";
+    error = rc != CURLE_OK ? api_->easy_strerror(rc) : "HTTP status " + std::to_string(status) + " to PUT";
     return false;
   }
 
@@ -240,19 +306,21 @@ class HttpBackend final : public RemoteBackend {
   }
   void prepare(const std::string& name) {
     const std::string url = base_ + "/" + entry_path(spec_, name);
-    curl_easy_setopt(curl_, CURLOPT_URL, url.c_str());
-    curl_easy_setopt(curl_, CURLOPT_NOSIGNAL, 1L);  // time-outs without SIGALRM: the pack has threads
-    curl_easy_setopt(curl_, CURLOPT_CONNECTTIMEOUT_MS, long(spec_.connect_timeout_ms));
-    curl_easy_setopt(curl_, CURLOPT_TIMEOUT_MS, long(spec_.operation_timeout_ms));
-    curl_easy_setopt(curl_, CURLOPT_FOLLOWLOCATION, 0L);
-    curl_easy_setopt(curl_, CURLOPT_PROTOCOLS_STR, "http,https");
-    static curl_slist* const headers = curl_slist_append(nullptr, "Expect:");  // no 100-continue wait
-    curl_easy_setopt(curl_, CURLOPT_HTTPHEADER, headers);
+    api_->easy_setopt(curl_, CURLOPT_URL, url.c_str());
+    api_->easy_setopt(curl_, CURLOPT_NOSIGNAL, 1L);  // time-outs without SIGALRM: the pack has threads
+    api_->easy_setopt(curl_, CURLOPT_CONNECTTIMEOUT_MS, long(spec_.connect_timeout_ms));
+    api_->easy_setopt(curl_, CURLOPT_TIMEOUT_MS, long(spec_.operation_timeout_ms));
+    api_->easy_setopt(curl_, CURLOPT_FOLLOWLOCATION, 0L);
+    api_->easy_setopt(curl_, CURLOPT_PROTOCOLS_STR, "http,https");
+    static curl_slist* const headers = api_->slist_append(nullptr, "Expect:");  // no 100-continue wait
+    api_->easy_setopt(curl_, CURLOPT_HTTPHEADER, headers);
   }
 
   RemoteSpec spec_;
   std::string base_;
+  const CurlApi* api_ = nullptr;
   CURL* curl_ = nullptr;
+  std::string unusable_;  // why there is no handle
 };
 
 // ---- Redis (hiredis) ----
@@ -261,14 +329,14 @@ class RedisBackend final : public RemoteBackend {
  public:
   RedisBackend(const RemoteSpec& spec, std::string url) : spec_(spec), url_(std::move(url)) {}
   ~RedisBackend() override {
-    if (context_) redisFree(context_);
+    if (context_) api_->free_context(context_);
   }
 
   Got get(const std::string& name, uint64_t max_bytes, std::vector<uint8_t>& out,
           std::string& error) override {
     if (!connect(error)) return Got::failed;
     const std::string key = "statepack:" + name;
-    auto* reply = static_cast<redisReply*>(redisCommand(context_, "GET %b", key.data(), key.size()));
+    auto* reply = static_cast<redisReply*>(api_->command(context_, "GET %b", key.data(), key.size()));
     if (!reply) return error = failure(), Got::failed;
     Got got = Got::failed;
     if (reply->type == REDIS_REPLY_NIL) {
@@ -281,7 +349,7 @@ class RedisBackend final : public RemoteBackend {
       error = reply->type == REDIS_REPLY_ERROR ? std::string("Redis: ") + reply->str
                                                : "Redis: an answer to GET that is not an entry";
     }
-    freeReplyObject(reply);
+    api_->free_reply(reply);
     return got;
   }
 
@@ -289,13 +357,13 @@ class RedisBackend final : public RemoteBackend {
     if (!connect(error)) return false;
     const std::string key = "statepack:" + name;
     auto* reply = static_cast<redisReply*>(
-        redisCommand(context_, "SET %b %b", key.data(), key.size(), bytes.data(), bytes.size()));
+        api_->command(context_, "SET %b %b", key.data(), key.size(), bytes.data(), bytes.size()));
     if (!reply) return error = failure(), false;
     const bool ok = reply->type == REDIS_REPLY_STATUS;
     if (!ok)
       error = reply->type == REDIS_REPLY_ERROR ? std::string("Redis: ") + reply->str
                                                : "Redis: SET not acknowledged";
-    freeReplyObject(reply);
+    api_->free_reply(reply);
     return ok;
   }
 
@@ -307,6 +375,7 @@ class RedisBackend final : public RemoteBackend {
   // Connects on first use, then authenticates and selects the database the URL names.
   bool connect(std::string& error) {
     if (context_) return true;
+    if (!(api_ = hiredis_api(error))) return false;
     std::string_view rest = std::string_view(url_).substr(8);
     std::string_view authority = rest.substr(0, rest.find('/'));
     const std::string_view db = rest.size() > authority.size() + 1 ? rest.substr(authority.size() + 1) : "";
@@ -317,14 +386,14 @@ class RedisBackend final : public RemoteBackend {
     uint32_t port = 6379;
     std::string ignored;
     parse_host_port(authority, host, port, ignored);
-    context_ = redisConnectWithTimeout(host.c_str(), int(port), milliseconds(spec_.connect_timeout_ms));
+    context_ = api_->connect_with_timeout(host.c_str(), int(port), milliseconds(spec_.connect_timeout_ms));
     if (!context_ || context_->err) return error = failure(), false;
-    redisSetTimeout(context_, milliseconds(spec_.operation_timeout_ms));
+    api_->set_timeout(context_, milliseconds(spec_.operation_timeout_ms));
     auto command = [&](const char* format, auto... args) {
-      auto* reply = static_cast<redisReply*>(redisCommand(context_, format, args...));
+      auto* reply = static_cast<redisReply*>(api_->command(context_, format, args...));
       const bool ok = reply && reply->type != REDIS_REPLY_ERROR;
       if (!ok) error = reply ? std::string("Redis: ") + reply->str : failure();
-      if (reply) freeReplyObject(reply);
+      if (reply) api_->free_reply(reply);
       return ok;
     };
     if (!credentials.empty()) {
@@ -342,6 +411,7 @@ class RedisBackend final : public RemoteBackend {
 
   RemoteSpec spec_;
   std::string url_;
+  const HiredisApi* api_ = nullptr;
   redisContext* context_ = nullptr;
 };
 
