@@ -448,6 +448,15 @@ void write_size(const fs::path& root, uint64_t bytes) {
                                       {reinterpret_cast<const uint8_t*>(text.data()), text.size()});
 }
 
+// Whether `dir` is a cache directory (its layout directory is a real directory); else `error` says so.
+bool is_cache_directory(const fs::path& dir, std::string& error) {
+  std::error_code ec;
+  if (fs::is_directory(fs::symlink_status(dir / kLayoutDirectory, ec))) return true;
+  error = "'" + printable(dir.string()) + "' is not a statepack cache directory (no " +
+          std::string(kLayoutDirectory) + "/ in it)";
+  return false;
+}
+
 // A subdirectory that is a real directory (created if missing), never a link planted in its place.
 bool usable_subdirectory(const fs::path& path) {
   if (::mkdir(path.c_str(), 0755) == 0) return true;
@@ -966,13 +975,8 @@ std::optional<CacheKey> compile_cache_key(const ShaderDesc& shader, const Compil
 
 CompileCache::PruneResult CompileCache::prune(const fs::path& dir, uint64_t max_bytes) {
   PruneResult result;
-  std::error_code ec;
   const fs::path root = dir / kLayoutDirectory;
-  if (!fs::is_directory(fs::symlink_status(root, ec))) {
-    result.error = "'" + printable(dir.string()) + "' is not a statepack cache directory (no " +
-                   std::string(kLayoutDirectory) + "/ in it)";
-    return result;
-  }
+  if (!is_cache_directory(dir, result.error)) return result;
   std::vector<FileOnDisk> all = all_files(root);
   for (const auto& f : all)
     if (!f.temporary) result.bytes_before += f.size, ++result.entries_before;
@@ -990,13 +994,8 @@ constexpr uint32_t kTransferVersion = 1;
 
 CompileCache::TransferResult CompileCache::export_entries(const fs::path& dir, const fs::path& file) {
   TransferResult result;
-  std::error_code ec;
   const fs::path root = dir / kLayoutDirectory;
-  if (!fs::is_directory(fs::symlink_status(root, ec))) {
-    result.error = "'" + printable(dir.string()) + "' is not a statepack cache directory (no " +
-                   std::string(kLayoutDirectory) + "/ in it)";
-    return result;
-  }
+  if (!is_cache_directory(dir, result.error)) return result;
   std::vector<uint8_t> out(kTransferMagic, kTransferMagic + 4);
   put_u32(out, kTransferVersion);
   std::vector<fs::path> entries;  // (the export may not replace one of them)

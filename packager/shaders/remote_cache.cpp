@@ -7,7 +7,6 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include <atomic>
 #include <cerrno>
 #include <charconv>
 #include <cstring>
@@ -17,6 +16,7 @@
 #include <utility>
 
 #include "digest.hpp"
+#include "support/file_io.hpp"
 #include "support/parallel_for.hpp"
 #include "support/printable.hpp"
 
@@ -453,33 +453,14 @@ class FileBackend final : public RemoteBackend {
   }
 
   bool put(const std::string& name, std::span<const uint8_t> bytes, std::string& error) override {
-    static std::atomic<uint64_t> counter{0};
     const fs::path path = dir_ / entry_path(spec_, name);
     std::error_code ec;
     fs::create_directories(path.parent_path(), ec);
     // A temporary beside it, renamed: readers on other machines only ever see whole entries, and a link
-    // planted at the entry's name is replaced, not followed.
-    const fs::path temporary = path.parent_path() / (".tmp-" + std::to_string(::getpid()) + "-" +
-                                                     std::to_string(counter++) + "-" + name.substr(0, 8));
-    const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
-    if (fd < 0) {
-      error = "cannot write '" + printable(temporary.string()) + "': " + std::strerror(errno);
-      return false;
-    }
-    size_t done = 0;
-    while (done < bytes.size()) {
-      const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
-      if (n < 0 && errno == EINTR) continue;
-      if (n <= 0) break;
-      done += size_t(n);
-    }
-    const bool ok =
-        ::close(fd) == 0 && done == bytes.size() && ::rename(temporary.c_str(), path.c_str()) == 0;
-    if (!ok) {
-      error = "cannot write '" + printable(path.string()) + "': " + std::strerror(errno);
-      ::unlink(temporary.c_str());
-    }
-    return ok;
+    // planted at the entry's name is refused, not followed.
+    auto written = detail::write_file_atomically(path, bytes);
+    if (!written) error = written.error().message;
+    return bool(written);
   }
 
  private:
