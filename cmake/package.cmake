@@ -15,6 +15,7 @@ set(CPACK_DEBIAN_PACKAGE_SECTION devel)
 # compiling and linking against the dearchiver also needs the Vulkan headers and libxxhash.
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
 set(CPACK_DEBIAN_PACKAGE_DEPENDS "libvulkan-dev, libxxhash-dev")
-# The OpenGL runtime (statepack::gl) also needs libepoxy's headers; the Vulkan dearchiver does not.
-set(CPACK_DEBIAN_PACKAGE_RECOMMENDS "libepoxy-dev")
+# The OpenGL runtime (statepack::gl) also needs libepoxy's headers; the Vulkan dearchiver does not. The
+# packager's --remote-cache opens libcurl and hiredis when first used (dpkg-shlibdeps cannot see them).
+set(CPACK_DEBIAN_PACKAGE_RECOMMENDS "libepoxy-dev, libcurl4, libhiredis0.14")
 include(CPack)
