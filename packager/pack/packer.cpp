@@ -467,6 +467,8 @@ void make_opengl_unit(const CompiledUnit& vulkan, const PackOptions& options, Co
                       ShaderMessages& direct_errors, Diagnostics& diag, CompileCache* cache) {
   const std::string who = "shader '" + vulkan.desc.name + "' (OpenGL)";
   out.desc = vulkan.desc;
+  // --shard fills the caches: a translation is not kept in one (the assembling pack makes it).
+  if (options.shards && !vulkan.compiled.backend_specific) return;
   // translated modules' (GL namespace, binding number) -> names
   std::map<std::pair<uint32_t, uint32_t>, std::string> name_of_binding;
   if (std::string exceeded = gl_units_exceeded(vulkan.reflection.bindings); !exceeded.empty()) {
