@@ -131,6 +131,8 @@ function(statepack_add_archive target)
     endif()
   elseif(DEFINED ARG_REMOTE_CACHE)
     message(FATAL_ERROR "statepack_add_archive(${target}): REMOTE_CACHE sits behind the local cache; drop NO_CACHE")
+  else()
+    list(APPEND args --remote-cache=)  # no server either, whatever $STATEPACK_REMOTE_CACHE says
   endif()
   list(APPEND args ${ARG_ARGS})
 

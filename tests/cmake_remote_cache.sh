@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # statepack_add_archive behind a team's server: the REMOTE_CACHE keyword, and the cache variable
 # STATEPACK_REMOTE_CACHE for every archive without it, each pack's compiles written to its server (a
-# shared directory here); the archives are the bytes of a pack without any cache.
+# shared directory here), NO_CACHE none (not even $STATEPACK_REMOTE_CACHE's); the archives are the bytes of a
+# pack without any cache.
 # Usage: cmake_remote_cache.sh <statepack> <StatepackAddArchive.cmake> <work dir>
 set -euo pipefail
 statepack=$1 module=$2 work=$3
@@ -25,10 +26,14 @@ statepack_add_archive(keyword OUTPUT keyword.spk INPUTS project.json PACKAGER "$
                       CACHE_DIR keyword-cache REMOTE_CACHE "file:$work/keyword-server")
 statepack_add_archive(variable OUTPUT variable.spk INPUTS project.json PACKAGER "$statepack"
                       CACHE_DIR variable-cache)
+statepack_add_archive(none OUTPUT none.spk INPUTS project.json PACKAGER "$statepack" NO_CACHE)
 CMAKE
 cmake -S "$work/src" -B "$work/build" -G Ninja "-DSTATEPACK_REMOTE_CACHE=file:$work/variable-server" > /dev/null
-cmake --build "$work/build" > /dev/null
+# (NO_CACHE: no server either, though the environment names one.)
+STATEPACK_REMOTE_CACHE="file:$work/environment-server" cmake --build "$work/build" > /dev/null
+[[ ! -e "$work/environment-server" ]] || { echo "FAIL: a NO_CACHE archive wrote to \$STATEPACK_REMOTE_CACHE"; exit 1; }
 (cd "$work/src" && "$statepack" pack -i project.json -o "$work/clean.spk" --vulkan)
+cmp "$work/clean.spk" "$work/build/none.spk" || { echo "FAIL: none.spk differs from a pack without a cache"; exit 1; }
 for name in keyword variable; do
   cmp "$work/clean.spk" "$work/build/$name.spk" || { echo "FAIL: $name.spk differs from a pack without a cache"; exit 1; }
   entries=$(find "$work/$name-server" -type f ! -name '.tmp*' | wc -l)

@@ -1,6 +1,7 @@
 // statepack: the offline render-state packager CLI.
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <filesystem>
 #include <iostream>
 #include <set>
@@ -227,6 +228,14 @@ struct PackCommand {
           << " needs a compile cache: --cache-dir, --remote-cache or STATEPACK_REMOTE_CACHE\n";
       return false;
     }
+    const bool any_writable =
+        !cache_dir.empty() || std::any_of(options.remote_cache.begin(), options.remote_cache.end(),
+                                          [](const RemoteSpec& r) { return !r.read_only; });
+    if (options.shards && !any_writable) {
+      err << "statepack: error: --shard compiles into the caches, and every one given is read-only: add "
+             "--cache-dir or a server that is not\n";
+      return false;
+    }
     if (options.shards && options.compile.no_compile) {
       err << "statepack: error: --shard compiles; --no-compile forbids it: drop one of them\n";
       return false;
@@ -378,7 +387,7 @@ struct CacheCommand {
                                : CompileCache::import_entries(dir, file, secret);
       if (!r.error.empty()) {
         std::cerr << "statepack: error: " << printable(r.error) << '\n';
-        return r.entries || r.refused ? kExitInputError : kExitUsage;
+        return r.exit_code;
       }
       (exporting && file == "-" ? std::cerr : std::cout)
           << printable(exporting ? file : dir) << ": " << r.entries << " entries, " << r.bytes << " bytes "
@@ -553,8 +562,8 @@ int run(int argc, char** argv) {
     return kExitSuccess;
   }
   if (merge.app->parsed()) return merge.run();
-  if (cache.app->parsed()) {
-    if (!pack.read_signing_key(std::cerr)) return kExitUsage;
+  if (cache.app->parsed()) {  // (the team key is read for an import only)
+    if (cache.import_command->parsed() && !pack.read_signing_key(std::cerr)) return kExitUsage;
     return cache.run(pack.options.cache_signing_key);
   }
   if (verify.app->parsed()) return verify.run();

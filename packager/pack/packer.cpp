@@ -927,6 +927,10 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err, P
       inputs.insert(inputs.end(), u.compiled.files_read.begin(), u.compiled.files_read.end());
   if (session)
     for (const auto& f : inputs) session->files_read.push_back(f.path);
+  if (options.shards && !cached) {  // (--cache-dir could not be opened, and no server was given)
+    err << "statepack: error: --shard compiles into the caches, and there is none to write to\n";
+    return kExitIoError;
+  }
   if (options.shards)
     return finish_shard(options, compiled, *cached, stats_before, inputs, remote.get(), times, diag, out,
                         err);

@@ -11,9 +11,11 @@
 #include <cerrno>
 #include <cstring>
 #include <map>
+#include <ranges>
 #include <set>
 
 #include "digest.hpp"
+#include "entry_file.hpp"
 #include "notation/notation.hpp"
 #include "remote_cache.hpp"
 #include "shader_environment.hpp"
@@ -448,6 +450,29 @@ void write_size(const fs::path& root, uint64_t bytes) {
                                       {reinterpret_cast<const uint8_t*>(text.data()), text.size()});
 }
 
+// An entry file's bytes: a regular file of at most kMaxEntryBytes, not reached through a link.
+std::optional<std::vector<uint8_t>> read_entry_file(const fs::path& path) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) return std::nullopt;
+  struct stat st {};
+  std::vector<uint8_t> bytes;
+  bool ok = ::fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && uint64_t(st.st_size) <= kMaxEntryBytes;
+  if (ok) {
+    bytes.resize(size_t(st.st_size));
+    size_t done = 0;
+    while (done < bytes.size()) {
+      const ssize_t n = ::read(fd, bytes.data() + done, bytes.size() - done);
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0) break;
+      done += size_t(n);
+    }
+    ok = done == bytes.size();
+  }
+  ::close(fd);
+  if (!ok) return std::nullopt;
+  return bytes;
+}
+
 // Whether `dir` is a cache directory (its layout directory is a real directory); else `error` says so.
 bool is_cache_directory(const fs::path& dir, std::string& error) {
   std::error_code ec;
@@ -471,6 +496,7 @@ CompileCache::CompileCache(CompileCache&& o) noexcept
     : dir_(std::move(o.dir_)),
       max_bytes_(o.max_bytes_),
       pending_(std::move(o.pending_)),
+      used_(std::move(o.used_)),
       hits_(o.hits_.load()),
       misses_(o.misses_.load()),
       damaged_(o.damaged_.load()),
@@ -780,13 +806,17 @@ std::string CompileCache::flush_to_memory() {
   write_to_remote(pending_);
   std::set<std::string> keep = std::move(used_);
   used_.clear();
-  for (Pending& p : pending_) {
-    std::string name = hex(p.key);
+  // The last result kept under a name wins (a compile made again under its key, after its #includes
+  // changed, replaces what was there and what a server returned for it).
+  std::set<std::string> done;
+  for (auto p = pending_.rbegin(); p != pending_.rend(); ++p) {
+    std::string name = hex(p->key);
     keep.insert(name);
+    if (!done.insert(name).second) continue;  // the same result twice in one run
     auto [it, inserted] = memory_.try_emplace(std::move(name));
-    if (!inserted) continue;  // the same result twice in one run
-    memory_bytes_ += p.payload.size();
-    it->second = {std::move(p.payload), ++use_clock_};
+    if (!inserted) memory_bytes_ -= it->second.payload.size();
+    memory_bytes_ += p->payload.size();
+    it->second = {std::move(p->payload), ++use_clock_};
     ++written_;
   }
   pending_.clear();
@@ -807,7 +837,6 @@ std::string CompileCache::flush_to_memory() {
 
 bool CompileCache::write_entry(const CacheKey& key, std::span<const uint8_t> payload,
                                const std::set<FileIdentity>& inputs, std::string& warning) {
-  static std::atomic<uint64_t> counter{0};
   const std::string name = hex(key);
   const fs::path subdir = dir_ / name.substr(0, 2), path = subdir / name;
   // Each subdirectory checked (and made) once per flush: a system call per entry was a tenth of a cold
@@ -827,32 +856,7 @@ bool CompileCache::write_entry(const CacheKey& key, std::span<const uint8_t> pay
     return false;
   }
   const std::vector<uint8_t> bytes = encode_entry(key, payload, secret_);
-  const fs::path temporary = subdir / (".tmp-" + std::to_string(::getpid()) + "-" +
-                                       std::to_string(counter++) + "-" + name.substr(0, 8));
-  const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
-  if (fd < 0) {
-    warning = "cannot write '" + printable(temporary.string()) + "': " + std::strerror(errno);
-    return false;
-  }
-  size_t written = 0;
-  int failure = 0;  // the errno of the first call that failed
-  while (written < bytes.size()) {
-    const ssize_t n = ::write(fd, bytes.data() + written, bytes.size() - written);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) {
-      failure = n < 0 ? errno : ENOSPC;
-      break;
-    }
-    written += size_t(n);
-  }
-  if (::close(fd) != 0 && !failure) failure = errno;
-  // rename() replaces a link planted at `path` rather than following it.
-  if (!failure && ::rename(temporary.c_str(), path.c_str()) != 0) failure = errno;
-  if (failure) {
-    warning = "cannot write '" + printable(path.string()) + "': " + std::strerror(failure);
-    ::unlink(temporary.c_str());
-    return false;
-  }
+  if (!write_beside_and_rename(path, bytes, warning)) return false;
   growth_ += int64_t(bytes.size()) - (replaces ? int64_t(st.st_size) : 0);
   return true;
 }
@@ -906,7 +910,9 @@ std::string CompileCache::flush(const std::vector<InputFile>& inputs) {
   std::set<std::string> subdirectories, done;
   std::vector<Pending> written;
   std::string warning;
-  for (Pending& p : pending) {
+  // The last result kept under a name wins (a compile made again under its key, after its #includes
+  // changed, over what a server returned for it).
+  for (Pending& p : std::ranges::reverse_view(pending)) {
     const std::string name = hex(p.key);
     if (!done.insert(name).second) continue;  // the same result twice in one run
     if (!write_entry(p.key, p.payload, input_identities, warning)) continue;
@@ -1001,17 +1007,24 @@ CompileCache::TransferResult CompileCache::export_entries(const fs::path& dir, c
   std::vector<fs::path> entries;  // (the export may not replace one of them)
   for (const FileOnDisk& f : all_files(root)) {
     if (f.temporary) continue;
-    InputText entry = read_input_file(f.path, f.path.string(), kMaxEntryBytes);
-    if (!entry.error.empty() || entry.text.size() < kHeaderBytes) continue;  // (removed meanwhile)
+    // Whole entries under their own names only, never through a link planted among them (it could
+    // point at any file of the user who exports).
+    const std::optional<std::vector<uint8_t>> entry = read_entry_file(f.path);
+    if (!entry || entry->size() < kHeaderBytes ||
+        !entry_problem(entry->data(), std::span(*entry).subspan(kHeaderBytes),
+                       key_of(f.path.filename().string()), {})
+             .empty())
+      continue;
     entries.push_back(f.path);
-    put_u64(out, entry.text.size());
-    out.insert(out.end(), entry.text.begin(), entry.text.end());
-    ++result.entries, result.bytes += entry.text.size();
+    put_u64(out, entry->size());
+    out.insert(out.end(), entry->begin(), entry->end());
+    ++result.entries, result.bytes += entry->size();
   }
   if (file.string() == "-") {
     std::fwrite(out.data(), 1, out.size(), stdout);
   } else if (auto written = detail::write_file_atomically(file, out, entries); !written) {
     result.error = written.error().message;
+    result.exit_code = written.error().code == ErrorCode::invalid_argument ? 2 : 3;
   }
   return result;
 }
@@ -1021,21 +1034,23 @@ CompileCache::TransferResult CompileCache::import_entries(const fs::path& dir, c
   TransferResult result;
   std::string error;
   auto cache = open(dir, kDefaultMaxBytes, error);
-  if (!cache) return result.error = error, result;
+  if (!cache) return result.error = error, result.exit_code = 3, result;
   cache->secret_.assign(secret.begin(), secret.end());
   InputText input = read_input_file(file, file.string(), uint64_t(64) << 30);
-  if (!input.error.empty()) return result.error = input.error, result;
+  if (!input.error.empty()) return result.error = input.error, result.exit_code = 3, result;
   const auto* bytes = reinterpret_cast<const uint8_t*>(input.text.data());
   const size_t size = input.text.size();
   if (size < 8 || std::memcmp(bytes, kTransferMagic, 4) != 0 || get_u32(bytes + 4) != kTransferVersion) {
     result.error = "'" + printable(file.string()) + "' is not an export of a statepack cache";
+    result.exit_code = 1;
     return result;
   }
   std::set<FileIdentity> inputs{input.identity};
   for (size_t at = 8; at < size;) {
     if (size - at < 8 || get_u64(bytes + at) > size - at - 8 || get_u64(bytes + at) < kHeaderBytes) {
       result.error = "'" + printable(file.string()) + "' is truncated or damaged after " +
-                     std::to_string(result.entries) + " entries";
+                     std::to_string(result.entries + result.present + result.refused) + " entries";
+      result.exit_code = 1;
       break;
     }
     const size_t length = size_t(get_u64(bytes + at));
@@ -1044,7 +1059,10 @@ CompileCache::TransferResult CompileCache::import_entries(const fs::path& dir, c
     CacheKey key;
     std::copy_n(entry + 8, key.size(), key.begin());
     const std::span<const uint8_t> payload(entry + kHeaderBytes, length - kHeaderBytes);
-    if (!entry_problem(entry, payload, key, secret).empty()) {
+    // (Without a team key, the file's writer decides what is stored under which key: an unsigned
+    // import trusts the file as a copy of a cache directory would. Entries no read would accept are not
+    // written.)
+    if (length > kMaxEntryBytes || !entry_problem(entry, payload, key, secret).empty()) {
       ++result.refused;
       continue;
     }
@@ -1055,7 +1073,8 @@ CompileCache::TransferResult CompileCache::import_entries(const fs::path& dir, c
       continue;
     }
     std::string warning;
-    if (!cache->write_entry(key, payload, inputs, warning)) return result.error = warning, result;
+    if (!cache->write_entry(key, payload, inputs, warning))
+      return result.error = warning, result.exit_code = 3, result;
     ++result.entries, result.bytes += length;
   }
   write_size(cache->dir_, entry_bytes(all_files(cache->dir_)));

@@ -155,6 +155,7 @@ class CompileCache {
     size_t entries = 0, present = 0, refused = 0;
     uint64_t bytes = 0;
     std::string error;
+    int exit_code = 2;  // with an error: 1 a damaged export, 2 a usage error, 3 an I/O error
   };
   static TransferResult export_entries(const std::filesystem::path& dir, const std::filesystem::path& file);
   static TransferResult import_entries(const std::filesystem::path& dir, const std::filesystem::path& file,
@@ -182,7 +183,7 @@ class CompileCache {
 
   std::string flush_to_memory();
 
-  std::filesystem::path dir_;  // DIR/v1; empty for a cache in memory
+  std::filesystem::path dir_;  // DIR/v2; empty for a cache in memory
   uint64_t max_bytes_;
   mutable std::mutex mutex_;  // pending_, used_, memory_, use_clock_, the remote's counts
   std::vector<Pending> pending_;

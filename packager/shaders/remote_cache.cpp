@@ -9,6 +9,7 @@
 
 #include <cerrno>
 #include <charconv>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <optional>
@@ -16,7 +17,7 @@
 #include <utility>
 
 #include "digest.hpp"
-#include "support/file_io.hpp"
+#include "entry_file.hpp"
 #include "support/parallel_for.hpp"
 #include "support/printable.hpp"
 
@@ -108,8 +109,19 @@ bool check_url(RemoteSpec& spec, std::string& error) {
   if (url.starts_with("file:")) {
     spec.kind = RemoteSpec::Kind::file;
     url.remove_prefix(5);
-    if (url.starts_with("//")) url.remove_prefix(2);
+    if (url.starts_with("//")) {  // file://[localhost]/dir
+      url.remove_prefix(2);
+      const std::string_view host = url.substr(0, url.find('/'));
+      if (!host.empty() && host != "localhost")
+        return error = "a file: URL names a directory of this machine, not of '" + std::string(host) + "'",
+               false;
+      url.remove_prefix(host.size());
+    }
     if (url.empty()) return error = "file: names no directory", false;
+    // Absolute from here on: packs run in different directories (the CMake function's run in each source
+    // directory) must all reach the same one.
+    std::error_code ec;
+    spec.url = "file:" + fs::absolute(fs::path(url), ec).lexically_normal().string();
     return true;
   }
   std::string host;
@@ -185,6 +197,10 @@ struct HiredisApi {
   decltype(&redisCommand) command;
   decltype(&freeReplyObject) free_reply;
   decltype(&redisFree) free_context;
+  decltype(&redisAppendCommand) append_command;
+  decltype(&redisBufferWrite) buffer_write;
+  decltype(&redisBufferRead) buffer_read;
+  decltype(&redisGetReplyFromReader) reply_from_reader;
 };
 
 // Opens `soname` and finds every symbol `resolve` asks for; nullptr with `error` set when one is missing.
@@ -224,6 +240,8 @@ const HiredisApi* hiredis_api(std::string& error) {
   return load_library<HiredisApi>(STATEPACK_HIREDIS_SONAME, error, [](HiredisApi& a, auto find) {
     find(a.connect_with_timeout, "redisConnectWithTimeout"), find(a.set_timeout, "redisSetTimeout");
     find(a.command, "redisCommand"), find(a.free_reply, "freeReplyObject"), find(a.free_context, "redisFree");
+    find(a.append_command, "redisAppendCommand"), find(a.buffer_write, "redisBufferWrite");
+    find(a.buffer_read, "redisBufferRead"), find(a.reply_from_reader, "redisGetReplyFromReader");
   });
 }
 
@@ -336,8 +354,8 @@ class RedisBackend final : public RemoteBackend {
           std::string& error) override {
     if (!connect(error)) return Got::failed;
     const std::string key = "statepack:" + name;
-    auto* reply = static_cast<redisReply*>(api_->command(context_, "GET %b", key.data(), key.size()));
-    if (!reply) return error = failure(), Got::failed;
+    auto* reply = bounded_get(key, max_bytes, error);
+    if (!reply) return Got::failed;
     Got got = Got::failed;
     if (reply->type == REDIS_REPLY_NIL) {
       got = Got::miss;
@@ -368,6 +386,26 @@ class RedisBackend final : public RemoteBackend {
   }
 
  private:
+  // GET, read no further than an entry can be long: hiredis buffers a whole answer before it parses it,
+  // so a server that streams without end would otherwise be buffered without end.
+  redisReply* bounded_get(const std::string& key, uint64_t max_bytes, std::string& error) {
+    if (api_->append_command(context_, "GET %b", key.data(), key.size()) != REDIS_OK)
+      return error = failure(), nullptr;
+    for (int done = 0; !done;)
+      if (api_->buffer_write(context_, &done) != REDIS_OK) return error = failure(), nullptr;
+    void* reply = nullptr;
+    while (true) {
+      if (api_->reply_from_reader(context_, &reply) != REDIS_OK) return error = failure(), nullptr;
+      if (reply) return static_cast<redisReply*>(reply);
+      if (context_->reader->len > max_bytes + 64) {
+        error = "Redis: an answer larger than any entry";
+        api_->free_context(context_);  // (the rest of the answer is still on the way)
+        context_ = nullptr;
+        return nullptr;
+      }
+      if (api_->buffer_read(context_) != REDIS_OK) return error = failure(), nullptr;
+    }
+  }
   std::string failure() const {
     return context_ && context_->err ? std::string("Redis: ") + context_->errstr : "Redis: no answer";
   }
@@ -420,9 +458,7 @@ class RedisBackend final : public RemoteBackend {
 class FileBackend final : public RemoteBackend {
  public:
   FileBackend(const RemoteSpec& spec, std::string url) : spec_(spec) {
-    std::string_view dir = std::string_view(url).substr(5);
-    if (dir.starts_with("//")) dir.remove_prefix(2);
-    dir_ = fs::path(dir);
+    dir_ = fs::path(url.substr(5));  // (made absolute by parse_remote_storage)
   }
 
   Got get(const std::string& name, uint64_t max_bytes, std::vector<uint8_t>& out,
@@ -456,11 +492,7 @@ class FileBackend final : public RemoteBackend {
     const fs::path path = dir_ / entry_path(spec_, name);
     std::error_code ec;
     fs::create_directories(path.parent_path(), ec);
-    // A temporary beside it, renamed: readers on other machines only ever see whole entries, and a link
-    // planted at the entry's name is refused, not followed.
-    auto written = detail::write_file_atomically(path, bytes);
-    if (!written) error = written.error().message;
-    return bool(written);
+    return write_beside_and_rename(path, bytes, error);
   }
 
  private:
@@ -509,7 +541,7 @@ std::optional<std::vector<RemoteSpec>> parse_remote_storage(std::string_view tex
       ok = false;
     }
     if (!ok) {
-      error = "'" + printable(std::string(item)) + "': " + why;
+      error = "'" + printable(display_url(std::string(item))) + "': " + why;  // (no password in a log)
       return std::nullopt;
     }
     specs.push_back(std::move(spec));
@@ -557,7 +589,9 @@ struct RemoteCache::Server {
       const Digest d = sha256(spec.shards[i].name + "\n" + name);
       uint64_t h = 0;
       for (int b = 0; b < 8; ++b) h = h << 8 | d[size_t(b)];
-      const double score = spec.shards[i].weight * (double(h >> 11) / double(uint64_t(1) << 53));
+      // Weighted rendezvous hashing: weight / -ln(u) for u uniform in (0, 1) gives each shard its share.
+      const double u = (double(h >> 11) + 0.5) / double(uint64_t(1) << 53);
+      const double score = spec.shards[i].weight / -std::log(u);
       if (score > best_score) best_score = score, best = i;
     }
     return best;

@@ -392,9 +392,14 @@ TEST_F(RemoteCacheTest, ExportedEntriesImportedElsewhereServeANoCompilePack) {
   const std::string sp = "'" STATEPACK_EXE "' cache ";
   const std::string a = (dir_ / "cache-a").string(), b = (dir_ / "cache-b").string(),
                     x = (dir_ / "x.spkx").string();
+  // A link planted among the entries under an entry's name (to a file of the exporting user) is left out.
+  write_file(dir_ / "private.txt", "not for export");
+  fs::create_directories(dir_ / "cache-a" / "v2" / "ab");
+  fs::create_symlink(dir_ / "private.txt", dir_ / "cache-a" / "v2" / "ab" / ("ab" + std::string(62, 'c')));
   CommandResult r = run_command(sp + "export '" + a + "' '" + x + "'");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find(": 7 entries"), std::string::npos) << r.output;  // six and the pack's bundle
+  EXPECT_EQ(read_file(x).find("not for export"), std::string::npos);
   r = run_command("STATEPACK_CACHE_KEY=other " + sp + "import '" + b + "' '" + x + "'");
   EXPECT_EQ(r.exit_code, 1) << r.output;  // signed with another key: every entry refused
   EXPECT_NE(r.output.find("0 entries, 0 bytes imported; 0 already present, 7 refused"), std::string::npos)
@@ -410,7 +415,7 @@ TEST_F(RemoteCacheTest, ExportedEntriesImportedElsewhereServeANoCompilePack) {
   // A file that is not an export, or one cut short, is an error naming it; the entries before the cut stay.
   write_file(dir_ / "garbage.spkx", "not an export");
   r = run_command(sp + "import '" + b + "' '" + (dir_ / "garbage.spkx").string() + "'");
-  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_EQ(r.exit_code, 1) << r.output;
   EXPECT_NE(r.output.find("is not an export of a statepack cache"), std::string::npos) << r.output;
   write_file(dir_ / "cut.spkx", read_file(x).substr(0, read_file(x).size() - 100));
   r = run_command(sp + "import '" + (dir_ / "cache-c").string() + "' '" + (dir_ / "cut.spkx").string() + "'");
@@ -428,6 +433,20 @@ TEST_F(RemoteCacheTest, ListInputsNamesEveryFileThePackReads) {
     ASSERT_EQ(r.exit_code, 0) << r.output;
     EXPECT_EQ(r.output, "a.comp\nb.comp\ncommon.glsl\ninc/helper.glsl\nproject.json\n");
   }
+}
+
+// --shard needs somewhere to put its compiles: a --cache-dir that cannot be used (a file in its place)
+// and no server is an error, not a crash; only read-only servers is a usage error.
+TEST_F(RemoteCacheTest, AShardWithNowhereToWriteIsAnError) {
+  write_file(dir_ / "not-a-directory", "x");
+  const std::string in_first = "cd '" + (dir_ / "first").string() +
+                               "' && '" STATEPACK_EXE "' pack -i project.json -s inc --vulkan --shard 1/2 ";
+  CommandResult r = run_command(in_first + "--cache-dir ../not-a-directory");
+  EXPECT_EQ(r.exit_code, 3) << r.output;
+  EXPECT_NE(r.output.find("there is none to write to"), std::string::npos) << r.output;
+  r = run_command(in_first + "--remote-cache 'file:../s|read-only'");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("every one given is read-only"), std::string::npos) << r.output;
 }
 
 TEST_F(RemoteCacheTest, UsageErrorsExitTwo) {

@@ -1,0 +1,19 @@
+// Writing one compile-cache entry file, in a directory that other packs (and, on a shared file system,
+// other machines) read and write at the same time.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <span>
+#include <string>
+
+namespace statepack::packager {
+
+// Writes `bytes` to a temporary beside `path` (".tmp-HOST-PID-N-...": unique across the machines sharing
+// the directory, so no writer touches another's), then renames it over `path`: readers only ever see whole
+// files, and a link planted at `path` is replaced, not followed. False with `error` set ("cannot write
+// ...") when it could not; the temporary is removed then.
+bool write_beside_and_rename(const std::filesystem::path& path, std::span<const uint8_t> bytes,
+                             std::string& error);
+
+}  // namespace statepack::packager
