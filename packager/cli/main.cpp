@@ -163,7 +163,8 @@ struct PackCommand {
     app->add_option("--remote-cache", remote_cache,
                     "Servers behind the compile cache, ccache's remote_storage syntax: 'URL[|attr...] ...' "
                     "with http://, redis:// or file: URLs (docs/cli.md \"Teams and CI\"); default: "
-                    "$STATEPACK_REMOTE_CACHE; --remote-cache= for none. Entries are signed with $STATEPACK_CACHE_KEY (or "
+                    "$STATEPACK_REMOTE_CACHE; --remote-cache= for none. Entries are signed with "
+                    "$STATEPACK_CACHE_KEY (or "
                     "the file $STATEPACK_CACHE_KEY_FILE names) when set, and unsigned ones refused")
         ->expected(0, 1);
     app->add_option(
