@@ -450,29 +450,6 @@ void write_size(const fs::path& root, uint64_t bytes) {
                                       {reinterpret_cast<const uint8_t*>(text.data()), text.size()});
 }
 
-// An entry file's bytes: a regular file of at most kMaxEntryBytes, not reached through a link.
-std::optional<std::vector<uint8_t>> read_entry_file(const fs::path& path) {
-  const int fd = ::open(path.c_str(), O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
-  if (fd < 0) return std::nullopt;
-  struct stat st {};
-  std::vector<uint8_t> bytes;
-  bool ok = ::fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && uint64_t(st.st_size) <= kMaxEntryBytes;
-  if (ok) {
-    bytes.resize(size_t(st.st_size));
-    size_t done = 0;
-    while (done < bytes.size()) {
-      const ssize_t n = ::read(fd, bytes.data() + done, bytes.size() - done);
-      if (n < 0 && errno == EINTR) continue;
-      if (n <= 0) break;
-      done += size_t(n);
-    }
-    ok = done == bytes.size();
-  }
-  ::close(fd);
-  if (!ok) return std::nullopt;
-  return bytes;
-}
-
 // Whether `dir` is a cache directory (its layout directory is a real directory); else `error` says so.
 bool is_cache_directory(const fs::path& dir, std::string& error) {
   std::error_code ec;
@@ -1009,16 +986,16 @@ CompileCache::TransferResult CompileCache::export_entries(const fs::path& dir, c
     if (f.temporary) continue;
     // Whole entries under their own names only, never through a link planted among them (it could
     // point at any file of the user who exports).
-    const std::optional<std::vector<uint8_t>> entry = read_entry_file(f.path);
-    if (!entry || entry->size() < kHeaderBytes ||
-        !entry_problem(entry->data(), std::span(*entry).subspan(kHeaderBytes),
+    std::vector<uint8_t> entry;
+    if (read_entry_file(f.path, kMaxEntryBytes, entry) != EntryRead::ok || entry.size() < kHeaderBytes ||
+        !entry_problem(entry.data(), std::span(entry).subspan(kHeaderBytes),
                        key_of(f.path.filename().string()), {})
              .empty())
       continue;
     entries.push_back(f.path);
-    put_u64(out, entry->size());
-    out.insert(out.end(), entry->begin(), entry->end());
-    ++result.entries, result.bytes += entry->size();
+    put_u64(out, entry.size());
+    out.insert(out.end(), entry.begin(), entry.end());
+    ++result.entries, result.bytes += entry.size();
   }
   if (file.string() == "-") {
     std::fwrite(out.data(), 1, out.size(), stdout);

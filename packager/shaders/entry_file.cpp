@@ -1,6 +1,7 @@
 #include "entry_file.hpp"
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -56,6 +57,26 @@ bool write_beside_and_rename(const std::filesystem::path& path, std::span<const 
     return false;
   }
   return true;
+}
+
+EntryRead read_entry_file(const std::filesystem::path& path, uint64_t max_bytes, std::vector<uint8_t>& out) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) return errno == ENOENT ? EntryRead::missing : EntryRead::unusable;
+  struct stat st {};
+  bool ok = ::fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && uint64_t(st.st_size) <= max_bytes;
+  if (ok) {
+    out.resize(size_t(st.st_size));
+    size_t done = 0;  // (a file that shrank underneath is a short read: unusable)
+    while (done < out.size()) {
+      const ssize_t n = ::read(fd, out.data() + done, out.size() - done);
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0) break;
+      done += size_t(n);
+    }
+    ok = done == out.size();
+  }
+  ::close(fd);
+  return ok ? EntryRead::ok : EntryRead::unusable;
 }
 
 }  // namespace statepack::packager

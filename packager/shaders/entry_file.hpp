@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <span>
 #include <string>
+#include <vector>
 
 namespace statepack::packager {
 
@@ -15,5 +16,10 @@ namespace statepack::packager {
 // ...") when it could not; the temporary is removed then.
 bool write_beside_and_rename(const std::filesystem::path& path, std::span<const uint8_t> bytes,
                              std::string& error);
+
+// Reads a whole entry file: a regular file of at most `max_bytes`, never reached through a link (one
+// planted among the entries could point anywhere) and never waited on (O_NONBLOCK).
+enum class EntryRead { ok, missing, unusable };
+EntryRead read_entry_file(const std::filesystem::path& path, uint64_t max_bytes, std::vector<uint8_t>& out);
 
 }  // namespace statepack::packager

@@ -464,28 +464,17 @@ class FileBackend final : public RemoteBackend {
   Got get(const std::string& name, uint64_t max_bytes, std::vector<uint8_t>& out,
           std::string& error) override {
     const fs::path path = dir_ / entry_path(spec_, name);
-    const int fd = ::open(path.c_str(), O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
-    if (fd < 0) {
-      if (errno == ENOENT) return Got::miss;
-      error = "cannot read '" + printable(path.string()) + "': " + std::strerror(errno);
-      return Got::failed;
+    switch (read_entry_file(path, max_bytes, out)) {
+      case EntryRead::ok:
+        return Got::hit;
+      case EntryRead::missing:
+        return Got::miss;
+      case EntryRead::unusable:
+        break;
     }
-    struct stat st {};
-    bool ok = ::fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && uint64_t(st.st_size) <= max_bytes;
-    if (ok) {
-      out.resize(size_t(st.st_size));
-      size_t done = 0;
-      while (done < out.size()) {
-        const ssize_t n = ::read(fd, out.data() + done, out.size() - done);
-        if (n < 0 && errno == EINTR) continue;
-        if (n <= 0) break;
-        done += size_t(n);
-      }
-      ok = done == out.size();
-    }
-    ::close(fd);
-    if (!ok) error = "'" + printable(path.string()) + "' is not an entry file";
-    return ok ? Got::hit : Got::failed;
+    error = "'" + printable(path.string()) +
+            "' cannot be read as an entry (a link, not a regular file, too large)";
+    return Got::failed;
   }
 
   bool put(const std::string& name, std::span<const uint8_t> bytes, std::string& error) override {
