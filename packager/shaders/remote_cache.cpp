@@ -691,13 +691,4 @@ std::string RemoteCache::warning() const {
   return text;
 }
 
-void RemoteCache::reset_failures() {
-  for (auto& server : servers_) {
-    std::lock_guard lock(server->mutex);
-    server->read_failed = server->write_failed = false;
-    server->failures = server->skipped = 0;
-    server->first_failure.clear();
-  }
-}
-
 }  // namespace statepack::packager

@@ -88,8 +88,6 @@ class RemoteCache {
   Stats stats() const;
   // One line per server that failed: what failed first and how many requests failed; "" when none.
   std::string warning() const;
-  // Forgets the failures of the last pack (pack --watch: each pack tries the servers again).
-  void reset_failures();
 
  private:
   struct Server;
