@@ -104,6 +104,24 @@ bool parse_host_port(std::string_view authority, std::string& host, uint32_t& po
   return true;
 }
 
+// What an http:// or redis:// URL names after its scheme: [[user:]password@]host[:port][/path].
+struct Endpoint {
+  std::string user, password, host, path;  // path: after the first '/' (redis: the database)
+  uint32_t port = 0;                       // 0: the scheme's default
+};
+bool parse_endpoint(std::string_view rest, Endpoint& out, std::string& error) {
+  std::string_view authority = rest.substr(0, rest.find('/'));
+  if (authority.size() < rest.size()) out.path = rest.substr(authority.size() + 1);
+  if (const size_t at = authority.rfind('@'); at != std::string_view::npos) {
+    const std::string_view credentials = authority.substr(0, at);
+    const size_t colon = credentials.find(':');
+    if (colon != std::string_view::npos) out.user = credentials.substr(0, colon);
+    out.password = colon == std::string_view::npos ? credentials : credentials.substr(colon + 1);
+    authority.remove_prefix(at + 1);
+  }
+  return parse_host_port(authority, out.host, out.port, error);
+}
+
 bool check_url(RemoteSpec& spec, std::string& error) {
   std::string_view url = spec.url;
   if (url.starts_with("file:")) {
@@ -124,25 +142,18 @@ bool check_url(RemoteSpec& spec, std::string& error) {
     spec.url = "file:" + fs::absolute(fs::path(url), ec).lexically_normal().string();
     return true;
   }
-  std::string host;
-  uint32_t port = 0;
+  Endpoint endpoint;
   if (url.starts_with("http://") || url.starts_with("https://")) {
     spec.kind = RemoteSpec::Kind::http;
-    url.remove_prefix(url.find("//") + 2);
-    std::string_view authority = url.substr(0, url.find('/'));
-    if (const size_t at = authority.rfind('@'); at != std::string_view::npos) authority.remove_prefix(at + 1);
-    return parse_host_port(authority, host, port, error);
+    return parse_endpoint(url.substr(url.find("//") + 2), endpoint, error);
   }
   if (url.starts_with("redis://")) {
     spec.kind = RemoteSpec::Kind::redis;
-    url.remove_prefix(8);
-    std::string_view authority = url.substr(0, url.find('/'));
-    if (const size_t at = authority.rfind('@'); at != std::string_view::npos) authority.remove_prefix(at + 1);
+    if (!parse_endpoint(url.substr(8), endpoint, error)) return false;
     uint32_t db = 0;
-    if (const size_t slash = url.find('/');
-        slash != std::string_view::npos && slash + 1 < url.size() && !parse_uint(url.substr(slash + 1), db))
+    if (!endpoint.path.empty() && !parse_uint(endpoint.path, db))
       return error = "the database after '/' is not a number", false;
-    return parse_host_port(authority, host, port, error);
+    return true;
   }
   error = "not a remote cache URL (http://, https://, redis:// or file:)";
   return false;
@@ -252,6 +263,16 @@ class HttpBackend final : public RemoteBackend {
   HttpBackend(const RemoteSpec& spec, std::string base) : spec_(spec), base_(without_trailing_slash(base)) {
     api_ = curl_api(unusable_);
     if (api_ && !(curl_ = api_->easy_init())) unusable_ = "libcurl: no handle";
+    if (!curl_) return;
+    // What every request of this handle shares (a handle keeps its options from one request to the next).
+    api_->easy_setopt(curl_, CURLOPT_NOSIGNAL, 1L);  // time-outs without SIGALRM: the pack has threads
+    api_->easy_setopt(curl_, CURLOPT_CONNECTTIMEOUT_MS, long(spec_.connect_timeout_ms));
+    api_->easy_setopt(curl_, CURLOPT_TIMEOUT_MS, long(spec_.operation_timeout_ms));
+    api_->easy_setopt(curl_, CURLOPT_FOLLOWLOCATION, 0L);
+    api_->easy_setopt(curl_, CURLOPT_PROTOCOLS_STR, "http,https");
+    static curl_slist* const headers = api_->slist_append(nullptr, "Expect:");  // no 100-continue wait
+    api_->easy_setopt(curl_, CURLOPT_HTTPHEADER, headers);
+    api_->easy_setopt(curl_, CURLOPT_WRITEFUNCTION, &HttpBackend::write_to);
   }
   ~HttpBackend() override {
     if (curl_) api_->easy_cleanup(curl_);
@@ -262,13 +283,8 @@ class HttpBackend final : public RemoteBackend {
     if (!curl_) return error = unusable_, Got::failed;
     Sink sink{&out, max_bytes, false};
     out.clear();
-    prepare(name);
     api_->easy_setopt(curl_, CURLOPT_HTTPGET, 1L);
-    api_->easy_setopt(curl_, CURLOPT_WRITEFUNCTION, &HttpBackend::write_to);
-    api_->easy_setopt(curl_, CURLOPT_WRITEDATA, &sink);
-    const CURLcode rc = api_->easy_perform(curl_);
-    long status = 0;
-    api_->easy_getinfo(curl_, CURLINFO_RESPONSE_CODE, &status);
+    const auto [rc, status] = perform(name, sink);
     if (rc == CURLE_OK && status == 200) return Got::hit;
     if (rc == CURLE_OK && status == 404) return Got::miss;
     error = sink.too_large   ? "an answer larger than any entry"
@@ -280,18 +296,13 @@ class HttpBackend final : public RemoteBackend {
   bool put(const std::string& name, std::span<const uint8_t> bytes, std::string& error) override {
     if (!curl_) return error = unusable_, false;
     Source source{bytes, 0};
-    prepare(name);
     api_->easy_setopt(curl_, CURLOPT_UPLOAD, 1L);
     api_->easy_setopt(curl_, CURLOPT_READFUNCTION, &HttpBackend::read_from);
     api_->easy_setopt(curl_, CURLOPT_READDATA, &source);
     api_->easy_setopt(curl_, CURLOPT_INFILESIZE_LARGE, curl_off_t(bytes.size()));
-    std::vector<uint8_t> ignored;
+    std::vector<uint8_t> ignored;  // (the server's words about the PUT)
     Sink sink{&ignored, 1 << 16, false};
-    api_->easy_setopt(curl_, CURLOPT_WRITEFUNCTION, &HttpBackend::write_to);
-    api_->easy_setopt(curl_, CURLOPT_WRITEDATA, &sink);
-    const CURLcode rc = api_->easy_perform(curl_);
-    long status = 0;
-    api_->easy_getinfo(curl_, CURLINFO_RESPONSE_CODE, &status);
+    const auto [rc, status] = perform(name, sink);
     api_->easy_setopt(curl_, CURLOPT_UPLOAD, 0L);
     if (rc == CURLE_OK && status >= 200 && status < 300) return true;
     error = rc != CURLE_OK ? api_->easy_strerror(rc) : "HTTP status " + std::to_string(status) + " to PUT";
@@ -322,16 +333,15 @@ class HttpBackend final : public RemoteBackend {
     source.at += n;
     return n;
   }
-  void prepare(const std::string& name) {
+  // One request for `name`'s entry, its answer into `sink`: curl's result and the HTTP status.
+  std::pair<CURLcode, long> perform(const std::string& name, Sink& sink) {
     const std::string url = base_ + "/" + entry_path(spec_, name);
     api_->easy_setopt(curl_, CURLOPT_URL, url.c_str());
-    api_->easy_setopt(curl_, CURLOPT_NOSIGNAL, 1L);  // time-outs without SIGALRM: the pack has threads
-    api_->easy_setopt(curl_, CURLOPT_CONNECTTIMEOUT_MS, long(spec_.connect_timeout_ms));
-    api_->easy_setopt(curl_, CURLOPT_TIMEOUT_MS, long(spec_.operation_timeout_ms));
-    api_->easy_setopt(curl_, CURLOPT_FOLLOWLOCATION, 0L);
-    api_->easy_setopt(curl_, CURLOPT_PROTOCOLS_STR, "http,https");
-    static curl_slist* const headers = api_->slist_append(nullptr, "Expect:");  // no 100-continue wait
-    api_->easy_setopt(curl_, CURLOPT_HTTPHEADER, headers);
+    api_->easy_setopt(curl_, CURLOPT_WRITEDATA, &sink);
+    const CURLcode rc = api_->easy_perform(curl_);
+    long status = 0;
+    api_->easy_getinfo(curl_, CURLINFO_RESPONSE_CODE, &status);
+    return {rc, status};
   }
 
   RemoteSpec spec_;
@@ -414,17 +424,12 @@ class RedisBackend final : public RemoteBackend {
   bool connect(std::string& error) {
     if (context_) return true;
     if (!(api_ = hiredis_api(error))) return false;
-    std::string_view rest = std::string_view(url_).substr(8);
-    std::string_view authority = rest.substr(0, rest.find('/'));
-    const std::string_view db = rest.size() > authority.size() + 1 ? rest.substr(authority.size() + 1) : "";
-    std::string_view credentials;
-    if (const size_t at = authority.rfind('@'); at != std::string_view::npos)
-      credentials = authority.substr(0, at), authority.remove_prefix(at + 1);
-    std::string host;
-    uint32_t port = 6379;
+    Endpoint endpoint;  // (checked by parse_remote_storage)
     std::string ignored;
-    parse_host_port(authority, host, port, ignored);
-    context_ = api_->connect_with_timeout(host.c_str(), int(port), milliseconds(spec_.connect_timeout_ms));
+    parse_endpoint(std::string_view(url_).substr(8), endpoint, ignored);
+    const uint32_t port = endpoint.port ? endpoint.port : 6379;
+    context_ =
+        api_->connect_with_timeout(endpoint.host.c_str(), int(port), milliseconds(spec_.connect_timeout_ms));
     if (!context_ || context_->err) return error = failure(), false;
     api_->set_timeout(context_, milliseconds(spec_.operation_timeout_ms));
     auto command = [&](const char* format, auto... args) {
@@ -434,16 +439,11 @@ class RedisBackend final : public RemoteBackend {
       if (reply) api_->free_reply(reply);
       return ok;
     };
-    if (!credentials.empty()) {
-      const size_t colon = credentials.find(':');
-      const std::string user(colon == std::string_view::npos ? "" : credentials.substr(0, colon));
-      const std::string password(colon == std::string_view::npos ? credentials
-                                                                 : credentials.substr(colon + 1));
-      if (!(user.empty() ? command("AUTH %s", password.c_str())
-                         : command("AUTH %s %s", user.c_str(), password.c_str())))
-        return false;
-    }
-    if (!db.empty() && !command("SELECT %s", std::string(db).c_str())) return false;
+    if ((!endpoint.user.empty() || !endpoint.password.empty()) &&
+        !(endpoint.user.empty() ? command("AUTH %s", endpoint.password.c_str())
+                                : command("AUTH %s %s", endpoint.user.c_str(), endpoint.password.c_str())))
+      return false;
+    if (!endpoint.path.empty() && !command("SELECT %s", endpoint.path.c_str())) return false;
     return true;
   }
 
@@ -585,16 +585,29 @@ struct RemoteCache::Server {
     }
     return best;
   }
-  // After a request: its connection kept for the next one, or, when it failed, the server left alone
-  // for reading and writing (`reading`) or for writing. Under `mutex`.
-  void done(std::unique_ptr<Connection> connection, bool ok, bool reading, const std::string& why) {
+  // Sends one request, `request(backend, error)` (true: the server answered), on a connection of its own
+  // unless the server failed before (for reading, or for writing); nullopt when it was not sent. After it,
+  // the connection is kept for the next request, or, when it failed, the server is left alone for reading
+  // and writing (`reading`) or for writing.
+  template <class Request>
+  std::optional<bool> send(const std::string& name, bool reading, Request request) {
+    std::unique_ptr<Connection> connection;
+    {
+      std::lock_guard lock(mutex);
+      if (reading ? read_failed : write_failed) return ++skipped, std::nullopt;
+      connection = take();
+    }
+    std::string error;
+    const bool ok = request(*(*connection)[shard_of(name)], error);
+    std::lock_guard lock(mutex);
     if (ok) {
       idle.push_back(std::move(connection));
-      return;
+      return true;
     }
     write_failed = true;
     read_failed = read_failed || reading;  // (a server may refuse writes and still serve)
-    if (failures++ == 0) first_failure = why;
+    if (failures++ == 0) first_failure = error;
+    return false;
   }
 };
 
@@ -608,24 +621,16 @@ RemoteCache::~RemoteCache() = default;
 
 std::optional<std::vector<uint8_t>> RemoteCache::get(const std::string& name, uint64_t max_bytes) {
   for (auto& server : servers_) {
-    std::unique_ptr<Server::Connection> connection;
-    {
-      std::lock_guard lock(server->mutex);
-      if (server->read_failed) {
-        ++server->skipped;
-        continue;
-      }
-      connection = server->take();
-    }
     std::vector<uint8_t> bytes;
-    std::string error;
-    const RemoteBackend::Got got = (*connection)[server->shard_of(name)]->get(name, max_bytes, bytes, error);
-    {
-      std::lock_guard lock(server->mutex);
-      server->done(std::move(connection), got != RemoteBackend::Got::failed, true, error);
-    }
+    RemoteBackend::Got got = RemoteBackend::Got::miss;
+    const std::optional<bool> answered =
+        server->send(name, true, [&](RemoteBackend& backend, std::string& error) {
+          got = backend.get(name, max_bytes, bytes, error);
+          return got != RemoteBackend::Got::failed;
+        });
+    if (!answered) continue;
     std::lock_guard lock(mutex_);
-    if (got == RemoteBackend::Got::failed) {
+    if (!*answered) {
       ++stats_.errors;
     } else if (got == RemoteBackend::Got::hit) {
       ++stats_.hits;
@@ -641,23 +646,12 @@ std::optional<std::vector<uint8_t>> RemoteCache::get(const std::string& name, ui
 void RemoteCache::put(const std::string& name, std::span<const uint8_t> bytes) {
   for (auto& server : servers_) {
     if (server->spec.read_only) continue;
-    std::unique_ptr<Server::Connection> connection;
-    {
-      std::lock_guard lock(server->mutex);
-      if (server->write_failed) {
-        ++server->skipped;
-        continue;
-      }
-      connection = server->take();
-    }
-    std::string error;
-    const bool ok = (*connection)[server->shard_of(name)]->put(name, bytes, error);
-    {
-      std::lock_guard lock(server->mutex);
-      server->done(std::move(connection), ok, false, error);
-    }
+    const std::optional<bool> answered = server->send(
+        name, false,
+        [&](RemoteBackend& backend, std::string& error) { return backend.put(name, bytes, error); });
+    if (!answered) continue;
     std::lock_guard lock(mutex_);
-    if (ok) {
+    if (*answered) {
       ++stats_.written;
       stats_.bytes_written += bytes.size();
     } else {
