@@ -160,6 +160,15 @@ CacheKey compile_key(const ShaderDesc& shader, const CompileOptions& options, co
   return k.key();
 }
 
+// The text glslang compiles for a shader: its file's (read as the compile reads it), or its inline Source;
+// nullopt when the file cannot be read (the compile reports why).
+std::optional<InputText> shader_text(const ShaderDesc& shader, const CompileOptions& options) {
+  if (shader.file.empty()) return InputText{shader.source, "", {}};
+  InputText input = read_input_file(shader.file, display_path(shader.file), options.max_input_bytes);
+  if (!input.error.empty()) return std::nullopt;
+  return input;
+}
+
 CacheKey finalize_key(const std::vector<uint32_t>& input, const CompileOptions& options) {
   KeyBuilder k;
   k.add("finalize").add(code_identity());
@@ -663,16 +672,13 @@ void CompileCache::keep(const CacheKey& key, std::vector<uint8_t> payload) {
 
 std::optional<CompileCache::Compile> CompileCache::find_compile(const ShaderDesc& shader,
                                                                 const CompileOptions& options) {
-  std::string source = shader.source;
   Compile found;
   CompiledShader& out = found.compiled;
-  if (!shader.file.empty()) {
-    InputText input = read_input_file(shader.file, display_path(shader.file), options.max_input_bytes);
-    if (!input.error.empty()) return std::nullopt;  // the compile reports it
-    source = std::move(input.text);
-    out.files_read.push_back({(working_directory() / shader.file).lexically_normal(), input.identity});
-  }
-  out.source_hash = text_hash(source);
+  const std::optional<InputText> source = shader_text(shader, options);
+  if (!source) return std::nullopt;  // the compile reports why
+  if (!shader.file.empty())
+    out.files_read.push_back({(working_directory() / shader.file).lexically_normal(), source->identity});
+  out.source_hash = text_hash(source->text);
   auto payload = read_entry(compile_key(shader, options, out.source_hash));
   uint32_t flags = 0, count = 0;
   PayloadReader r(payload ? std::span<const uint8_t>(*payload) : std::span<const uint8_t>());
@@ -947,13 +953,9 @@ void CompileCache::write_to_remote(const std::vector<Pending>& pending) {
 }
 
 std::optional<CacheKey> compile_cache_key(const ShaderDesc& shader, const CompileOptions& options) {
-  std::string source = shader.source;
-  if (!shader.file.empty()) {
-    InputText input = read_input_file(shader.file, display_path(shader.file), options.max_input_bytes);
-    if (!input.error.empty()) return std::nullopt;
-    source = std::move(input.text);
-  }
-  return compile_key(shader, options, text_hash(source));
+  const std::optional<InputText> source = shader_text(shader, options);
+  if (!source) return std::nullopt;
+  return compile_key(shader, options, text_hash(source->text));
 }
 
 CompileCache::PruneResult CompileCache::prune(const fs::path& dir, uint64_t max_bytes) {
