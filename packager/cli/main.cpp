@@ -164,8 +164,8 @@ struct PackCommand {
                     "Servers behind the compile cache, ccache's remote_storage syntax: 'URL[|attr...] ...' "
                     "with http://, redis:// or file: URLs (docs/cli.md \"Teams and CI\"); default: "
                     "$STATEPACK_REMOTE_CACHE; --remote-cache= for none. Entries are signed with "
-                    "$STATEPACK_CACHE_KEY (or "
-                    "the file $STATEPACK_CACHE_KEY_FILE names) when set, and unsigned ones refused")
+                    "$STATEPACK_CACHE_KEY (or the file $STATEPACK_CACHE_KEY_FILE names) when set, and "
+                    "unsigned ones refused")
         ->expected(0, 1);
     app->add_option(
         "--shard", shard,
@@ -220,8 +220,7 @@ struct PackCommand {
       options.shard = k, options.shards = n;
       if (output_option->count() > 0 || !depfile.empty() || options.check_only || watch) {
         err << "statepack: error: --shard compiles into the caches and writes no archive: drop -o, "
-               "--depfile, "
-               "--check and --watch\n";
+               "--depfile, --check and --watch\n";
         return false;
       }
     }
@@ -235,7 +234,7 @@ struct PackCommand {
                                           [](const RemoteSpec& r) { return !r.read_only; });
     if (options.shards && !any_writable) {
       err << "statepack: error: --shard compiles into the caches, and every one given is read-only: add "
-             "--cache-dir or a server that is not\n";
+             "--cache-dir or a server without read-only\n";
       return false;
     }
     if (options.shards && options.compile.no_compile) {

@@ -892,6 +892,10 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err, P
   CompileCache* const cached = pack_cache.cache;
   const auto& remote = pack_cache.remote;
   std::optional<CompileCache>& cache = pack_cache.owned;
+  if (options.shards && !cached) {  // (--cache-dir could not be opened, and no server was given)
+    err << "statepack: error: --shard compiles into the caches, and there is none to write to\n";
+    return kExitIoError;
+  }
   const CompileCache::Stats stats_before = cached ? cached->stats() : CompileCache::Stats{};
   if (cache) cache->use_bundle(bundle_project(options));
   Diagnostics diag(options.max_errors);
@@ -927,10 +931,6 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err, P
       inputs.insert(inputs.end(), u.compiled.files_read.begin(), u.compiled.files_read.end());
   if (session)
     for (const auto& f : inputs) session->files_read.push_back(f.path);
-  if (options.shards && !cached) {  // (--cache-dir could not be opened, and no server was given)
-    err << "statepack: error: --shard compiles into the caches, and there is none to write to\n";
-    return kExitIoError;
-  }
   if (options.shards)
     return finish_shard(options, compiled, *cached, stats_before, inputs, remote.get(), times, diag, out,
                         err);
