@@ -178,6 +178,11 @@ struct PackCommand {
     app->add_flag("--no-compile", options.compile.no_compile,
                   "Assemble the archive from the caches (local and remote): a shader they do not have is an "
                   "error naming it, not a compile");
+    app->add_flag_callback(
+        "--no-archive-reuse", [this] { options.archive_reuse = false; },
+        "With a cache: make the archive again even when nothing changed since the pack "
+        "that recorded it (its record is neither read nor written; shaders still come "
+        "from the cache)");
     app->add_flag("--vulkan", vulkan, "Produce the Vulkan backend (SPIR-V)");
     app->add_flag("--opengl", opengl,
                   "Produce the OpenGL backend (OpenGL 4.5 + GL_ARB_gl_spirv) from the same sources: each "

@@ -3,6 +3,7 @@
 // allowed, and pipelines whose inline shaders, signatures and render passes are registered by name.
 #include "notation.hpp"
 
+#include <algorithm>
 #include <array>
 #include <optional>
 #include <unordered_map>
@@ -49,6 +50,13 @@ std::string_view SourceTexts::add(const std::string& file, std::string text) {
   std::string_view view = source->text;
   by_file_[file] = std::move(source);
   return view;
+}
+
+std::vector<std::pair<std::string_view, std::string_view>> SourceTexts::all() const {
+  std::vector<std::pair<std::string_view, std::string_view>> out;
+  for (const auto& [file, source] : by_file_) out.emplace_back(file, source->text);
+  std::sort(out.begin(), out.end());
+  return out;
 }
 
 Location SourceTexts::at(const Location& object, const std::string& pointer) const {

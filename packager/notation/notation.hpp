@@ -153,6 +153,8 @@ class SourceTexts {
   // The value at JSON `pointer` in the file of `object` (the location of the object it belongs to): at
   // the line and column where it is written, or its nearest written ancestor (values from Defaults).
   Location at(const Location& object, const std::string& pointer) const;
+  // Every file's name and text, by name.
+  std::vector<std::pair<std::string_view, std::string_view>> all() const;
 
  private:
   struct Source {

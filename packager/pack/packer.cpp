@@ -24,6 +24,7 @@
 #include "layout/specialization.hpp"
 #include "layout/vertex_semantics.hpp"
 #include "notation/input_file.hpp"
+#include "pack/archive_reuse.hpp"
 #include "shaders/compile_cache.hpp"
 #include "shaders/gl_translate.hpp"
 #include "shaders/nesting_bound.hpp"
@@ -689,7 +690,7 @@ void note_unused_objects(const Notation& notation, Diagnostics& diag) {
 
 // Archive and depfile, all or nothing: both to temporaries, then both renamed. Returns the exit code.
 int write_outputs(const PackOptions& options, const std::vector<InputFile>& inputs,
-                  const std::vector<uint8_t>& bytes, std::ostream& err) {
+                  std::span<const uint8_t> bytes, std::ostream& err) {
   detail::OutputSet outputs(inputs);
   std::string text;
   if (options.depfile) {
@@ -878,6 +879,78 @@ void open_cache(const PackOptions& options, PackSession* session, PackCache& out
   }
 }
 
+// --print-contents: what the archive holds, read back the way the dearchiver reads it.
+int print_written(std::span<const uint8_t> bytes, std::ostream& out, std::ostream& err) {
+  auto written = format::decode(bytes);
+  if (!written) {
+    err << "statepack: error: the archive just written does not decode: "
+        << printable(written.error().message) << '\n';
+    return kExitIoError;
+  }
+  print_archive(*written, bytes.size(), false, out);
+  return kExitSuccess;
+}
+
+// A pack whose archive record still holds (archive_reuse.hpp): the recorded bytes written as a pack
+// writes them. The compile cache is not flushed: nothing was looked up in it, and its bundle stays the
+// one of the shaders' entries, for the pack after the next change.
+int write_reused(const PackOptions& options, std::span<const uint8_t> bytes,
+                 const std::vector<InputFile>& inputs, PackSession* session, PhaseTimes& times,
+                 std::ostream& out, std::ostream& err) {
+  if (session)
+    for (const auto& f : inputs) session->files_read.push_back(f.path);
+  times.note(
+      "cache: nothing changed since the pack that recorded this archive: its bytes reused, no "
+      "shader looked up");
+  times.done("find the archive record");
+  if (!options.check_only)
+    if (int code = write_outputs(options, inputs, bytes, err); code != kExitSuccess) return code;
+  times.done("write");
+  return options.print_contents ? print_written(bytes, out, err) : kExitSuccess;
+}
+
+// The pack's exit code when its archive record still holds and the recorded archive was written; else
+// nullopt: a normal pack.
+std::optional<int> reuse_archive(const PackOptions& options, CompileCache& cache, const ArchiveKey& record,
+                                 const Notation& notation, PackSession* session, PhaseTimes& times,
+                                 std::ostream& out, std::ostream& err) {
+  std::vector<InputFile> inputs = notation.files_read;
+  const auto archive = find_archive(cache, record, options.compile, inputs);
+  if (!archive) return std::nullopt;
+  return write_reused(options, archive->bytes, inputs, session, times, out, err);
+}
+
+// Records this pack's archive for the next pack of the same inputs (archive_reuse.hpp) on a thread of its
+// own, while the archive is written; joined (and its warning printed) by finish() or the destructor.
+// Started after the cache's own flush is done (a record is written beside its entries).
+class ArchiveRecording {
+ public:
+  ArchiveRecording(CompileCache& cache, const ArchiveKey& key, const CompiledShaders& compiled,
+                   const CompiledShaders& gl_compiled, const std::vector<InputFile>& inputs,
+                   std::span<const uint8_t> bytes, std::ostream& err)
+      : err_(err) {
+    std::vector<const CompiledShader*> compiles;
+    for (const auto* c : {&compiled, &gl_compiled})
+      for (const auto& u : c->units) compiles.push_back(&u.compiled);
+    thread_ = std::thread([this, &cache, key, compiles, &inputs, bytes] {
+      warning_ = record_archive(cache, key, compiles, bytes, inputs);
+    });
+  }
+  ArchiveRecording(const ArchiveRecording&) = delete;
+  ArchiveRecording& operator=(const ArchiveRecording&) = delete;
+  ~ArchiveRecording() { finish(); }
+  void finish() {
+    if (!thread_.joinable()) return;
+    thread_.join();
+    if (!warning_.empty()) err_ << "statepack: warning: --cache-dir: " << printable(warning_) << "\n";
+  }
+
+ private:
+  std::ostream& err_;
+  std::string warning_;
+  std::thread thread_;
+};
+
 }  // namespace
 
 int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err, PackSession* session) {
@@ -903,6 +976,12 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err, P
   for (const auto& input : options.inputs) read_notation(input, options.notation, notation, diag);
   resolve_references(notation, diag);
   times.done("read notation");
+  std::optional<ArchiveKey> record;  // (archive_reuse.hpp)
+  if (cached && options.archive_reuse && !diag.has_errors())
+    record = archive_key(options, bundle_project(options), notation, diag);
+  if (record)
+    if (auto code = reuse_archive(options, *cached, *record, notation, session, times, out, err))
+      return *code;
   if (notation.pipelines.empty() && notation.shaders.empty() && notation.signatures.empty() &&
       notation.render_passes.empty() && !diag.has_errors())
     diag.note({options.inputs.empty() ? "" : options.inputs.front().string()},
@@ -979,20 +1058,19 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err, P
     return kExitInputError;
   }
   times.done("load-back check");
+  flushing.finish();
+  // Only a pack that printed nothing is recorded: a reuse prints nothing either.
+  std::optional<ArchiveRecording> recording;
+  if (record && diag.all().empty())
+    recording.emplace(*cached, *record, compiled, gl_compiled, inputs, bytes, err);
   if (!options.check_only)
     if (int code = write_outputs(options, inputs, bytes, err); code != kExitSuccess) return code;
   times.done("write");
-  if (options.print_contents) {
-    // Print what the archive holds, read back the way the dearchiver reads it.
-    auto written = format::decode(bytes);
-    if (!written) {
-      err << "statepack: error: the archive just written does not decode: "
-          << printable(written.error().message) << '\n';
-      return kExitIoError;
-    }
-    print_archive(*written, bytes.size(), false, out);
+  if (recording) {
+    recording->finish();
+    times.done("record the archive");
   }
-  return kExitSuccess;
+  return options.print_contents ? print_written(bytes, out, err) : kExitSuccess;
 }
 
 }  // namespace statepack::packager

@@ -44,6 +44,9 @@ struct PackOptions {
   // --cache-dir: compiled and finalised SPIR-V kept between runs (compile_cache.hpp); its size bound.
   std::optional<std::filesystem::path> cache_dir;
   uint64_t cache_max_bytes = uint64_t(1) << 30;
+  // With a cache: an unchanged pack writes the archive the last pack of its project recorded there
+  // (pack/archive_reuse.hpp); --no-archive-reuse: neither read nor write that record.
+  bool archive_reuse = true;
   // --remote-cache (or STATEPACK_REMOTE_CACHE): servers behind the cache (remote_cache.hpp); without
   // --cache-dir the pack keeps what it reads from them in memory only.
   std::vector<RemoteSpec> remote_cache;

@@ -14,6 +14,7 @@
 #include <ranges>
 #include <set>
 
+#include "cache_payload.hpp"
 #include "digest.hpp"
 #include "entry_file.hpp"
 #include "notation/notation.hpp"
@@ -33,36 +34,6 @@ constexpr uint64_t kMaxEntryBytes = uint64_t(256) << 20;  // larger than any mod
 constexpr size_t kSubdirectories = 256;
 constexpr int64_t kStaleTemporarySeconds = 3600;  // a temporary this old belongs to a run that died
 constexpr size_t kMaxBundledPayload = 16 << 10;   // larger entries stay in their own files only
-
-// Builds a key from typed fields, each length-prefixed so that no two field lists hash alike. SHA-256: a
-// shared cache is written by other machines, and no one may construct two inputs with one key.
-class KeyBuilder {
- public:
-  KeyBuilder& add(std::string_view text) {
-    add(uint64_t(text.size()));
-    hash_.update(text);
-    return *this;
-  }
-  KeyBuilder& add(uint64_t value) {
-    uint8_t bytes[8];
-    for (int i = 0; i < 8; ++i) bytes[i] = uint8_t(value >> (8 * i));
-    hash_.update(bytes);
-    return *this;
-  }
-  KeyBuilder& add(const CacheKey& key) {
-    hash_.update(key);
-    return *this;
-  }
-  KeyBuilder& add(const std::vector<uint32_t>& words) {
-    add(uint64_t(words.size()));
-    hash_.update({reinterpret_cast<const uint8_t*>(words.data()), words.size() * 4});
-    return *this;
-  }
-  CacheKey key() { return hash_.finish(); }
-
- private:
-  Sha256 hash_;
-};
 
 // The GNU build ID of a loaded object (a hash the linker computes over the whole file), if it has one.
 std::optional<std::string_view> build_id(const dl_phdr_info& info) {
@@ -84,6 +55,39 @@ std::optional<std::string_view> build_id(const dl_phdr_info& info) {
   }
   return std::nullopt;
 }
+
+// An entry file mapped, not read (a bundle or an archive record is tens of megabytes; mapped, the page
+// cache's pages are used as they are instead of a page fault per page of fresh memory), and marked
+// recently used; nullopt when absent, or (counted in `damaged`: written again) not a regular file of an
+// entry's size.
+struct MappedFile {
+  std::shared_ptr<const uint8_t> map;
+  size_t size = 0;
+};
+std::optional<MappedFile> map_entry(const fs::path& path, std::atomic<size_t>& damaged) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) {
+    if (errno != ENOENT) ++damaged;  // a link planted there, or what cannot be read: written again
+    return std::nullopt;
+  }
+  struct stat st {};
+  const bool sized = ::fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && uint64_t(st.st_size) >= kHeaderBytes &&
+                     uint64_t(st.st_size) <= kMaxEntryBytes;
+  void* mapped = sized ? ::mmap(nullptr, size_t(st.st_size), PROT_READ, MAP_PRIVATE, fd, 0) : MAP_FAILED;
+  if (mapped != MAP_FAILED) ::futimens(fd, nullptr);  // recently used: pruned last
+  ::close(fd);
+  if (mapped == MAP_FAILED) {
+    ++damaged;
+    return std::nullopt;
+  }
+  const size_t size = size_t(st.st_size);
+  return MappedFile{
+      std::shared_ptr<const uint8_t>(static_cast<const uint8_t*>(mapped),
+                                     [size](const uint8_t* at) { ::munmap(const_cast<uint8_t*>(at), size); }),
+      size};
+}
+
+}  // namespace
 
 // The code that decides a result: statepack itself (glslang and SPIRV-Tools are linked into it) and
 // every shared library it runs with (spirv-cross reflects, libm folds constants, ...), each by its build
@@ -116,6 +120,8 @@ const CacheKey& code_identity() {
   }();
   return identity;
 }
+
+namespace {
 
 std::string hex(const CacheKey& key) {
   static const char digits[] = "0123456789abcdef";
@@ -177,63 +183,6 @@ CacheKey finalize_key(const std::vector<uint32_t>& input, const CompileOptions& 
   k.add(input);
   return k.key();
 }
-
-// Little-endian payload writing and bounded reading.
-class PayloadWriter {
- public:
-  void u32(uint32_t v) {
-    for (int i = 0; i < 4; ++i) bytes.push_back(uint8_t(v >> (8 * i)));
-  }
-  void str(std::string_view s) {
-    u32(uint32_t(s.size()));
-    bytes.insert(bytes.end(), s.begin(), s.end());
-  }
-  void words(const std::vector<uint32_t>& w) {
-    u32(uint32_t(w.size()));
-    for (uint32_t v : w) u32(v);
-  }
-  std::vector<uint8_t> bytes;
-};
-
-class PayloadReader {
- public:
-  explicit PayloadReader(std::span<const uint8_t> bytes) : bytes_(bytes) {}
-  bool u32(uint32_t& v) {
-    if (bytes_.size() - at_ < 4) return false;
-    v = 0;
-    for (int i = 0; i < 4; ++i) v |= uint32_t(bytes_[at_ + size_t(i)]) << (8 * i);
-    at_ += 4;
-    return true;
-  }
-  bool str(std::string& s) {
-    uint32_t n = 0;
-    if (!u32(n) || bytes_.size() - at_ < n) return false;
-    s.assign(reinterpret_cast<const char*>(bytes_.data() + at_), n);
-    at_ += n;
-    return true;
-  }
-  // Whether `count` items of at least `bytes` each can still follow: a count read from an entry is
-  // checked against what is left before anything is sized by it.
-  bool room_for(uint64_t count, size_t bytes) const { return count <= (bytes_.size() - at_) / bytes; }
-  bool raw(uint8_t* out, size_t n) {
-    if (bytes_.size() - at_ < n) return false;
-    std::memcpy(out, bytes_.data() + at_, n);
-    at_ += n;
-    return true;
-  }
-  bool words(std::vector<uint32_t>& w) {
-    uint32_t n = 0;
-    if (!u32(n) || (bytes_.size() - at_) / 4 < n) return false;
-    w.resize(n);
-    for (uint32_t& v : w) u32(v);
-    return true;
-  }
-  bool done() const { return at_ == bytes_.size(); }
-
- private:
-  std::span<const uint8_t> bytes_;
-  size_t at_ = 0;
-};
 
 // A module's reflection, field by field (keep it in step with spirv_reflect.hpp: a field left out here
 // would come back from the cache as its default).
@@ -349,17 +298,25 @@ std::string_view entry_problem(const uint8_t* header, std::span<const uint8_t> p
 }
 
 // An entry's bytes: the header (signed when a team key is set), then the payload.
-std::vector<uint8_t> encode_entry(const CacheKey& key, std::span<const uint8_t> payload,
-                                  std::span<const uint8_t> secret) {
+// An entry's header (bytes 0..111) for `payload`.
+std::vector<uint8_t> entry_header(const CacheKey& key, std::span<const uint8_t> payload,
+                                  std::span<const uint8_t> secret,
+                                  std::span<const uint8_t> payload_tail = {}) {
   std::vector<uint8_t> bytes(kMagic, kMagic + 4);
-  bytes.reserve(kHeaderBytes + payload.size());
   put_u32(bytes, kEntryVersion);
   bytes.insert(bytes.end(), key.begin(), key.end());
-  put_u64(bytes, payload.size());
-  const Digest hash = sha256(payload);
+  put_u64(bytes, payload.size() + payload_tail.size());
+  const Digest hash =
+      payload_tail.empty() ? sha256(payload) : Sha256().update(payload).update(payload_tail).finish();
   bytes.insert(bytes.end(), hash.begin(), hash.end());
   const Digest signed_by = secret.empty() ? Digest{} : signature(secret, key, hash);
   bytes.insert(bytes.end(), signed_by.begin(), signed_by.end());
+  return bytes;
+}
+
+std::vector<uint8_t> encode_entry(const CacheKey& key, std::span<const uint8_t> payload,
+                                  std::span<const uint8_t> secret) {
+  std::vector<uint8_t> bytes = entry_header(key, payload, secret);
   bytes.insert(bytes.end(), payload.begin(), payload.end());
   return bytes;
 }
@@ -620,29 +577,11 @@ void CompileCache::use_bundle(std::string_view project) {
   if (dir_.empty()) return;  // a cache in memory has no files to save opening
   KeyBuilder k;
   bundle_key_ = k.add("bundle").add(code_identity()).add(project).key();
-  // Mapped, not read: a bundle of real-sized shaders is tens of megabytes, and reading it into fresh
-  // memory costs a page fault per page; mapped, the page cache's pages are used as they are.
-  const std::string name = hex(*bundle_key_);
-  const fs::path path = dir_ / name.substr(0, 2) / name;
-  const int fd = ::open(path.c_str(), O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
-  if (fd < 0) {
-    if (errno != ENOENT) ++damaged_;  // a link planted there, or what cannot be read: written again
-    return;
-  }
-  struct stat st {};
-  const bool sized = ::fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && uint64_t(st.st_size) >= kHeaderBytes &&
-                     uint64_t(st.st_size) <= kMaxEntryBytes;
-  void* mapped = sized ? ::mmap(nullptr, size_t(st.st_size), PROT_READ, MAP_PRIVATE, fd, 0) : MAP_FAILED;
-  if (mapped != MAP_FAILED) ::futimens(fd, nullptr);  // recently used: pruned last
-  ::close(fd);
-  if (mapped == MAP_FAILED) {
-    ++damaged_;
-    return;
-  }
-  const size_t size = size_t(st.st_size);
-  bundle_map_ =
-      std::shared_ptr<const uint8_t>(static_cast<const uint8_t*>(mapped),
-                                     [size](const uint8_t* at) { ::munmap(const_cast<uint8_t*>(at), size); });
+  const std::string name = hex(*bundle_key_);  // (mapped: a bundle of real-sized shaders is large)
+  const auto mapped = map_entry(dir_ / name.substr(0, 2) / name, damaged_);
+  if (!mapped) return;
+  const size_t size = mapped->size;
+  bundle_map_ = mapped->map;
   const uint8_t* header = bundle_map_.get();
   const std::span<const uint8_t> all(header + kHeaderBytes, size - kHeaderBytes);
   bool ok = entry_problem(header, all, *bundle_key_, secret_).empty();
@@ -663,6 +602,26 @@ void CompileCache::use_bundle(std::string_view project) {
     bundle_.clear();
     bundle_map_.reset();
   }
+}
+
+std::optional<CompileCache::LocalEntry> CompileCache::find_local(const CacheKey& key) {
+  const std::string name = hex(key);
+  if (dir_.empty()) {
+    auto payload = read_local(key, name);
+    if (!payload) return std::nullopt;
+    auto held = std::make_shared<const std::vector<uint8_t>>(std::move(*payload));
+    return LocalEntry{std::shared_ptr<const void>(held, held->data()), *held};
+  }
+  const auto mapped = map_entry(dir_ / name.substr(0, 2) / name, damaged_);
+  if (!mapped) return std::nullopt;
+  const std::span<const uint8_t> payload(mapped->map.get() + kHeaderBytes, mapped->size - kHeaderBytes);
+  if (!entry_problem(mapped->map.get(), payload, key, secret_).empty()) {
+    ++damaged_;  // written again
+    return std::nullopt;
+  }
+  std::lock_guard lock(mutex_);
+  used_.insert(name);
+  return LocalEntry{mapped->map, payload};
 }
 
 void CompileCache::keep(const CacheKey& key, std::vector<uint8_t> payload) {
@@ -692,20 +651,10 @@ std::optional<CompileCache::Compile> CompileCache::find_compile(const ShaderDesc
   uint64_t included = 0;
   for (uint32_t i = 0; i < count; ++i) {
     IncludeRecord rec;
-    uint8_t local = 0;
-    if (!r.str(rec.header) || !r.str(rec.includer) || !r.raw(&local, 1) || !r.str(rec.path) ||
-        !r.raw(rec.text_hash.data(), rec.text_hash.size())) {
-      ++damaged_, ++misses_;
-      return std::nullopt;
-    }
-    rec.local = local != 0;
-    const fs::path path = resolve_include(rec.header, rec.includer, rec.local, options.include_dirs);
-    if (path.empty() || display_path(path) != rec.path) return ++misses_, std::nullopt;
-    InputText input = read_input_file(path, display_path(path), options.max_input_bytes);
-    included += input.text.size();
-    if (!input.error.empty() || text_hash(input.text) != rec.text_hash || included > options.max_input_bytes)
-      return ++misses_, std::nullopt;
-    out.files_read.push_back({(working_directory() / path).lexically_normal(), input.identity});
+    if (!read_include_record(r, rec)) return ++damaged_, ++misses_, std::nullopt;
+    auto file = include_still_holds(rec, options, included);
+    if (!file) return ++misses_, std::nullopt;
+    out.files_read.push_back(std::move(*file));
     out.includes.push_back(std::move(rec));
   }
   uint32_t names = 0;
@@ -736,13 +685,7 @@ void CompileCache::keep_compile(const ShaderDesc& shader, const CompileOptions& 
   PayloadWriter w;
   w.u32((compiled.backend_specific ? 1 : 0) | (reflection ? 2 : 0));
   w.u32(uint32_t(compiled.includes.size()));
-  for (const IncludeRecord& rec : compiled.includes) {
-    w.str(rec.header);
-    w.str(rec.includer);
-    w.bytes.push_back(rec.local ? 1 : 0);
-    w.str(display_path(rec.path));  // (as glslang names it: the same in every checkout)
-    w.bytes.insert(w.bytes.end(), rec.text_hash.begin(), rec.text_hash.end());
-  }
+  for (const IncludeRecord& rec : compiled.includes) write_include_record(w, rec);
   w.u32(uint32_t(compiled.combined_image_samplers.size()));
   for (const auto& n : compiled.combined_image_samplers) w.str(n);
   w.u32(uint32_t(compiled.vertex_semantics.size()));
@@ -819,7 +762,8 @@ std::string CompileCache::flush_to_memory() {
 }
 
 bool CompileCache::write_entry(const CacheKey& key, std::span<const uint8_t> payload,
-                               const std::set<FileIdentity>& inputs, std::string& warning) {
+                               const std::set<FileIdentity>& inputs, std::string& warning,
+                               std::span<const uint8_t> payload_tail) {
   const std::string name = hex(key);
   const fs::path subdir = dir_ / name.substr(0, 2), path = subdir / name;
   // Each subdirectory checked (and made) once per flush: a system call per entry was a tenth of a cold
@@ -838,9 +782,10 @@ bool CompileCache::write_entry(const CacheKey& key, std::span<const uint8_t> pay
     warning = "'" + printable(path.string()) + "' is one of this run's inputs; not replaced";
     return false;
   }
-  const std::vector<uint8_t> bytes = encode_entry(key, payload, secret_);
-  if (!write_beside_and_rename(path, bytes, warning)) return false;
-  growth_ += int64_t(bytes.size()) - (replaces ? int64_t(st.st_size) : 0);
+  const std::vector<uint8_t> header = entry_header(key, payload, secret_, payload_tail);
+  if (!write_beside_and_rename(path, {header, payload, payload_tail}, warning)) return false;
+  growth_ +=
+      int64_t(header.size() + payload.size() + payload_tail.size()) - (replaces ? int64_t(st.st_size) : 0);
   return true;
 }
 
@@ -880,6 +825,47 @@ std::string CompileCache::write_bundle(const std::vector<Pending>& written,
   return write_entry(*bundle_key_, payload, inputs, warning) ? hex(*bundle_key_) : "";
 }
 
+// Trims the cache to its bound, least recently used first; `keep` (what this run wrote), what it used,
+// and its bundle stay. The directories are listed (a stat per entry) only when the size the last pack
+// left in kSizeFile, plus what this one added, passes the bound, or when no size was left.
+void CompileCache::trim_to_bound(std::set<std::string> keep) {
+  {
+    std::lock_guard lock(mutex_);
+    keep.insert(used_.begin(), used_.end());
+  }
+  if (bundle_key_) keep.insert(hex(*bundle_key_));
+  const std::optional<uint64_t> known = read_size(dir_);
+  const int64_t estimate = known ? std::max<int64_t>(0, int64_t(*known) + growth_) : 0;
+  if (known && uint64_t(estimate) <= max_bytes_) {
+    write_size(dir_, uint64_t(estimate));
+  } else {
+    auto files = all_files(dir_);
+    removed_ += trim(files, max_bytes_, keep);
+    write_size(dir_, entry_bytes(files));
+  }
+  growth_ = 0;
+}
+
+std::string CompileCache::store_local(const CacheKey& key, std::span<const uint8_t> payload,
+                                      std::span<const uint8_t> payload_tail,
+                                      const std::vector<InputFile>& inputs) {
+  if (dir_.empty()) {
+    std::vector<uint8_t> bytes(payload.begin(), payload.end());
+    bytes.insert(bytes.end(), payload_tail.begin(), payload_tail.end());
+    {
+      std::lock_guard lock(mutex_);
+      pending_.push_back({key, std::move(bytes), false});
+    }
+    return flush_to_memory();
+  }
+  std::set<FileIdentity> identities;
+  for (const auto& f : inputs) identities.insert(f.identity);
+  std::string warning;
+  if (write_entry(key, payload, identities, warning, payload_tail)) trim_to_bound({hex(key)});
+  checked_subdirectories_.clear();
+  return warning;
+}
+
 std::string CompileCache::flush(const std::vector<InputFile>& inputs) {
   if (dir_.empty()) return flush_to_memory();
   std::vector<Pending> pending;
@@ -907,28 +893,8 @@ std::string CompileCache::flush(const std::vector<InputFile>& inputs) {
     done.insert(bundle);
     subdirectories.insert(bundle.substr(0, 2));
   }
-  // A run that wrote entries trims the cache to its bound, least recently used first; what this run
-  // wrote or used stays. (A run that wrote nothing reads no directory listing.)
-  if (!subdirectories.empty()) {
-    std::set<std::string> keep = done;
-    {
-      std::lock_guard lock(mutex_);
-      keep.insert(used_.begin(), used_.end());
-    }
-    if (bundle_key_) keep.insert(hex(*bundle_key_));
-    // The cache's size as the last pack left it (kSizeFile), plus what this one added: the directories
-    // are listed (a stat per entry) only when that passes the bound, or when no size was left.
-    const std::optional<uint64_t> known = read_size(dir_);
-    const int64_t estimate = known ? std::max<int64_t>(0, int64_t(*known) + growth_) : 0;
-    if (known && uint64_t(estimate) <= max_bytes_) {
-      write_size(dir_, uint64_t(estimate));
-    } else {
-      auto files = all_files(dir_);
-      removed_ += trim(files, max_bytes_, keep);
-      write_size(dir_, entry_bytes(files));
-    }
-    growth_ = 0;
-  }
+  // A run that wrote entries trims the cache to its bound (a run that wrote nothing reads no listing).
+  if (!subdirectories.empty()) trim_to_bound(done);
   checked_subdirectories_.clear();  // (the next flush may find them replaced)
   return warning;
 }
@@ -952,9 +918,52 @@ void CompileCache::write_to_remote(const std::vector<Pending>& pending) {
   remote_->put_all(entries);
 }
 
-std::optional<CacheKey> compile_cache_key(const ShaderDesc& shader, const CompileOptions& options) {
+void write_include_record(PayloadWriter& w, const IncludeRecord& rec) {
+  w.str(rec.header);
+  w.str(rec.includer);
+  w.bytes.push_back(rec.local ? 1 : 0);
+  w.str(display_path(rec.path));  // (as glslang names it: the same in every checkout)
+  w.bytes.insert(w.bytes.end(), rec.text_hash.begin(), rec.text_hash.end());
+}
+
+bool read_include_record(PayloadReader& r, IncludeRecord& rec) {
+  uint8_t local = 0;
+  if (!r.str(rec.header) || !r.str(rec.includer) || !r.raw(&local, 1) || !r.str(rec.path) ||
+      !r.raw(rec.text_hash.data(), rec.text_hash.size()))
+    return false;
+  rec.local = local != 0;
+  return true;
+}
+
+std::optional<InputFile> include_still_holds(const IncludeRecord& rec, const CompileOptions& options,
+                                             uint64_t& included, IncludeTexts* texts) {
+  const fs::path path = resolve_include(rec.header, rec.includer, rec.local, options.include_dirs);
+  if (path.empty()) return std::nullopt;
+  const std::string name = display_path(path);
+  if (name != rec.path) return std::nullopt;
+  if (texts)
+    if (auto known = texts->find(name); known != texts->end()) {
+      included += known->second.size;
+      if (known->second.hash != rec.text_hash || included > options.max_input_bytes) return std::nullopt;
+      return known->second.file;
+    }
+  InputText input = read_input_file(path, name, options.max_input_bytes);
+  if (!input.error.empty()) return std::nullopt;
+  IncludeText text{text_hash(input.text),
+                   input.text.size(),
+                   {(working_directory() / path).lexically_normal(), input.identity}};
+  if (texts) texts->insert_or_assign(name, text);
+  included += text.size;
+  if (text.hash != rec.text_hash || included > options.max_input_bytes) return std::nullopt;
+  return text.file;
+}
+
+std::optional<CacheKey> compile_cache_key(const ShaderDesc& shader, const CompileOptions& options,
+                                          InputFile* file) {
   const std::optional<InputText> source = shader_text(shader, options);
   if (!source) return std::nullopt;
+  if (file && !shader.file.empty())
+    *file = {(working_directory() / shader.file).lexically_normal(), source->identity};
   return compile_key(shader, options, text_hash(source->text));
 }
 

@@ -71,6 +71,7 @@
 #include <string_view>
 #include <vector>
 
+#include "cache_payload.hpp"
 #include "digest.hpp"
 #include "notation/input_file.hpp"
 #include "shader_compiler.hpp"
@@ -111,6 +112,19 @@ class CompileCache {
   void keep_finalized(const std::vector<uint32_t>& input, const CompileOptions& options,
                       const std::vector<uint32_t>& output);
 
+  // A whole pack's record (pack/archive_reuse.hpp) under its own key: from this cache only, never from
+  // or to a server (an archive is one build's product, not a compile a team shares), and counted in no
+  // hit or miss. find_local is thread-safe.
+  // Its payload is mapped (records are archives, tens of megabytes), valid while `holder` lives.
+  struct LocalEntry {
+    std::shared_ptr<const void> holder;
+    std::span<const uint8_t> payload;
+  };
+  std::optional<LocalEntry> find_local(const CacheKey& key);
+  // Writes the record now (`payload` then `payload_tail`: an archive is not copied into one buffer), once
+  // the pack's flush is done: the archive exists only after it. Returns a warning, "" when written.
+  std::string store_local(const CacheKey& key, std::span<const uint8_t> payload,
+                          std::span<const uint8_t> payload_tail, const std::vector<InputFile>& inputs);
   // Reads the bundle of `project` (a text naming the pack: directory, inputs, output), so that the
   // entries the last pack of it used are found without opening their files; flush() writes the bundle
   // again when this pack used others. Call before the first find_*.
@@ -175,8 +189,11 @@ class CompileCache {
   void write_to_remote(const std::vector<Pending>& pending);
   void keep(const CacheKey& key, std::vector<uint8_t> payload);
   // Writes one entry file atomically; false with `warning` set when it could not.
+  // (`payload_tail`: more payload after `payload`, hashed and written as if one.)
   bool write_entry(const CacheKey& key, std::span<const uint8_t> payload,
-                   const std::set<FileIdentity>& inputs, std::string& warning);
+                   const std::set<FileIdentity>& inputs, std::string& warning,
+                   std::span<const uint8_t> payload_tail = {});
+  void trim_to_bound(std::set<std::string> keep);
   // The bundle this pack used, rewritten when it used other entries; its name, or "".
   std::string write_bundle(const std::vector<Pending>& written, const std::set<FileIdentity>& inputs,
                            std::string& warning);
@@ -212,8 +229,31 @@ class CompileCache {
   std::string first_refusal_;
 };
 
+// The code that decides a result: statepack's own and every shared library it runs with, by build ID.
+const CacheKey& code_identity();
+
+// #include records as compile entries and archive records keep them: (header, includer, local, where it
+// was found by the name glslang gives it, SHA-256 of its text). read_include_record: false when the
+// payload ends early.
+void write_include_record(PayloadWriter& w, const IncludeRecord& rec);
+bool read_include_record(PayloadReader& r, IncludeRecord& rec);
+// An #include's text as a check read it, by the name glslang gives its file (to check several records
+// that name one file with one read).
+struct IncludeText {
+  Digest hash{};
+  uint64_t size = 0;
+  InputFile file;
+};
+using IncludeTexts = std::map<std::string, IncludeText>;
+// The file of `rec` when it still holds (the header resolves to the same file, whose text is the same)
+// and the text sizes counted in `included` stay within --max-input-size; else nullopt.
+std::optional<InputFile> include_still_holds(const IncludeRecord& rec, const CompileOptions& options,
+                                             uint64_t& included, IncludeTexts* texts = nullptr);
+
 // The key of a shader's compile (its file read and hashed), for --shard; nullopt when its file cannot be
 // read (the compile reports why).
-std::optional<CacheKey> compile_cache_key(const ShaderDesc& shader, const CompileOptions& options);
+// `file`, when given, is set to the shader file as read (unchanged for an inline Source).
+std::optional<CacheKey> compile_cache_key(const ShaderDesc& shader, const CompileOptions& options,
+                                          InputFile* file = nullptr);
 
 }  // namespace statepack::packager

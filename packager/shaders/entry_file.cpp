@@ -27,6 +27,11 @@ const std::string& host_name() {
 
 bool write_beside_and_rename(const std::filesystem::path& path, std::span<const uint8_t> bytes,
                              std::string& error) {
+  return write_beside_and_rename(path, std::vector<std::span<const uint8_t>>{bytes}, error);
+}
+
+bool write_beside_and_rename(const std::filesystem::path& path, std::vector<std::span<const uint8_t>> parts,
+                             std::string& error) {
   static std::atomic<uint64_t> counter{0};
   const std::string name = path.filename().string();
   const std::filesystem::path temporary =
@@ -37,16 +42,17 @@ bool write_beside_and_rename(const std::filesystem::path& path, std::span<const 
     error = "cannot write '" + detail::printable(temporary.string()) + "': " + std::strerror(errno);
     return false;
   }
-  size_t written = 0;
   int failure = 0;  // the errno of the first call that failed
-  while (written < bytes.size()) {
-    const ssize_t n = ::write(fd, bytes.data() + written, bytes.size() - written);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) {
-      failure = n < 0 ? errno : ENOSPC;
-      break;
+  for (std::span<const uint8_t> bytes : parts) {
+    size_t written = 0;
+    while (!failure && written < bytes.size()) {
+      const ssize_t n = ::write(fd, bytes.data() + written, bytes.size() - written);
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0)
+        failure = n < 0 ? errno : ENOSPC;
+      else
+        written += size_t(n);
     }
-    written += size_t(n);
   }
   if (::close(fd) != 0 && !failure) failure = errno;
   // rename() replaces a link planted at `path` rather than following it.

@@ -16,6 +16,10 @@ namespace statepack::packager {
 // ...") when it could not; the temporary is removed then.
 bool write_beside_and_rename(const std::filesystem::path& path, std::span<const uint8_t> bytes,
                              std::string& error);
+// The same for a file made of `parts` one after another (an entry's header and its payload: not copied
+// into one buffer first).
+bool write_beside_and_rename(const std::filesystem::path& path, std::vector<std::span<const uint8_t>> parts,
+                             std::string& error);
 
 // Reads a whole entry file: a regular file of at most `max_bytes`, never reached through a link (one
 // planted among the entries could point anywhere) and never waited on (O_NONBLOCK).

@@ -56,11 +56,15 @@ class CompileCacheTest : public ::testing::Test {
     fs::create_directories(dir_ / "early");  // an -s directory searched before inc/
   }
 
-  // Packs with the cache (or without: `cache` false) into `out`; the stats from --time-report.
-  CacheStats pack(const std::string& out, const std::string& extra = "", bool cache = true) {
-    CommandResult run = run_command(
-        "cd '" + dir_.string() + "' && '" STATEPACK_EXE "' pack -i project.json -s early -s inc -o '" + out +
-        "' --vulkan --time-report " + (cache ? "--cache-dir cache " : "") + extra);
+  // Packs with the cache (or without: `cache` false) into `out`; the stats from --time-report. The
+  // shaders' entries are what these tests check: the archive record (archive_reuse.hpp) is off unless
+  // `reuse` (a pack that reuses the archive looks nothing up).
+  CacheStats pack(const std::string& out, const std::string& extra = "", bool cache = true,
+                  bool reuse = false) {
+    CommandResult run = run_command("cd '" + dir_.string() +
+                                    "' && '" STATEPACK_EXE "' pack -i project.json -s early -s inc -o '" +
+                                    out + "' --vulkan --time-report " + (cache ? "--cache-dir cache " : "") +
+                                    (reuse ? "" : "--no-archive-reuse ") + extra);
     EXPECT_EQ(run.exit_code, 0) << run.output;
     last_output_ = run.output;
     CacheStats s;
@@ -345,3 +349,117 @@ TEST_F(CompileCacheTest, TheCacheStaysWithinItsBound) {
 }
 
 }  // namespace
+
+// --- the archive record (archive_reuse.hpp): a repack that changed nothing writes the recorded bytes ---
+
+constexpr const char* kReused = "nothing changed since the pack that recorded this archive";
+
+TEST_F(CompileCacheTest, AnUnchangedPackWritesTheRecordedArchive) {
+  const CacheStats cold = pack("cold.spk", "--depfile cold.d", true, true);
+  EXPECT_EQ(cold.misses, kEntries) << last_output_;
+  EXPECT_EQ(last_output_.find(kReused), std::string::npos) << last_output_;
+  fs::remove(dir_ / "cold.spk");  // the record is the cache's own copy, not the output
+  const CacheStats warm = pack("warm.spk", "--depfile warm.d", true, true);
+  EXPECT_NE(last_output_.find(kReused), std::string::npos) << last_output_;
+  EXPECT_EQ(warm.hits, -1) << "nothing was looked up\n" << last_output_;
+  EXPECT_EQ(read_file(dir_ / "warm.spk"), clean_bytes());
+  // The depfile is the one a pack writes: every file read, #includes too.
+  std::string expected = read_file(dir_ / "cold.d");
+  expected.replace(expected.find("cold.spk"), 8, "warm.spk");
+  EXPECT_EQ(read_file(dir_ / "warm.d"), expected);
+  // --no-archive-reuse makes it again, from the shaders' entries.
+  const CacheStats again = pack("again.spk");
+  EXPECT_EQ(again.hits, kEntries) << last_output_;
+  EXPECT_EQ(read_file(dir_ / "again.spk"), clean_bytes());
+  // An output that is one of the inputs (a hard link to a shader) is refused as a pack refuses it.
+  fs::create_hard_link(dir_ / "a.comp", dir_ / "linked.spk");
+  const std::string shader = read_file(dir_ / "a.comp");
+  const CommandResult refused =
+      run_command("cd '" + dir_.string() +
+                  "' && '" STATEPACK_EXE
+                  "' pack -i project.json -s early -s inc -o linked.spk --vulkan --cache-dir cache");
+  EXPECT_NE(refused.exit_code, 0) << refused.output;
+  EXPECT_NE(refused.output.find("never replaces its inputs"), std::string::npos) << refused.output;
+  EXPECT_EQ(read_file(dir_ / "a.comp"), shader);
+}
+
+// Every change of what decides the archive misses the record (and the pack records the new archive);
+// each archive is the one a clean pack makes.
+TEST_F(CompileCacheTest, AnyChangeMissesTheArchiveRecord) {
+  pack("first.spk", "", true, true);
+  const fs::path root = dir_;
+  auto edit_notation = [&](const std::string& from, const std::string& to) {
+    std::string json = read_file(root / "project.json");
+    json.replace(json.find(from), from.size(), to);
+    write_file(root / "project.json", json);
+  };
+  const std::pair<const char*, std::function<void()>> changes[] = {
+      {"a shared #include's text",
+       [&] { write_file(root / "common.glsl", "uint twice(uint x) { return x + x; }\n"); }},
+      {"an #include found earlier in the -s directories",
+       [&] { write_file(root / "early" / "helper.glsl", "uint helper(uint x) { return x + 2u; }\n"); }},
+      {"a shader's own text",
+       [&] { write_file(root / "a.comp", read_file(root / "a.comp") + "// edited\n"); }},
+      {"a notation macro", [&] { edit_notation("\"2u\"", "\"3u\""); }},
+      {"a pipeline's name", [&] { edit_notation("\"Name\": \"B\"", "\"Name\": \"B2\""); }},
+      {"an inline source", [&] { edit_notation("data[id.x] = id.x;", "data[id.x] = id.x + 1;"); }},
+  };
+  for (const auto& [what, apply] : changes) {
+    SCOPED_TRACE(what);
+    apply();
+    pack("changed.spk", "", true, true);
+    EXPECT_EQ(last_output_.find(kReused), std::string::npos) << last_output_;
+    EXPECT_EQ(read_file(dir_ / "changed.spk"), clean_bytes());
+    pack("again.spk", "", true, true);
+    EXPECT_NE(last_output_.find(kReused), std::string::npos) << last_output_;
+    EXPECT_EQ(read_file(dir_ / "again.spk"), read_file(dir_ / "changed.spk"));
+  }
+  for (const char* option : {"-D UNUSED_BY_ALL=1", "--vulkan_version 1.1", "--optimize size", "--strict"}) {
+    SCOPED_TRACE(option);
+    pack("option.spk", option, true, true);
+    EXPECT_EQ(last_output_.find(kReused), std::string::npos) << last_output_;
+    EXPECT_EQ(read_file(dir_ / "option.spk"), clean_bytes(option));
+    pack("option_again.spk", option, true, true);
+    EXPECT_NE(last_output_.find(kReused), std::string::npos) << last_output_;
+  }
+}
+
+// A damaged record, or a link planted in its place, is not used; the pack writes it again.
+TEST_F(CompileCacheTest, ADamagedArchiveRecordIsNotUsed) {
+  pack("first.spk", "", true, true);
+  const std::string archive = read_file(dir_ / "first.spk");
+  fs::path record;
+  for (const fs::path& entry : all_entries())
+    if (read_file(entry).find(archive) != std::string::npos) record = entry;
+  ASSERT_FALSE(record.empty()) << "no entry holds the archive";
+  std::string bytes = read_file(record);
+  bytes[bytes.size() - 5] ^= 0x10;  // one bit of the archive's copy
+  write_file(record, bytes);
+  pack("damaged.spk", "", true, true);
+  EXPECT_EQ(last_output_.find(kReused), std::string::npos) << last_output_;
+  EXPECT_EQ(read_file(dir_ / "damaged.spk"), archive);
+  pack("healed.spk", "", true, true);
+  EXPECT_NE(last_output_.find(kReused), std::string::npos) << last_output_;
+  EXPECT_EQ(read_file(dir_ / "healed.spk"), archive);
+  fs::remove(record);
+  fs::create_symlink(dir_ / "first.spk", record);  // never read through
+  pack("planted.spk", "", true, true);
+  EXPECT_EQ(last_output_.find(kReused), std::string::npos) << last_output_;
+  EXPECT_EQ(read_file(dir_ / "planted.spk"), archive);
+  EXPECT_FALSE(fs::is_symlink(record));  // replaced by the new record
+}
+
+// A pack that prints a note or warning is not recorded: the next pack prints it again.
+TEST_F(CompileCacheTest, APackThatPrintsANoteIsNotRecorded) {
+  std::string json = read_file(dir_ / "project.json");
+  json.insert(
+      1,
+      R"("ResourceSignatures": [{"Name": "Unused", "Resources": [{"Name": "other", "ShaderStages": "COMPUTE", "ResourceType": "BUFFER_UAV"}]}], )");
+  write_file(dir_ / "project.json", json);
+  pack("first.spk", "", true, true);
+  ASSERT_NE(last_output_.find("used by no pipeline"), std::string::npos) << last_output_;
+  pack("second.spk", "", true, true);
+  EXPECT_EQ(last_output_.find(kReused), std::string::npos) << last_output_;
+  EXPECT_NE(last_output_.find("used by no pipeline"), std::string::npos) << last_output_;
+  EXPECT_EQ(read_file(dir_ / "second.spk"), read_file(dir_ / "first.spk"));
+}
