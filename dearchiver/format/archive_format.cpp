@@ -490,6 +490,10 @@ struct Reader {
       budget -= bytes;
       return true;
     }
+    over_budget();
+    return false;
+  }
+  [[gnu::cold]] void over_budget() {
     fail((!current_kind   ? std::string("the archive")
           : current_index ? current_kind + (" " + std::to_string(*current_index))
                           : current_kind + std::string(" records")) +
@@ -497,7 +501,6 @@ struct Reader {
          " expands beyond the decoding budget of " + std::to_string(initial_budget) + " bytes (" +
          std::to_string(kExpansionFactor) + " x the file size + " + std::to_string(kExpansionSlack) +
          "): records share lists or strings to amplify the archive");
-    return false;
   }
   // The fields' readers: called for every field of every record, so inlined even at -Os.
   [[gnu::always_inline]] uint32_t next() {
@@ -1167,9 +1170,9 @@ Result<void> read_patch_control_points(Reader& r, std::vector<P>& pipelines, con
 }
 
 // The OpenGL block: all three sections or none. Its constants are in the SPEC pool, whose size is
-// checked here too (an archive without PEXT has not checked it).
-Result<void> read_gl_block(Reader& r, Contents& c) {
-  if (!r.sections.count(Tag<GlPipeline>::value)) return {};
+// checked here too (an archive without PEXT has not checked it). Read once per archive with such a block,
+// for statepack_gl, and compiled for size: a Vulkan program never needs it fast (issue 39).
+[[gnu::cold]] Result<void> read_gl_records(Reader& r, Contents& c) {
   if (auto valid = check_section(r, Tag<SpecConstant>::value, record_size<SpecConstant>()); !valid)
     return valid.error();
   Result<void> present;
@@ -1180,6 +1183,10 @@ Result<void> read_gl_block(Reader& r, Contents& c) {
   c.gl_pipelines = r.all<GlPipeline>("OpenGL pipeline");
   return read_patch_control_points<GlPipelineTessellation>(r, c.gl_pipelines, "GLTS", "OpenGL ",
                                                            "OpenGL tessellation");
+}
+
+Result<void> read_gl_block(Reader& r, Contents& c) {
+  return r.sections.count(Tag<GlPipeline>::value) ? read_gl_records(r, c) : Result<void>{};
 }
 
 }  // namespace

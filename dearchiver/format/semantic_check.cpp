@@ -35,8 +35,8 @@ struct Naming {
   const char* kind;  // "pipeline" or "OpenGL pipeline"
   const std::string& pipeline_name;
   const std::string& shader_name;
-  std::string pipeline() const { return std::string(kind) + " '" + pipeline_name + "'"; }
-  std::string shader() const { return "shader '" + shader_name + "'"; }
+  [[gnu::cold]] std::string pipeline() const { return std::string(kind) + " '" + pipeline_name + "'"; }
+  [[gnu::cold]] std::string shader() const { return "shader '" + shader_name + "'"; }
 };
 
 // The constants of one stage against its module: each declared, with the same size. A Vulkan map entry

@@ -60,7 +60,7 @@ using WorkgroupSize = std::array<uint64_t, 3>;
 WorkgroupSize specialized_workgroup_size(const std::array<WorkgroupDim, 3>& dims,
                                          const std::function<std::optional<uint32_t>(uint32_t)>& specialized);
 // "32 x 32 x 2", for messages.
-std::string workgroup_size_text(const WorkgroupSize& size);
+[[gnu::cold]] std::string workgroup_size_text(const WorkgroupSize& size);
 
 struct EntryPoint {
   uint32_t execution_model = 0;  // SpvExecutionModel

@@ -8,25 +8,20 @@
 #include <string>
 
 #include "statepack/result.hpp"
+#include "support/failure.hpp"
 
 namespace statepack::detail {
 
 template <class F>
 auto api_guard(const char* entry_point, F&& body) noexcept -> decltype(body()) {
   try {
-    try {
-      return body();
-    } catch (const std::bad_alloc&) {
-      return Error{ErrorCode::out_of_memory, std::string(entry_point) + ": out of memory"};
-    } catch (const std::exception& e) {
-      return Error{ErrorCode::invalid_argument,
-                   std::string(entry_point) + ": unexpected exception: " + e.what()};
-    } catch (...) {
-      return Error{ErrorCode::invalid_argument, std::string(entry_point) + ": unexpected exception"};
-    }
+    return body();
+  } catch (const std::bad_alloc&) {
+    return out_of_memory_in(entry_point);
+  } catch (const std::exception& e) {
+    return unexpected_exception_in(entry_point, e.what());
   } catch (...) {
-    // Building the message itself failed (no memory left): a short string needs no allocation.
-    return Error{ErrorCode::out_of_memory, "out of memory"};
+    return unexpected_exception_in(entry_point, nullptr);
   }
 }
 

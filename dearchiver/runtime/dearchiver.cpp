@@ -56,14 +56,20 @@ Result<ArchivedPipeline> Dearchiver::State::find(std::string_view name, format::
   for (size_t i : active) {
     const format::Pipeline* it = format::find_by_name(contents(i).pipelines, name);
     if (!it) continue;
-    if (it->kind != kind) {
-      const char* actual = it->kind == format::PipelineKind::compute ? "compute" : "graphics";
-      const char* wanted = kind == format::PipelineKind::compute ? "compute" : "graphics";
-      return detail::failure(ErrorCode::wrong_type, "pipeline '" + std::string(name) + "' is a " + actual +
-                                                        " pipeline, not a " + wanted + " pipeline");
-    }
+    if (it->kind != kind) return not_of_kind(name, it->kind);
     return ArchivedPipeline{i, it};
   }
+  return not_found(name);
+}
+
+Error Dearchiver::State::not_of_kind(std::string_view name, format::PipelineKind actual) {
+  const char* is = actual == format::PipelineKind::compute ? "compute" : "graphics";
+  const char* wanted = actual == format::PipelineKind::compute ? "graphics" : "compute";
+  return detail::failure(ErrorCode::wrong_type, "pipeline '" + std::string(name) + "' is a " + is +
+                                                    " pipeline, not a " + wanted + " pipeline");
+}
+
+Error Dearchiver::State::not_found(std::string_view name) const {
   auto names = pipeline_names();
   return detail::failure(ErrorCode::not_found, "no pipeline named '" + std::string(name) + "' in " +
                                                    std::to_string(active.size()) + " loaded archive(s)" +

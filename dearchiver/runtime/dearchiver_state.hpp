@@ -125,6 +125,9 @@ struct Dearchiver::State {
   std::vector<std::string> names_of(std::initializer_list<ObjectKind> kinds) const;
   std::vector<std::string> pipeline_names() const;
   Result<detail::ArchivedPipeline> find(std::string_view name, format::PipelineKind kind) const;
+  // find()'s errors: a pipeline of the other kind, or none of that name (with the nearest names).
+  [[gnu::cold]] static Error not_of_kind(std::string_view name, format::PipelineKind actual);
+  [[gnu::cold]] Error not_found(std::string_view name) const;
 
   // Creates the pipeline of a plan, timed, with creation feedback when the device has it; safe to call
   // for different plans on several threads, without the lock.

@@ -28,7 +28,10 @@ class Lazy {
   template <class F>
   requires(!std::is_same_v<F, Lazy>)
       Lazy(const F& make)  // NOLINT(google-explicit-constructor): passed as a lambda at every call
-      : object_(&make), call_([](const void* o) -> std::string { return (*static_cast<const F*>(o))(); }) {}
+      : object_(&make),
+        // Cold: it runs only when a check fails, and every message built in it is then compiled for size.
+        call_(
+            [](const void* o) __attribute__((cold))->std::string { return (*static_cast<const F*>(o))(); }) {}
   std::string operator()() const { return call_(object_); }
 
  private:
@@ -36,8 +39,8 @@ class Lazy {
   std::string (*call_)(const void*);
 };
 
-Error over_limit(const std::string& object, const std::string& what, uint64_t value, const char* limit,
-                 uint64_t allowed) {
+[[gnu::cold]] Error over_limit(const std::string& object, const std::string& what, uint64_t value,
+                               const char* limit, uint64_t allowed) {
   return detail::failure(ErrorCode::unsupported, object + ": " + what + " is " + std::to_string(value) +
                                                      ", beyond the device's " + limit + " of " +
                                                      std::to_string(allowed));

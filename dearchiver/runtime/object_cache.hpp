@@ -60,6 +60,10 @@ class ObjectCache {
   void forget(size_t archive);
 
  private:
+  // What a lookup that finds nothing makes (object_creation.cpp).
+  Result<VkDescriptorSetLayout> create_set_layout(size_t archive, uint32_t index, std::string_view pipeline);
+  Result<VkSampler> create_sampler(size_t archive, uint32_t index, std::string_view binding);
+  Result<VkRenderPass> create_render_pass(size_t archive, uint32_t index);
   using Key = std::pair<size_t, uint32_t>;  // (archive, index of the record or blob)
   // The one place a cached object is looked up, or created and kept.
   template <class Handle, class Create>

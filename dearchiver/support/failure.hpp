@@ -17,4 +17,9 @@ namespace statepack::detail {
 // ErrorCode::corrupt, "corrupt archive: <message>": what the archive's decode and checks report.
 [[gnu::cold]] Error corrupt(std::string message);
 
+// What api_guard (runtime/api_guard.hpp) returns for an exception, out of every entry point's code.
+// Neither throws: when building the message fails, a short one that needs no allocation is returned.
+[[gnu::cold]] Error out_of_memory_in(const char* entry_point) noexcept;
+[[gnu::cold]] Error unexpected_exception_in(const char* entry_point, const char* what) noexcept;
+
 }  // namespace statepack::detail
