@@ -780,40 +780,42 @@ void flush_cache(CompileCache& cache, const CompileCache::Stats& before, const s
   report_flush(cache, before, cache.flush(inputs), remote, times, err);
 }
 
-// The cache written on a thread of its own while the pack encodes, checks and writes the archive (a
-// cold pack writes a file per compile and finalisation, a pack from a server keeps every entry it
-// fetched, and sends what it compiled); reported when the pack ends, whichever way it ends.
-class BackgroundFlush {
+// Work on a thread of its own (it returns a warning, or ""), reported on the pack's thread when joined: by
+// finish(), or by the destructor whichever way the pack ends.
+class ReportedThread {
  public:
-  BackgroundFlush(CompileCache* cache, const CompileCache::Stats& before, std::vector<InputFile> inputs,
-                  const RemoteCache* remote, PhaseTimes& times, std::ostream& err)
-      : cache_(cache),
-        before_(before),
-        inputs_(std::move(inputs)),
-        remote_(remote),
-        times_(times),
-        err_(err) {
-    if (cache_) thread_ = std::thread([this] { warning_ = cache_->flush(inputs_); });
+  ReportedThread() = default;
+  ReportedThread(const ReportedThread&) = delete;
+  ReportedThread& operator=(const ReportedThread&) = delete;
+  ~ReportedThread() { finish(); }
+  void start(std::function<std::string()> work, std::function<void(const std::string&)> report) {
+    report_ = std::move(report);
+    thread_ = std::thread([this, work = std::move(work)] { warning_ = work(); });
   }
-  BackgroundFlush(const BackgroundFlush&) = delete;
-  BackgroundFlush& operator=(const BackgroundFlush&) = delete;
-  ~BackgroundFlush() { finish(); }
   void finish() {
     if (!thread_.joinable()) return;
     thread_.join();
-    report_flush(*cache_, before_, warning_, remote_, times_, err_);
+    report_(warning_);
   }
 
  private:
-  CompileCache* cache_;
-  CompileCache::Stats before_;
-  std::vector<InputFile> inputs_;
-  const RemoteCache* remote_;
-  PhaseTimes& times_;
-  std::ostream& err_;
+  std::function<void(const std::string&)> report_;
   std::string warning_;
   std::thread thread_;
 };
+
+// The cache written on a thread of its own while the pack encodes, checks and writes the archive (a
+// cold pack writes a file per compile and finalisation, a pack from a server keeps every entry it
+// fetched, and sends what it compiled).
+void flush_in_background(ReportedThread& thread, CompileCache* cache, const CompileCache::Stats& before,
+                         const std::vector<InputFile>& inputs, const RemoteCache* remote, PhaseTimes& times,
+                         std::ostream& err) {
+  if (!cache) return;
+  thread.start([cache, &inputs] { return cache->flush(inputs); },
+               [cache, before, remote, &times, &err](const std::string& warning) {
+                 report_flush(*cache, before, warning, remote, times, err);
+               });
+}
 
 // --shard K/N: the compiles are in the caches; nothing is laid out or written. Says what the shard did.
 int finish_shard(const PackOptions& options, const CompiledShaders& compiled, CompileCache& cache,
@@ -921,35 +923,21 @@ std::optional<int> reuse_archive(const PackOptions& options, CompileCache& cache
 }
 
 // Records this pack's archive for the next pack of the same inputs (archive_reuse.hpp) on a thread of its
-// own, while the archive is written; joined (and its warning printed) by finish() or the destructor.
-// Started after the cache's own flush is done (a record is written beside its entries).
-class ArchiveRecording {
- public:
-  ArchiveRecording(CompileCache& cache, const ArchiveKey& key, const CompiledShaders& compiled,
-                   const CompiledShaders& gl_compiled, const std::vector<InputFile>& inputs,
-                   std::span<const uint8_t> bytes, std::ostream& err)
-      : err_(err) {
-    std::vector<const CompiledShader*> compiles;
-    for (const auto* c : {&compiled, &gl_compiled})
-      for (const auto& u : c->units) compiles.push_back(&u.compiled);
-    thread_ = std::thread([this, &cache, key, compiles, &inputs, bytes] {
-      warning_ = record_archive(cache, key, compiles, bytes, inputs);
-    });
-  }
-  ArchiveRecording(const ArchiveRecording&) = delete;
-  ArchiveRecording& operator=(const ArchiveRecording&) = delete;
-  ~ArchiveRecording() { finish(); }
-  void finish() {
-    if (!thread_.joinable()) return;
-    thread_.join();
-    if (!warning_.empty()) err_ << "statepack: warning: --cache-dir: " << printable(warning_) << "\n";
-  }
-
- private:
-  std::ostream& err_;
-  std::string warning_;
-  std::thread thread_;
-};
+// own, while the archive is written. Started after the cache's own flush is done (a record is written
+// beside its entries).
+void record_in_background(ReportedThread& thread, CompileCache& cache, const ArchiveKey& key,
+                          const CompiledShaders& compiled, const CompiledShaders& gl_compiled,
+                          const std::vector<InputFile>& inputs, std::span<const uint8_t> bytes,
+                          std::ostream& err) {
+  std::vector<const CompiledShader*> compiles;
+  for (const auto* c : {&compiled, &gl_compiled})
+    for (const auto& u : c->units) compiles.push_back(&u.compiled);
+  thread.start(
+      [&cache, key, compiles, &inputs, bytes] { return record_archive(cache, key, compiles, bytes, inputs); },
+      [&err](const std::string& warning) {
+        if (!warning.empty()) err << "statepack: warning: --cache-dir: " << printable(warning) << "\n";
+      });
+}
 
 }  // namespace
 
@@ -1032,7 +1020,8 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err, P
   }
   if (notation_ok && options.opengl) add_opengl(notation, gl_compiled, options, builder, diag, cached);
   // What compiled is kept whether or not the pack succeeds: the next run needs it either way.
-  BackgroundFlush flushing(cached, stats_before, inputs, remote.get(), times, err);
+  ReportedThread flushing;
+  flush_in_background(flushing, cached, stats_before, inputs, remote.get(), times, err);
   if (!diag.has_errors()) note_unused_objects(notation, diag);
   if (diag.has_errors()) {
     diag.print(err);
@@ -1060,14 +1049,14 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err, P
   times.done("load-back check");
   flushing.finish();
   // Only a pack that printed nothing is recorded: a reuse prints nothing either.
-  std::optional<ArchiveRecording> recording;
+  ReportedThread recording;
   if (record && diag.all().empty())
-    recording.emplace(*cached, *record, compiled, gl_compiled, inputs, bytes, err);
+    record_in_background(recording, *cached, *record, compiled, gl_compiled, inputs, bytes, err);
   if (!options.check_only)
     if (int code = write_outputs(options, inputs, bytes, err); code != kExitSuccess) return code;
   times.done("write");
-  if (recording) {
-    recording->finish();
+  if (record && diag.all().empty()) {
+    recording.finish();
     times.done("record the archive");
   }
   return options.print_contents ? print_written(bytes, out, err) : kExitSuccess;
