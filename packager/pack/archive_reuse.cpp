@@ -6,7 +6,8 @@
 namespace statepack::packager {
 namespace {
 
-constexpr uint32_t kRecordVersion = 1;
+constexpr uint32_t kRecordVersion = 2;
+constexpr size_t kArchiveAlignment = 16;
 
 void add_paths(KeyBuilder& k, const std::vector<std::filesystem::path>& paths) {
   k.add(uint64_t(paths.size()));
@@ -45,10 +46,14 @@ std::optional<ArchiveKey> archive_key(const PackOptions& options, std::string_vi
   // Every shader the pack compiles, as compile_shaders() walks them.
   auto add_shader = [&](const ShaderDesc& s) {
     InputFile file;
-    const auto key = compile_cache_key(s, options.compile, &file);
+    Digest text{};
+    const auto key = compile_cache_key(s, options.compile, &file, &text);
     if (!key) return false;
     k.add(*key);
-    if (!file.path.empty()) out.shader_files.push_back(std::move(file));
+    if (!file.path.empty()) {
+      out.shader_texts.emplace(file.path, text);
+      out.shader_files.push_back(std::move(file));
+    }
     return true;
   };
   for (const auto& p : notation.pipelines)
@@ -84,6 +89,9 @@ std::optional<RecordedArchive> find_archive(CompileCache& cache, const ArchiveKe
   }
   uint32_t low = 0, high = 0;
   if (!r.u32(low) || !r.u32(high)) return std::nullopt;
+  uint8_t padding[kArchiveAlignment];
+  const size_t at = entry->payload.size() - r.left();
+  if (!r.raw(padding, (kArchiveAlignment - at % kArchiveAlignment) % kArchiveAlignment)) return std::nullopt;
   const uint64_t size = uint64_t(high) << 32 | low;
   if (size != r.left()) return std::nullopt;
   files_read.insert(files_read.end(), key.shader_files.begin(), key.shader_files.end());
@@ -94,6 +102,11 @@ std::optional<RecordedArchive> find_archive(CompileCache& cache, const ArchiveKe
 std::string record_archive(CompileCache& cache, const ArchiveKey& key,
                            const std::vector<const CompiledShader*>& compiles,
                            std::span<const uint8_t> archive, const std::vector<InputFile>& inputs) {
+  for (const CompiledShader* c : compiles)
+    if (!c->files_read.empty())
+      if (auto hashed = key.shader_texts.find(c->files_read.front().path);
+          hashed != key.shader_texts.end() && hashed->second != c->source_hash)
+        return "";  // saved while the pack ran: the next pack makes (and records) it again
   PayloadWriter w;
   w.u32(kRecordVersion);
   w.bytes.insert(w.bytes.end(), key.inputs.begin(), key.inputs.end());
@@ -106,6 +119,7 @@ std::string record_archive(CompileCache& cache, const ArchiveKey& key,
   for (const IncludeRecord* rec : records) write_include_record(w, *rec);
   w.u32(uint32_t(archive.size()));
   w.u32(uint32_t(uint64_t(archive.size()) >> 32));
+  w.bytes.resize((w.bytes.size() + kArchiveAlignment - 1) / kArchiveAlignment * kArchiveAlignment);
   return cache.store_local(key.slot, w.bytes, archive, inputs);
 }
 

@@ -18,17 +18,19 @@
 //
 // | payload bytes | meaning                                                                       |
 // |---------------|-------------------------------------------------------------------------------|
-// | 0..3          | u32 record version (1)                                                        |
+// | 0..3          | u32 record version (2)                                                        |
 // | 4..35         | the key of the inputs it was made from (above): another is a miss             |
 // | 36..39        | u32 count of #include records, then each as compile entries keep them         |
 // |               | (compile_cache.hpp: header, includer, local, path, text hash)                 |
-// | then          | u64 archive size (low, high u32), then the archive's bytes                    |
+// | then          | u64 archive size (low, high u32), zeros to a multiple of 16 bytes (the        |
+// |               | archive is read in place: decode needs it aligned), then the archive's bytes  |
 //
 // Only a pack that printed nothing (no warning, no note) is recorded, and only one whose notation read
 // without a message reuses one, so a reuse prints what the pack it replaces would have. Not with
 // --dump-dir or --shard (they do more than write the archive), nor for notation held in memory.
 #pragma once
 
+#include <map>
 #include <memory>
 #include <optional>
 #include <span>
@@ -43,6 +45,9 @@ struct ArchiveKey {
   CacheKey slot{};                      // the project's record
   CacheKey inputs{};                    // what the archive was made from
   std::vector<InputFile> shader_files;  // read to make the key: the depfile's and the output checks'
+  // Each shader file's text as the key hashed it, by the path a compile lists it under: a file saved
+  // between the key and the compile made another archive than the key says, and is not recorded.
+  std::map<std::filesystem::path, Digest> shader_texts;
 };
 
 // The key of this pack's archive record; nullopt when the pack has none (see above), or a shader file
@@ -62,7 +67,8 @@ std::optional<RecordedArchive> find_archive(CompileCache& cache, const ArchiveKe
                                             std::vector<InputFile>& files_read);
 
 // Records `archive` under `key` with the #includes of `compiles`, written now (after the pack's own flush);
-// a warning, or "" when written. Never over one of `inputs`.
+// a warning, or "" when written (or left out: a shader file whose compiled text is not the one the key
+// hashed). Never over one of `inputs`.
 std::string record_archive(CompileCache& cache, const ArchiveKey& key,
                            const std::vector<const CompiledShader*>& compiles,
                            std::span<const uint8_t> archive, const std::vector<InputFile>& inputs);

@@ -911,6 +911,17 @@ int write_reused(const PackOptions& options, std::span<const uint8_t> bytes,
   return options.print_contents ? print_written(bytes, out, err) : kExitSuccess;
 }
 
+// The key of this pack's archive record (archive_reuse.hpp), or nullopt: no cache, --no-archive-reuse, a
+// cache in memory that dies with this pack (only servers given, no --cache-dir), or notation errors.
+std::optional<ArchiveKey> archive_record_key(const PackOptions& options, const PackSession* session,
+                                             const CompileCache* cache, const Notation& notation,
+                                             const Diagnostics& diag) {
+  if (!cache || !options.archive_reuse || !(options.cache_dir || (session && session->cache)) ||
+      diag.has_errors())
+    return std::nullopt;
+  return archive_key(options, bundle_project(options), notation, diag);
+}
+
 // The pack's exit code when its archive record still holds and the recorded archive was written; else
 // nullopt: a normal pack.
 std::optional<int> reuse_archive(const PackOptions& options, CompileCache& cache, const ArchiveKey& record,
@@ -918,7 +929,9 @@ std::optional<int> reuse_archive(const PackOptions& options, CompileCache& cache
                                  std::ostream& out, std::ostream& err) {
   std::vector<InputFile> inputs = notation.files_read;
   const auto archive = find_archive(cache, record, options.compile, inputs);
-  if (!archive) return std::nullopt;
+  // Decoded before it is written (its structure and checksum; its modules were checked when it was
+  // packed): a record is a cache file, and what a pack writes must load.
+  if (!archive || !format::decode(archive->bytes)) return std::nullopt;
   return write_reused(options, archive->bytes, inputs, session, times, out, err);
 }
 
@@ -964,9 +977,7 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err, P
   for (const auto& input : options.inputs) read_notation(input, options.notation, notation, diag);
   resolve_references(notation, diag);
   times.done("read notation");
-  std::optional<ArchiveKey> record;  // (archive_reuse.hpp)
-  if (cached && options.archive_reuse && !diag.has_errors())
-    record = archive_key(options, bundle_project(options), notation, diag);
+  const std::optional<ArchiveKey> record = archive_record_key(options, session, cached, notation, diag);
   if (record)
     if (auto code = reuse_archive(options, *cached, *record, notation, session, times, out, err))
       return *code;

@@ -440,6 +440,7 @@ CompileCache::CompileCache(CompileCache&& o) noexcept
       max_bytes_(o.max_bytes_),
       pending_(std::move(o.pending_)),
       used_(std::move(o.used_)),
+      flushed_(std::move(o.flushed_)),
       hits_(o.hits_.load()),
       misses_(o.misses_.load()),
       damaged_(o.damaged_.load()),
@@ -833,6 +834,7 @@ void CompileCache::trim_to_bound(std::set<std::string> keep) {
     std::lock_guard lock(mutex_);
     keep.insert(used_.begin(), used_.end());
   }
+  keep.insert(flushed_.begin(), flushed_.end());
   if (bundle_key_) keep.insert(hex(*bundle_key_));
   const std::optional<uint64_t> known = read_size(dir_);
   const int64_t estimate = known ? std::max<int64_t>(0, int64_t(*known) + growth_) : 0;
@@ -849,6 +851,7 @@ void CompileCache::trim_to_bound(std::set<std::string> keep) {
 std::string CompileCache::store_local(const CacheKey& key, std::span<const uint8_t> payload,
                                       std::span<const uint8_t> payload_tail,
                                       const std::vector<InputFile>& inputs) {
+  if (kHeaderBytes + payload.size() + payload_tail.size() > kMaxEntryBytes) return "";  // never read back
   if (dir_.empty()) {
     std::vector<uint8_t> bytes(payload.begin(), payload.end());
     bytes.insert(bytes.end(), payload_tail.begin(), payload_tail.end());
@@ -874,6 +877,7 @@ std::string CompileCache::flush(const std::vector<InputFile>& inputs) {
     pending.swap(pending_);
   }
   write_to_remote(pending);
+  flushed_.clear();
   std::set<FileIdentity> input_identities;
   for (const auto& f : inputs) input_identities.insert(f.identity);
   std::set<std::string> subdirectories, done;
@@ -893,6 +897,7 @@ std::string CompileCache::flush(const std::vector<InputFile>& inputs) {
     done.insert(bundle);
     subdirectories.insert(bundle.substr(0, 2));
   }
+  flushed_ = done;
   // A run that wrote entries trims the cache to its bound (a run that wrote nothing reads no listing).
   if (!subdirectories.empty()) trim_to_bound(done);
   checked_subdirectories_.clear();  // (the next flush may find them replaced)
@@ -959,12 +964,14 @@ std::optional<InputFile> include_still_holds(const IncludeRecord& rec, const Com
 }
 
 std::optional<CacheKey> compile_cache_key(const ShaderDesc& shader, const CompileOptions& options,
-                                          InputFile* file) {
+                                          InputFile* file, Digest* text) {
   const std::optional<InputText> source = shader_text(shader, options);
   if (!source) return std::nullopt;
   if (file && !shader.file.empty())
     *file = {(working_directory() / shader.file).lexically_normal(), source->identity};
-  return compile_key(shader, options, text_hash(source->text));
+  const Digest hash = text_hash(source->text);
+  if (text) *text = hash;
+  return compile_key(shader, options, hash);
 }
 
 CompileCache::PruneResult CompileCache::prune(const fs::path& dir, uint64_t max_bytes) {

@@ -204,7 +204,8 @@ class CompileCache {
   uint64_t max_bytes_;
   mutable std::mutex mutex_;  // pending_, used_, memory_, use_clock_, the remote's counts
   std::vector<Pending> pending_;
-  std::set<std::string> used_;  // entries this run read: kept when it trims the cache
+  std::set<std::string> used_;     // entries this run read: kept when it trims the cache
+  std::set<std::string> flushed_;  // entries the last flush wrote: kept when a record's write trims it
   std::atomic<size_t> hits_{0}, misses_{0}, damaged_{0};
   size_t written_ = 0, removed_ = 0;
   // A cache in memory: its entries by name, each with the payload and when it was last used.
@@ -252,8 +253,9 @@ std::optional<InputFile> include_still_holds(const IncludeRecord& rec, const Com
 
 // The key of a shader's compile (its file read and hashed), for --shard; nullopt when its file cannot be
 // read (the compile reports why).
-// `file`, when given, is set to the shader file as read (unchanged for an inline Source).
+// `file`, when given, is set to the shader file as read (unchanged for an inline Source); `text`, when
+// given, to the SHA-256 of the text hashed (CompiledShader::source_hash of a compile of it).
 std::optional<CacheKey> compile_cache_key(const ShaderDesc& shader, const CompileOptions& options,
-                                          InputFile* file = nullptr);
+                                          InputFile* file = nullptr, Digest* text = nullptr);
 
 }  // namespace statepack::packager

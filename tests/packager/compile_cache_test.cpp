@@ -367,6 +367,15 @@ TEST_F(CompileCacheTest, AnUnchangedPackWritesTheRecordedArchive) {
   std::string expected = read_file(dir_ / "cold.d");
   expected.replace(expected.find("cold.spk"), 8, "warm.spk");
   EXPECT_EQ(read_file(dir_ / "warm.d"), expected);
+  // --print_contents reads the written archive back as a pack does (the record keeps it aligned).
+  const CommandResult printed = run_command(
+      "cd '" + dir_.string() +
+      "' && '" STATEPACK_EXE
+      "' pack -i project.json -s early -s inc -o printed.spk --vulkan --cache-dir cache --time-report "
+      "--print_contents");
+  EXPECT_EQ(printed.exit_code, 0) << printed.output;
+  EXPECT_NE(printed.output.find(kReused), std::string::npos) << printed.output;
+  EXPECT_NE(printed.output.find("pipeline 'A'"), std::string::npos) << printed.output;
   // --no-archive-reuse makes it again, from the shaders' entries.
   const CacheStats again = pack("again.spk");
   EXPECT_EQ(again.hits, kEntries) << last_output_;
