@@ -60,7 +60,7 @@ class ObjectCache {
   void forget(size_t archive);
 
  private:
-  // What a lookup that finds nothing makes (object_creation.cpp).
+  // What a lookup that finds nothing makes.
   Result<VkDescriptorSetLayout> create_set_layout(size_t archive, uint32_t index, std::string_view pipeline);
   Result<VkSampler> create_sampler(size_t archive, uint32_t index, std::string_view binding);
   Result<VkRenderPass> create_render_pass(size_t archive, uint32_t index);

@@ -43,8 +43,10 @@ std::optional<ArchiveKey> archive_key(const PackOptions& options, std::string_vi
   const auto texts = notation.sources.all();
   k.add(uint64_t(texts.size()));
   for (const auto& [name, text] : texts) k.add(name).add(sha256(text));
-  // Every shader the pack compiles, as compile_shaders() walks them.
+  // Every shader the pack compiles, as compile_shaders() walks them, each distinct one once.
+  std::set<std::string> seen;
   auto add_shader = [&](const ShaderDesc& s) {
+    if (!seen.insert(unit_key(s)).second) return true;
     InputFile file;
     Digest text{};
     const auto key = compile_cache_key(s, options.compile, &file, &text);

@@ -58,16 +58,6 @@ class PhaseTimes {
   std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
 };
 
-// Two slots compile to the same module when everything that feeds glslang is equal.
-std::string compile_key(const ShaderDesc& s) {
-  std::string key = std::to_string(s.stage) + '\0' + std::to_string(int(s.language)) + '\0' + s.entry_point +
-                    '\0' + s.file.string() + '\0' + s.source + '\0' + std::to_string(s.verbatim) + '\0' +
-                    std::to_string(s.compile_flags) + '\0' + s.glsl_extensions + '\0' +
-                    std::to_string(s.glsl_version) + '\0' + std::to_string(s.optimize);
-  for (const auto& [name, value] : s.macros) key += '\0' + name + '=' + value;
-  return key;
-}
-
 struct CompiledUnit {
   ShaderDesc desc;
   CompiledShader compiled;
@@ -292,7 +282,7 @@ CompiledShaders compile_shaders(const Notation& notation, const PackOptions& opt
   CompiledShaders out;
   std::map<std::string, size_t> unit_by_key;
   auto unit_for = [&](const ShaderDesc& s) {
-    auto [it, inserted] = unit_by_key.try_emplace(compile_key(s), out.units.size());
+    auto [it, inserted] = unit_by_key.try_emplace(unit_key(s), out.units.size());
     if (inserted) out.units.push_back({s, {}, {}});
     return it->second;
   };
@@ -893,10 +883,10 @@ int print_written(std::span<const uint8_t> bytes, std::ostream& out, std::ostrea
   return kExitSuccess;
 }
 
-// A pack whose archive record still holds (archive_reuse.hpp): the recorded bytes written as a pack
-// writes them. The compile cache is not flushed: nothing was looked up in it, and its bundle stays the
-// one of the shaders' entries, for the pack after the next change.
-int write_reused(const PackOptions& options, std::span<const uint8_t> bytes,
+// A pack whose archive record still holds (archive_reuse.hpp): the recorded bytes (`contents` decoded)
+// written as a pack writes them. The compile cache is not flushed: nothing was looked up in it, and its
+// bundle stays the one of the shaders' entries, for the pack after the next change.
+int write_reused(const PackOptions& options, std::span<const uint8_t> bytes, const format::Contents& contents,
                  const std::vector<InputFile>& inputs, PackSession* session, PhaseTimes& times,
                  std::ostream& out, std::ostream& err) {
   if (session)
@@ -908,16 +898,17 @@ int write_reused(const PackOptions& options, std::span<const uint8_t> bytes,
   if (!options.check_only)
     if (int code = write_outputs(options, inputs, bytes, err); code != kExitSuccess) return code;
   times.done("write");
-  return options.print_contents ? print_written(bytes, out, err) : kExitSuccess;
+  if (options.print_contents) print_archive(contents, bytes.size(), false, out);
+  return kExitSuccess;
 }
 
 // The key of this pack's archive record (archive_reuse.hpp), or nullopt: no cache, --no-archive-reuse, a
-// cache in memory that dies with this pack (only servers given, no --cache-dir), or notation errors.
+// cache in memory that dies with this pack (only servers given, no --cache-dir), or what archive_key
+// refuses (any message so far, errors included).
 std::optional<ArchiveKey> archive_record_key(const PackOptions& options, const PackSession* session,
                                              const CompileCache* cache, const Notation& notation,
                                              const Diagnostics& diag) {
-  if (!cache || !options.archive_reuse || !(options.cache_dir || (session && session->cache)) ||
-      diag.has_errors())
+  if (!cache || !options.archive_reuse || !(options.cache_dir || (session && session->cache)))
     return std::nullopt;
   return archive_key(options, bundle_project(options), notation, diag);
 }
@@ -931,8 +922,10 @@ std::optional<int> reuse_archive(const PackOptions& options, CompileCache& cache
   const auto archive = find_archive(cache, record, options.compile, inputs);
   // Decoded before it is written (its structure and checksum; its modules were checked when it was
   // packed): a record is a cache file, and what a pack writes must load.
-  if (!archive || !format::decode(archive->bytes)) return std::nullopt;
-  return write_reused(options, archive->bytes, inputs, session, times, out, err);
+  if (!archive) return std::nullopt;
+  auto contents = format::decode(archive->bytes);
+  if (!contents) return std::nullopt;
+  return write_reused(options, archive->bytes, *contents, inputs, session, times, out, err);
 }
 
 // Records this pack's archive for the next pack of the same inputs (archive_reuse.hpp) on a thread of its
@@ -1060,13 +1053,13 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err, P
   times.done("load-back check");
   flushing.finish();
   // Only a pack that printed nothing is recorded: a reuse prints nothing either.
+  const bool recorded = record && diag.all().empty();
   ReportedThread recording;
-  if (record && diag.all().empty())
-    record_in_background(recording, *cached, *record, compiled, gl_compiled, inputs, bytes, err);
+  if (recorded) record_in_background(recording, *cached, *record, compiled, gl_compiled, inputs, bytes, err);
   if (!options.check_only)
     if (int code = write_outputs(options, inputs, bytes, err); code != kExitSuccess) return code;
   times.done("write");
-  if (record && diag.all().empty()) {
+  if (recorded) {
     recording.finish();
     times.done("record the archive");
   }

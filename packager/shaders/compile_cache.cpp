@@ -297,8 +297,7 @@ std::string_view entry_problem(const uint8_t* header, std::span<const uint8_t> p
   return same_digest(stored, signature(secret, key, hash)) ? "" : "not signed with the team's key";
 }
 
-// An entry's bytes: the header (signed when a team key is set), then the payload.
-// An entry's header (bytes 0..111) for `payload`.
+// An entry's header (bytes 0..111, signed when a team key is set) for `payload` (then `payload_tail`).
 std::vector<uint8_t> entry_header(const CacheKey& key, std::span<const uint8_t> payload,
                                   std::span<const uint8_t> secret,
                                   std::span<const uint8_t> payload_tail = {}) {
@@ -314,6 +313,7 @@ std::vector<uint8_t> entry_header(const CacheKey& key, std::span<const uint8_t> 
   return bytes;
 }
 
+// An entry's bytes: the header, then the payload.
 std::vector<uint8_t> encode_entry(const CacheKey& key, std::span<const uint8_t> payload,
                                   std::span<const uint8_t> secret) {
   std::vector<uint8_t> bytes = entry_header(key, payload, secret);
@@ -826,9 +826,9 @@ std::string CompileCache::write_bundle(const std::vector<Pending>& written,
   return write_entry(*bundle_key_, payload, inputs, warning) ? hex(*bundle_key_) : "";
 }
 
-// Trims the cache to its bound, least recently used first; `keep` (what this run wrote), what it used,
-// and its bundle stay. The directories are listed (a stat per entry) only when the size the last pack
-// left in kSizeFile, plus what this one added, passes the bound, or when no size was left.
+// Trims the cache to its bound, least recently used first; `keep`, what the last flush wrote, what this
+// run used, and its bundle stay. The directories are listed (a stat per entry) only when the size the last
+// pack left in kSizeFile, plus what this one added, passes the bound, or when no size was left.
 void CompileCache::trim_to_bound(std::set<std::string> keep) {
   {
     std::lock_guard lock(mutex_);
@@ -899,7 +899,7 @@ std::string CompileCache::flush(const std::vector<InputFile>& inputs) {
   }
   flushed_ = done;
   // A run that wrote entries trims the cache to its bound (a run that wrote nothing reads no listing).
-  if (!subdirectories.empty()) trim_to_bound(done);
+  if (!subdirectories.empty()) trim_to_bound({});
   checked_subdirectories_.clear();  // (the next flush may find them replaced)
   return warning;
 }

@@ -604,6 +604,15 @@ bool compile_source(const ShaderDesc& shader, const CompileOptions& options, con
 
 }  // namespace
 
+std::string unit_key(const ShaderDesc& s) {
+  std::string key = std::to_string(s.stage) + '\0' + std::to_string(int(s.language)) + '\0' + s.entry_point +
+                    '\0' + s.file.string() + '\0' + s.source + '\0' + std::to_string(s.verbatim) + '\0' +
+                    std::to_string(s.compile_flags) + '\0' + s.glsl_extensions + '\0' +
+                    std::to_string(s.glsl_version) + '\0' + std::to_string(s.optimize);
+  for (const auto& [name, value] : s.macros) key += '\0' + name + '=' + value;
+  return key;
+}
+
 CompiledShader compile_shader(const ShaderDesc& original, const CompileOptions& options,
                               ShaderMessages& errors) {
   initialize_glslang();

@@ -64,6 +64,10 @@ struct CompiledShader {
   bool ok = false;
 };
 
+// Two slots compile to the same module when everything that feeds glslang is equal: that, as one string
+// (a pack compiles each distinct one once).
+std::string unit_key(const ShaderDesc& shader);
+
 // Compiles one shader. Errors are reported against the shader's own file and line (or the #include's);
 // `messages` collects them from every shader, so an error in a shared #include is reported once.
 CompiledShader compile_shader(const ShaderDesc& shader, const CompileOptions& options,
