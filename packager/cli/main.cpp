@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "format/archive_format.hpp"
+#include "huge_pages.hpp"
 #include "inspect.hpp"
 #include "merge.hpp"
 #include "notation/notation_schema.hpp"
@@ -573,7 +574,17 @@ int run(int argc, char** argv) {
     return cache.run(pack.options.cache_signing_key);
   }
   if (verify.app->parsed()) return verify.run();
-  if (!pack.settle(std::cerr)) return kExitUsage;
+  // What settling the options says (warnings) is printed by the process that packs: a re-executed one
+  // (use_huge_pages) says it again.
+  std::ostringstream settled;
+  if (!pack.settle(settled)) {
+    std::cerr << settled.str();
+    return kExitUsage;
+  }
+  if (settled.str().empty() && !pack.watch && !pack.list_inputs)
+    if (auto code = pack_if_unchanged(pack.options, std::cout, std::cerr)) return *code;
+  use_huge_pages(argv);  // returns here when it does not re-execute
+  std::cerr << settled.str();
   if (pack.watch) return run_watch(pack.options, pack.watch_options, std::cout, std::cerr);
   if (pack.list_inputs) return pack_and_list_inputs(pack.options);
   return run_pack(pack.options, std::cout, std::cerr);

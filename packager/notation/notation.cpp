@@ -139,6 +139,7 @@ class FileReader {
       out_.failed_imports.push_back(name);
       return std::nullopt;
     }
+    out_.lookups.push_back({false, name, ctx_.base_dir, path});
     return path;
   }
   Location import_location(size_t i) { return json_.at("/Imports/" + std::to_string(i)); }
@@ -153,6 +154,8 @@ class FileReader {
     for_each_item(root, "ResourceSignatures",
                   [&](const Json& j, const std::string& p) { signature_object(j, p); });
     for_each_item(root, "Pipelines", [&](const Json& j, const std::string& p) { pipeline(j, p); });
+    for (const auto& [name, found] : ctx_.resolved_files)
+      out_.lookups.push_back({true, name, ctx_.base_dir, found});
   }
 
  private:
@@ -668,10 +671,11 @@ class FileReader {
 void read_notation(const fs::path& input, const NotationOptions& options, Notation& notation,
                    Diagnostics& diag) {
   std::error_code ec;
-  fs::path path = resolve_file(input.string(), options.memory_files ? fs::path() : fs::current_path(ec),
-                               options.render_state_dirs, options.memory_files);
+  const fs::path base = options.memory_files ? fs::path() : fs::current_path(ec);
+  fs::path path = resolve_file(input.string(), base, options.render_state_dirs, options.memory_files);
   if (path.empty())
     return diag.error({input.string()}, "cannot find render-state file (also searched the -r directories)");
+  notation.lookups.push_back({false, input.string(), base, path});
   // Named as imports and shaders are, however the input was spelled: relative to the working directory
   // when below it, so one file has one name in every message.
   FileReader::read_files(path, display_path(path), notation, options, diag, {input.string()});

@@ -164,6 +164,14 @@ class SourceTexts {
   std::unordered_map<std::string, std::unique_ptr<Source>> by_file_;
 };
 
+// A file name the notation looked up (resolve_file) and where it was found: a notation file given or
+// imported (searched in the -r directories) or a shader's FilePath (in the -s directories).
+struct FileLookup {
+  bool shader = false;
+  std::string name;
+  std::filesystem::path base_dir, found;
+};
+
 struct Notation {
   std::vector<ShaderDesc> shaders;  // the Shaders section: archived as standalone shaders
   // Shaders defined inline in pipeline slots: registered by name as in DRSN (a later pipeline may name
@@ -179,6 +187,7 @@ struct Notation {
   // Imports that were not found: what they define is unknown, so an unknown name gets no suggestion.
   std::vector<std::string> failed_imports;
   std::vector<InputFile> files_read;  // every JSON file, for the depfile and output checks
+  std::vector<FileLookup> lookups;    // every file name looked up, with what was found
   // Files read or being read, by identity (device and inode; the path for in-memory files): a file is
   // read once however it is imported (another spelling, `..`, a symlink, a hard link).
   std::set<std::string> files_done;

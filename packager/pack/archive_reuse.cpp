@@ -1,5 +1,7 @@
 #include "archive_reuse.hpp"
 
+#include "pack/input_stamps.hpp"
+
 #include <set>
 #include <tuple>
 
@@ -31,6 +33,17 @@ void add_options(KeyBuilder& k, const PackOptions& options) {
 }
 
 }  // namespace
+
+CacheKey setup_key(const PackOptions& options) {
+  KeyBuilder k;
+  k.add("archive setup").add(uint64_t(kRecordVersion)).add(code_identity());
+  add_options(k, options);
+  return k.key();
+}
+
+CacheKey archive_slot(std::string_view project) {
+  return KeyBuilder().add("archive record").add(code_identity()).add(project).key();
+}
 
 std::optional<ArchiveKey> archive_key(const PackOptions& options, std::string_view project,
                                       const Notation& notation, const Diagnostics& diagnostics) {
@@ -64,46 +77,91 @@ std::optional<ArchiveKey> archive_key(const PackOptions& options, std::string_vi
   for (const auto& s : notation.shaders)
     if (!add_shader(s)) return std::nullopt;
   out.inputs = k.key();
-  out.slot = KeyBuilder().add("archive record").add(code_identity()).add(project).key();
+  out.slot = archive_slot(project);
+  out.setup = setup_key(options);
   return out;
 }
+
+namespace {
+
+// A record's parts (archive_reuse.hpp's table); nullopt when it is not a record this version reads.
+struct RecordParts {
+  CacheKey inputs{};
+  std::vector<IncludeRecord> includes;
+  std::span<const uint8_t> archive;
+};
+std::optional<RecordParts> read_record(std::span<const uint8_t> payload) {
+  PayloadReader r(payload);
+  RecordParts out;
+  uint32_t version = 0, count = 0;
+  if (!r.u32(version) || version != kRecordVersion || !r.raw(out.inputs.data(), out.inputs.size()) ||
+      !r.u32(count) || !r.room_for(count, 45))
+    return std::nullopt;
+  out.includes.resize(count);
+  for (IncludeRecord& rec : out.includes)
+    if (!read_include_record(r, rec)) return std::nullopt;
+  uint64_t size = 0;
+  if (!r.u64(size)) return std::nullopt;
+  uint8_t padding[kArchiveAlignment];
+  const size_t at = payload.size() - r.left();
+  if (!r.raw(padding, (kArchiveAlignment - at % kArchiveAlignment) % kArchiveAlignment)) return std::nullopt;
+  if (size != r.left()) return std::nullopt;
+  out.archive = payload.last(r.left());
+  return out;
+}
+
+}  // namespace
 
 std::optional<RecordedArchive> find_archive(CompileCache& cache, const ArchiveKey& key,
                                             const CompileOptions& options,
                                             std::vector<InputFile>& files_read) {
   const auto entry = cache.find_local(key.slot);
   if (!entry) return std::nullopt;
-  PayloadReader r(entry->payload);
-  uint32_t version = 0, count = 0;
-  CacheKey made_from{};
-  if (!r.u32(version) || version != kRecordVersion || !r.raw(made_from.data(), made_from.size()) ||
-      made_from != key.inputs || !r.u32(count) || !r.room_for(count, 45))
-    return std::nullopt;
+  const auto parts = read_record(entry->payload);
+  if (!parts || parts->inputs != key.inputs) return std::nullopt;
   std::vector<InputFile> includes;
   IncludeTexts texts;  // (an #include that many shaders share is read once)
-  for (uint32_t i = 0; i < count; ++i) {
-    IncludeRecord rec;
+  for (const IncludeRecord& rec : parts->includes) {
     uint64_t included = 0;  // (each within the bound alone: the compiles that made the record were)
-    if (!read_include_record(r, rec)) return std::nullopt;
     auto file = include_still_holds(rec, options, included, &texts);
     if (!file) return std::nullopt;
     includes.push_back(std::move(*file));
   }
-  uint32_t low = 0, high = 0;
-  if (!r.u32(low) || !r.u32(high)) return std::nullopt;
-  uint8_t padding[kArchiveAlignment];
-  const size_t at = entry->payload.size() - r.left();
-  if (!r.raw(padding, (kArchiveAlignment - at % kArchiveAlignment) % kArchiveAlignment)) return std::nullopt;
-  const uint64_t size = uint64_t(high) << 32 | low;
-  if (size != r.left()) return std::nullopt;
   files_read.insert(files_read.end(), key.shader_files.begin(), key.shader_files.end());
   files_read.insert(files_read.end(), includes.begin(), includes.end());
-  return RecordedArchive{entry->holder, entry->payload.last(r.left())};
+  return RecordedArchive{entry->holder, parts->archive};
+}
+
+std::optional<RecordedArchive> find_unchanged_archive(CompileCache& cache, const PackOptions& options,
+                                                      std::string_view project,
+                                                      std::vector<InputFile>& files_read) {
+  const CacheKey slot = archive_slot(project);
+  const auto stamped = unchanged_inputs(cache, slot, setup_key(options), options.notation);
+  if (!stamped) return std::nullopt;
+  const auto entry = cache.find_local(slot);
+  if (!entry) return std::nullopt;
+  const auto parts = read_record(entry->payload);
+  if (!parts || parts->inputs != stamped->inputs) return std::nullopt;
+  // Each #include found where it was, and stamped: the record may have been written after the stamps by
+  // a pack that found an #include elsewhere (the inputs key leaves #includes out), whose bytes the stamps
+  // then do not vouch for.
+  std::set<std::filesystem::path> stamped_paths;
+  for (const InputFile& f : stamped->files) stamped_paths.insert(f.path);
+  for (const IncludeRecord& rec : parts->includes) {
+    const auto path = resolve_include(rec.header, rec.includer, rec.local, options.compile.include_dirs);
+    if (display_path(path) != rec.path ||
+        !stamped_paths.count((working_directory() / path).lexically_normal()))
+      return std::nullopt;
+  }
+  files_read = stamped->files;
+  return RecordedArchive{entry->holder, parts->archive};
 }
 
 std::string record_archive(CompileCache& cache, const ArchiveKey& key,
                            const std::vector<const CompiledShader*>& compiles,
-                           std::span<const uint8_t> archive, const std::vector<InputFile>& inputs) {
+                           std::span<const uint8_t> archive, const std::vector<InputFile>& inputs,
+                           const std::vector<FileLookup>& lookups,
+                           std::chrono::system_clock::time_point started) {
   for (const CompiledShader* c : compiles)
     if (!c->files_read.empty())
       if (auto hashed = key.shader_texts.find(c->files_read.front().path);
@@ -119,10 +177,11 @@ std::string record_archive(CompileCache& cache, const ArchiveKey& key,
       if (seen.emplace(rec.header, rec.includer, rec.local, rec.path).second) records.push_back(&rec);
   w.u32(uint32_t(records.size()));
   for (const IncludeRecord* rec : records) write_include_record(w, *rec);
-  w.u32(uint32_t(archive.size()));
-  w.u32(uint32_t(uint64_t(archive.size()) >> 32));
+  w.u64(archive.size());
   w.bytes.resize((w.bytes.size() + kArchiveAlignment - 1) / kArchiveAlignment * kArchiveAlignment);
-  return cache.store_local(key.slot, w.bytes, archive, inputs);
+  if (std::string warning = cache.store_local(key.slot, w.bytes, archive, inputs); !warning.empty())
+    return warning;
+  return write_input_stamps(cache, key.slot, {key.inputs, key.setup, lookups, inputs}, started);
 }
 
 }  // namespace statepack::packager

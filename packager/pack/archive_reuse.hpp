@@ -30,6 +30,7 @@
 // --dump-dir or --shard (they do more than write the archive), nor for notation held in memory.
 #pragma once
 
+#include <chrono>
 #include <map>
 #include <memory>
 #include <optional>
@@ -44,11 +45,18 @@ namespace statepack::packager {
 struct ArchiveKey {
   CacheKey slot{};                      // the project's record
   CacheKey inputs{};                    // what the archive was made from
+  CacheKey setup{};                     // statepack's code and the options (setup_key)
   std::vector<InputFile> shader_files;  // read to make the key: the depfile's and the output checks'
   // Each shader file's text as the key hashed it, by the path a compile lists it under: a file saved
   // between the key and the compile made another archive than the key says, and is not recorded.
   std::map<std::filesystem::path, Digest> shader_texts;
 };
+
+// Where the project named `project` keeps its archive record (ArchiveKey::slot).
+CacheKey archive_slot(std::string_view project);
+// statepack's code and the options that decide the archive's bytes: the part of the inputs key known
+// before anything is read (input_stamps.hpp).
+CacheKey setup_key(const PackOptions& options);
 
 // The key of this pack's archive record; nullopt when the pack has none (see above), or a shader file
 // cannot be read (the compile reports why).
@@ -65,12 +73,21 @@ struct RecordedArchive {
 std::optional<RecordedArchive> find_archive(CompileCache& cache, const ArchiveKey& key,
                                             const CompileOptions& options,
                                             std::vector<InputFile>& files_read);
+// The same without reading the notation or any shader: when the project's input stamps
+// (input_stamps.hpp) still hold, each #include the record lists is found where it was, and the record is
+// the one the stamps vouch for. `files_read` gets every file the stamps list.
+std::optional<RecordedArchive> find_unchanged_archive(CompileCache& cache, const PackOptions& options,
+                                                      std::string_view project,
+                                                      std::vector<InputFile>& files_read);
 
 // Records `archive` under `key` with the #includes of `compiles`, written now (after the pack's own flush);
 // a warning, or "" when written (or left out: a shader file whose compiled text is not the one the key
-// hashed). Never over one of `inputs`.
+// hashed). Never over one of `inputs`. Then stamps `inputs` (input_stamps.hpp) with the notation's
+// `lookups`, for a pack that began reading at `started`.
 std::string record_archive(CompileCache& cache, const ArchiveKey& key,
                            const std::vector<const CompiledShader*>& compiles,
-                           std::span<const uint8_t> archive, const std::vector<InputFile>& inputs);
+                           std::span<const uint8_t> archive, const std::vector<InputFile>& inputs,
+                           const std::vector<FileLookup>& lookups,
+                           std::chrono::system_clock::time_point started);
 
 }  // namespace statepack::packager

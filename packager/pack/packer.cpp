@@ -25,11 +25,12 @@
 #include "layout/vertex_semantics.hpp"
 #include "notation/input_file.hpp"
 #include "pack/archive_reuse.hpp"
+#include "pack/compiler_warmup.hpp"
+#include "pack/input_stamps.hpp"
 #include "shaders/compile_cache.hpp"
 #include "shaders/gl_translate.hpp"
 #include "shaders/nesting_bound.hpp"
 #include "shaders/spirv_reflect.hpp"
-#include "support/parallel_for.hpp"
 #include "version.hpp"
 
 namespace statepack::packager {
@@ -99,8 +100,9 @@ std::optional<std::string> depfile_escape(const std::string& path, std::string* 
 }
 
 // Runs one job of the compile stages on a thread with the compiler's stack (nesting_bound.hpp):
-// glslang, SPIRV-Tools and SPIRV-Cross recurse as deep as a shader nests. The error when no such
-// thread can be made, else "".
+// glslang, SPIRV-Tools and SPIRV-Cross recurse as deep as a shader nests. In the compile stages'
+// loops (parallel_on_stacks) that is the loop's own thread. The error when no such thread can be made,
+// else "".
 std::string on_compile_stack(const std::function<void()>& job) {
   std::string error;
   run_on_stack(kCompileStackBytes, job, error);
@@ -190,7 +192,7 @@ class Finalizer {
   void run(uint32_t threads) {
     CompileOptions unoptimized = options_;
     unoptimized.optimization = Optimization::none;
-    detail::parallel_for(jobs_.size(), threads, [&](size_t i) {
+    parallel_on_stacks(jobs_.size(), threads, kCompileStackBytes, [&](size_t i) {
       const CompileOptions& options = jobs_[i].optimize ? options_ : unoptimized;
       if (finalized_from_cache(jobs_[i].words, options, cache_)) return;
       if (std::string failed =
@@ -298,7 +300,7 @@ CompiledShaders compile_shaders(const Notation& notation, const PackOptions& opt
   if (!pipelines_only)
     for (const auto& s : notation.shaders) out.standalone_units.push_back(unit_for(s));
   ShaderMessages compile_errors;  // an error in a shared #include is reported once
-  detail::parallel_for(out.units.size(), options.threads, [&](size_t i) {
+  parallel_on_stacks(out.units.size(), options.threads, kCompileStackBytes, [&](size_t i) {
     CompiledUnit& u = out.units[i];
     if (u.desc.broken) return;  // its notation errors are reported; compiling it would guess
     if (options.shards) {       // --shard: another machine compiles what falls in another shard
@@ -544,7 +546,7 @@ CompiledShaders opengl_units(const CompiledShaders& vulkan, const PackOptions& o
   for (const auto& units : vulkan.pipeline_units)
     for (size_t u : units) used[u] = 1;
   ShaderMessages direct_errors;
-  detail::parallel_for(vulkan.units.size(), options.threads, [&](size_t u) {
+  parallel_on_stacks(vulkan.units.size(), options.threads, kCompileStackBytes, [&](size_t u) {
     if (!used[u] || !vulkan.units[u].compiled.ok) return;
     if (std::string failed = on_compile_stack(
             [&] { make_opengl_unit(vulkan.units[u], options, out.units[u], direct_errors, diag, cache); });
@@ -888,12 +890,13 @@ int print_written(std::span<const uint8_t> bytes, std::ostream& out, std::ostrea
 // bundle stays the one of the shaders' entries, for the pack after the next change.
 int write_reused(const PackOptions& options, std::span<const uint8_t> bytes, const format::Contents& contents,
                  const std::vector<InputFile>& inputs, PackSession* session, PhaseTimes& times,
-                 std::ostream& out, std::ostream& err) {
+                 std::ostream& out, std::ostream& err, bool by_stamps) {
   if (session)
     for (const auto& f : inputs) session->files_read.push_back(f.path);
-  times.note(
-      "cache: nothing changed since the pack that recorded this archive: its bytes reused, no "
-      "shader looked up");
+  times.note(by_stamps ? "cache: nothing changed since the pack that recorded this archive (every input "
+                         "stats as stamped): its bytes reused, nothing read"
+                       : "cache: nothing changed since the pack that recorded this archive: its bytes "
+                         "reused, no shader looked up");
   times.done("find the archive record");
   if (!options.check_only)
     if (int code = write_outputs(options, inputs, bytes, err); code != kExitSuccess) return code;
@@ -917,7 +920,8 @@ std::optional<ArchiveKey> archive_record_key(const PackOptions& options, const P
 // nullopt: a normal pack.
 std::optional<int> reuse_archive(const PackOptions& options, CompileCache& cache, const ArchiveKey& record,
                                  const Notation& notation, PackSession* session, PhaseTimes& times,
-                                 std::ostream& out, std::ostream& err) {
+                                 std::ostream& out, std::ostream& err,
+                                 std::chrono::system_clock::time_point started) {
   std::vector<InputFile> inputs = notation.files_read;
   const auto archive = find_archive(cache, record, options.compile, inputs);
   // Decoded before it is written (its structure and checksum; its modules were checked when it was
@@ -925,7 +929,14 @@ std::optional<int> reuse_archive(const PackOptions& options, CompileCache& cache
   if (!archive) return std::nullopt;
   auto contents = format::decode(archive->bytes);
   if (!contents) return std::nullopt;
-  return write_reused(options, archive->bytes, *contents, inputs, session, times, out, err);
+  const int code = write_reused(options, archive->bytes, *contents, inputs, session, times, out, err, false);
+  // The stamps did not hold (or there were none): stamped again, so that the next pack reads nothing.
+  if (code == kExitSuccess)
+    if (std::string warning = write_input_stamps(
+            cache, record.slot, {record.inputs, record.setup, notation.lookups, inputs}, started);
+        !warning.empty())
+      err << "statepack: warning: --cache-dir: " << printable(warning) << "\n";
+  return code;
 }
 
 // Records this pack's archive for the next pack of the same inputs (archive_reuse.hpp) on a thread of its
@@ -933,21 +944,53 @@ std::optional<int> reuse_archive(const PackOptions& options, CompileCache& cache
 // beside its entries).
 void record_in_background(ReportedThread& thread, CompileCache& cache, const ArchiveKey& key,
                           const CompiledShaders& compiled, const CompiledShaders& gl_compiled,
-                          const std::vector<InputFile>& inputs, std::span<const uint8_t> bytes,
+                          const std::vector<InputFile>& inputs, const std::vector<FileLookup>& lookups,
+                          std::chrono::system_clock::time_point started, std::span<const uint8_t> bytes,
                           std::ostream& err) {
   std::vector<const CompiledShader*> compiles;
   for (const auto* c : {&compiled, &gl_compiled})
     for (const auto& u : c->units) compiles.push_back(&u.compiled);
-  thread.start(
-      [&cache, key, compiles, &inputs, bytes] { return record_archive(cache, key, compiles, bytes, inputs); },
-      [&err](const std::string& warning) {
-        if (!warning.empty()) err << "statepack: warning: --cache-dir: " << printable(warning) << "\n";
-      });
+  thread.start([&cache, key, compiles, &inputs, &lookups, started,
+                bytes] { return record_archive(cache, key, compiles, bytes, inputs, lookups, started); },
+               [&err](const std::string& warning) {
+                 if (!warning.empty())
+                   err << "statepack: warning: --cache-dir: " << printable(warning) << "\n";
+               });
 }
 
 }  // namespace
 
+namespace {
+
+// A notation that defines nothing makes an empty archive: said, as it is seldom meant.
+void note_if_empty(const Notation& notation, const PackOptions& options, Diagnostics& diag) {
+  if (notation.pipelines.empty() && notation.shaders.empty() && notation.signatures.empty() &&
+      notation.render_passes.empty() && !diag.has_errors())
+    diag.note({options.inputs.empty() ? "" : options.inputs.front().string()},
+              "no pipelines, shaders, signatures or render passes: the archive is empty");
+}
+
+}  // namespace
+
+std::optional<int> pack_if_unchanged(const PackOptions& options, std::ostream& out, std::ostream& err) {
+  if (!options.cache_dir || !options.archive_reuse || options.dump_dir || options.shards ||
+      options.notation.memory_files || !output_refusal(options).empty())
+    return std::nullopt;
+  PhaseTimes times(options.time_report ? &err : nullptr);
+  std::string error;
+  auto cache = CompileCache::open(*options.cache_dir, options.cache_max_bytes, error);
+  if (!cache) return std::nullopt;
+  cache->set_signing_key(options.cache_signing_key);
+  std::vector<InputFile> inputs;
+  const auto archive = find_unchanged_archive(*cache, options, bundle_project(options), inputs);
+  if (!archive) return std::nullopt;
+  auto contents = format::decode(archive->bytes);  // (as a reuse does: what a pack writes must load)
+  if (!contents) return std::nullopt;
+  return write_reused(options, archive->bytes, *contents, inputs, nullptr, times, out, err, true);
+}
+
 int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err, PackSession* session) {
+  const auto started = std::chrono::system_clock::now();  // (before anything is read: input_stamps.hpp)
   PhaseTimes times(options.time_report ? &err : nullptr);
   if (session) session->files_read.clear();
   if (std::string reason = output_refusal(options); !reason.empty()) {
@@ -970,14 +1013,13 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err, P
   for (const auto& input : options.inputs) read_notation(input, options.notation, notation, diag);
   resolve_references(notation, diag);
   times.done("read notation");
+  CompilerWarmup warmup;  // (joined when the pack ends)
+  warmup.start(notation, options, cached, bundle_project(options));
   const std::optional<ArchiveKey> record = archive_record_key(options, session, cached, notation, diag);
   if (record)
-    if (auto code = reuse_archive(options, *cached, *record, notation, session, times, out, err))
+    if (auto code = reuse_archive(options, *cached, *record, notation, session, times, out, err, started))
       return *code;
-  if (notation.pipelines.empty() && notation.shaders.empty() && notation.signatures.empty() &&
-      notation.render_passes.empty() && !diag.has_errors())
-    diag.note({options.inputs.empty() ? "" : options.inputs.front().string()},
-              "no pipelines, shaders, signatures or render passes: the archive is empty");
+  note_if_empty(notation, options, diag);
   // Layouts and pipelines are planned only from an error-free notation; shaders compile regardless.
   const bool notation_ok = !diag.has_errors();
   // OpenGL is made from the Vulkan compile (translated, or checked against it), so --opengl alone
@@ -1055,7 +1097,9 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err, P
   // Only a pack that printed nothing is recorded: a reuse prints nothing either.
   const bool recorded = record && diag.all().empty();
   ReportedThread recording;
-  if (recorded) record_in_background(recording, *cached, *record, compiled, gl_compiled, inputs, bytes, err);
+  if (recorded)
+    record_in_background(recording, *cached, *record, compiled, gl_compiled, inputs, notation.lookups,
+                         started, bytes, err);
   if (!options.check_only)
     if (int code = write_outputs(options, inputs, bytes, err); code != kExitSuccess) return code;
   times.done("write");

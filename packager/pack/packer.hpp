@@ -72,6 +72,11 @@ struct PackSession {
   std::vector<std::filesystem::path> files_read;
 };
 
+// A pack whose inputs all stat as the project's input stamps say (pack/input_stamps.hpp): the recorded
+// archive written without reading any input; its ExitCode. nullopt, having printed nothing, when the
+// stamps do not hold (or cannot: no --cache-dir, --no-archive-reuse, --dump-dir, --shard): run_pack then.
+std::optional<int> pack_if_unchanged(const PackOptions& options, std::ostream& out, std::ostream& err);
+
 // Runs a whole pack; returns an ExitCode. Diagnostics are printed to `err`, progress to `out`. A pack
 // that fails writes nothing: an archive already at --output is left as it was.
 int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err,

@@ -51,6 +51,10 @@ class PayloadWriter {
   void u32(uint32_t v) {
     for (int i = 0; i < 4; ++i) bytes.push_back(uint8_t(v >> (8 * i)));
   }
+  void u64(uint64_t v) {
+    u32(uint32_t(v));
+    u32(uint32_t(v >> 32));
+  }
   void str(std::string_view s) {
     u32(uint32_t(s.size()));
     bytes.insert(bytes.end(), s.begin(), s.end());
@@ -70,6 +74,12 @@ class PayloadReader {
     v = 0;
     for (int i = 0; i < 4; ++i) v |= uint32_t(bytes_[at_ + size_t(i)]) << (8 * i);
     at_ += 4;
+    return true;
+  }
+  bool u64(uint64_t& v) {
+    uint32_t low = 0, high = 0;
+    if (!u32(low) || !u32(high)) return false;
+    v = uint64_t(high) << 32 | low;
     return true;
   }
   bool str(std::string& s) {

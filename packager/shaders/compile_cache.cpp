@@ -625,6 +625,17 @@ std::optional<CompileCache::LocalEntry> CompileCache::find_local(const CacheKey&
   return LocalEntry{mapped->map, payload};
 }
 
+std::optional<fs::file_time_type> CompileCache::local_time(const CacheKey& key) const {
+  if (dir_.empty()) return std::nullopt;
+  const std::string name = hex(key);
+  std::error_code ec;
+  const fs::file_status status = fs::symlink_status(dir_ / name.substr(0, 2) / name, ec);
+  if (ec || !fs::is_regular_file(status)) return std::nullopt;
+  const auto time = fs::last_write_time(dir_ / name.substr(0, 2) / name, ec);
+  if (ec) return std::nullopt;
+  return time;
+}
+
 void CompileCache::keep(const CacheKey& key, std::vector<uint8_t> payload) {
   std::lock_guard lock(mutex_);
   pending_.push_back({key, std::move(payload), true});

@@ -121,6 +121,9 @@ class CompileCache {
     std::span<const uint8_t> payload;
   };
   std::optional<LocalEntry> find_local(const CacheKey& key);
+  // When the entry under `key` in the cache directory was last written (or used: the cache's LRU touches
+  // what a pack uses); nullopt when it has none.
+  std::optional<std::filesystem::file_time_type> local_time(const CacheKey& key) const;
   // Writes the record now (`payload` then `payload_tail`: an archive is not copied into one buffer), once
   // the pack's flush is done: the archive exists only after it. Returns a warning, "" when written.
   std::string store_local(const CacheKey& key, std::span<const uint8_t> payload,

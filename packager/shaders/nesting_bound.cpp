@@ -3,9 +3,12 @@
 #include <pthread.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cctype>
 #include <cstring>
 #include <exception>
+#include <mutex>
+#include <thread>
 #include <vector>
 
 namespace statepack::packager {
@@ -108,40 +111,88 @@ size_t nesting_bound(std::string_view text) {
   return worst;
 }
 
-bool run_on_stack(size_t stack_bytes, const std::function<void()>& work, std::string& error) {
+namespace {
+
+// The stack of the thread this runs on when parallel_on_stacks made it, else 0.
+thread_local size_t t_stack_bytes = 0;
+
+// pthread_create with a `stack_bytes` stack; the error's text, or "" when made.
+std::string make_thread(pthread_t& thread, size_t stack_bytes, void* (*run)(void*), void* argument) {
   pthread_attr_t attributes;
-  if (int e = pthread_attr_init(&attributes); e != 0) {
-    error = std::string("cannot make a compile thread: ") + std::strerror(e);
-    return false;
+  if (int e = pthread_attr_init(&attributes); e != 0)
+    return std::string("cannot make a compile thread: ") + std::strerror(e);
+  int e = pthread_attr_setstacksize(&attributes, stack_bytes);
+  if (e == 0) e = pthread_create(&thread, &attributes, run, argument);
+  pthread_attr_destroy(&attributes);
+  if (e != 0)
+    return "cannot make a compile thread with a " + std::to_string(stack_bytes >> 20) +
+           " MiB stack (reserved, not used): " + std::strerror(e);
+  return "";
+}
+
+}  // namespace
+
+bool run_on_stack(size_t stack_bytes, const std::function<void()>& work, std::string& error) {
+  if (t_stack_bytes >= stack_bytes) {  // already on such a stack: one of parallel_on_stacks' threads
+    work();
+    return true;
   }
   struct Call {
     const std::function<void()>* work;
     std::exception_ptr thrown;  // handed back to the caller's thread
   } call{&work, nullptr};
   pthread_t thread;
-  int e = pthread_attr_setstacksize(&attributes, stack_bytes);
-  if (e == 0)
-    e = pthread_create(
-        &thread, &attributes,
-        [](void* argument) -> void* {
-          auto* c = static_cast<Call*>(argument);
-          try {
-            (*c->work)();
-          } catch (...) {
-            c->thrown = std::current_exception();
-          }
-          return nullptr;
-        },
-        &call);
-  pthread_attr_destroy(&attributes);
-  if (e != 0) {
-    error = "cannot make a compile thread with a " + std::to_string(stack_bytes >> 20) +
-            " MiB stack (reserved, not used): " + std::strerror(e);
-    return false;
-  }
+  error = make_thread(
+      thread, stack_bytes,
+      [](void* argument) -> void* {
+        auto* c = static_cast<Call*>(argument);
+        try {
+          (*c->work)();
+        } catch (...) {
+          c->thrown = std::current_exception();
+        }
+        return nullptr;
+      },
+      &call);
+  if (!error.empty()) return false;
   pthread_join(thread, nullptr);
   if (call.thrown) std::rethrow_exception(call.thrown);
   return true;
+}
+
+void parallel_on_stacks(size_t count, uint32_t threads, size_t stack_bytes,
+                        const std::function<void(size_t)>& work) {
+  struct Loop {
+    const std::function<void(size_t)>* work;
+    size_t count;
+    size_t stack_bytes;
+    std::atomic<size_t> next{0};
+    std::mutex mutex;
+    std::exception_ptr thrown;  // the first; the others stop taking work
+  } loop{&work, count, stack_bytes};
+  auto run = [](void* argument) -> void* {
+    auto* l = static_cast<Loop*>(argument);
+    t_stack_bytes = l->stack_bytes;
+    for (size_t i = l->next++; i < l->count; i = l->next++) try {
+        (*l->work)(i);
+      } catch (...) {
+        std::lock_guard<std::mutex> lock(l->mutex);
+        if (!l->thrown) l->thrown = std::current_exception();
+        l->next = l->count;
+      }
+    return nullptr;
+  };
+  size_t n = threads ? threads : std::max(1u, std::thread::hardware_concurrency());
+  n = std::min(n, count);
+  std::vector<pthread_t> pool(n);
+  size_t made = 0;
+  while (made < n && make_thread(pool[made], stack_bytes, run, &loop).empty()) ++made;
+  if (made == 0) {  // the system makes no such thread: each job says so through run_on_stack
+    for (size_t i = 0; i < count; ++i) work(i);
+    return;
+  }
+  for (size_t i = 0; i < made; ++i) pthread_join(pool[i], nullptr);
+  if (loop.thrown) std::rethrow_exception(loop.thrown);
 }
 
 }  // namespace statepack::packager

@@ -6,6 +6,7 @@
 // refused by name before any recursion starts. The bounds are far beyond what hand-written or
 // generated shaders need: glslang's own GLSL parser stops at 10,000 nested brackets.
 #include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <string>
 #include <string_view>
@@ -32,8 +33,18 @@ size_t bracket_depth(std::string_view text, size_t* line = nullptr);
 // operator, whose chain nests like any other. Directive lines (#version, #line, ...) do not count.
 size_t nesting_bound(std::string_view preprocessed);
 
-// Runs `work` on a new thread with a `stack_bytes` stack and waits for it. False (with `error` set) when
-// the system cannot make such a thread; `work` then has not run.
+// Runs `work` on a thread with a `stack_bytes` stack and waits for it: the calling thread itself when it
+// is one of parallel_on_stacks' with such a stack, else a new one. False (with `error` set) when the
+// system cannot make such a thread; `work` then has not run.
 bool run_on_stack(size_t stack_bytes, const std::function<void()>& work, std::string& error);
+
+// Runs work(i) for every i in [0, count) on up to `threads` threads (0: one per core) with
+// `stack_bytes` stacks, each taking the next index; the calling thread waits, and the first exception
+// thrown is rethrown to it once every thread has stopped. The threads live for the whole loop, so the
+// stack pages a compile touched and the thread's malloc arena serve every job it takes: a thread per
+// job faulted both in again (~15 us a page on a VM). When the system makes no such thread the loop runs
+// on the calling thread, where run_on_stack tries again for each job and says why it cannot.
+void parallel_on_stacks(size_t count, uint32_t threads, size_t stack_bytes,
+                        const std::function<void(size_t)>& work);
 
 }  // namespace statepack::packager

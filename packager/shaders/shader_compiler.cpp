@@ -532,6 +532,35 @@ std::string nesting_problem(const ShaderDesc& shader, const CompileOptions& opti
   return "";
 }
 
+// A GLSL text's #version directive line ("#version 450 core"), or "" when it has none: the first line
+// whose first token is # and whose second is version, of at most 200 characters.
+std::string version_line(std::string_view source) {
+  size_t at = 0;
+  while (at < source.size()) {
+    size_t end = source.find('\n', at);
+    if (end == std::string_view::npos) end = source.size();
+    std::string_view line = source.substr(at, end - at);
+    const size_t hash = line.find_first_not_of(" \t\r");
+    if (hash != std::string_view::npos && line[hash] == '#') {
+      const size_t word = line.find_first_not_of(" \t", hash + 1);
+      if (word != std::string_view::npos && line.substr(word, 7) == "version")
+        return line.size() <= 200 ? std::string(line) + '\n' : "";
+    }
+    at = end + 1;
+  }
+  return "";
+}
+
+// What glslang is asked to check and report (prepare_compiler asks the same: it is part of the key of
+// glslang's built-in tables). EShMsgEnhanced: the first error only. glslang stops at the first error of a
+// file but not of an #include: after an error in the included file it went on to report a confused
+// second one at the includer's line after the #include; HLSL also adds follow-on errors ("Could not
+// perform requested binary operation") to the one that matters.
+EShMessages compile_messages(bool hlsl, const CompileOptions& options) {
+  return static_cast<EShMessages>(EShMsgSpvRules | (options.opengl ? 0 : int(EShMsgVulkanRules)) |
+                                  EShMsgEnhanced | (hlsl ? int(EShMsgReadHlsl) : 0));
+}
+
 // glslang from source to linked, legalized SPIR-V in `result`; false with the errors reported.
 bool compile_source(const ShaderDesc& shader, const CompileOptions& options, const std::string& source,
                     const std::string& file_name, CompiledShader& result, ShaderMessages& errors) {
@@ -548,12 +577,7 @@ bool compile_source(const ShaderDesc& shader, const CompileOptions& options, con
   if (!hlsl && source.find("GL_ARB_shading_language_include") != std::string::npos)
     environment.preamble.insert(0, "#extension GL_GOOGLE_include_directive : enable\n");
   configure(ts, shader, options, stage, environment.preamble);
-  // EShMsgEnhanced: the first error only. glslang stops at the first error of a file but not of an
-  // #include: after an error in the included file it went on to report a confused second one at the
-  // includer's line after the #include; HLSL also adds follow-on errors ("Could not perform requested
-  // binary operation") to the one that matters.
-  auto messages = static_cast<EShMessages>(EShMsgSpvRules | (options.opengl ? 0 : int(EShMsgVulkanRules)) |
-                                           EShMsgEnhanced | (hlsl ? int(EShMsgReadHlsl) : 0));
+  const EShMessages messages = compile_messages(hlsl, options);
   std::error_code ec;
   Includer includer(options.include_dirs, result.files_read,
                     shader.file.empty() ? fs::path() : fs::weakly_canonical(shader.file, ec),
@@ -611,6 +635,31 @@ std::string unit_key(const ShaderDesc& s) {
                     std::to_string(s.glsl_version) + '\0' + std::to_string(s.optimize);
   for (const auto& [name, value] : s.macros) key += '\0' + name + '=' + value;
   return key;
+}
+
+void prepare_compiler(const ShaderDesc& shader, const CompileOptions& options) {
+  if (shader.language == SourceLanguage::spirv) return;
+  const bool hlsl = shader.language == SourceLanguage::hlsl;
+  // Only the #version line (GLSL): it picks the tables; the shader's text is for its compile, which
+  // checks how deeply it nests before glslang recurses through it.
+  std::string text;
+  if (!hlsl) {
+    std::string source = shader.source;
+    if (!shader.file.empty())
+      source = read_input_file(shader.file, display_path(shader.file), options.max_input_bytes).text;
+    text = version_line(source);
+  }
+  initialize_glslang();
+  const EShLanguage stage = to_glslang_stage(shader.stage);
+  glslang::TShader ts(stage);
+  const char* strings[] = {text.c_str()};
+  ts.setStrings(strings, 1);
+  const ShaderEnvironment environment = shader_environment(shader, options);
+  configure(ts, shader, options, stage, "");
+  glslang::TShader::ForbidIncluder no_includes;
+  std::string preprocessed;
+  ts.preprocess(GetDefaultResources(), hlsl ? 450 : environment.default_glsl_version, ENoProfile, false,
+                false, compile_messages(hlsl, options), &preprocessed, no_includes);
 }
 
 CompiledShader compile_shader(const ShaderDesc& original, const CompileOptions& options,

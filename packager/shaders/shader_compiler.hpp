@@ -68,6 +68,12 @@ struct CompiledShader {
 // (a pack compiles each distinct one once).
 std::string unit_key(const ShaderDesc& shader);
 
+// Builds glslang's built-in symbol tables for what compiling `shader` needs (its language, #version and
+// target), as its compile would: glslang builds them once per process, for every stage at once (~50 ms,
+// serial under a lock of glslang's). A pack calls it on another core while it reads and hashes, for a
+// shader it will likely compile; whatever it cannot read or parse is left to that compile to report.
+void prepare_compiler(const ShaderDesc& shader, const CompileOptions& options);
+
 // Compiles one shader. Errors are reported against the shader's own file and line (or the #include's);
 // `messages` collects them from every shader, so an error in a shared #include is reported once.
 CompiledShader compile_shader(const ShaderDesc& shader, const CompileOptions& options,

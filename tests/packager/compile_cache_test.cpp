@@ -6,6 +6,7 @@
 #include <sys/stat.h>
 
 #include <algorithm>
+#include <chrono>
 
 #include <filesystem>
 #include <fstream>
@@ -471,4 +472,102 @@ TEST_F(CompileCacheTest, APackThatPrintsANoteIsNotRecorded) {
   EXPECT_EQ(last_output_.find(kReused), std::string::npos) << last_output_;
   EXPECT_NE(last_output_.find("used by no pipeline"), std::string::npos) << last_output_;
   EXPECT_EQ(read_file(dir_ / "second.spk"), read_file(dir_ / "first.spk"));
+}
+
+// --- input stamps (input_stamps.hpp): a repack whose inputs all stat as stamped reads none of them ---
+
+constexpr const char* kStamped = "(every input stats as stamped)";
+
+// A file is stamped only once it is older than the racy window (a second) when a pack starts: the
+// tests wait that long where they need stamps.
+static void wait_out_the_racy_window() {
+  std::this_thread::sleep_for(std::chrono::milliseconds(1100));
+}
+
+TEST_F(CompileCacheTest, AnUnchangedProjectReadsNothingWhenEveryInputStatsAsStamped) {
+  wait_out_the_racy_window();
+  pack("first.spk", "--depfile first.d", true, true);
+  EXPECT_EQ(last_output_.find(kReused), std::string::npos) << last_output_;
+  pack("second.spk", "--depfile second.d", true, true);
+  EXPECT_NE(last_output_.find(kStamped), std::string::npos) << last_output_;
+  EXPECT_EQ(last_output_.find("time: read notation"), std::string::npos) << last_output_;
+  EXPECT_EQ(read_file(dir_ / "second.spk"), clean_bytes());
+  std::string expected = read_file(dir_ / "first.d");  // every file, #includes too
+  expected.replace(expected.find("first.spk"), 9, "second.spk");
+  EXPECT_EQ(read_file(dir_ / "second.d"), expected);
+  // An output that is one of the inputs (a hard link to a shader) is refused as a pack refuses it.
+  fs::create_hard_link(dir_ / "b.comp", dir_ / "linked.spk");
+  const std::string shader = read_file(dir_ / "b.comp");
+  const CommandResult refused =
+      run_command("cd '" + dir_.string() +
+                  "' && '" STATEPACK_EXE
+                  "' pack -i project.json -s early -s inc -o linked.spk --vulkan --cache-dir cache");
+  EXPECT_NE(refused.exit_code, 0) << refused.output;
+  EXPECT_NE(refused.output.find("never replaces its inputs"), std::string::npos) << refused.output;
+  EXPECT_EQ(read_file(dir_ / "b.comp"), shader);
+}
+
+// Every change of a file's bytes, of where a name is found, or of the options misses the stamps: the pack
+// reads its inputs (and reuses the record only when their bytes are the same), and stamps them again
+// once they are older than the racy window. A file written within that window is never trusted by stat.
+TEST_F(CompileCacheTest, AnyChangeOfAnInputOrOfWhereItIsFoundMissesTheStamps) {
+  // A fourth pipeline whose shader is found in an -s directory: a file of that name put in an earlier
+  // one is found instead.
+  std::string json = read_file(dir_ / "project.json");
+  json.replace(json.rfind("]}"), 2,
+               R"(, {"PSODesc": {"Name": "C"}, "pCS": {"Desc": {"Name": "C CS"}, "FilePath": "c.comp"}}]})");
+  write_file(dir_ / "project.json", json);
+  const std::string c_shader =
+      "#version 450\nlayout(local_size_x = 8) in;\nlayout(set = 0, binding = 0) buffer Data { uint v[]; } "
+      "data;\nvoid main() { data.v[gl_GlobalInvocationID.x] = 7u; }\n";
+  write_file(dir_ / "inc" / "c.comp", c_shader);
+  wait_out_the_racy_window();
+  pack("first.spk", "", true, true);
+  pack("stamped.spk", "", true, true);
+  ASSERT_NE(last_output_.find(kStamped), std::string::npos) << last_output_;
+
+  const fs::path root = dir_;
+  struct Change {
+    const char* what;
+    std::function<void()> apply;
+    bool same_bytes;  // the record still holds once the files are read
+  };
+  const Change changes[] = {
+      {"an #include's text, same size",
+       [&] { write_file(root / "common.glsl", "uint twice(uint x) { return x * 2u; }\n"); }, false},
+      {"a shader touched, its text the same",
+       [&] { fs::last_write_time(root / "b.comp", fs::file_time_type::clock::now()); }, true},
+      {"a shader replaced by a link to a copy of it",
+       [&] {
+         fs::copy_file(root / "a.comp", root / "a_copy.comp");
+         fs::remove(root / "a.comp");
+         fs::create_symlink("a_copy.comp", root / "a.comp");
+       },
+       true},
+      {"a shader found earlier in the -s directories",
+       [&] { write_file(root / "early" / "c.comp", c_shader + "// early\n"); }, false},
+      {"an #include found earlier in the -s directories",
+       [&] { write_file(root / "early" / "helper.glsl", "uint helper(uint x) { return x + 2u; }\n"); },
+       false},
+  };
+  for (const auto& [what, apply, same_bytes] : changes) {
+    SCOPED_TRACE(what);
+    apply();
+    pack("changed.spk", "", true, true);
+    EXPECT_EQ(last_output_.find(kStamped), std::string::npos) << last_output_;
+    EXPECT_EQ(last_output_.find(kReused) != std::string::npos, same_bytes) << last_output_;
+    EXPECT_EQ(read_file(dir_ / "changed.spk"), clean_bytes());
+    // Changed within the racy window of that pack: not stamped yet, whatever the next pack finds.
+    pack("racy.spk", "", true, true);
+    EXPECT_EQ(last_output_.find(kStamped), std::string::npos) << last_output_;
+    EXPECT_NE(last_output_.find(kReused), std::string::npos) << last_output_;
+    wait_out_the_racy_window();
+    pack("restamped.spk", "", true, true);
+    pack("stamped.spk", "", true, true);
+    EXPECT_NE(last_output_.find(kStamped), std::string::npos) << last_output_;
+    EXPECT_EQ(read_file(dir_ / "stamped.spk"), read_file(dir_ / "changed.spk"));
+  }
+  pack("option.spk", "--strict", true, true);  // the options are part of what the stamps vouch for
+  EXPECT_EQ(last_output_.find(kStamped), std::string::npos) << last_output_;
+  EXPECT_EQ(read_file(dir_ / "option.spk"), clean_bytes("--strict"));
 }

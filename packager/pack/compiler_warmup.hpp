@@ -1,0 +1,39 @@
+#pragma once
+// glslang's built-in tables built ahead. Before its first compile glslang builds the symbol tables of
+// every stage for the shader's #version (~50 ms, once per process, serial under glslang's own lock); in a
+// repack after one shader changed that was the longest stage, while the second core waited. A pack that
+// will likely compile builds them on another core while it hashes its inputs and looks them up in the
+// cache (prepare_compiler); a repack that changed nothing compiles nothing and builds nothing.
+#include <optional>
+#include <thread>
+
+#include "notation/notation.hpp"
+#include "pack/packer.hpp"
+#include "shaders/compile_cache.hpp"
+
+namespace statepack::packager {
+
+// The shader a pack will likely compile first: with the project's archive record written at `recorded`,
+// the first whose file changed after it, or the first of all when a notation file did; nullptr when
+// nothing did (an #include is not looked at: a miss then only compiles without a head start). Without a
+// record, the first shader. Shaders given as SPIR-V compile nothing.
+const ShaderDesc* likely_compile(const Notation& notation,
+                                 const std::optional<std::filesystem::file_time_type>& recorded);
+
+// Runs prepare_compiler on a thread of its own, joined when this object ends (the pack's end).
+class CompilerWarmup {
+ public:
+  CompilerWarmup() = default;
+  CompilerWarmup(const CompilerWarmup&) = delete;
+  CompilerWarmup& operator=(const CompilerWarmup&) = delete;
+  ~CompilerWarmup();
+  // Starts it for what this pack will likely compile: only with an archive record to compare against
+  // (a cache, archive reuse on) and more than one thread.
+  void start(const Notation& notation, const PackOptions& options, const CompileCache* cache,
+             std::string_view project);
+
+ private:
+  std::thread thread_;
+};
+
+}  // namespace statepack::packager

@@ -1,0 +1,108 @@
+#include "input_stamps.hpp"
+
+#include <sys/stat.h>
+
+#include <set>
+
+#include "shaders/cache_payload.hpp"
+
+namespace statepack::packager {
+namespace {
+
+namespace fs = std::filesystem;
+constexpr uint32_t kStampsVersion = 1;
+
+int64_t nanoseconds(const timespec& t) {
+  return int64_t(t.tv_sec) * 1'000'000'000 + t.tv_nsec;
+}
+
+void write_stamp(PayloadWriter& w, const FileStamp& s) {
+  for (uint64_t v : {s.device, s.inode, s.size, uint64_t(s.modified_ns), uint64_t(s.changed_ns)}) w.u64(v);
+}
+
+bool read_stamp(PayloadReader& r, FileStamp& s) {
+  uint64_t modified = 0, changed = 0;
+  if (!r.u64(s.device) || !r.u64(s.inode) || !r.u64(s.size) || !r.u64(modified) || !r.u64(changed))
+    return false;
+  s.modified_ns = int64_t(modified), s.changed_ns = int64_t(changed);
+  return true;
+}
+
+}  // namespace
+
+std::optional<FileStamp> stamp_of(const fs::path& path) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0) return std::nullopt;
+  return FileStamp{uint64_t(st.st_dev), uint64_t(st.st_ino), uint64_t(st.st_size), nanoseconds(st.st_mtim),
+                   nanoseconds(st.st_ctim)};
+}
+
+CacheKey stamps_slot(const CacheKey& record_slot) {
+  return KeyBuilder().add("input stamps").add(record_slot).key();
+}
+
+std::string write_input_stamps(CompileCache& cache, const CacheKey& record_slot, const StampedInputs& stamped,
+                               std::chrono::system_clock::time_point started) {
+  const int64_t trusted_before =
+      std::chrono::duration_cast<std::chrono::nanoseconds>((started - kRacyWindow).time_since_epoch())
+          .count();
+  PayloadWriter w;
+  w.u32(kStampsVersion);
+  w.bytes.insert(w.bytes.end(), stamped.inputs.begin(), stamped.inputs.end());
+  w.bytes.insert(w.bytes.end(), stamped.setup.begin(), stamped.setup.end());
+  w.u32(uint32_t(stamped.lookups.size()));
+  for (const FileLookup& l : stamped.lookups) {
+    w.u32(l.shader ? 1 : 0);
+    w.str(l.name);
+    w.str(l.base_dir.string());
+    w.str(l.found.string());
+  }
+  std::set<fs::path> distinct;  // (a pack lists an #include once per shader that includes it)
+  for (const InputFile& f : stamped.files) distinct.insert(f.path);
+  w.u32(uint32_t(distinct.size()));
+  for (const fs::path& path : distinct) {
+    const auto stamp = stamp_of(path);
+    if (!stamp || stamp->modified_ns >= trusted_before || stamp->changed_ns >= trusted_before) return "";
+    w.str(path.string());
+    write_stamp(w, *stamp);
+  }
+  return cache.store_local(stamps_slot(record_slot), w.bytes, {}, stamped.files);
+}
+
+std::optional<StampedInputs> unchanged_inputs(CompileCache& cache, const CacheKey& record_slot,
+                                              const CacheKey& setup, const NotationOptions& options) {
+  const auto entry = cache.find_local(stamps_slot(record_slot));
+  if (!entry) return std::nullopt;
+  PayloadReader r(entry->payload);
+  StampedInputs out;
+  uint32_t version = 0, lookups = 0, files = 0;
+  if (!r.u32(version) || version != kStampsVersion || !r.raw(out.inputs.data(), out.inputs.size()) ||
+      !r.raw(out.setup.data(), out.setup.size()) || out.setup != setup || !r.u32(lookups) ||
+      !r.room_for(lookups, 16))
+    return std::nullopt;
+  out.lookups.resize(lookups);
+  for (FileLookup& l : out.lookups) {
+    uint32_t kind = 0;
+    std::string base, found;
+    if (!r.u32(kind) || kind > 1 || !r.str(l.name) || !r.str(base) || !r.str(found)) return std::nullopt;
+    l.shader = kind == 1, l.base_dir = base, l.found = found;
+    if (resolve_file(l.name, l.base_dir, l.shader ? options.shader_dirs : options.render_state_dirs,
+                     nullptr) != l.found)
+      return std::nullopt;
+  }
+  if (!r.u32(files) || !r.room_for(files, 44)) return std::nullopt;
+  out.files.resize(files);
+  for (InputFile& f : out.files) {
+    std::string path;
+    FileStamp stamped;
+    if (!r.str(path) || !read_stamp(r, stamped)) return std::nullopt;
+    f.path = path;
+    const auto now = stamp_of(f.path);
+    if (!now || *now != stamped) return std::nullopt;
+    f.identity = {stamped.device, stamped.inode};
+  }
+  if (!r.done()) return std::nullopt;
+  return out;
+}
+
+}  // namespace statepack::packager

@@ -1,0 +1,76 @@
+// Input stamps: a repack whose inputs have not changed writes the recorded archive (archive_reuse.hpp)
+// without reading them. Finding the record by its key means reading and hashing every notation and
+// shader file (for 1,000 small shaders ~40 ms, more than half of such a repack); a stamp says what stat
+// said of each file when its bytes were the ones the record was made from, and a file that stats the
+// same is taken to hold the same bytes, as git's index and make take it.
+//
+// A stamp is the device, inode, size, modification and change times (ns) of a file. The change time is
+// set by the kernel on every write, rename or metadata change, and no tool can set it back. A file
+// stamped within kRacyWindow of the pack that read it is not stamped at all (git's "racily clean"): a
+// file system's timestamps are coarse (a clock tick), so a second write in the same tick could keep every
+// field; such a pack writes no stamps, and the next one reads everything and stamps then. Besides its
+// files, a notation's result depends on where each file name was found (resolve_file: next to the
+// notation, then the -r or -s directories): each lookup is stamped by what it found and done again, so a
+// file that appears earlier in the search misses. #includes are looked up again from the record.
+//
+// The stamps of a project are one cache entry of its own (local, like the record), next to the record's:
+//
+// | payload bytes | meaning                                                                        |
+// |---------------|--------------------------------------------------------------------------------|
+// | 0..3          | u32 stamps version (1)                                                         |
+// | 4..35         | the record's inputs key (archive_reuse.hpp) these stamps vouch for             |
+// | 36..67        | setup key: statepack's code and the options that decide the archive's bytes   |
+// | 68..71        | u32 count of lookups, then each: u32 kind (0 -r, 1 -s), name, base directory,  |
+// |               | found path (strings: u32 length, bytes)                                        |
+// | then          | u32 count of files, then each: path, u64 device, inode, size, modification ns, |
+// |               | change ns                                                                      |
+//
+// A pack with a cache, archive reuse on, no --dump-dir or --shard and notation from files looks for its
+// stamps before anything else; any difference (a file, a lookup, the options, the record) is a normal
+// pack, which stamps again when it records an archive or reuses one.
+#pragma once
+
+#include <chrono>
+#include <filesystem>
+#include <optional>
+#include <vector>
+
+#include "notation/notation.hpp"
+#include "shaders/compile_cache.hpp"
+
+namespace statepack::packager {
+
+// A file's stamp stats within this long of (or after) the start of the pack that read it are not trusted.
+inline constexpr std::chrono::seconds kRacyWindow{1};
+
+struct FileStamp {
+  uint64_t device = 0, inode = 0, size = 0;
+  int64_t modified_ns = 0, changed_ns = 0;
+  bool operator==(const FileStamp&) const = default;
+};
+// stat(2) of `path` (a link followed, as a read follows it); nullopt when it cannot be taken.
+std::optional<FileStamp> stamp_of(const std::filesystem::path& path);
+
+// Where the stamps of the record at `record_slot` are kept.
+CacheKey stamps_slot(const CacheKey& record_slot);
+
+// What a set of stamps vouches for.
+struct StampedInputs {
+  CacheKey inputs{};  // the record's inputs key
+  CacheKey setup{};
+  std::vector<FileLookup> lookups;
+  std::vector<InputFile> files;
+};
+
+// Stamps `stamped.files` for the record at `record_slot`, unless one changed within kRacyWindow before
+// `started` (when the pack began reading), after it, or cannot be stat'ed: then nothing is written and
+// "" returned. Returns a warning when the cache cannot write.
+std::string write_input_stamps(CompileCache& cache, const CacheKey& record_slot, const StampedInputs& stamped,
+                               std::chrono::system_clock::time_point started);
+
+// The stamps at `record_slot`'s, when they were made under `setup`, every lookup finds what it found, and
+// every file stats as stamped; else nullopt.
+std::optional<StampedInputs> unchanged_inputs(CompileCache& cache, const CacheKey& record_slot,
+                                              const CacheKey& setup, const NotationOptions& options);
+
+}  // namespace statepack::packager
