@@ -111,6 +111,28 @@ TEST_F(PackagerCli, ArchivesAreByteForByteDeterministic) {
   EXPECT_EQ(a, b);
 }
 
+// A pack re-executes itself once with glibc's malloc on huge pages (cli/huge_pages.hpp): the archive is the
+// one a pack that does not writes (GLIBC_TUNABLES naming hugetlb: the user's choice, kept), and what
+// settling the options says is printed once, by the process that packs.
+TEST_F(PackagerCli, TheHugePageReexecutionChangesNothingButSpeed) {
+  const std::string args =
+      pack_args(std::string(STATEPACK_STATES_DIR) + "/slice.json", dir_ / "%s.spk") + " --dx11";
+  auto run = [&](const std::string& environment, const std::string& name) {
+    std::string a = args;
+    a.replace(a.find("%s"), 2, name);
+    return statepack::testing::run_command("env " + environment + " '" + STATEPACK_EXE + "' " + a);
+  };
+  const CliRun reexecuted = run("-u GLIBC_TUNABLES", "reexecuted");
+  const CliRun kept = run("GLIBC_TUNABLES=glibc.malloc.hugetlb=0", "kept");
+  for (const CliRun* r : {&reexecuted, &kept}) {
+    EXPECT_EQ(r->exit_code, 0) << r->output;
+    const size_t warning = r->output.find("--dx11");
+    EXPECT_NE(warning, std::string::npos) << r->output;
+    EXPECT_EQ(r->output.find("--dx11", warning + 1), std::string::npos) << "printed twice:\n" << r->output;
+  }
+  EXPECT_EQ(read_file(dir_ / "reexecuted.spk"), read_file(dir_ / "kept.spk"));
+}
+
 TEST_F(PackagerCli, DepfileListsEveryFileRead) {
   fs::path out = dir_ / "slice.spk";
   CliRun run = statepack(pack_args(std::string(STATEPACK_STATES_DIR) + "/slice.json", out) + " --depfile '" +

@@ -1,0 +1,80 @@
+// The compile stages' threads (packager/shaders/nesting_bound.hpp): every job once, each on a thread
+// with the compiler's stack that lives for the whole loop (run_on_stack inside a job makes no thread of
+// its own), and an exception thrown by a job reaches the caller once every thread has stopped.
+#include <gtest/gtest.h>
+#include <pthread.h>
+
+#include <atomic>
+#include <mutex>
+#include <set>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "shaders/nesting_bound.hpp"
+
+namespace statepack::packager {
+namespace {
+
+// The stack size of the calling thread.
+size_t own_stack_bytes() {
+  pthread_attr_t attributes;
+  size_t bytes = 0;
+  if (pthread_getattr_np(pthread_self(), &attributes) != 0) return 0;
+  pthread_attr_getstacksize(&attributes, &bytes);
+  pthread_attr_destroy(&attributes);
+  return bytes;
+}
+
+TEST(CompileStackTest, EveryJobRunsOnceOnALongLivedThreadWithTheCompilersStack) {
+  constexpr size_t kJobs = 1000;
+  std::vector<std::atomic<int>> runs(kJobs);
+  std::mutex mutex;
+  std::set<pthread_t> threads;
+  std::atomic<int> small_stacks{0}, nested_elsewhere{0};
+  parallel_on_stacks(kJobs, 2, kCompileStackBytes, [&](size_t i) {
+    ++runs[i];
+    if (own_stack_bytes() < kCompileStackBytes) ++small_stacks;
+    const pthread_t self = pthread_self();
+    std::string error;
+    run_on_stack(
+        kCompileStackBytes, [&] { nested_elsewhere += pthread_equal(self, pthread_self()) ? 0 : 1; }, error);
+    std::lock_guard lock(mutex);
+    threads.insert(self);
+  });
+  for (size_t i = 0; i < kJobs; ++i) EXPECT_EQ(runs[i], 1) << "job " << i;
+  EXPECT_EQ(small_stacks, 0);
+  EXPECT_EQ(nested_elsewhere, 0);  // already on such a stack: no thread per job
+  EXPECT_GE(threads.size(), 1u);
+  EXPECT_LE(threads.size(), 2u);                // two threads for a thousand jobs, not a thread each
+  EXPECT_FALSE(threads.count(pthread_self()));  // the caller's stack is the main thread's
+}
+
+TEST(CompileStackTest, AJobsExceptionReachesTheCallerAfterEveryThreadStopped) {
+  std::atomic<int> running{0}, ran{0};
+  try {
+    parallel_on_stacks(100, 2, kCompileStackBytes, [&](size_t i) {
+      ++running;
+      ++ran;
+      if (i == 3) {
+        --running;
+        throw std::runtime_error("job 3 failed");
+      }
+      --running;
+    });
+    FAIL() << "no exception";
+  } catch (const std::runtime_error& e) {
+    EXPECT_STREQ(e.what(), "job 3 failed");
+  }
+  EXPECT_EQ(running, 0);  // nothing still running when the caller got it
+  EXPECT_LT(ran, 100);    // the others stopped taking jobs (at most one more each)
+}
+
+TEST(CompileStackTest, NoJobsMakesNoThread) {
+  bool ran = false;
+  parallel_on_stacks(0, 2, kCompileStackBytes, [&](size_t) { ran = true; });
+  EXPECT_FALSE(ran);
+}
+
+}  // namespace
+}  // namespace statepack::packager
