@@ -97,6 +97,19 @@ class CompileCacheTest : public ::testing::Test {
     return out;
   }
   fs::path bundle() const { return all_entries().back(); }
+  // An output that is one of the inputs (a hard link to `shader`) is refused as a pack refuses it, and
+  // the shader is left as it was.
+  void expect_an_output_linked_to_refused(const std::string& shader) {
+    fs::create_hard_link(dir_ / shader, dir_ / "linked.spk");
+    const std::string text = read_file(dir_ / shader);
+    const CommandResult refused =
+        run_command("cd '" + dir_.string() +
+                    "' && '" STATEPACK_EXE
+                    "' pack -i project.json -s early -s inc -o linked.spk --vulkan --cache-dir cache");
+    EXPECT_NE(refused.exit_code, 0) << refused.output;
+    EXPECT_NE(refused.output.find("never replaces its inputs"), std::string::npos) << refused.output;
+    EXPECT_EQ(read_file(dir_ / shader), text);
+  }
   static ino_t inode(const fs::path& path) {
     struct stat st {};
     return ::stat(path.c_str(), &st) == 0 ? st.st_ino : 0;
@@ -381,16 +394,7 @@ TEST_F(CompileCacheTest, AnUnchangedPackWritesTheRecordedArchive) {
   const CacheStats again = pack("again.spk");
   EXPECT_EQ(again.hits, kEntries) << last_output_;
   EXPECT_EQ(read_file(dir_ / "again.spk"), clean_bytes());
-  // An output that is one of the inputs (a hard link to a shader) is refused as a pack refuses it.
-  fs::create_hard_link(dir_ / "a.comp", dir_ / "linked.spk");
-  const std::string shader = read_file(dir_ / "a.comp");
-  const CommandResult refused =
-      run_command("cd '" + dir_.string() +
-                  "' && '" STATEPACK_EXE
-                  "' pack -i project.json -s early -s inc -o linked.spk --vulkan --cache-dir cache");
-  EXPECT_NE(refused.exit_code, 0) << refused.output;
-  EXPECT_NE(refused.output.find("never replaces its inputs"), std::string::npos) << refused.output;
-  EXPECT_EQ(read_file(dir_ / "a.comp"), shader);
+  expect_an_output_linked_to_refused("a.comp");
 }
 
 // Every change of what decides the archive misses the record (and the pack records the new archive);
@@ -495,16 +499,7 @@ TEST_F(CompileCacheTest, AnUnchangedProjectReadsNothingWhenEveryInputStatsAsStam
   std::string expected = read_file(dir_ / "first.d");  // every file, #includes too
   expected.replace(expected.find("first.spk"), 9, "second.spk");
   EXPECT_EQ(read_file(dir_ / "second.d"), expected);
-  // An output that is one of the inputs (a hard link to a shader) is refused as a pack refuses it.
-  fs::create_hard_link(dir_ / "b.comp", dir_ / "linked.spk");
-  const std::string shader = read_file(dir_ / "b.comp");
-  const CommandResult refused =
-      run_command("cd '" + dir_.string() +
-                  "' && '" STATEPACK_EXE
-                  "' pack -i project.json -s early -s inc -o linked.spk --vulkan --cache-dir cache");
-  EXPECT_NE(refused.exit_code, 0) << refused.output;
-  EXPECT_NE(refused.output.find("never replaces its inputs"), std::string::npos) << refused.output;
-  EXPECT_EQ(read_file(dir_ / "b.comp"), shader);
+  expect_an_output_linked_to_refused("b.comp");
 }
 
 // Every change of a file's bytes, of where a name is found, or of the options misses the stamps: the pack
