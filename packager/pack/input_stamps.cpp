@@ -2,7 +2,7 @@
 
 #include <sys/stat.h>
 
-#include <set>
+#include <map>
 
 #include "shaders/cache_payload.hpp"
 
@@ -57,13 +57,19 @@ std::string write_input_stamps(CompileCache& cache, const CacheKey& record_slot,
     w.str(l.base_dir.string());
     w.str(l.found.string());
   }
-  std::set<fs::path> distinct;  // (a pack lists an #include once per shader that includes it)
-  for (const InputFile& f : stamped.files) distinct.insert(f.path);
+  // Each file once (a pack lists an #include once per shader that includes it), and each name a lookup
+  // found, stat'ed through any link: a notation file is listed by its canonical path, so a link given
+  // as the input and pointed elsewhere changes only the stat of the name found. Those are stamped but
+  // are not inputs of their own (the depfile and the output checks list the files read).
+  std::map<fs::path, bool> distinct;  // path -> listed among the pack's inputs
+  for (const InputFile& f : stamped.files) distinct[f.path] = true;
+  for (const FileLookup& l : stamped.lookups) distinct.try_emplace(l.found, false);
   w.u32(uint32_t(distinct.size()));
-  for (const fs::path& path : distinct) {
+  for (const auto& [path, listed] : distinct) {
     const auto stamp = stamp_of(path);
     if (!stamp || stamp->modified_ns >= trusted_before || stamp->changed_ns >= trusted_before) return "";
     w.str(path.string());
+    w.u32(listed ? 1 : 0);
     write_stamp(w, *stamp);
   }
   return cache.store_local(stamps_slot(record_slot), w.bytes, {}, stamped.files);
@@ -90,16 +96,15 @@ std::optional<StampedInputs> unchanged_inputs(CompileCache& cache, const CacheKe
                      nullptr) != l.found)
       return std::nullopt;
   }
-  if (!r.u32(files) || !r.room_for(files, 44)) return std::nullopt;
-  out.files.resize(files);
-  for (InputFile& f : out.files) {
+  if (!r.u32(files) || !r.room_for(files, 48)) return std::nullopt;
+  for (uint32_t i = 0; i < files; ++i) {
     std::string path;
+    uint32_t listed = 0;
     FileStamp stamped;
-    if (!r.str(path) || !read_stamp(r, stamped)) return std::nullopt;
-    f.path = path;
-    const auto now = stamp_of(f.path);
+    if (!r.str(path) || !r.u32(listed) || !read_stamp(r, stamped)) return std::nullopt;
+    const auto now = stamp_of(path);
     if (!now || *now != stamped) return std::nullopt;
-    f.identity = {stamped.device, stamped.inode};
+    if (listed) out.files.push_back({path, {stamped.device, stamped.inode}});
   }
   if (!r.done()) return std::nullopt;
   return out;

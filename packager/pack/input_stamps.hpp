@@ -22,8 +22,9 @@
 // | 36..67        | setup key: statepack's code and the options that decide the archive's bytes   |
 // | 68..71        | u32 count of lookups, then each: u32 kind (0 -r, 1 -s), name, base directory,  |
 // |               | found path (strings: u32 length, bytes)                                        |
-// | then          | u32 count of files, then each: path, u64 device, inode, size, modification ns, |
-// |               | change ns                                                                      |
+// | then          | u32 count of files, then each: path, u32 1 when the pack read it (0: a name a  |
+// |               | lookup found, stamped through a link), u64 device, inode, size, modification   |
+// |               | ns, change ns                                                                  |
 //
 // A pack with a cache, archive reuse on, no --dump-dir or --shard and notation from files looks for its
 // stamps before anything else; any difference (a file, a lookup, the options, the record) is a normal

@@ -516,6 +516,9 @@ TEST_F(CompileCacheTest, AnyChangeOfAnInputOrOfWhereItIsFoundMissesTheStamps) {
       "#version 450\nlayout(local_size_x = 8) in;\nlayout(set = 0, binding = 0) buffer Data { uint v[]; } "
       "data;\nvoid main() { data.v[gl_GlobalInvocationID.x] = 7u; }\n";
   write_file(dir_ / "inc" / "c.comp", c_shader);
+  // The notation given through a link (read under its canonical name).
+  fs::rename(dir_ / "project.json", dir_ / "project_v1.json");
+  fs::create_symlink("project_v1.json", dir_ / "project.json");
   wait_out_the_racy_window();
   pack("first.spk", "", true, true);
   pack("stamped.spk", "", true, true);
@@ -543,6 +546,15 @@ TEST_F(CompileCacheTest, AnyChangeOfAnInputOrOfWhereItIsFoundMissesTheStamps) {
        [&] { write_file(root / "early" / "c.comp", c_shader + "// early\n"); }, false},
       {"an #include found earlier in the -s directories",
        [&] { write_file(root / "early" / "helper.glsl", "uint helper(uint x) { return x + 2u; }\n"); },
+       false},
+      {"the notation's link pointed at another file",
+       [&] {
+         std::string v2 = read_file(root / "project_v1.json");
+         v2.replace(v2.find("\"Name\": \"B\""), 11, "\"Name\": \"B2\"");
+         write_file(root / "project_v2.json", v2);
+         fs::remove(root / "project.json");
+         fs::create_symlink("project_v2.json", root / "project.json");
+       },
        false},
   };
   for (const auto& [what, apply, same_bytes] : changes) {
