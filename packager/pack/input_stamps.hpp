@@ -41,8 +41,9 @@
 
 namespace statepack::packager {
 
-// A file's stamp stats within this long of (or after) the start of the pack that read it are not trusted.
-inline constexpr std::chrono::seconds kRacyWindow{1};
+// A file's stamp stats within this long of (or after) the start of the pack that read it are not trusted:
+// longer than a clock tick, and than FAT's two-second modification times.
+inline constexpr std::chrono::seconds kRacyWindow{2};
 
 struct FileStamp {
   uint64_t device = 0, inode = 0, size = 0;

@@ -482,10 +482,10 @@ TEST_F(CompileCacheTest, APackThatPrintsANoteIsNotRecorded) {
 
 constexpr const char* kStamped = "(every input stats as stamped)";
 
-// A file is stamped only once it is older than the racy window (a second) when a pack starts: the
+// A file is stamped only once it is older than the racy window (two seconds) when a pack starts: the
 // tests wait that long where they need stamps.
 static void wait_out_the_racy_window() {
-  std::this_thread::sleep_for(std::chrono::milliseconds(1100));
+  std::this_thread::sleep_for(std::chrono::milliseconds(2100));
 }
 
 TEST_F(CompileCacheTest, AnUnchangedProjectReadsNothingWhenEveryInputStatsAsStamped) {
