@@ -10,10 +10,13 @@
 namespace statepack::packager {
 
 // Re-executes this program (/proc/self/exe, the same arguments) with those tunables added to
-// GLIBC_TUNABLES, and returns only when it does not: GLIBC_TUNABLES already names glibc.malloc.hugetlb
-// (set by a user, =0 to keep 4 KiB pages, or by this re-execution), LD_PRELOAD is set (a tool such as
-// valgrind runs this process and would not follow), the kernel's transparent huge pages are off, or the
-// exec fails.
+// GLIBC_TUNABLES, and returns only when it does not: this process is the re-executed one, GLIBC_TUNABLES
+// already names glibc.malloc.hugetlb (a user's choice: =0 keeps 4 KiB pages), LD_PRELOAD is set (a tool
+// such as valgrind runs this process and would not follow), the start was a secure one (setuid) or
+// through the dynamic loader, the kernel's transparent huge pages are off, or the exec fails.
 void use_huge_pages(char** argv);
+
+// Whether this process is the re-execution (asked once; the mark is then removed from the environment).
+bool was_reexecuted();
 
 }  // namespace statepack::packager

@@ -581,9 +581,11 @@ int run(int argc, char** argv) {
     std::cerr << settled.str();
     return kExitUsage;
   }
-  if (settled.str().empty() && !pack.watch && !pack.list_inputs)
+  // (the re-executed process knows they do not hold)
+  if (settled.str().empty() && !pack.watch && !pack.list_inputs && !was_reexecuted())
     if (auto code = pack_if_unchanged(pack.options, std::cout, std::cerr)) return *code;
-  use_huge_pages(argv);  // returns here when it does not re-execute
+  // Not for --watch: a resident process would keep its peak heap (no trimming).
+  if (!pack.watch) use_huge_pages(argv);  // returns here when it does not re-execute
   std::cerr << settled.str();
   if (pack.watch) return run_watch(pack.options, pack.watch_options, std::cout, std::cerr);
   if (pack.list_inputs) return pack_and_list_inputs(pack.options);

@@ -34,6 +34,13 @@ void add_options(KeyBuilder& k, const PackOptions& options) {
 
 }  // namespace
 
+CacheKey record_id(std::span<const uint8_t> header) {
+  return KeyBuilder()
+      .add("archive record id")
+      .add(std::string_view(reinterpret_cast<const char*>(header.data()), header.size()))
+      .key();
+}
+
 CacheKey setup_key(const PackOptions& options) {
   KeyBuilder k;
   k.add("archive setup").add(uint64_t(kRecordVersion)).add(code_identity());
@@ -129,7 +136,8 @@ std::optional<RecordedArchive> find_archive(CompileCache& cache, const ArchiveKe
   }
   files_read.insert(files_read.end(), key.shader_files.begin(), key.shader_files.end());
   files_read.insert(files_read.end(), includes.begin(), includes.end());
-  return RecordedArchive{entry->holder, parts->archive};
+  return RecordedArchive{entry->holder, parts->archive,
+                         record_id(entry->payload.first(entry->payload.size() - parts->archive.size()))};
 }
 
 std::optional<RecordedArchive> find_unchanged_archive(CompileCache& cache, const PackOptions& options,
@@ -141,7 +149,11 @@ std::optional<RecordedArchive> find_unchanged_archive(CompileCache& cache, const
   const auto entry = cache.find_local(slot);
   if (!entry) return std::nullopt;
   const auto parts = read_record(entry->payload);
-  if (!parts || parts->inputs != stamped->inputs) return std::nullopt;
+  // The very record the stamps were written for: another one (written later by a pack that read other
+  // #include texts, or whose own record was not kept) is not vouched for.
+  if (!parts ||
+      record_id(entry->payload.first(entry->payload.size() - parts->archive.size())) != stamped->record)
+    return std::nullopt;
   // Each #include found where it was, and stamped: the record may have been written after the stamps by
   // a pack that found an #include elsewhere (the inputs key leaves #includes out), whose bytes the stamps
   // then do not vouch for.
@@ -154,7 +166,7 @@ std::optional<RecordedArchive> find_unchanged_archive(CompileCache& cache, const
       return std::nullopt;
   }
   files_read = stamped->files;
-  return RecordedArchive{entry->holder, parts->archive};
+  return RecordedArchive{entry->holder, parts->archive, stamped->record};
 }
 
 std::string record_archive(CompileCache& cache, const ArchiveKey& key,
@@ -181,7 +193,7 @@ std::string record_archive(CompileCache& cache, const ArchiveKey& key,
   w.bytes.resize((w.bytes.size() + kArchiveAlignment - 1) / kArchiveAlignment * kArchiveAlignment);
   if (std::string warning = cache.store_local(key.slot, w.bytes, archive, inputs); !warning.empty())
     return warning;
-  return write_input_stamps(cache, key.slot, {key.inputs, key.setup, lookups, inputs}, started);
+  return write_input_stamps(cache, key.slot, {record_id(w.bytes), key.setup, lookups, inputs}, started);
 }
 
 }  // namespace statepack::packager

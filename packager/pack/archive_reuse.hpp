@@ -69,7 +69,11 @@ std::optional<ArchiveKey> archive_key(const PackOptions& options, std::string_vi
 struct RecordedArchive {
   std::shared_ptr<const void> holder;
   std::span<const uint8_t> bytes;
+  CacheKey id{};  // record_id: what input stamps vouch for
 };
+// A record's identity: a SHA-256 of its payload before the archive (version, inputs key, every #include
+// with its text's hash, the archive's size, padding).
+CacheKey record_id(std::span<const uint8_t> header);
 std::optional<RecordedArchive> find_archive(CompileCache& cache, const ArchiveKey& key,
                                             const CompileOptions& options,
                                             std::vector<InputFile>& files_read);

@@ -45,13 +45,18 @@ void CompilerWarmup::start(const Notation& notation, const PackOptions& options,
     return;
   const ShaderDesc* shader = likely_compile(notation, cache->local_time(archive_slot(project)));
   if (!shader) return;
-  // Copies: the pack goes on with its notation and options meanwhile.
-  thread_ = std::thread([shader = *shader, compile = options.compile] {
-    try {
-      prepare_compiler(shader, compile);
-    } catch (...) {  // (out of memory: the compile meets it too, and says so)
-    }
-  });
+  // Copies: the pack goes on with its notation and options meanwhile. A speed-up only: when the copy or
+  // the thread cannot be made, or the work throws (out of memory: the compile meets it too, and says so),
+  // the pack goes on without it.
+  try {
+    thread_ = std::thread([shader = *shader, compile = options.compile] {
+      try {
+        prepare_compiler(shader, compile);
+      } catch (...) {
+      }
+    });
+  } catch (...) {
+  }
 }
 
 }  // namespace statepack::packager

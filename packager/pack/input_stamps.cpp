@@ -3,6 +3,8 @@
 #include <sys/stat.h>
 
 #include <map>
+#include <set>
+#include <utility>
 
 #include "shaders/cache_payload.hpp"
 
@@ -10,21 +12,26 @@ namespace statepack::packager {
 namespace {
 
 namespace fs = std::filesystem;
-constexpr uint32_t kStampsVersion = 1;
+constexpr uint32_t kStampsVersion = 2;
 
-int64_t nanoseconds(const timespec& t) {
-  return int64_t(t.tv_sec) * 1'000'000'000 + t.tv_nsec;
+// A time as (seconds, nanoseconds) since the epoch: compared as a pair (nanoseconds alone overflow 64 bits
+// in 2262, and a file's time may be set anywhere).
+std::pair<int64_t, int64_t> pair_of(const timespec& t) {
+  return {int64_t(t.tv_sec), int64_t(t.tv_nsec)};
 }
 
 void write_stamp(PayloadWriter& w, const FileStamp& s) {
-  for (uint64_t v : {s.device, s.inode, s.size, uint64_t(s.modified_ns), uint64_t(s.changed_ns)}) w.u64(v);
+  for (uint64_t v : {s.device, s.inode, s.size, uint64_t(s.modified.first), uint64_t(s.modified.second),
+                     uint64_t(s.changed.first), uint64_t(s.changed.second)})
+    w.u64(v);
 }
 
 bool read_stamp(PayloadReader& r, FileStamp& s) {
-  uint64_t modified = 0, changed = 0;
-  if (!r.u64(s.device) || !r.u64(s.inode) || !r.u64(s.size) || !r.u64(modified) || !r.u64(changed))
+  uint64_t t[4] = {};
+  if (!r.u64(s.device) || !r.u64(s.inode) || !r.u64(s.size) || !r.u64(t[0]) || !r.u64(t[1]) || !r.u64(t[2]) ||
+      !r.u64(t[3]))
     return false;
-  s.modified_ns = int64_t(modified), s.changed_ns = int64_t(changed);
+  s.modified = {int64_t(t[0]), int64_t(t[1])}, s.changed = {int64_t(t[2]), int64_t(t[3])};
   return true;
 }
 
@@ -33,8 +40,8 @@ bool read_stamp(PayloadReader& r, FileStamp& s) {
 std::optional<FileStamp> stamp_of(const fs::path& path) {
   struct stat st {};
   if (::stat(path.c_str(), &st) != 0) return std::nullopt;
-  return FileStamp{uint64_t(st.st_dev), uint64_t(st.st_ino), uint64_t(st.st_size), nanoseconds(st.st_mtim),
-                   nanoseconds(st.st_ctim)};
+  return FileStamp{uint64_t(st.st_dev), uint64_t(st.st_ino), uint64_t(st.st_size), pair_of(st.st_mtim),
+                   pair_of(st.st_ctim)};
 }
 
 CacheKey stamps_slot(const CacheKey& record_slot) {
@@ -43,12 +50,13 @@ CacheKey stamps_slot(const CacheKey& record_slot) {
 
 std::string write_input_stamps(CompileCache& cache, const CacheKey& record_slot, const StampedInputs& stamped,
                                std::chrono::system_clock::time_point started) {
-  const int64_t trusted_before =
-      std::chrono::duration_cast<std::chrono::nanoseconds>((started - kRacyWindow).time_since_epoch())
-          .count();
+  const auto since_epoch = (started - kRacyWindow).time_since_epoch();
+  const auto seconds = std::chrono::floor<std::chrono::seconds>(since_epoch);
+  const std::pair<int64_t, int64_t> trusted_before{
+      int64_t(seconds.count()), int64_t(std::chrono::nanoseconds(since_epoch - seconds).count())};
   PayloadWriter w;
   w.u32(kStampsVersion);
-  w.bytes.insert(w.bytes.end(), stamped.inputs.begin(), stamped.inputs.end());
+  w.bytes.insert(w.bytes.end(), stamped.record.begin(), stamped.record.end());
   w.bytes.insert(w.bytes.end(), stamped.setup.begin(), stamped.setup.end());
   w.u32(uint32_t(stamped.lookups.size()));
   for (const FileLookup& l : stamped.lookups) {
@@ -60,16 +68,21 @@ std::string write_input_stamps(CompileCache& cache, const CacheKey& record_slot,
   // Each file once (a pack lists an #include once per shader that includes it), and each name a lookup
   // found, stat'ed through any link: a notation file is listed by its canonical path, so a link given
   // as the input and pointed elsewhere changes only the stat of the name found. Those are stamped but
-  // are not inputs of their own (the depfile and the output checks list the files read).
-  std::map<fs::path, bool> distinct;  // path -> listed among the pack's inputs
-  for (const InputFile& f : stamped.files) distinct[f.path] = true;
-  for (const FileLookup& l : stamped.lookups) distinct.try_emplace(l.found, false);
+  // are not inputs of their own (the depfile and the output checks list the files read). Every stat must
+  // find a file the pack read (its device and inode when read): one replaced or a link pointed elsewhere
+  // while the pack ran, even at an older file, is not stamped.
+  std::map<fs::path, std::optional<FileIdentity>> distinct;  // path -> as read, when the pack read it
+  std::set<FileIdentity> read;
+  for (const InputFile& f : stamped.files) distinct[f.path] = f.identity, read.insert(f.identity);
+  for (const FileLookup& l : stamped.lookups) distinct.try_emplace(l.found);
   w.u32(uint32_t(distinct.size()));
-  for (const auto& [path, listed] : distinct) {
+  for (const auto& [path, as_read] : distinct) {
     const auto stamp = stamp_of(path);
-    if (!stamp || stamp->modified_ns >= trusted_before || stamp->changed_ns >= trusted_before) return "";
+    if (!stamp || stamp->modified >= trusted_before || stamp->changed >= trusted_before) return "";
+    const FileIdentity now{stamp->device, stamp->inode};
+    if (as_read ? now != *as_read : !read.count(now)) return "";
     w.str(path.string());
-    w.u32(listed ? 1 : 0);
+    w.u32(as_read ? 1 : 0);
     write_stamp(w, *stamp);
   }
   return cache.store_local(stamps_slot(record_slot), w.bytes, {}, stamped.files);
@@ -82,7 +95,7 @@ std::optional<StampedInputs> unchanged_inputs(CompileCache& cache, const CacheKe
   PayloadReader r(entry->payload);
   StampedInputs out;
   uint32_t version = 0, lookups = 0, files = 0;
-  if (!r.u32(version) || version != kStampsVersion || !r.raw(out.inputs.data(), out.inputs.size()) ||
+  if (!r.u32(version) || version != kStampsVersion || !r.raw(out.record.data(), out.record.size()) ||
       !r.raw(out.setup.data(), out.setup.size()) || out.setup != setup || !r.u32(lookups) ||
       !r.room_for(lookups, 16))
     return std::nullopt;
@@ -96,7 +109,7 @@ std::optional<StampedInputs> unchanged_inputs(CompileCache& cache, const CacheKe
                      nullptr) != l.found)
       return std::nullopt;
   }
-  if (!r.u32(files) || !r.room_for(files, 48)) return std::nullopt;
+  if (!r.u32(files) || !r.room_for(files, 64)) return std::nullopt;
   for (uint32_t i = 0; i < files; ++i) {
     std::string path;
     uint32_t listed = 0;

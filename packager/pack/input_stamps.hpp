@@ -17,14 +17,15 @@
 //
 // | payload bytes | meaning                                                                        |
 // |---------------|--------------------------------------------------------------------------------|
-// | 0..3          | u32 stamps version (1)                                                         |
-// | 4..35         | the record's inputs key (archive_reuse.hpp) these stamps vouch for             |
+// | 0..3          | u32 stamps version (2)                                                         |
+// | 4..35         | the record these stamps vouch for: a SHA-256 of its payload before the archive |
+// |               | (its inputs key and #includes with their texts' hashes: archive_reuse.hpp)     |
 // | 36..67        | setup key: statepack's code and the options that decide the archive's bytes   |
 // | 68..71        | u32 count of lookups, then each: u32 kind (0 -r, 1 -s), name, base directory,  |
 // |               | found path (strings: u32 length, bytes)                                        |
 // | then          | u32 count of files, then each: path, u32 1 when the pack read it (0: a name a  |
 // |               | lookup found, stamped through a link), u64 device, inode, size, modification   |
-// |               | ns, change ns                                                                  |
+// |               | time (u64 seconds, u64 nanoseconds), change time (the same)                    |
 //
 // A pack with a cache, archive reuse on, no --dump-dir or --shard and notation from files looks for its
 // stamps before anything else; any difference (a file, a lookup, the options, the record) is a normal
@@ -34,6 +35,7 @@
 #include <chrono>
 #include <filesystem>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "notation/notation.hpp"
@@ -47,7 +49,7 @@ inline constexpr std::chrono::seconds kRacyWindow{2};
 
 struct FileStamp {
   uint64_t device = 0, inode = 0, size = 0;
-  int64_t modified_ns = 0, changed_ns = 0;
+  std::pair<int64_t, int64_t> modified, changed;  // seconds and nanoseconds since the epoch
   bool operator==(const FileStamp&) const = default;
 };
 // stat(2) of `path` (a link followed, as a read follows it); nullopt when it cannot be taken.
@@ -58,15 +60,16 @@ CacheKey stamps_slot(const CacheKey& record_slot);
 
 // What a set of stamps vouches for.
 struct StampedInputs {
-  CacheKey inputs{};  // the record's inputs key
+  CacheKey record{};  // record_id of the record they vouch for
   CacheKey setup{};
   std::vector<FileLookup> lookups;
   std::vector<InputFile> files;
 };
 
 // Stamps `stamped.files` for the record at `record_slot`, unless one changed within kRacyWindow before
-// `started` (when the pack began reading), after it, or cannot be stat'ed: then nothing is written and
-// "" returned. Returns a warning when the cache cannot write.
+// `started` (when the pack began reading), after it, cannot be stat'ed, or is no longer the file the pack
+// read (its device and inode then): then nothing is written and "" returned. Returns a warning when the cache
+// cannot write.
 std::string write_input_stamps(CompileCache& cache, const CacheKey& record_slot, const StampedInputs& stamped,
                                std::chrono::system_clock::time_point started);
 

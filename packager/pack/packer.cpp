@@ -933,7 +933,7 @@ std::optional<int> reuse_archive(const PackOptions& options, CompileCache& cache
   // The stamps did not hold (or there were none): stamped again, so that the next pack reads nothing.
   if (code == kExitSuccess)
     if (std::string warning = write_input_stamps(
-            cache, record.slot, {record.inputs, record.setup, notation.lookups, inputs}, started);
+            cache, record.slot, {archive->id, record.setup, notation.lookups, inputs}, started);
         !warning.empty())
       err << "statepack: warning: --cache-dir: " << printable(warning) << "\n";
   return code;
