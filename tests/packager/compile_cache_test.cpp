@@ -578,3 +578,28 @@ TEST_F(CompileCacheTest, AnyChangeOfAnInputOrOfWhereItIsFoundMissesTheStamps) {
   EXPECT_EQ(last_output_.find(kStamped), std::string::npos) << last_output_;
   EXPECT_EQ(read_file(dir_ / "option.spk"), clean_bytes("--strict"));
 }
+
+// Stamps vouch for the record they were written with: the project's record replaced by another one with
+// the same inputs key (the key leaves #includes out), as a pack that read an #include's older text and
+// ended last would leave it, is not written on the stamps' word.
+TEST_F(CompileCacheTest, StampsVouchForTheirOwnRecordOnly) {
+  wait_out_the_racy_window();
+  pack("old.spk", "", true, true);
+  const std::string old_archive = read_file(dir_ / "old.spk");
+  fs::path record;
+  for (const fs::path& entry : all_entries())
+    if (read_file(entry).find(old_archive) != std::string::npos) record = entry;
+  ASSERT_FALSE(record.empty()) << "no entry holds the archive";
+  const std::string old_record = read_file(record);
+  write_file(dir_ / "common.glsl", "uint twice(uint x) { return x + x; }\n");  // a new #include text
+  wait_out_the_racy_window();
+  pack("new.spk", "", true, true);  // records it and stamps it
+  pack("stamped.spk", "", true, true);
+  ASSERT_NE(last_output_.find(kStamped), std::string::npos) << last_output_;
+  ASSERT_NE(read_file(dir_ / "new.spk"), old_archive);
+  fs::remove(record);
+  write_file(record, old_record);  // the other pack's record, written last
+  pack("after.spk", "", true, true);
+  EXPECT_EQ(last_output_.find(kStamped), std::string::npos) << last_output_;
+  EXPECT_EQ(read_file(dir_ / "after.spk"), read_file(dir_ / "new.spk"));
+}
