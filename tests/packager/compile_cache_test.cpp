@@ -97,6 +97,12 @@ class CompileCacheTest : public ::testing::Test {
     return out;
   }
   fs::path bundle() const { return all_entries().back(); }
+  // The entry that holds `archive` (the project's archive record), or an empty path.
+  fs::path entry_holding(const std::string& archive) const {
+    for (const fs::path& entry : all_entries())
+      if (read_file(entry).find(archive) != std::string::npos) return entry;
+    return {};
+  }
   // An output that is one of the inputs (a hard link to `shader`) is refused as a pack refuses it, and
   // the shader is left as it was.
   void expect_an_output_linked_to_refused(const std::string& shader) {
@@ -442,9 +448,7 @@ TEST_F(CompileCacheTest, AnyChangeMissesTheArchiveRecord) {
 TEST_F(CompileCacheTest, ADamagedArchiveRecordIsNotUsed) {
   pack("first.spk", "", true, true);
   const std::string archive = read_file(dir_ / "first.spk");
-  fs::path record;
-  for (const fs::path& entry : all_entries())
-    if (read_file(entry).find(archive) != std::string::npos) record = entry;
+  const fs::path record = entry_holding(archive);
   ASSERT_FALSE(record.empty()) << "no entry holds the archive";
   std::string bytes = read_file(record);
   bytes[bytes.size() - 5] ^= 0x10;  // one bit of the archive's copy
@@ -586,9 +590,7 @@ TEST_F(CompileCacheTest, StampsVouchForTheirOwnRecordOnly) {
   wait_out_the_racy_window();
   pack("old.spk", "", true, true);
   const std::string old_archive = read_file(dir_ / "old.spk");
-  fs::path record;
-  for (const fs::path& entry : all_entries())
-    if (read_file(entry).find(old_archive) != std::string::npos) record = entry;
+  const fs::path record = entry_holding(old_archive);
   ASSERT_FALSE(record.empty()) << "no entry holds the archive";
   const std::string old_record = read_file(record);
   write_file(dir_ / "common.glsl", "uint twice(uint x) { return x + x; }\n");  // a new #include text
