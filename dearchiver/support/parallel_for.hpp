@@ -12,14 +12,20 @@
 
 namespace statepack::detail {
 
+// How many threads run `count` jobs when `threads` are asked for (0: one per core): never more than
+// there are jobs, at least one.
+inline size_t pool_size(size_t count, uint32_t threads) {
+  const size_t n = threads ? threads : std::max(1u, std::thread::hardware_concurrency());
+  return std::min(n, std::max<size_t>(count, 1));
+}
+
 template <class Work>
 void parallel_for(size_t count, uint32_t threads, Work&& work) {
   std::atomic<size_t> next{0};
   auto worker = [&] {
     for (size_t i = next++; i < count; i = next++) work(i);
   };
-  size_t n = threads ? threads : std::max(1u, std::thread::hardware_concurrency());
-  n = std::min(n, std::max<size_t>(count, 1));
+  const size_t n = pool_size(count, threads);
   std::vector<std::thread> pool;
   for (size_t i = 1; i < n; ++i) pool.emplace_back(worker);
   worker();

@@ -96,6 +96,7 @@ struct RecordParts {
   CacheKey inputs{};
   std::vector<IncludeRecord> includes;
   std::span<const uint8_t> archive;
+  CacheKey id{};  // record_id of the payload before the archive
 };
 std::optional<RecordParts> read_record(std::span<const uint8_t> payload) {
   PayloadReader r(payload);
@@ -114,6 +115,7 @@ std::optional<RecordParts> read_record(std::span<const uint8_t> payload) {
   if (!r.raw(padding, (kArchiveAlignment - at % kArchiveAlignment) % kArchiveAlignment)) return std::nullopt;
   if (size != r.left()) return std::nullopt;
   out.archive = payload.last(r.left());
+  out.id = record_id(payload.first(payload.size() - out.archive.size()));
   return out;
 }
 
@@ -136,8 +138,7 @@ std::optional<RecordedArchive> find_archive(CompileCache& cache, const ArchiveKe
   }
   files_read.insert(files_read.end(), key.shader_files.begin(), key.shader_files.end());
   files_read.insert(files_read.end(), includes.begin(), includes.end());
-  return RecordedArchive{entry->holder, parts->archive,
-                         record_id(entry->payload.first(entry->payload.size() - parts->archive.size()))};
+  return RecordedArchive{entry->holder, parts->archive, parts->id};
 }
 
 std::optional<RecordedArchive> find_unchanged_archive(CompileCache& cache, const PackOptions& options,
@@ -151,9 +152,7 @@ std::optional<RecordedArchive> find_unchanged_archive(CompileCache& cache, const
   const auto parts = read_record(entry->payload);
   // The very record the stamps were written for: another one (written later by a pack that read other
   // #include texts, or whose own record was not kept) is not vouched for.
-  if (!parts ||
-      record_id(entry->payload.first(entry->payload.size() - parts->archive.size())) != stamped->record)
-    return std::nullopt;
+  if (!parts || parts->id != stamped->record) return std::nullopt;
   // Each #include found where it was, and stamped: the record may have been written after the stamps by
   // a pack that found an #include elsewhere (the inputs key leaves #includes out), whose bytes the stamps
   // then do not vouch for.

@@ -885,12 +885,16 @@ int print_written(std::span<const uint8_t> bytes, std::ostream& out, std::ostrea
   return kExitSuccess;
 }
 
-// A pack whose archive record still holds (archive_reuse.hpp): the recorded bytes (`contents` decoded)
-// written as a pack writes them. The compile cache is not flushed: nothing was looked up in it, and its
-// bundle stays the one of the shaders' entries, for the pack after the next change.
-int write_reused(const PackOptions& options, std::span<const uint8_t> bytes, const format::Contents& contents,
-                 const std::vector<InputFile>& inputs, PackSession* session, PhaseTimes& times,
-                 std::ostream& out, std::ostream& err, bool by_stamps) {
+// A pack whose archive record still holds (archive_reuse.hpp): the recorded bytes written as a pack
+// writes them, once they decode (structure and checksum; the modules were checked when it was packed): a
+// record is a cache file, and what a pack writes must load. nullopt, having printed nothing, when they do
+// not. The compile cache is not flushed: nothing was looked up in it, and its bundle stays the one of the
+// shaders' entries, for the pack after the next change.
+std::optional<int> write_reused(const PackOptions& options, std::span<const uint8_t> bytes,
+                                const std::vector<InputFile>& inputs, PackSession* session, PhaseTimes& times,
+                                std::ostream& out, std::ostream& err, bool by_stamps) {
+  auto contents = format::decode(bytes);
+  if (!contents) return std::nullopt;
   if (session)
     for (const auto& f : inputs) session->files_read.push_back(f.path);
   times.note(by_stamps ? "cache: nothing changed since the pack that recorded this archive (every input "
@@ -901,7 +905,7 @@ int write_reused(const PackOptions& options, std::span<const uint8_t> bytes, con
   if (!options.check_only)
     if (int code = write_outputs(options, inputs, bytes, err); code != kExitSuccess) return code;
   times.done("write");
-  if (options.print_contents) print_archive(contents, bytes.size(), false, out);
+  if (options.print_contents) print_archive(*contents, bytes.size(), false, out);
   return kExitSuccess;
 }
 
@@ -924,12 +928,8 @@ std::optional<int> reuse_archive(const PackOptions& options, CompileCache& cache
                                  std::chrono::system_clock::time_point started) {
   std::vector<InputFile> inputs = notation.files_read;
   const auto archive = find_archive(cache, record, options.compile, inputs);
-  // Decoded before it is written (its structure and checksum; its modules were checked when it was
-  // packed): a record is a cache file, and what a pack writes must load.
   if (!archive) return std::nullopt;
-  auto contents = format::decode(archive->bytes);
-  if (!contents) return std::nullopt;
-  const int code = write_reused(options, archive->bytes, *contents, inputs, session, times, out, err, false);
+  const auto code = write_reused(options, archive->bytes, inputs, session, times, out, err, false);
   // The stamps did not hold (or there were none): stamped again, so that the next pack reads nothing.
   if (code == kExitSuccess)
     if (std::string warning = write_input_stamps(
@@ -958,10 +958,6 @@ void record_in_background(ReportedThread& thread, CompileCache& cache, const Arc
                });
 }
 
-}  // namespace
-
-namespace {
-
 // A notation that defines nothing makes an empty archive: said, as it is seldom meant.
 void note_if_empty(const Notation& notation, const PackOptions& options, Diagnostics& diag) {
   if (notation.pipelines.empty() && notation.shaders.empty() && notation.signatures.empty() &&
@@ -984,9 +980,7 @@ std::optional<int> pack_if_unchanged(const PackOptions& options, std::ostream& o
   std::vector<InputFile> inputs;
   const auto archive = find_unchanged_archive(*cache, options, bundle_project(options), inputs);
   if (!archive) return std::nullopt;
-  auto contents = format::decode(archive->bytes);  // (as a reuse does: what a pack writes must load)
-  if (!contents) return std::nullopt;
-  return write_reused(options, archive->bytes, *contents, inputs, nullptr, times, out, err, true);
+  return write_reused(options, archive->bytes, inputs, nullptr, times, out, err, true);
 }
 
 int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err, PackSession* session) {

@@ -8,8 +8,9 @@
 #include <cstring>
 #include <exception>
 #include <mutex>
-#include <thread>
 #include <vector>
+
+#include "support/parallel_for.hpp"
 
 namespace statepack::packager {
 namespace {
@@ -182,8 +183,7 @@ void parallel_on_stacks(size_t count, uint32_t threads, size_t stack_bytes,
       }
     return nullptr;
   };
-  size_t n = threads ? threads : std::max(1u, std::thread::hardware_concurrency());
-  n = std::min(n, count);
+  const size_t n = count ? detail::pool_size(count, threads) : 0;  // (no jobs: no thread)
   std::vector<pthread_t> pool(n);
   size_t made = 0;
   while (made < n && make_thread(pool[made], stack_bytes, run, &loop).empty()) ++made;

@@ -532,23 +532,35 @@ std::string nesting_problem(const ShaderDesc& shader, const CompileOptions& opti
   return "";
 }
 
-// A GLSL text's #version directive line ("#version 450 core"), or "" when it has none: the first line
-// whose first token is # and whose second is version, of at most 200 characters.
-std::string version_line(std::string_view source) {
-  size_t at = 0;
-  while (at < source.size()) {
-    size_t end = source.find('\n', at);
-    if (end == std::string_view::npos) end = source.size();
-    std::string_view line = source.substr(at, end - at);
-    const size_t hash = line.find_first_not_of(" \t\r");
-    if (hash != std::string_view::npos && line[hash] == '#') {
-      const size_t word = line.find_first_not_of(" \t", hash + 1);
-      if (word != std::string_view::npos && line.substr(word, 7) == "version")
-        return line.size() <= 200 ? std::string(line) + '\n' : "";
-    }
-    at = end + 1;
+// Calls on_directive(directive, line) for each line of `text` whose first non-blank is '#', `directive`
+// being what follows the '#' without its leading blanks, until it returns true; whether one did.
+template <class OnDirective>
+bool for_each_directive(std::string_view text, OnDirective&& on_directive) {
+  size_t start = 0;
+  while (start < text.size()) {
+    size_t end = text.find('\n', start);
+    if (end == std::string_view::npos) end = text.size();
+    const std::string_view line = text.substr(start, end - start);
+    start = end + 1;
+    const size_t hash = line.find_first_not_of(" \t");
+    if (hash == std::string_view::npos || line[hash] != '#') continue;
+    std::string_view directive = line.substr(hash + 1);
+    directive.remove_prefix(std::min(directive.size(), directive.find_first_not_of(" \t")));
+    if (on_directive(directive, line)) return true;
   }
-  return "";
+  return false;
+}
+
+// A GLSL text's #version directive line ("#version 450 core"), or "" when it has none: the first
+// directive line that is #version, of at most 200 characters.
+std::string version_line(std::string_view source) {
+  std::string out;
+  for_each_directive(source, [&](std::string_view directive, std::string_view line) {
+    if (!directive.starts_with("version")) return false;
+    if (line.size() <= 200) out = std::string(line) + '\n';
+    return true;
+  });
+  return out;
 }
 
 // What glslang is asked to check and report (prepare_compiler asks the same: it is part of the key of
@@ -708,17 +720,8 @@ Digest text_hash(std::string_view text) {
 }
 
 bool tests_backend_macros(std::string_view text) {
-  size_t start = 0;
-  while (start < text.size()) {
-    size_t end = text.find('\n', start);
-    if (end == std::string_view::npos) end = text.size();
-    std::string_view line = text.substr(start, end - start);
-    start = end + 1;
-    const size_t hash = line.find_first_not_of(" \t");
-    if (hash == std::string_view::npos || line[hash] != '#') continue;
-    std::string_view directive = line.substr(hash + 1);
-    directive.remove_prefix(std::min(directive.size(), directive.find_first_not_of(" \t")));
-    if (!directive.starts_with("if") && !directive.starts_with("elif")) continue;  // #if, #ifdef, #ifndef
+  return for_each_directive(text, [](std::string_view directive, std::string_view) {
+    if (!directive.starts_with("if") && !directive.starts_with("elif")) return false;  // #if, #ifdef, #ifndef
     for (std::string_view name : {std::string_view("VULKAN"), std::string_view("GL_SPIRV")})
       for (size_t at = directive.find(name); at != std::string_view::npos;
            at = directive.find(name, at + 1)) {
@@ -727,8 +730,8 @@ bool tests_backend_macros(std::string_view text) {
         const bool ends = at + name.size() == directive.size() || !word(directive[at + name.size()]);
         if (starts && ends) return true;
       }
-  }
-  return false;
+    return false;
+  });
 }
 
 std::vector<uint32_t> compile_generated_glsl(const std::string& glsl, uint32_t vk_stage, std::string& log) {
