@@ -205,11 +205,15 @@ TEST_F(RemoteCacheTest, AServerStoppedDuringAPackDoesNotFailIt) {
     std::this_thread::sleep_for(std::chrono::milliseconds(150));
     redis.stop();
   });
-  const PackRun run = pack(dir_ / "first", "../a.spk", "--cache-dir ../cache --remote-cache '" + url + "'");
+  const PackRun run =
+      pack(dir_ / "first", "../a.spk", "-t 2 --cache-dir ../cache --remote-cache '" + url + "'");
   stopper.join();
   ASSERT_EQ(run.exit_code, 0) << run.output;
   EXPECT_EQ(read_file(dir_ / "a.spk"), clean);
-  EXPECT_LE(run.errors, 2) << run.output;  // at most one read and one write failed
+  // No request is sent to a server after one failed: only those already in flight fail with it, a read
+  // on each of the 2 compile threads or one of the 4 writes the flush keeps in flight
+  // (RemoteCache::kConnections); a failed read stops the writes too.
+  EXPECT_LE(run.errors, 4) << run.output;
 }
 
 TEST_F(RemoteCacheTest, RefusedWritesAreReportedAndReadsGoOn) {
