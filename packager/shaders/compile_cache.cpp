@@ -34,6 +34,9 @@ constexpr uint64_t kMaxEntryBytes = uint64_t(256) << 20;  // larger than any mod
 constexpr size_t kSubdirectories = 256;
 constexpr int64_t kStaleTemporarySeconds = 3600;  // a temporary this old belongs to a run that died
 constexpr size_t kMaxBundledPayload = 16 << 10;   // larger entries stay in their own files only
+// A bundle is rewritten once the entries a pack used beside it plus those it holds unused pass 1/32 of what
+// the pack used (write_bundle).
+constexpr size_t kBundleSlack = 32;
 
 // The GNU build ID of a loaded object (a hash the linker computes over the whole file), if it has one.
 std::optional<std::string_view> build_id(const dl_phdr_info& info) {
@@ -821,11 +824,20 @@ std::string CompileCache::write_bundle(const std::vector<Pending>& written,
   // A rewritten entry (a compile whose #includes changed keeps its key) replaces what was read.
   for (const Pending& p : written) used.insert_or_assign(hex(p.key), p.payload);
   std::erase_if(used, [](const auto& entry) { return entry.second.size() > kMaxBundledPayload; });
-  // (Written: a new entry, or one rewritten under its old name, whose new bytes the bundle must hold.)
-  const bool same = written.empty() && used.size() == bundle_.size() &&
-                    std::equal(used.begin(), used.end(), bundle_.begin(),
-                               [](const auto& a, const auto& b) { return a.first == b.first; });
-  if (same || used.empty()) return "";
+  // Rewriting the bundle costs every small entry of the project: after one shader of a thousand changed
+  // that was a few megabytes hashed and written for two new entries, a repack's cache writes growing
+  // with the project instead of with the change. So the few entries a pack used beside it are read from
+  // their own files (about an open each) until they, plus those it holds that went unused (a changed
+  // shader's old compile), pass 1/32 of what the pack used: a rewrite every dozen or so one-shader edits
+  // of a large project, every time in a small one. A name it holds that was written again (a compile
+  // whose #includes changed keeps its key) is rewritten at once: its bytes there are stale, and would be
+  // served and missed by every later pack.
+  size_t outside = 0;
+  for (const auto& entry : used) outside += bundle_.contains(entry.first) ? 0 : 1;
+  const size_t unused = bundle_.size() - (used.size() - outside);
+  const bool rewritten =
+      std::ranges::any_of(written, [&](const Pending& p) { return bundle_.contains(hex(p.key)); });
+  if (used.empty() || (!rewritten && (outside + unused) * kBundleSlack <= used.size())) return "";
   std::vector<uint8_t> payload;
   for (const auto& [name, bytes] : used) {
     const CacheKey key = key_of(name);

@@ -47,12 +47,14 @@
 //
 // A pack's bundle: one more entry, under a key made of the project (the working directory, the notation
 // files given, the options that decide entries; not the output) instead of a shader, whose payload is
-// every small entry (16 KiB at most) the last pack of that project used, each as (32-byte key, u64 size,
+// every small entry (16 KiB at most) a recent pack of that project used, each as (32-byte key, u64 size,
 // payload). A pack maps it first and finds its entries there before it opens an entry file: a warm pack
 // of N small shaders opens one file instead of 2N (a large entry is worth its own file's opening, and
 // would make the bundle costly to rewrite). A bundle entry serves only under its own key, so a bundle
-// that another project wrote, or one that is stale, costs its read and nothing else; a pack that used
-// other small entries than its bundle holds writes a new one. It is trimmed like any entry; it stays
+// that another project wrote, or one that is stale, costs its read and nothing else. A pack writes a new
+// one when what it used differs enough from what the bundle holds: a name in it written again, or more
+// than 1/32 of the entries used read from their own files plus held unused (so that one changed shader
+// of a thousand does not rewrite the whole bundle). It is trimmed like any entry; it stays
 // local (never sent to a server).
 #pragma once
 

@@ -299,6 +299,52 @@ TEST_F(CompileCacheTest, ABundleThatCannotServeIsReadAroundAndWrittenAgain) {
 }
 
 // Two packs at once on one new cache: both succeed with the same bytes, and the cache they leave is whole.
+// One changed shader of many leaves the bundle as it is: its two new entries are read from their own
+// files until those beside the bundle and those it holds unused pass 1/32 of the entries used; then it is
+// written again, holding them. Every archive is the one a clean pack makes.
+TEST_F(CompileCacheTest, ABundleIsWrittenAgainOnlyWhenWhatItLacksCounts) {
+  constexpr int kShaders = 64;  // 128 entries: 4 beside or unused are within 1/32, 8 are not
+  std::string json = R"({"Pipelines": [)";
+  auto write_shader = [&](int i, int constant) {
+    write_file(dir_ / ("many_" + std::to_string(i) + ".comp"),
+               "#version 450\nlayout(local_size_x = 1) in;\n"
+               "layout(std430, binding = 0) buffer B { uint v[]; };\n"
+               "void main() { v[0] = " +
+                   std::to_string(constant) + "u; }\n");
+  };
+  for (int i = 0; i < kShaders; ++i) {
+    write_shader(i, i);
+    json += std::string(i ? "," : "") + R"({"PSODesc": {"Name": "P)" + std::to_string(i) +
+            R"("}, "pCS": {"Desc": {"Name": "S)" + std::to_string(i) + R"("}, "FilePath": "many_)" +
+            std::to_string(i) + R"(.comp"}})";
+  }
+  write_file(dir_ / "project.json", json + "]}");
+  const std::string from_bundle = " entries read from the pack's bundle";
+  EXPECT_EQ(pack("cold.spk").written, 2 * kShaders) << last_output_;
+  const ino_t first = inode(bundle());
+  // One shader changed: its compile and finalisation are new, the bundle is not written again.
+  write_shader(0, 1000);
+  EXPECT_EQ(pack("one.spk").misses, 2) << last_output_;
+  EXPECT_EQ(read_file(dir_ / "one.spk"), clean_bytes());
+  EXPECT_EQ(inode(bundle()), first);
+  // The next pack finds the two new entries in their own files, the rest in the bundle.
+  const CacheStats again = pack("again.spk");
+  EXPECT_EQ(again.hits, 2 * kShaders) << last_output_;
+  EXPECT_NE(last_output_.find(std::to_string(2 * kShaders - 2) + from_bundle), std::string::npos)
+      << last_output_;
+  EXPECT_EQ(read_file(dir_ / "again.spk"), read_file(dir_ / "one.spk"));
+  EXPECT_EQ(inode(bundle()), first);
+  // A second shader changed: 4 beside the bundle and 4 in it unused, past 128 / 32; written again.
+  write_shader(1, 1001);
+  EXPECT_EQ(pack("two.spk").misses, 2) << last_output_;
+  EXPECT_EQ(read_file(dir_ / "two.spk"), clean_bytes());
+  EXPECT_NE(inode(bundle()), first);
+  EXPECT_EQ(pack("whole.spk").hits, 2 * kShaders) << last_output_;
+  EXPECT_NE(last_output_.find(std::to_string(2 * kShaders) + from_bundle), std::string::npos)
+      << last_output_;
+  EXPECT_EQ(read_file(dir_ / "whole.spk"), read_file(dir_ / "two.spk"));
+}
+
 TEST_F(CompileCacheTest, TwoPacksShareTheCacheAtOnce) {
   const std::string clean = clean_bytes();
   CommandResult runs[2];
