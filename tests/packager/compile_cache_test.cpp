@@ -340,8 +340,7 @@ TEST_F(CompileCacheTest, ABundleIsWrittenAgainOnlyWhenWhatItLacksCounts) {
   EXPECT_EQ(read_file(dir_ / "two.spk"), clean_bytes());
   EXPECT_NE(inode(bundle()), first);
   EXPECT_EQ(pack("whole.spk").hits, 2 * kShaders) << last_output_;
-  EXPECT_NE(last_output_.find(std::to_string(2 * kShaders) + from_bundle), std::string::npos)
-      << last_output_;
+  EXPECT_NE(last_output_.find(std::to_string(2 * kShaders) + from_bundle), std::string::npos) << last_output_;
   EXPECT_EQ(read_file(dir_ / "whole.spk"), read_file(dir_ / "two.spk"));
 }
 
