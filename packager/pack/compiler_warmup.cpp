@@ -35,14 +35,45 @@ const ShaderDesc* likely_compile(const Notation& notation,
   return nullptr;
 }
 
+std::optional<TablesHint> tables_hint(const Notation& notation, const CompileOptions& options) {
+  const ShaderDesc* first = likely_compile(notation, std::nullopt);
+  if (!first) return std::nullopt;
+  return TablesHint{first->language, first->stage, first->glsl_version, tables_version_line(*first, options)};
+}
+
 CompilerWarmup::~CompilerWarmup() {
   if (thread_.joinable()) thread_.join();
 }
 
+bool CompilerWarmup::wanted(const PackOptions& options, const CompileCache* cache) {
+  return cache && options.archive_reuse && options.threads != 1 && std::thread::hardware_concurrency() >= 2;
+}
+
+void CompilerWarmup::start_early(const PackOptions& options, CompileCache* cache, std::string_view project) {
+  if (!wanted(options, cache)) return;
+  auto stamps = cache->find_local(stamps_slot(archive_slot(project)));
+  if (!stamps) return;
+  // The entry (mapped) goes with the thread, which stats the stamped files (about 1 µs each) and then
+  // builds the tables while this one reads the notation. As with start(), a speed-up only.
+  try {
+    thread_ = std::thread([stamps = std::move(*stamps), compile = options.compile] {
+      try {
+        if (auto hint = hint_if_changed(stamps.payload)) {
+          ShaderDesc shader;
+          shader.language = hint->language, shader.stage = hint->stage;
+          shader.glsl_version = hint->glsl_version, shader.source = hint->version_line;
+          prepare_compiler(shader, compile);
+        }
+      } catch (...) {
+      }
+    });
+  } catch (...) {
+  }
+}
+
 void CompilerWarmup::start(const Notation& notation, const PackOptions& options, const CompileCache* cache,
                            std::string_view project) {
-  if (!cache || !options.archive_reuse || options.threads == 1 || std::thread::hardware_concurrency() < 2)
-    return;
+  if (!wanted(options, cache) || thread_.joinable()) return;
   const ShaderDesc* shader = likely_compile(notation, cache->local_time(archive_slot(project)));
   if (!shader) return;
   // Copies: the pack goes on with its notation and options meanwhile. A speed-up only: when the copy or

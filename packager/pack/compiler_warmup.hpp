@@ -8,6 +8,7 @@
 #include <thread>
 
 #include "notation/notation.hpp"
+#include "pack/input_stamps.hpp"
 #include "pack/packer.hpp"
 #include "shaders/compile_cache.hpp"
 
@@ -20,6 +21,11 @@ namespace statepack::packager {
 const ShaderDesc* likely_compile(const Notation& notation,
                                  const std::optional<std::filesystem::file_time_type>& recorded);
 
+// What picks glslang's tables for the notation's first shader that compiles from source (its language,
+// stage, GLSLVersion and #version line, read from its file), for the input stamps; nullopt when there
+// is none.
+std::optional<TablesHint> tables_hint(const Notation& notation, const CompileOptions& options);
+
 // Runs prepare_compiler on a thread of its own, joined when this object ends (the pack's end).
 class CompilerWarmup {
  public:
@@ -27,12 +33,16 @@ class CompilerWarmup {
   CompilerWarmup(const CompilerWarmup&) = delete;
   CompilerWarmup& operator=(const CompilerWarmup&) = delete;
   ~CompilerWarmup();
-  // Starts it for what this pack will likely compile: only with an archive record to compare against
-  // (a cache, archive reuse on) and more than one thread.
+  // As the pack starts, before its notation is read: from the input stamps' tables hint, when one of
+  // the stamped files changed (input_stamps.hpp). Both starts only with an archive record to compare
+  // against (a cache, archive reuse on) and more than one thread.
+  void start_early(const PackOptions& options, CompileCache* cache, std::string_view project);
+  // Once the notation is read, for what this pack will likely compile; nothing when start_early started.
   void start(const Notation& notation, const PackOptions& options, const CompileCache* cache,
              std::string_view project);
 
  private:
+  static bool wanted(const PackOptions& options, const CompileCache* cache);
   std::thread thread_;
 };
 

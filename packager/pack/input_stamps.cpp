@@ -12,7 +12,7 @@ namespace statepack::packager {
 namespace {
 
 namespace fs = std::filesystem;
-constexpr uint32_t kStampsVersion = 2;
+constexpr uint32_t kStampsVersion = 3;
 
 // A time as (seconds, nanoseconds) since the epoch: compared as a pair (nanoseconds alone overflow 64 bits
 // in 2262, and a file's time may be set anywhere).
@@ -33,6 +33,66 @@ bool read_stamp(PayloadReader& r, FileStamp& s) {
     return false;
   s.modified = {int64_t(t[0]), int64_t(t[1])}, s.changed = {int64_t(t[2]), int64_t(t[3])};
   return true;
+}
+
+void write_hint(PayloadWriter& w, const std::optional<TablesHint>& hint) {
+  w.u32(hint ? 1 : 0);
+  if (!hint) return;
+  w.u32(uint32_t(hint->language));
+  w.u32(hint->stage);
+  w.u32(hint->glsl_version);
+  w.str(hint->version_line);
+}
+
+bool read_hint(PayloadReader& r, std::optional<TablesHint>& hint) {
+  uint32_t present = 0, language = 0;
+  if (!r.u32(present) || present > 1) return false;
+  if (!present) return true;
+  hint.emplace();
+  if (!r.u32(language) || language > uint32_t(SourceLanguage::spirv) || !r.u32(hint->stage) ||
+      !r.u32(hint->glsl_version) || !r.str(hint->version_line))
+    return false;
+  hint->language = SourceLanguage(language);
+  return true;
+}
+
+// A stamps entry as written: what it vouches for, and each file with its stamp and whether the pack read
+// it. Nothing is checked against the file system here.
+struct ParsedStamps {
+  StampedInputs inputs;
+  struct File {
+    std::string path;
+    bool listed = false;
+    FileStamp stamp;
+  };
+  std::vector<File> files;
+};
+
+std::optional<ParsedStamps> parse_stamps(std::span<const uint8_t> payload) {
+  PayloadReader r(payload);
+  ParsedStamps out;
+  StampedInputs& in = out.inputs;
+  uint32_t version = 0, lookups = 0, files = 0;
+  if (!r.u32(version) || version != kStampsVersion || !r.raw(in.record.data(), in.record.size()) ||
+      !r.raw(in.setup.data(), in.setup.size()) || !read_hint(r, in.tables) || !r.u32(lookups) ||
+      !r.room_for(lookups, 16))
+    return std::nullopt;
+  in.lookups.resize(lookups);
+  for (FileLookup& l : in.lookups) {
+    uint32_t kind = 0;
+    std::string base, found;
+    if (!r.u32(kind) || kind > 1 || !r.str(l.name) || !r.str(base) || !r.str(found)) return std::nullopt;
+    l.shader = kind == 1, l.base_dir = base, l.found = found;
+  }
+  if (!r.u32(files) || !r.room_for(files, 64)) return std::nullopt;
+  out.files.resize(files);
+  for (ParsedStamps::File& f : out.files) {
+    uint32_t listed = 0;
+    if (!r.str(f.path) || !r.u32(listed) || !read_stamp(r, f.stamp)) return std::nullopt;
+    f.listed = listed != 0;
+  }
+  if (!r.done()) return std::nullopt;
+  return out;
 }
 
 }  // namespace
@@ -58,6 +118,7 @@ std::string write_input_stamps(CompileCache& cache, const CacheKey& record_slot,
   w.u32(kStampsVersion);
   w.bytes.insert(w.bytes.end(), stamped.record.begin(), stamped.record.end());
   w.bytes.insert(w.bytes.end(), stamped.setup.begin(), stamped.setup.end());
+  write_hint(w, stamped.tables);
   w.u32(uint32_t(stamped.lookups.size()));
   for (const FileLookup& l : stamped.lookups) {
     w.u32(l.shader ? 1 : 0);
@@ -92,35 +153,26 @@ std::optional<StampedInputs> unchanged_inputs(CompileCache& cache, const CacheKe
                                               const CacheKey& setup, const NotationOptions& options) {
   const auto entry = cache.find_local(stamps_slot(record_slot));
   if (!entry) return std::nullopt;
-  PayloadReader r(entry->payload);
-  StampedInputs out;
-  uint32_t version = 0, lookups = 0, files = 0;
-  if (!r.u32(version) || version != kStampsVersion || !r.raw(out.record.data(), out.record.size()) ||
-      !r.raw(out.setup.data(), out.setup.size()) || out.setup != setup || !r.u32(lookups) ||
-      !r.room_for(lookups, 16))
-    return std::nullopt;
-  out.lookups.resize(lookups);
-  for (FileLookup& l : out.lookups) {
-    uint32_t kind = 0;
-    std::string base, found;
-    if (!r.u32(kind) || kind > 1 || !r.str(l.name) || !r.str(base) || !r.str(found)) return std::nullopt;
-    l.shader = kind == 1, l.base_dir = base, l.found = found;
+  auto parsed = parse_stamps(entry->payload);
+  if (!parsed || parsed->inputs.setup != setup) return std::nullopt;
+  for (const FileLookup& l : parsed->inputs.lookups)
     if (resolve_file(l.name, l.base_dir, l.shader ? options.shader_dirs : options.render_state_dirs,
                      nullptr) != l.found)
       return std::nullopt;
+  for (const ParsedStamps::File& f : parsed->files) {
+    const auto now = stamp_of(f.path);
+    if (!now || *now != f.stamp) return std::nullopt;
+    if (f.listed) parsed->inputs.files.push_back({f.path, {f.stamp.device, f.stamp.inode}});
   }
-  if (!r.u32(files) || !r.room_for(files, 64)) return std::nullopt;
-  for (uint32_t i = 0; i < files; ++i) {
-    std::string path;
-    uint32_t listed = 0;
-    FileStamp stamped;
-    if (!r.str(path) || !r.u32(listed) || !read_stamp(r, stamped)) return std::nullopt;
-    const auto now = stamp_of(path);
-    if (!now || *now != stamped) return std::nullopt;
-    if (listed) out.files.push_back({path, {stamped.device, stamped.inode}});
-  }
-  if (!r.done()) return std::nullopt;
-  return out;
+  return std::move(parsed->inputs);
+}
+
+std::optional<TablesHint> hint_if_changed(std::span<const uint8_t> stamps) {
+  auto parsed = parse_stamps(stamps);
+  if (!parsed || !parsed->inputs.tables) return std::nullopt;
+  for (const ParsedStamps::File& f : parsed->files)
+    if (f.listed && stamp_of(f.path) != f.stamp) return parsed->inputs.tables;
+  return std::nullopt;
 }
 
 }  // namespace statepack::packager

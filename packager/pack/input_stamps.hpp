@@ -17,11 +17,13 @@
 //
 // | payload bytes | meaning                                                                        |
 // |---------------|--------------------------------------------------------------------------------|
-// | 0..3          | u32 stamps version (2)                                                         |
+// | 0..3          | u32 stamps version (3)                                                         |
 // | 4..35         | the record these stamps vouch for: a SHA-256 of its payload before the archive |
 // |               | (its inputs key and #includes with their texts' hashes: archive_reuse.hpp)     |
 // | 36..67        | setup key: statepack's code and the options that decide the archive's bytes   |
-// | 68..71        | u32 count of lookups, then each: u32 kind (0 -r, 1 -s), name, base directory,  |
+// | 68..71        | u32 1 when a tables hint follows (else 0): u32 source language (SourceLanguage), |
+// |               | u32 stage (VkShaderStageFlagBits), u32 GLSLVersion, the #version line (string) |
+// | then          | u32 count of lookups, then each: u32 kind (0 -r, 1 -s), name, base directory,  |
 // |               | found path (strings: u32 length, bytes)                                        |
 // | then          | u32 count of files, then each: path, u32 1 when the pack read it (0: a name a  |
 // |               | lookup found, stamped through a link), u64 device, inode, size, modification   |
@@ -30,11 +32,17 @@
 // A pack with a cache, archive reuse on, no --dump-dir or --shard and notation from files looks for its
 // stamps before anything else; any difference (a file, a lookup, the options, the record) is a normal
 // pack, which stamps again when it records an archive or reuses one.
+//
+// The tables hint: what picks glslang's built-in tables (compiler_warmup.hpp) for the project's first
+// shader: its language and #version. A repack that finds a stamped file changed starts building them
+// from the hint as it starts, before it has read its notation; a wrong hint costs only that work.
 #pragma once
 
 #include <chrono>
 #include <filesystem>
 #include <optional>
+#include <span>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -58,12 +66,22 @@ std::optional<FileStamp> stamp_of(const std::filesystem::path& path);
 // Where the stamps of the record at `record_slot` are kept.
 CacheKey stamps_slot(const CacheKey& record_slot);
 
+// What picks glslang's built-in tables for a shader like the project's first (the stamps' tables hint).
+struct TablesHint {
+  SourceLanguage language = SourceLanguage::glsl;
+  uint32_t stage = 0;         // VkShaderStageFlagBits
+  uint32_t glsl_version = 0;  // GLSLVersion
+  std::string version_line;   // its #version line, or ""
+  bool operator==(const TablesHint&) const = default;
+};
+
 // What a set of stamps vouches for.
 struct StampedInputs {
   CacheKey record{};  // record_id of the record they vouch for
   CacheKey setup{};
   std::vector<FileLookup> lookups;
   std::vector<InputFile> files;
+  std::optional<TablesHint> tables;
 };
 
 // Stamps `stamped.files` for the record at `record_slot`, unless one changed within kRacyWindow before
@@ -77,5 +95,9 @@ std::string write_input_stamps(CompileCache& cache, const CacheKey& record_slot,
 // every file stats as stamped; else nullopt.
 std::optional<StampedInputs> unchanged_inputs(CompileCache& cache, const CacheKey& record_slot,
                                               const CacheKey& setup, const NotationOptions& options);
+
+// The tables hint of `stamps` (a stamps entry's payload) when one of its files no longer stats as stamped
+// (a compile is then likely); nullopt when none, or when every file does.
+std::optional<TablesHint> hint_if_changed(std::span<const uint8_t> stamps);
 
 }  // namespace statepack::packager

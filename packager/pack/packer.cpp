@@ -933,7 +933,9 @@ std::optional<int> reuse_archive(const PackOptions& options, CompileCache& cache
   // The stamps did not hold (or there were none): stamped again, so that the next pack reads nothing.
   if (code == kExitSuccess)
     if (std::string warning = write_input_stamps(
-            cache, record.slot, {archive->id, record.setup, notation.lookups, inputs}, started);
+            cache, record.slot,
+            {archive->id, record.setup, notation.lookups, inputs, tables_hint(notation, options.compile)},
+            started);
         !warning.empty())
       err << "statepack: warning: --cache-dir: " << printable(warning) << "\n";
   return code;
@@ -945,17 +947,18 @@ std::optional<int> reuse_archive(const PackOptions& options, CompileCache& cache
 void record_in_background(ReportedThread& thread, CompileCache& cache, const ArchiveKey& key,
                           const CompiledShaders& compiled, const CompiledShaders& gl_compiled,
                           const std::vector<InputFile>& inputs, const std::vector<FileLookup>& lookups,
-                          std::chrono::system_clock::time_point started, std::span<const uint8_t> bytes,
-                          std::ostream& err) {
+                          std::optional<TablesHint> tables, std::chrono::system_clock::time_point started,
+                          std::span<const uint8_t> bytes, std::ostream& err) {
   std::vector<const CompiledShader*> compiles;
   for (const auto* c : {&compiled, &gl_compiled})
     for (const auto& u : c->units) compiles.push_back(&u.compiled);
-  thread.start([&cache, key, compiles, &inputs, &lookups, started,
-                bytes] { return record_archive(cache, key, compiles, bytes, inputs, lookups, started); },
-               [&err](const std::string& warning) {
-                 if (!warning.empty())
-                   err << "statepack: warning: --cache-dir: " << printable(warning) << "\n";
-               });
+  thread.start(
+      [&cache, key, compiles, &inputs, &lookups, tables = std::move(tables), started, bytes] {
+        return record_archive(cache, key, compiles, bytes, inputs, lookups, tables, started);
+      },
+      [&err](const std::string& warning) {
+        if (!warning.empty()) err << "statepack: warning: --cache-dir: " << printable(warning) << "\n";
+      });
 }
 
 // A notation that defines nothing makes an empty archive: said, as it is seldom meant.
@@ -1002,12 +1005,13 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err, P
   }
   const CompileCache::Stats stats_before = cached ? cached->stats() : CompileCache::Stats{};
   if (cache) cache->use_bundle(bundle_project(options));
+  CompilerWarmup warmup;  // (joined when the pack ends)
+  warmup.start_early(options, cached, bundle_project(options));
   Diagnostics diag(options.max_errors);
   Notation notation;
   for (const auto& input : options.inputs) read_notation(input, options.notation, notation, diag);
   resolve_references(notation, diag);
   times.done("read notation");
-  CompilerWarmup warmup;  // (joined when the pack ends)
   warmup.start(notation, options, cached, bundle_project(options));
   const std::optional<ArchiveKey> record = archive_record_key(options, session, cached, notation, diag);
   if (record)
@@ -1093,7 +1097,7 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err, P
   ReportedThread recording;
   if (recorded)
     record_in_background(recording, *cached, *record, compiled, gl_compiled, inputs, notation.lookups,
-                         started, bytes, err);
+                         tables_hint(notation, options.compile), started, bytes, err);
   if (!options.check_only)
     if (int code = write_outputs(options, inputs, bytes, err); code != kExitSuccess) return code;
   times.done("write");

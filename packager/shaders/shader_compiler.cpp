@@ -649,18 +649,18 @@ std::string unit_key(const ShaderDesc& s) {
   return key;
 }
 
+std::string tables_version_line(const ShaderDesc& shader, const CompileOptions& options) {
+  if (shader.language != SourceLanguage::glsl) return "";
+  if (shader.file.empty()) return version_line(shader.source);
+  return version_line(read_input_file(shader.file, display_path(shader.file), options.max_input_bytes).text);
+}
+
 void prepare_compiler(const ShaderDesc& shader, const CompileOptions& options) {
   if (shader.language == SourceLanguage::spirv) return;
   const bool hlsl = shader.language == SourceLanguage::hlsl;
   // Only the #version line (GLSL): it picks the tables; the shader's text is for its compile, which
   // checks how deeply it nests before glslang recurses through it.
-  std::string text;
-  if (!hlsl) {
-    std::string source = shader.source;
-    if (!shader.file.empty())
-      source = read_input_file(shader.file, display_path(shader.file), options.max_input_bytes).text;
-    text = version_line(source);
-  }
+  const std::string text = tables_version_line(shader, options);
   initialize_glslang();
   const EShLanguage stage = to_glslang_stage(shader.stage);
   glslang::TShader ts(stage);

@@ -73,6 +73,9 @@ std::string unit_key(const ShaderDesc& shader);
 // serial under a lock of glslang's). A pack calls it on another core while it reads and hashes, for a
 // shader it will likely compile; whatever it cannot read or parse is left to that compile to report.
 void prepare_compiler(const ShaderDesc& shader, const CompileOptions& options);
+// What of `shader`'s text picks those tables: its #version line (read from its file), "" for HLSL, for
+// a text without one, or for a file that cannot be read.
+std::string tables_version_line(const ShaderDesc& shader, const CompileOptions& options);
 
 // Compiles one shader. Errors are reported against the shader's own file and line (or the #include's);
 // `messages` collects them from every shader, so an error in a shared #include is reported once.
