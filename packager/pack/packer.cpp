@@ -961,6 +961,14 @@ void record_in_background(ReportedThread& thread, CompileCache& cache, const Arc
       });
 }
 
+// Every notation file given, read into one notation, its references resolved.
+Notation read_notations(const PackOptions& options, Diagnostics& diag) {
+  Notation notation;
+  for (const auto& input : options.inputs) read_notation(input, options.notation, notation, diag);
+  resolve_references(notation, diag);
+  return notation;
+}
+
 // A notation that defines nothing makes an empty archive: said, as it is seldom meant.
 void note_if_empty(const Notation& notation, const PackOptions& options, Diagnostics& diag) {
   if (notation.pipelines.empty() && notation.shaders.empty() && notation.signatures.empty() &&
@@ -1008,9 +1016,7 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err, P
   CompilerWarmup warmup;  // (joined when the pack ends)
   warmup.start_early(options, cached, bundle_project(options));
   Diagnostics diag(options.max_errors);
-  Notation notation;
-  for (const auto& input : options.inputs) read_notation(input, options.notation, notation, diag);
-  resolve_references(notation, diag);
+  Notation notation = read_notations(options, diag);
   times.done("read notation");
   warmup.start(notation, options, cached, bundle_project(options));
   const std::optional<ArchiveKey> record = archive_record_key(options, session, cached, notation, diag);
