@@ -42,7 +42,8 @@ std::optional<TablesHint> tables_hint(const Notation& notation, const CompileOpt
 }
 
 CompilerWarmup::~CompilerWarmup() {
-  if (thread_.joinable()) thread_.join();
+  for (std::thread* t : {&early_, &late_})
+    if (t->joinable()) t->join();
 }
 
 bool CompilerWarmup::wanted(const PackOptions& options, const CompileCache* cache) {
@@ -53,17 +54,21 @@ void CompilerWarmup::start_early(const PackOptions& options, CompileCache* cache
   if (!wanted(options, cache)) return;
   auto stamps = cache->find_local(stamps_slot(archive_slot(project)));
   if (!stamps) return;
+  early_hint_ = stamped_hint(stamps->payload);
+  if (!early_hint_) return;
   // The entry (mapped) goes with the thread, which stats the stamped files (about 1 µs each) and then
   // builds the tables while this one reads the notation. As with start(), a speed-up only.
   try {
-    thread_ = std::thread([stamps = std::move(*stamps), compile = options.compile] {
+    early_ = std::thread([this, stamps = std::move(*stamps), compile = options.compile] {
       try {
-        if (auto hint = hint_if_changed(stamps.payload)) {
-          ShaderDesc shader;
-          shader.language = hint->language, shader.stage = hint->stage;
-          shader.glsl_version = hint->glsl_version, shader.source = hint->version_line;
-          prepare_compiler(shader, compile);
+        if (!hint_if_changed(stamps.payload)) {
+          early_found_nothing_ = true;
+          return;
         }
+        ShaderDesc shader;
+        shader.language = early_hint_->language, shader.stage = early_hint_->stage;
+        shader.glsl_version = early_hint_->glsl_version, shader.source = early_hint_->version_line;
+        prepare_compiler(shader, compile);
       } catch (...) {
       }
     });
@@ -73,14 +78,18 @@ void CompilerWarmup::start_early(const PackOptions& options, CompileCache* cache
 
 void CompilerWarmup::start(const Notation& notation, const PackOptions& options, const CompileCache* cache,
                            std::string_view project) {
-  if (!wanted(options, cache) || thread_.joinable()) return;
+  if (!wanted(options, cache)) return;
   const ShaderDesc* shader = likely_compile(notation, cache->local_time(archive_slot(project)));
   if (!shader) return;
+  if (early_.joinable() && !early_found_nothing_ && shader->language == early_hint_->language &&
+      shader->glsl_version == early_hint_->glsl_version &&
+      tables_version_line(*shader, options.compile) == early_hint_->version_line)
+    return;  // (the stage does not pick the tables: glslang builds every stage's)
   // Copies: the pack goes on with its notation and options meanwhile. A speed-up only: when the copy or
   // the thread cannot be made, or the work throws (out of memory: the compile meets it too, and says so),
   // the pack goes on without it.
   try {
-    thread_ = std::thread([shader = *shader, compile = options.compile] {
+    late_ = std::thread([shader = *shader, compile = options.compile] {
       try {
         prepare_compiler(shader, compile);
       } catch (...) {

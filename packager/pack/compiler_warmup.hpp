@@ -4,6 +4,7 @@
 // repack after one shader changed that was the longest stage, while the second core waited. A pack that
 // will likely compile builds them on another core while it hashes its inputs and looks them up in the
 // cache (prepare_compiler); a repack that changed nothing compiles nothing and builds nothing.
+#include <atomic>
 #include <optional>
 #include <thread>
 
@@ -37,13 +38,17 @@ class CompilerWarmup {
   // the stamped files changed (input_stamps.hpp). Both starts only with an archive record to compare
   // against (a cache, archive reuse on) and more than one thread.
   void start_early(const PackOptions& options, CompileCache* cache, std::string_view project);
-  // Once the notation is read, for what this pack will likely compile; nothing when start_early started.
+  // Once the notation is read, for what this pack will likely compile, unless start_early builds the
+  // same tables (it found a stamped file changed, or has not yet looked: a few ms against the notation
+  // read's tens). A project whose changed shader needs other tables than its first gets both.
   void start(const Notation& notation, const PackOptions& options, const CompileCache* cache,
              std::string_view project);
 
  private:
   static bool wanted(const PackOptions& options, const CompileCache* cache);
-  std::thread thread_;
+  std::thread early_, late_;
+  std::optional<TablesHint> early_hint_;
+  std::atomic<bool> early_found_nothing_{false};
 };
 
 }  // namespace statepack::packager

@@ -44,6 +44,8 @@ void write_hint(PayloadWriter& w, const std::optional<TablesHint>& hint) {
   w.str(hint->version_line);
 }
 
+// A hint as a notation could have made it: a known language, one of its stages, a GLSLVersion in the
+// range the notation takes, and a #version line as version_line keeps it (200 characters and '\n').
 bool read_hint(PayloadReader& r, std::optional<TablesHint>& hint) {
   uint32_t present = 0, language = 0;
   if (!r.u32(present) || present > 1) return false;
@@ -53,7 +55,9 @@ bool read_hint(PayloadReader& r, std::optional<TablesHint>& hint) {
       !r.u32(hint->glsl_version) || !r.str(hint->version_line))
     return false;
   hint->language = SourceLanguage(language);
-  return true;
+  const bool one_stage = hint->stage != 0 && (hint->stage & (hint->stage - 1)) == 0 &&
+                         hint->stage <= VK_SHADER_STAGE_COMPUTE_BIT;  // (the notation's six stages)
+  return one_stage && hint->glsl_version <= 460 && hint->version_line.size() <= 201;
 }
 
 // A stamps entry as written: what it vouches for, and each file with its stamp and whether the pack read
@@ -165,6 +169,17 @@ std::optional<StampedInputs> unchanged_inputs(CompileCache& cache, const CacheKe
     if (f.listed) parsed->inputs.files.push_back({f.path, {f.stamp.device, f.stamp.inode}});
   }
   return std::move(parsed->inputs);
+}
+
+std::optional<TablesHint> stamped_hint(std::span<const uint8_t> stamps) {
+  PayloadReader r(stamps);
+  uint32_t version = 0;
+  CacheKey skipped{};
+  std::optional<TablesHint> hint;
+  if (!r.u32(version) || version != kStampsVersion || !r.raw(skipped.data(), skipped.size()) ||
+      !r.raw(skipped.data(), skipped.size()) || !read_hint(r, hint))
+    return std::nullopt;
+  return hint;
 }
 
 std::optional<TablesHint> hint_if_changed(std::span<const uint8_t> stamps) {

@@ -96,8 +96,10 @@ std::string write_input_stamps(CompileCache& cache, const CacheKey& record_slot,
 std::optional<StampedInputs> unchanged_inputs(CompileCache& cache, const CacheKey& record_slot,
                                               const CacheKey& setup, const NotationOptions& options);
 
-// The tables hint of `stamps` (a stamps entry's payload) when one of its files no longer stats as stamped
-// (a compile is then likely); nullopt when none, or when every file does.
+// The tables hint of `stamps` (a stamps entry's payload), read from its head only; nullopt when none.
+std::optional<TablesHint> stamped_hint(std::span<const uint8_t> stamps);
+// The same, when one of its files no longer stats as stamped (a compile is then likely); nullopt when
+// none, or when every file does.
 std::optional<TablesHint> hint_if_changed(std::span<const uint8_t> stamps);
 
 }  // namespace statepack::packager

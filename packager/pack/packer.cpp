@@ -1011,10 +1011,10 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err, P
     err << "statepack: error: --shard compiles into the caches, and there is none to write to\n";
     return kExitIoError;
   }
+  CompilerWarmup warmup;  // (joined when the pack ends; before the stats: it reads the input stamps)
+  warmup.start_early(options, cached, bundle_project(options));
   const CompileCache::Stats stats_before = cached ? cached->stats() : CompileCache::Stats{};
   if (cache) cache->use_bundle(bundle_project(options));
-  CompilerWarmup warmup;  // (joined when the pack ends)
-  warmup.start_early(options, cached, bundle_project(options));
   Diagnostics diag(options.max_errors);
   Notation notation = read_notations(options, diag);
   times.done("read notation");

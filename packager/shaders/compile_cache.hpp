@@ -53,7 +53,7 @@
 // would make the bundle costly to rewrite). A bundle entry serves only under its own key, so a bundle
 // that another project wrote, or one that is stale, costs its read and nothing else. A pack writes a new
 // one when what it used differs enough from what the bundle holds: a name in it written again, or more
-// than 1/32 of the entries used read from their own files plus held unused (so that one changed shader
+// than 1/32 of the entries used read or written beside it plus held unused (so that one changed shader
 // of a thousand does not rewrite the whole bundle). It is trimmed like any entry; it stays
 // local (never sent to a server).
 #pragma once

@@ -298,7 +298,6 @@ TEST_F(CompileCacheTest, ABundleThatCannotServeIsReadAroundAndWrittenAgain) {
       << last_output_;
 }
 
-// Two packs at once on one new cache: both succeed with the same bytes, and the cache they leave is whole.
 // One changed shader of many leaves the bundle as it is: its two new entries are read from their own
 // files until those beside the bundle and those it holds unused pass 1/32 of the entries used; then it is
 // written again, holding them. Every archive is the one a clean pack makes.
@@ -344,6 +343,7 @@ TEST_F(CompileCacheTest, ABundleIsWrittenAgainOnlyWhenWhatItLacksCounts) {
   EXPECT_EQ(read_file(dir_ / "whole.spk"), read_file(dir_ / "two.spk"));
 }
 
+// Two packs at once on one new cache: both succeed with the same bytes, and the cache they leave is whole.
 TEST_F(CompileCacheTest, TwoPacksShareTheCacheAtOnce) {
   const std::string clean = clean_bytes();
   CommandResult runs[2];

@@ -11,6 +11,7 @@
 #include <fstream>
 #include <string>
 
+#include "common/text_files.hpp"
 #include "pack/input_stamps.hpp"
 
 namespace statepack::packager {
@@ -21,9 +22,7 @@ namespace fs = std::filesystem;
 class InputStampsTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("statepack_stamps_" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    dir_ = statepack::testing::fresh_test_dir(STATEPACK_TEST_OUTPUT_DIR, "input_stamps");
     write("a.comp", "#version 450\nvoid main() {}\n");
     std::string error;
     auto opened = CompileCache::open(dir_ / "cache", uint64_t(1) << 30, error);
@@ -59,8 +58,11 @@ TEST_F(InputStampsTest, TheTablesHintComesBackOnlyWhenAStampedFileChanged) {
   const TablesHint hint{SourceLanguage::glsl, VK_SHADER_STAGE_COMPUTE_BIT, 0, "#version 450\n"};
   const std::vector<uint8_t> stamps = stamp({{}, {}, {}, {input("a.comp")}, hint});
   ASSERT_FALSE(stamps.empty());
+  EXPECT_EQ(stamped_hint(stamps), hint);             // (read from the head, nothing stat'ed)
   EXPECT_EQ(hint_if_changed(stamps), std::nullopt);  // every file stats as stamped: nothing to compile
-  write("a.comp", "#version 460\nvoid main() {}\n");
+  // (Another size: a same-size rewrite within the file system's clock tick could keep every field, which
+  // is what the racy window is for.)
+  write("a.comp", "#version 460\nvoid main() { }\n");
   EXPECT_EQ(hint_if_changed(stamps), hint);
   fs::remove(dir_ / "a.comp");  // gone: a compile (of whatever takes its place) or an error
   EXPECT_EQ(hint_if_changed(stamps), hint);
@@ -75,8 +77,21 @@ TEST_F(InputStampsTest, TheTablesHintComesBackOnlyWhenAStampedFileChanged) {
 TEST_F(InputStampsTest, StampsWithoutAHintOrDamagedGiveNone) {
   const std::vector<uint8_t> none = stamp({{}, {}, {}, {input("a.comp")}, std::nullopt});
   ASSERT_FALSE(none.empty());
-  write("a.comp", "#version 460\nvoid main() {}\n");
+  write("a.comp", "#version 460\nvoid main() { }\n");
+  EXPECT_EQ(stamped_hint(none), std::nullopt);
   EXPECT_EQ(hint_if_changed(none), std::nullopt);
+  // A hint no notation makes (no stage, two stages, a GLSLVersion past 4.60, a #version line longer than
+  // version_line keeps) is none: these bytes reach glslang.
+  for (const TablesHint& odd :
+       {TablesHint{SourceLanguage::glsl, 0, 0, ""},
+        TablesHint{SourceLanguage::glsl, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, ""},
+        TablesHint{SourceLanguage::glsl, VK_SHADER_STAGE_VERTEX_BIT, 470, ""},
+        TablesHint{SourceLanguage::glsl, VK_SHADER_STAGE_VERTEX_BIT, 0, std::string(300, 'v')}}) {
+    const std::vector<uint8_t> odd_stamps = stamp({{}, {}, {}, {input("a.comp")}, odd});
+    EXPECT_EQ(stamped_hint(odd_stamps), std::nullopt);
+    write("a.comp", statepack::testing::read_file(dir_ / "a.comp") + " ");
+    EXPECT_EQ(hint_if_changed(odd_stamps), std::nullopt);
+  }
   const TablesHint hint{SourceLanguage::glsl, VK_SHADER_STAGE_COMPUTE_BIT, 450, "#version 450\n"};
   const std::vector<uint8_t> stamps = stamp({{}, {}, {}, {input("a.comp")}, hint});
   write("a.comp", "#version 450\nvoid main() { }\n");
@@ -84,6 +99,10 @@ TEST_F(InputStampsTest, StampsWithoutAHintOrDamagedGiveNone) {
   // Every prefix of the entry, and every byte flipped: nothing, or the hint itself; never a crash.
   for (size_t size = 0; size < stamps.size(); ++size)
     EXPECT_EQ(hint_if_changed(std::span(stamps.data(), size)), std::nullopt) << size;
+  for (size_t size = 0; size < stamps.size(); ++size)  // (the head alone may hold the whole hint)
+    if (auto head = stamped_hint(std::span(stamps.data(), size))) {
+      EXPECT_EQ(*head, hint) << size;
+    }
   for (size_t at = 0; at < stamps.size(); ++at) {
     std::vector<uint8_t> flipped = stamps;
     flipped[at] ^= 0x80;
