@@ -1,23 +1,43 @@
 #include "huge_pages.hpp"
 
-#include <sys/auxv.h>
-#include <sys/stat.h>
+#include <malloc.h>
+#include <sys/mman.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <condition_variable>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <mutex>
 #include <string>
+#include <thread>
+#include <vector>
 
 namespace statepack::packager {
 namespace {
 
-constexpr const char* kTunables =
-    "glibc.malloc.hugetlb=1:glibc.malloc.top_pad=67108864:glibc.malloc.trim_threshold=1073741824";
-// Set for the re-executed process only (and removed by it at once): it never re-executes again, even
-// where glibc drops GLIBC_TUNABLES (a setuid start).
-constexpr const char* kMarker = "STATEPACK_REEXECUTED";
+constexpr int kTopPad = 64 << 20;              // each heap grows in 64 MiB steps...
+constexpr int kTrimThreshold = 1 << 30;        // ...and keeps them (a pack is short-lived)
+constexpr size_t kMostArenas = 16;             // thread heaps made ahead, at most
+constexpr size_t kGrowthBlock = 120 << 10;     // under glibc's first mmap threshold (128 KiB): from the heap
+constexpr size_t kMostGrowthBlocks = 128;      // (free chunks of the main heap are taken first)
+constexpr size_t kHugePage = size_t{2} << 20;  // x86-64's and AArch64's (4 KiB base pages) PMD size
+
+bool sanitized() {
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+  return true;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer) || __has_feature(memory_sanitizer)
+  return true;
+#else
+  return false;
+#endif
+#else
+  return false;
+#endif
+}
 
 // Whether the kernel gives huge pages to memory that asks (madvise) or to all: "[never]" says neither.
 bool kernel_has_huge_pages() {
@@ -26,51 +46,136 @@ bool kernel_has_huge_pages() {
   return std::getline(in, modes) && modes.find("[never]") == std::string::npos;
 }
 
-// Whether /proc/self/exe is the file this code runs from: not when the program was started through the
-// dynamic loader (`ld-linux.so statepack ...`), where it is the loader, and executing that with these
-// arguments would run something else. The mapping that holds this function names its file's inode.
-bool running_from_self_exe() {
-  struct stat exe {};
-  if (::stat("/proc/self/exe", &exe) != 0) return false;
-  std::ifstream maps("/proc/self/maps");
-  const auto here = reinterpret_cast<uintptr_t>(&running_from_self_exe);
-  for (std::string line; std::getline(maps, line);) {
+struct Mapping {
+  uintptr_t from = 0, to = 0;
+  bool anonymous = false;  // no file and no name such as [stack]
+  bool reserved = false;   // ---p: address space a heap may grow into
+};
+
+std::vector<Mapping> read_maps() {
+  std::vector<Mapping> maps;
+  std::ifstream in("/proc/self/maps");
+  for (std::string line; std::getline(in, line);) {
     unsigned long long from = 0, to = 0, inode = 0;
-    char device[32] = {};
-    if (std::sscanf(line.c_str(), "%llx-%llx %*s %*s %31s %llu", &from, &to, device, &inode) != 4) continue;
-    if (here >= from && here < to) return inode == exe.st_ino;
+    char perms[8] = {};
+    int name_at = 0;
+    if (std::sscanf(line.c_str(), "%llx-%llx %7s %*s %*s %llu %n", &from, &to, perms, &inode, &name_at) != 4)
+      continue;
+    const bool named = name_at > 0 && static_cast<size_t>(name_at) < line.size();
+    maps.push_back({from, to, inode == 0 && !named, std::string(perms) == "---p"});
   }
+  return maps;
+}
+
+// The anonymous mapping holding `block` with the reserved ones right behind it (a thread heap's unused
+// part): [from, to), or an empty range when the block is in no anonymous mapping.
+std::pair<uintptr_t, uintptr_t> heap_around(const std::vector<Mapping>& maps, const void* block) {
+  const auto at = reinterpret_cast<uintptr_t>(block);
+  for (size_t i = 0; i < maps.size(); ++i) {
+    if (at < maps[i].from || at >= maps[i].to) continue;
+    if (!maps[i].anonymous) return {0, 0};
+    uintptr_t to = maps[i].to;
+    for (size_t j = i + 1; j < maps.size() && maps[j].from == to && maps[j].anonymous && maps[j].reserved;
+         ++j)
+      to = maps[j].to;
+    return {maps[i].from, to};
+  }
+  return {0, 0};
+}
+
+bool advise(uintptr_t from, uintptr_t to) {
+  return to - from >= kHugePage && ::madvise(reinterpret_cast<void*>(from), to - from, MADV_HUGEPAGE) == 0;
+}
+
+// The advice holds for pages not yet touched; the huge page around `at` was touched before it (a heap's
+// own header, the blocks in use), so it is made one now (Linux 6.1's MADV_COLLAPSE; older kernels say
+// EINVAL and leave it on 4 KiB pages), when it lies within [from, to).
+void collapse(uintptr_t at, uintptr_t from, uintptr_t to) {
+#ifndef MADV_COLLAPSE
+  constexpr int MADV_COLLAPSE = 25;  // (glibc 2.36's headers predate it)
+#endif
+  const uintptr_t start = at & ~(kHugePage - 1);
+  if (start >= from && start + kHugePage <= to)
+    ::madvise(reinterpret_cast<void*>(start), kHugePage, MADV_COLLAPSE);
+}
+
+// Grows the main heap now (by the top pad: blocks taken until the break moves), advises all of it, and
+// collapses the huge pages that hold what was touched before: the old break's and the new top's.
+bool advise_main_heap() {
+  const auto before = reinterpret_cast<uintptr_t>(::sbrk(0));
+  std::vector<void*> blocks;
+  while (blocks.size() < kMostGrowthBlocks && reinterpret_cast<uintptr_t>(::sbrk(0)) == before)
+    if (void* block = std::malloc(kGrowthBlock))
+      blocks.push_back(block);
+    else
+      break;
+  const auto after = reinterpret_cast<uintptr_t>(::sbrk(0));
+  const uintptr_t last = blocks.empty() ? 0 : reinterpret_cast<uintptr_t>(blocks.back());
+  for (void* block : blocks) std::free(block);
+  if (before == static_cast<uintptr_t>(-1) || after <= before) return false;
+  for (const Mapping& heap : read_maps())
+    if (heap.from < before && heap.to == after) {
+      if (!advise(heap.from, heap.to)) return false;
+      collapse(before - 1, heap.from, heap.to);
+      if (((before - 1) ^ (last + kGrowthBlock)) >= kHugePage)
+        collapse(last + kGrowthBlock, heap.from, heap.to);
+      return true;
+    }
   return false;
+}
+
+// Makes up to `count` thread heaps at once (a thread's first malloc takes a heap of its own while the
+// others live), advises each, and lets the threads end: glibc keeps their heaps on its free list and
+// hands them to the next threads that allocate. Returns how many were advised.
+size_t advise_thread_heaps(size_t count) {
+  std::mutex mutex;
+  std::condition_variable changed;
+  std::vector<void*> blocks;
+  bool done = false;
+  std::vector<std::thread> threads;
+  for (size_t i = 0; i < count; ++i) try {
+      threads.emplace_back([&] {
+        void* block = std::malloc(1);
+        std::unique_lock lock(mutex);
+        blocks.push_back(block);
+        changed.notify_all();
+        changed.wait(lock, [&] { return done; });
+        lock.unlock();
+        std::free(block);
+      });
+    } catch (...) {  // (no thread: fewer heaps ahead)
+      break;
+    }
+  std::unique_lock lock(mutex);
+  changed.wait(lock, [&] { return blocks.size() == threads.size(); });
+  // (Neighbouring heaps may show as one mapping: each block's own huge page is collapsed all the same.)
+  const std::vector<Mapping> maps = read_maps();
+  size_t advised = 0;
+  for (const void* block : blocks) {
+    const auto [from, to] = heap_around(maps, block);
+    if (from == to || !advise(from, to)) continue;
+    collapse(reinterpret_cast<uintptr_t>(block), from, to);
+    ++advised;
+  }
+  done = true;
+  changed.notify_all();
+  lock.unlock();
+  for (auto& thread : threads) thread.join();
+  return advised;
 }
 
 }  // namespace
 
-bool was_reexecuted() {
-  static const bool reexecuted = [] {
-    if (!std::getenv(kMarker)) return false;
-    ::unsetenv(kMarker);  // (nothing this process starts inherits it)
-    return true;
-  }();
-  return reexecuted;
-}
-
-void use_huge_pages(char** argv) {
-  if (was_reexecuted()) return;
+size_t use_huge_pages(size_t threads) {
   const char* tunables = std::getenv("GLIBC_TUNABLES");
-  const std::string given = tunables ? tunables : "";
-  if (given.find("glibc.malloc.hugetlb") != std::string::npos) return;
-  if (const char* preload = std::getenv("LD_PRELOAD"); preload && *preload) return;
-  if (getauxval(AT_SECURE) || !running_from_self_exe() || !kernel_has_huge_pages()) return;
-  const std::string wanted = given.empty() ? kTunables : given + ":" + kTunables;
-  if (::setenv("GLIBC_TUNABLES", wanted.c_str(), 1) != 0 || ::setenv(kMarker, "1", 1) != 0) return;
-  ::execv("/proc/self/exe", argv);
-  // Not executed (no /proc, a binary replaced under us): go on as we are, and leave the environment as
-  // it was for anything this process starts.
-  ::unsetenv(kMarker);
-  if (tunables)
-    ::setenv("GLIBC_TUNABLES", given.c_str(), 1);
-  else
-    ::unsetenv("GLIBC_TUNABLES");
+  if (tunables && std::string(tunables).find("glibc.malloc.hugetlb") != std::string::npos) return 0;
+  if (const char* preload = std::getenv("LD_PRELOAD"); preload && *preload) return 0;
+  if (sanitized() || !kernel_has_huge_pages()) return 0;
+  if (::mallopt(M_TOP_PAD, kTopPad) != 1 || ::mallopt(M_TRIM_THRESHOLD, kTrimThreshold) != 1) return 0;
+  const size_t main_heap = advise_main_heap() ? 1 : 0;
+  // The pack's threads at once: its pool (the calling thread aside), the compiler's warm-ups, the cache's
+  // flush and the archive's record.
+  return main_heap + advise_thread_heaps(std::min(kMostArenas, threads + 3));
 }
 
 }  // namespace statepack::packager

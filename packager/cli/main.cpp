@@ -2,10 +2,12 @@
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
+#include <chrono>
 #include <filesystem>
 #include <iostream>
 #include <set>
 #include <sstream>
+#include <thread>
 
 #include "format/archive_format.hpp"
 #include "huge_pages.hpp"
@@ -574,18 +576,24 @@ int run(int argc, char** argv) {
     return cache.run(pack.options.cache_signing_key);
   }
   if (verify.app->parsed()) return verify.run();
-  // What settling the options says (warnings) is printed by the process that packs: a re-executed one
-  // (use_huge_pages) says it again.
   std::ostringstream settled;
   if (!pack.settle(settled)) {
     std::cerr << settled.str();
     return kExitUsage;
   }
-  // (the re-executed process knows they do not hold)
-  if (settled.str().empty() && !pack.watch && !pack.list_inputs && !was_reexecuted())
+  if (settled.str().empty() && !pack.watch && !pack.list_inputs)
     if (auto code = pack_if_unchanged(pack.options, std::cout, std::cerr)) return *code;
   // Not for --watch: a resident process would keep its peak heap (no trimming).
-  if (!pack.watch) use_huge_pages(argv);  // returns here when it does not re-execute
+  if (!pack.watch) {
+    const auto started = std::chrono::steady_clock::now();
+    const size_t heaps =
+        use_huge_pages(pack.options.threads ? pack.options.threads : std::thread::hardware_concurrency());
+    if (pack.options.time_report)
+      std::cerr
+          << "statepack: time: heaps on huge pages (" << heaps << " advised): "
+          << std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count()
+          << " ms\n";
+  }
   std::cerr << settled.str();
   if (pack.watch) return run_watch(pack.options, pack.watch_options, std::cout, std::cerr);
   if (pack.list_inputs) return pack_and_list_inputs(pack.options);
