@@ -1,4 +1,4 @@
-// SHA-256 and HMAC-SHA-256 (OpenSSL's libcrypto): the compile cache's keys, entry checks and signatures.
+// SHA-256 and HMAC-SHA-256 (Nettle): the compile cache's keys, entry checks and signatures.
 // A cache shared by a team is written by other machines, so its keys must be a hash whose collisions
 // cannot be constructed (a fast non-cryptographic hash such as XXH3 does not promise that).
 #pragma once
