@@ -131,9 +131,10 @@ bool in_shard(const CacheKey& key, uint32_t shard, uint32_t shards) {
 // recurses as a shader nests, so a hit needs no compile stack (a thread made per shader was most of a
 // warm pack of small shaders).
 bool compile_from_cache(const ShaderDesc& shader, const CompileOptions& options, CompileCache* cache,
-                        CompiledShader& compiled, Reflection& reflection) {
+                        CompiledShader& compiled, Reflection& reflection,
+                        const CompileCache::KnownText* known = nullptr) {
   if (!cache) return false;
-  auto hit = cache->find_compile(shader, options);
+  auto hit = cache->find_compile(shader, options, known);
   if (!hit || !hit->reflection) return false;  // (every entry statepack writes has its reflection)
   compiled = std::move(hit->compiled);
   reflection = std::move(*hit->reflection);
@@ -280,8 +281,15 @@ struct CompiledShaders {
 // objects have notation errors, so one run reports both (docs/cli.md).
 // `pipelines_only`: the standalone Shaders are left out (--opengl alone: its block stores pipelines only).
 CompiledShaders compile_shaders(const Notation& notation, const PackOptions& options, Diagnostics& diag,
-                                bool pipelines_only, CompileCache* cache) {
+                                bool pipelines_only, CompileCache* cache, const ArchiveKey* record) {
   CompiledShaders out;
+  // The shader files the record's key read and hashed, looked up by the path a compile lists: not read
+  // again (a file saved since is what the record check after the pack catches).
+  std::map<fs::path, CompileCache::KnownText> known;
+  if (record)
+    for (const InputFile& f : record->shader_files)
+      if (auto hash = record->shader_texts.find(f.path); hash != record->shader_texts.end())
+        known.emplace(f.path, CompileCache::KnownText{f, hash->second});
   std::map<std::string, size_t> unit_by_key;
   auto unit_for = [&](const ShaderDesc& s) {
     auto [it, inserted] = unit_by_key.try_emplace(unit_key(s), out.units.size());
@@ -308,7 +316,11 @@ CompiledShaders compile_shaders(const Notation& notation, const PackOptions& opt
       if (key && !in_shard(*key, options.shard, options.shards)) return;
       u.in_shard = true;
     }
-    if (!compile_from_cache(u.desc, options.compile, cache, u.compiled, u.reflection)) {
+    const auto text = u.desc.file.empty()
+                          ? known.end()
+                          : known.find((working_directory() / u.desc.file).lexically_normal());
+    if (!compile_from_cache(u.desc, options.compile, cache, u.compiled, u.reflection,
+                            text == known.end() ? nullptr : &text->second)) {
       if (options.compile.no_compile)
         return diag.error(u.desc.where, "shader '" + u.desc.name + "': " + kNotInCache);
       u.compiled_here = true;
@@ -1030,7 +1042,7 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err, P
   // compiles the pipelines' shaders for Vulkan too.
   CompiledShaders compiled, gl_compiled;
   if (options.vulkan || options.opengl)
-    compiled = compile_shaders(notation, options, diag, !options.vulkan, cached);
+    compiled = compile_shaders(notation, options, diag, !options.vulkan, cached, record ? &*record : nullptr);
   times.done("compile");
   if (options.opengl) {
     gl_compiled = opengl_units(compiled, options, diag, cached);

@@ -645,14 +645,20 @@ void CompileCache::keep(const CacheKey& key, std::vector<uint8_t> payload) {
 }
 
 std::optional<CompileCache::Compile> CompileCache::find_compile(const ShaderDesc& shader,
-                                                                const CompileOptions& options) {
+                                                                const CompileOptions& options,
+                                                                const KnownText* known) {
   Compile found;
   CompiledShader& out = found.compiled;
-  const std::optional<InputText> source = shader_text(shader, options);
-  if (!source) return std::nullopt;  // the compile reports why
-  if (!shader.file.empty())
-    out.files_read.push_back({(working_directory() / shader.file).lexically_normal(), source->identity});
-  out.source_hash = text_hash(source->text);
+  if (known && !shader.file.empty()) {
+    out.files_read.push_back(known->file);
+    out.source_hash = known->hash;
+  } else {
+    const std::optional<InputText> source = shader_text(shader, options);
+    if (!source) return std::nullopt;  // the compile reports why
+    if (!shader.file.empty())
+      out.files_read.push_back({(working_directory() / shader.file).lexically_normal(), source->identity});
+    out.source_hash = text_hash(source->text);
+  }
   auto payload = read_entry(compile_key(shader, options, out.source_hash));
   uint32_t flags = 0, count = 0;
   PayloadReader r(payload ? std::span<const uint8_t>(*payload) : std::span<const uint8_t>());

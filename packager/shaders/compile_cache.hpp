@@ -104,7 +104,14 @@ class CompileCache {
     CompiledShader compiled;
     std::optional<Reflection> reflection;
   };
-  std::optional<Compile> find_compile(const ShaderDesc& shader, const CompileOptions& options);
+  // `known`: the shader file's text as this pack already read and hashed it (ArchiveKey), so that it is
+  // not read again; nullptr: read here.
+  struct KnownText {
+    InputFile file;
+    Digest hash{};
+  };
+  std::optional<Compile> find_compile(const ShaderDesc& shader, const CompileOptions& options,
+                                      const KnownText* known = nullptr);
   // Keeps a successful compile and, when given, its reflection (written by flush()). Thread-safe.
   void keep_compile(const ShaderDesc& shader, const CompileOptions& options, const CompiledShader& compiled,
                     const Reflection* reflection);
