@@ -48,8 +48,7 @@ bool kernel_has_huge_pages() {
 
 struct Mapping {
   uintptr_t from = 0, to = 0;
-  bool anonymous = false;  // no file and no name such as [stack]
-  bool reserved = false;   // ---p: address space a heap may grow into
+  bool anonymous = false;  // no file and no name such as [stack] or [heap]
 };
 
 std::vector<Mapping> read_maps() {
@@ -57,30 +56,24 @@ std::vector<Mapping> read_maps() {
   std::ifstream in("/proc/self/maps");
   for (std::string line; std::getline(in, line);) {
     unsigned long long from = 0, to = 0, inode = 0;
-    char perms[8] = {};
     int name_at = 0;
-    if (std::sscanf(line.c_str(), "%llx-%llx %7s %*s %*s %llu %n", &from, &to, perms, &inode, &name_at) != 4)
+    if (std::sscanf(line.c_str(), "%llx-%llx %*s %*s %*s %llu %n", &from, &to, &inode, &name_at) != 3)
       continue;
     const bool named = name_at > 0 && static_cast<size_t>(name_at) < line.size();
-    maps.push_back({from, to, inode == 0 && !named, std::string(perms) == "---p"});
+    maps.push_back({static_cast<uintptr_t>(from), static_cast<uintptr_t>(to), inode == 0 && !named});
   }
   return maps;
 }
 
-// The anonymous mapping holding `block` with the reserved ones right behind it (a thread heap's unused
-// part): [from, to), or an empty range when the block is in no anonymous mapping.
+// The anonymous mapping holding `block`: [from, to), or an empty range when the block is in no anonymous
+// mapping. A thread heap made with the 64 MiB top pad is one read-write mapping (neighbouring heaps may
+// show as one); nothing beside it is taken (a thread stack's guard page, another reservation).
 std::pair<uintptr_t, uintptr_t> heap_around(const std::vector<Mapping>& maps, const void* block) {
   const auto at = reinterpret_cast<uintptr_t>(block);
-  for (size_t i = 0; i < maps.size(); ++i) {
-    if (at < maps[i].from || at >= maps[i].to) continue;
-    if (!maps[i].anonymous) return {0, 0};
-    uintptr_t to = maps[i].to;
-    for (size_t j = i + 1; j < maps.size() && maps[j].from == to && maps[j].anonymous && maps[j].reserved;
-         ++j)
-      to = maps[j].to;
-    return {maps[i].from, to};
-  }
-  return {0, 0};
+  for (const Mapping& m : maps)
+    if (at >= m.from && at < m.to)
+      return m.anonymous ? std::pair{m.from, m.to} : std::pair<uintptr_t, uintptr_t>{};
+  return {};
 }
 
 bool advise(uintptr_t from, uintptr_t to) {
@@ -100,7 +93,9 @@ void collapse(uintptr_t at, uintptr_t from, uintptr_t to) {
 }
 
 // Grows the main heap now (by the top pad: blocks taken until the break moves), advises all of it, and
-// collapses the huge pages that hold what was touched before: the old break's and the new top's.
+// collapses the huge pages that hold what was touched before: the old break's and the new top's. Left
+// on 4 KiB pages: a main heap with more than kMostGrowthBlocks blocks' worth free already (the break
+// does not move), and what it grows by after this (a new mapping, which the advice does not cover).
 bool advise_main_heap() {
   const auto before = reinterpret_cast<uintptr_t>(::sbrk(0));
   std::vector<void*> blocks;
@@ -126,41 +121,58 @@ bool advise_main_heap() {
 
 // Makes up to `count` thread heaps at once (a thread's first malloc takes a heap of its own while the
 // others live), advises each, and lets the threads end: glibc keeps their heaps on its free list and
-// hands them to the next threads that allocate. Returns how many were advised.
+// hands them to the next threads that allocate. Returns how many distinct heaps were advised (threads
+// that had to share one, past glibc's arena limit, count once). Nothing here allocates on those threads
+// but their one block, and they are released and joined whatever the main thread meets.
 size_t advise_thread_heaps(size_t count) {
   std::mutex mutex;
   std::condition_variable changed;
-  std::vector<void*> blocks;
+  std::vector<void*> blocks(count, nullptr);
+  size_t ready = 0;
   bool done = false;
   std::vector<std::thread> threads;
-  for (size_t i = 0; i < count; ++i) try {
-      threads.emplace_back([&] {
+  threads.reserve(count);
+  auto release = [&] {
+    {
+      std::lock_guard lock(mutex);
+      done = true;
+    }
+    changed.notify_all();
+    for (auto& thread : threads) thread.join();
+  };
+  size_t advised = 0;
+  try {
+    for (size_t i = 0; i < count; ++i)
+      threads.emplace_back([&, i] {
         void* block = std::malloc(1);
         std::unique_lock lock(mutex);
-        blocks.push_back(block);
+        blocks[i] = block, ++ready;
         changed.notify_all();
         changed.wait(lock, [&] { return done; });
         lock.unlock();
         std::free(block);
       });
-    } catch (...) {  // (no thread: fewer heaps ahead)
-      break;
-    }
-  std::unique_lock lock(mutex);
-  changed.wait(lock, [&] { return blocks.size() == threads.size(); });
-  // (Neighbouring heaps may show as one mapping: each block's own huge page is collapsed all the same.)
-  const std::vector<Mapping> maps = read_maps();
-  size_t advised = 0;
-  for (const void* block : blocks) {
-    const auto [from, to] = heap_around(maps, block);
-    if (from == to || !advise(from, to)) continue;
-    collapse(reinterpret_cast<uintptr_t>(block), from, to);
-    ++advised;
+  } catch (...) {  // (no thread: fewer heaps ahead)
   }
-  done = true;
-  changed.notify_all();
-  lock.unlock();
-  for (auto& thread : threads) thread.join();
+  try {
+    {
+      std::unique_lock lock(mutex);
+      changed.wait(lock, [&] { return ready == threads.size(); });
+    }
+    const std::vector<Mapping> maps = read_maps();
+    std::vector<uintptr_t> pages;  // the huge page of each heap's first block, once
+    for (const void* block : blocks) {
+      const auto [from, to] = heap_around(maps, block);
+      const uintptr_t page = reinterpret_cast<uintptr_t>(block) & ~(kHugePage - 1);
+      if (from == to || std::find(pages.begin(), pages.end(), page) != pages.end() || !advise(from, to))
+        continue;
+      collapse(reinterpret_cast<uintptr_t>(block), from, to);
+      pages.push_back(page);
+    }
+    advised = pages.size();
+  } catch (...) {  // (out of memory reading the maps: left on 4 KiB pages)
+  }
+  release();
   return advised;
 }
 
@@ -170,11 +182,11 @@ size_t use_huge_pages(size_t threads) {
   const char* tunables = std::getenv("GLIBC_TUNABLES");
   if (tunables && std::string(tunables).find("glibc.malloc.hugetlb") != std::string::npos) return 0;
   if (const char* preload = std::getenv("LD_PRELOAD"); preload && *preload) return 0;
-  if (sanitized() || !kernel_has_huge_pages()) return 0;
+  if (sanitized() || !kernel_has_huge_pages() || ::access("/proc/self/maps", R_OK) != 0) return 0;
   if (::mallopt(M_TOP_PAD, kTopPad) != 1 || ::mallopt(M_TRIM_THRESHOLD, kTrimThreshold) != 1) return 0;
   const size_t main_heap = advise_main_heap() ? 1 : 0;
-  // The pack's threads at once: its pool (the calling thread aside), the compiler's warm-ups, the cache's
-  // flush and the archive's record.
+  // The pack's other threads at once: its pool's (-t, less this one), the compiler's two warm-ups, the
+  // cache's flush and the archive's record: -t plus three.
   return main_heap + advise_thread_heaps(std::min(kMostArenas, threads + 3));
 }
 

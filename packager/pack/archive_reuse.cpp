@@ -73,7 +73,9 @@ std::optional<ArchiveKey> archive_key(const PackOptions& options, std::string_vi
     if (!key) return false;
     k.add(*key);
     if (!file.path.empty()) {
-      out.shader_texts.emplace(file.path, text);
+      // A file read twice (two shaders of it) and saved in between: no record of either text.
+      if (auto [at, added] = out.shader_texts.emplace(file.path, text); !added && at->second != text)
+        return false;
       out.shader_files.push_back(std::move(file));
     }
     return true;

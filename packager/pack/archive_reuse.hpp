@@ -59,8 +59,8 @@ CacheKey archive_slot(std::string_view project);
 // before anything is read (input_stamps.hpp).
 CacheKey setup_key(const PackOptions& options);
 
-// The key of this pack's archive record; nullopt when the pack has none (see above), or a shader file
-// cannot be read (the compile reports why).
+// The key of this pack's archive record; nullopt when the pack has none (see above), a shader file
+// cannot be read (the compile reports why), or one read twice (two shaders of it) changed in between.
 // `project`: the text that names the pack's project.
 std::optional<ArchiveKey> archive_key(const PackOptions& options, std::string_view project,
                                       const Notation& notation, const Diagnostics& diagnostics);

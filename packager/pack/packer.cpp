@@ -284,7 +284,8 @@ CompiledShaders compile_shaders(const Notation& notation, const PackOptions& opt
                                 bool pipelines_only, CompileCache* cache, const ArchiveKey* record) {
   CompiledShaders out;
   // The shader files the record's key read and hashed, looked up by the path a compile lists: not read
-  // again (a file saved since is what the record check after the pack catches).
+  // again, so a hit and the record agree on one text per file (a miss compiles what the file holds then,
+  // and the record check after the pack catches a file saved since the key).
   std::map<fs::path, CompileCache::KnownText> known;
   if (record)
     for (const InputFile& f : record->shader_files)

@@ -3,8 +3,28 @@
 #include <nettle/hmac.h>
 #include <nettle/memops.h>
 #include <nettle/sha2.h>
+#include <nettle/version.h>
 
 namespace statepack::packager {
+
+namespace {
+// Nettle 4 dropped the digest functions' length argument (always the whole digest here).
+#if NETTLE_VERSION_MAJOR >= 4
+void digest_into(sha256_ctx& state, Digest& out) {
+  sha256_digest(&state, out.data());
+}
+void digest_into(hmac_sha256_ctx& state, Digest& out) {
+  hmac_sha256_digest(&state, out.data());
+}
+#else
+void digest_into(sha256_ctx& state, Digest& out) {
+  sha256_digest(&state, out.size(), out.data());
+}
+void digest_into(hmac_sha256_ctx& state, Digest& out) {
+  hmac_sha256_digest(&state, out.size(), out.data());
+}
+#endif
+}  // namespace
 
 // Nettle rather than OpenSSL's libcrypto: the same SHA-256 (with the CPU's SHA extensions where there are
 // any), without OpenSSL's start-up (its configuration file and provider looked up at the first hash,
@@ -26,7 +46,7 @@ Sha256& Sha256::update(std::span<const uint8_t> bytes) {
 
 Digest Sha256::finish() {
   Digest out{};
-  sha256_digest(&context_->state, out.size(), out.data());
+  digest_into(context_->state, out);
   return out;
 }
 
@@ -35,7 +55,7 @@ Digest sha256(std::span<const uint8_t> bytes) {
   sha256_init(&state);
   sha256_update(&state, bytes.size(), bytes.data());
   Digest out{};
-  sha256_digest(&state, out.size(), out.data());
+  digest_into(state, out);
   return out;
 }
 
@@ -44,7 +64,7 @@ Digest hmac_sha256(std::span<const uint8_t> secret, std::span<const uint8_t> mes
   hmac_sha256_set_key(&state, secret.size(), secret.data());
   hmac_sha256_update(&state, message.size(), message.data());
   Digest out{};
-  hmac_sha256_digest(&state, out.size(), out.data());
+  digest_into(state, out);
   return out;
 }
 

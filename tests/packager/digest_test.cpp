@@ -26,13 +26,19 @@ TEST(DigestTest, Sha256GivesTheStandardsAnswers) {
             "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
   EXPECT_EQ(hex(sha256(std::string_view(""))),
             "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
-  // Fed in pieces (across the 64-byte block), the same as in one piece.
-  const std::string two_blocks = "abcdbcdecdefdefgefghfghighijhijkijkljklmklmnlmnomnopnopq";
-  Sha256 pieces;
-  pieces.update(std::string_view(two_blocks).substr(0, 7)).update(std::string_view(two_blocks).substr(7));
-  EXPECT_EQ(hex(pieces.finish()), "248d6a61d20638b8e5c026930c3e6039a33ce45964ff2167f6ecedd419db06c1");
-  EXPECT_EQ(hex(sha256(std::string_view(two_blocks))),
+  EXPECT_EQ(hex(sha256(std::string_view("abcdbcdecdefdefgefghfghighijhijkijkljklmklmnlmnomnopnopq"))),
             "248d6a61d20638b8e5c026930c3e6039a33ce45964ff2167f6ecedd419db06c1");
+  // 112 bytes fed in pieces that straddle the 64-byte block: the same as in one piece.
+  const std::string two_blocks =
+      "abcdefghbcdefghicdefghijdefghijkefghijklfghijklmghijklmnhijklmnoijklmnopjklmnopqklmnopqrlmnopqrsmnopqr"
+      "s"
+      "tnopqrstu";
+  const char* expected = "cf5b16a778af8380036ce59e7b0492370b249b11e8f07a51afac45037afee9d1";
+  EXPECT_EQ(hex(sha256(std::string_view(two_blocks))), expected);
+  Sha256 pieces;
+  const std::string_view text(two_blocks);
+  pieces.update(text.substr(0, 7)).update(text.substr(7, 60)).update(text.substr(67));
+  EXPECT_EQ(hex(pieces.finish()), expected);
 }
 
 TEST(DigestTest, HmacSha256GivesRfc4231sAnswers) {
