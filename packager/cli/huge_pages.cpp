@@ -15,6 +15,8 @@
 #include <thread>
 #include <vector>
 
+#include "shaders/allocation_budget.hpp"
+
 namespace statepack::packager {
 namespace {
 
@@ -24,20 +26,6 @@ constexpr size_t kMostArenas = 16;             // thread heaps made ahead, at mo
 constexpr size_t kGrowthBlock = 120 << 10;     // under glibc's first mmap threshold (128 KiB): from the heap
 constexpr size_t kMostGrowthBlocks = 128;      // (free chunks of the main heap are taken first)
 constexpr size_t kHugePage = size_t{2} << 20;  // x86-64's and AArch64's (4 KiB base pages) PMD size
-
-bool sanitized() {
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-  return true;
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer) || __has_feature(memory_sanitizer)
-  return true;
-#else
-  return false;
-#endif
-#else
-  return false;
-#endif
-}
 
 // Whether the kernel gives huge pages to memory that asks (madvise) or to all: "[never]" says neither.
 bool kernel_has_huge_pages() {
@@ -182,7 +170,9 @@ size_t use_huge_pages(size_t threads) {
   const char* tunables = std::getenv("GLIBC_TUNABLES");
   if (tunables && std::string(tunables).find("glibc.malloc.hugetlb") != std::string::npos) return 0;
   if (const char* preload = std::getenv("LD_PRELOAD"); preload && *preload) return 0;
-  if (sanitized() || !kernel_has_huge_pages() || ::access("/proc/self/maps", R_OK) != 0) return 0;
+  // (A sanitizer build allocates with the sanitizer's own malloc, which has no such heaps.)
+  if (!allocation_budget_enforced() || !kernel_has_huge_pages() || ::access("/proc/self/maps", R_OK) != 0)
+    return 0;
   if (::mallopt(M_TOP_PAD, kTopPad) != 1 || ::mallopt(M_TRIM_THRESHOLD, kTrimThreshold) != 1) return 0;
   const size_t main_heap = advise_main_heap() ? 1 : 0;
   // The pack's other threads at once: its pool's (-t, less this one), the compiler's two warm-ups, the

@@ -2,7 +2,6 @@
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
-#include <chrono>
 #include <filesystem>
 #include <iostream>
 #include <set>
@@ -15,6 +14,7 @@
 #include "merge.hpp"
 #include "notation/notation_schema.hpp"
 #include "pack/packer.hpp"
+#include "pack/phase_times.hpp"
 #include "shaders/compile_cache.hpp"
 #include "verify.hpp"
 #include "version.hpp"
@@ -585,14 +585,10 @@ int run(int argc, char** argv) {
     if (auto code = pack_if_unchanged(pack.options, std::cout, std::cerr)) return *code;
   // Not for --watch: a resident process would keep its peak heap (no trimming).
   if (!pack.watch) {
-    const auto started = std::chrono::steady_clock::now();
+    PhaseTimes times(pack.options.time_report ? &std::cerr : nullptr);
     const size_t heaps =
         use_huge_pages(pack.options.threads ? pack.options.threads : std::thread::hardware_concurrency());
-    if (pack.options.time_report)
-      std::cerr
-          << "statepack: time: heaps on huge pages (" << heaps << " advised): "
-          << std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count()
-          << " ms\n";
+    times.done("heaps on huge pages (" + std::to_string(heaps) + " advised)");
   }
   std::cerr << settled.str();
   if (pack.watch) return run_watch(pack.options, pack.watch_options, std::cout, std::cerr);

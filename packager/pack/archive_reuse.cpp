@@ -74,7 +74,8 @@ std::optional<ArchiveKey> archive_key(const PackOptions& options, std::string_vi
     k.add(*key);
     if (!file.path.empty()) {
       // A file read twice (two shaders of it) and saved in between: no record of either text.
-      if (auto [at, added] = out.shader_texts.emplace(file.path, text); !added && at->second != text)
+      if (auto [at, added] = out.shader_texts.emplace(file.path, CompileCache::KnownText{file, text});
+          !added && at->second.hash != text)
         return false;
       out.shader_files.push_back(std::move(file));
     }
@@ -178,7 +179,7 @@ std::string record_archive(CompileCache& cache, const ArchiveKey& key,
   for (const CompiledShader* c : compiles)
     if (!c->files_read.empty())
       if (auto hashed = key.shader_texts.find(c->files_read.front().path);
-          hashed != key.shader_texts.end() && hashed->second != c->source_hash)
+          hashed != key.shader_texts.end() && hashed->second.hash != c->source_hash)
         return "";  // saved while the pack ran: the next pack makes (and records) it again
   PayloadWriter w;
   w.u32(kRecordVersion);

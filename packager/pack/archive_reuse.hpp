@@ -48,9 +48,10 @@ struct ArchiveKey {
   CacheKey inputs{};                    // what the archive was made from
   CacheKey setup{};                     // statepack's code and the options (setup_key)
   std::vector<InputFile> shader_files;  // read to make the key: the depfile's and the output checks'
-  // Each shader file's text as the key hashed it, by the path a compile lists it under: a file saved
-  // between the key and the compile made another archive than the key says, and is not recorded.
-  std::map<std::filesystem::path, Digest> shader_texts;
+  // Each shader file's text as the key read and hashed it, by the path a compile lists it under: the
+  // compile-cache lookups take it instead of reading the file again, and a file saved between the key and
+  // a compile made another archive than the key says, and is not recorded.
+  std::map<std::filesystem::path, CompileCache::KnownText> shader_texts;
 };
 
 // Where the project named `project` keeps its archive record (ArchiveKey::slot).

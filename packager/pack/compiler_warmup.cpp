@@ -35,10 +35,17 @@ const ShaderDesc* likely_compile(const Notation& notation,
   return nullptr;
 }
 
+namespace {
+// What picks glslang's built-in tables for `shader` (and its stage).
+TablesHint hint_of(const ShaderDesc& shader, const CompileOptions& options) {
+  return TablesHint{shader.language, shader.stage, shader.glsl_version, tables_version_line(shader, options)};
+}
+}  // namespace
+
 std::optional<TablesHint> tables_hint(const Notation& notation, const CompileOptions& options) {
   const ShaderDesc* first = likely_compile(notation, std::nullopt);
   if (!first) return std::nullopt;
-  return TablesHint{first->language, first->stage, first->glsl_version, tables_version_line(*first, options)};
+  return hint_of(*first, options);
 }
 
 CompilerWarmup::~CompilerWarmup() {
@@ -81,10 +88,11 @@ void CompilerWarmup::start(const Notation& notation, const PackOptions& options,
   if (!wanted(options, cache)) return;
   const ShaderDesc* shader = likely_compile(notation, cache->local_time(archive_slot(project)));
   if (!shader) return;
-  if (early_.joinable() && !early_found_nothing_ && shader->language == early_hint_->language &&
-      shader->glsl_version == early_hint_->glsl_version &&
-      tables_version_line(*shader, options.compile) == early_hint_->version_line)
-    return;  // (the stage does not pick the tables: glslang builds every stage's)
+  if (early_.joinable() && !early_found_nothing_) {
+    TablesHint likely = hint_of(*shader, options.compile);
+    likely.stage = early_hint_->stage;  // (the stage does not pick the tables: glslang builds every stage's)
+    if (likely == *early_hint_) return;
+  }
   // Copies: the pack goes on with its notation and options meanwhile. A speed-up only: when the copy or
   // the thread cannot be made, or the work throws (out of memory: the compile meets it too, and says so),
   // the pack goes on without it.

@@ -27,6 +27,7 @@
 #include "pack/archive_reuse.hpp"
 #include "pack/compiler_warmup.hpp"
 #include "pack/input_stamps.hpp"
+#include "pack/phase_times.hpp"
 #include "shaders/compile_cache.hpp"
 #include "shaders/gl_translate.hpp"
 #include "shaders/nesting_bound.hpp"
@@ -38,26 +39,6 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr size_t kNoJob = SIZE_MAX;
-
-// --time-report: the wall time of each stage of a pack, printed as each ends.
-class PhaseTimes {
- public:
-  explicit PhaseTimes(std::ostream* out) : out_(out) {}
-  void done(const char* phase) {
-    if (!out_) return;
-    const auto now = std::chrono::steady_clock::now();
-    *out_ << "statepack: time: " << phase << ": "
-          << std::chrono::duration<double, std::milli>(now - last_).count() << " ms\n";
-    last_ = now;
-  }
-  void note(const std::string& text) {
-    if (out_) *out_ << "statepack: " << text << '\n';
-  }
-
- private:
-  std::ostream* out_;
-  std::chrono::steady_clock::time_point last_ = std::chrono::steady_clock::now();
-};
 
 struct CompiledUnit {
   ShaderDesc desc;
@@ -283,14 +264,11 @@ struct CompiledShaders {
 CompiledShaders compile_shaders(const Notation& notation, const PackOptions& options, Diagnostics& diag,
                                 bool pipelines_only, CompileCache* cache, const ArchiveKey* record) {
   CompiledShaders out;
-  // The shader files the record's key read and hashed, looked up by the path a compile lists: not read
-  // again, so a hit and the record agree on one text per file (a miss compiles what the file holds then,
-  // and the record check after the pack catches a file saved since the key).
-  std::map<fs::path, CompileCache::KnownText> known;
-  if (record)
-    for (const InputFile& f : record->shader_files)
-      if (auto hash = record->shader_texts.find(f.path); hash != record->shader_texts.end())
-        known.emplace(f.path, CompileCache::KnownText{f, hash->second});
+  // The shader files the record's key read and hashed are not read again, so a hit and the record agree
+  // on one text per file (a miss compiles what the file holds then, and the record check after the pack
+  // catches a file saved since the key).
+  const std::map<fs::path, CompileCache::KnownText> no_texts;
+  const auto& known = record ? record->shader_texts : no_texts;
   std::map<std::string, size_t> unit_by_key;
   auto unit_for = [&](const ShaderDesc& s) {
     auto [it, inserted] = unit_by_key.try_emplace(unit_key(s), out.units.size());
