@@ -1,0 +1,57 @@
+#!/usr/bin/env bash
+# Two statepack builds compared on the same repacks, run by run: a project of N shader files
+# (generate_shader_project.sh, small or real), one cache shared by both, and each build's input stamps
+# made first by a repack of nothing changed with every file older than the racy window (the record and
+# stamps of a build are its own: archive_slot covers statepack's code, so a build that never made them
+# repacks without its early start). Then, alternating A and B: one shader changed and repacked, `runs`
+# times each; then, stamped again, repacks of nothing changed. A host whose speed changes from minute to minute slows both alike; prints each build's
+# sorted times and median, for a one-changed repack and for a repack of nothing changed.
+# Usage: compare_repacks.sh <statepack A> <statepack B> <repository root> [N=1000] [runs=16] [small|real]
+set -euo pipefail
+a=$1 b=$2 root=$3 count=${4:-1000} runs=${5:-16} kind=${6:-small}
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+bash "$(dirname "$0")/generate_shader_project.sh" "$root" "$work/project" "$count" "$kind"
+cd "$work/project"
+
+# Wall milliseconds of one repack with build $1; sets $ms.
+repack() {
+  local start end
+  start=$(date +%s%N)
+  "$1" pack -i project.json -o out.spk --vulkan --cache-dir cache > /dev/null
+  end=$(date +%s%N)
+  ms=$(((end - start) / 1000000))
+}
+sorted() { printf '%s\n' "$@" | sort -n | tr '\n' ' '; }
+median() { printf '%s\n' "$@" | sort -n | sed -n "$((($# + 1) / 2))p"; }
+
+for build in "$a" "$b"; do repack "$build"; done  # cold: the compiles (shared) and each build's record
+sleep 2.2                                           # every input older than the racy window (2 s)
+for build in "$a" "$b"; do repack "$build"; done  # each build's stamps
+changed_a=() changed_b=() warm_a=() warm_b=()
+for ((r = 0; r < runs; r++)); do
+  for side in 0 1; do  # (a text neither build has compiled: a compile for each)
+    sed -i "s/== \([0-9]*\)u) return;  \/\/ copy 0\$/== $((3000000 + r * 2 + side))u) return;  \/\/ copy 0/" \
+      shader_0.comp
+    if ((side == 0)); then
+      repack "$a"
+      changed_a+=("$ms")
+    else
+      repack "$b"
+      changed_b+=("$ms")
+    fi
+  done
+done
+sleep 2.2
+for build in "$a" "$b"; do repack "$build"; done  # each build's stamps of the last change
+for ((r = 0; r < runs; r++)); do
+  repack "$a"
+  warm_a+=("$ms")
+  repack "$b"
+  warm_b+=("$ms")
+done
+echo "$count $kind shader files, $runs runs each, alternating; ms, sorted (median)"
+echo "one changed, A: $(sorted "${changed_a[@]}")($(median "${changed_a[@]}"))"
+echo "one changed, B: $(sorted "${changed_b[@]}")($(median "${changed_b[@]}"))"
+echo "nothing changed, A: $(sorted "${warm_a[@]}")($(median "${warm_a[@]}"))"
+echo "nothing changed, B: $(sorted "${warm_b[@]}")($(median "${warm_b[@]}"))"
