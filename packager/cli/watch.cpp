@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "pack/repack_memo.hpp"
 #include "shaders/compile_cache.hpp"
 
 namespace statepack::packager {
@@ -197,7 +198,7 @@ class DirectoryWatcher {
 
 std::string seconds_since(Clock::time_point start) {
   std::ostringstream text;
-  text << std::fixed << std::setprecision(2) << std::chrono::duration<double>(Clock::now() - start).count()
+  text << std::fixed << std::setprecision(3) << std::chrono::duration<double>(Clock::now() - start).count()
        << " s";
   return text.str();
 }
@@ -227,6 +228,7 @@ class Repacker {
     // Without --cache-dir, compiled and finalised SPIR-V stays in memory from one pack to the next.
     if (!options.cache_dir) memory_cache_.emplace(CompileCache::in_memory(kMemoryCacheBytes));
     session_.cache = memory_cache_ ? &*memory_cache_ : nullptr;
+    session_.memo = &memo_;
     // The notation files as given, wherever -i may find them: watched even when not there (yet).
     for (const auto& input : options.inputs) {
       base_files_.insert(normal(input));
@@ -242,9 +244,13 @@ class Repacker {
   // one past a syntax error) stays watched, so that the fix is seen.
   int pack() {
     const int code = run_pack(options_, out_, err_, &session_);
-    if (code == kExitSuccess) files_ = base_files_;
-    for (const fs::path& read : session_.files_read) files_.insert(normal(read));
-    update_watched();
+    std::set<fs::path> files = code == kExitSuccess ? base_files_ : files_;
+    for (const fs::path& read : session_.files_read) files.insert(normal(read));
+    // (the same files: their links and real paths, a stat each, are not looked at again)
+    if (files != files_ || code != kExitSuccess) {
+      files_ = std::move(files);
+      update_watched();
+    }
     return code;
   }
 
@@ -277,6 +283,7 @@ class Repacker {
   std::ostream& out_;
   std::ostream& err_;
   std::optional<CompileCache> memory_cache_;
+  RepackMemo memo_;
   PackSession session_;
   std::set<fs::path> base_files_, files_, watched_;
   size_t file_count_ = 0;  // of the files there, by their real paths: one file by two names is one

@@ -1,6 +1,7 @@
 #include "archive_reuse.hpp"
 
 #include "pack/input_stamps.hpp"
+#include "pack/repack_memo.hpp"
 
 #include <set>
 #include <tuple>
@@ -53,7 +54,8 @@ CacheKey archive_slot(std::string_view project) {
 }
 
 std::optional<ArchiveKey> archive_key(const PackOptions& options, std::string_view project,
-                                      const Notation& notation, const Diagnostics& diagnostics) {
+                                      const Notation& notation, const Diagnostics& diagnostics,
+                                      const RepackMemo* memo) {
   if (options.dump_dir || options.shards || options.notation.memory_files || !diagnostics.all().empty())
     return std::nullopt;
   ArchiveKey out;
@@ -69,7 +71,14 @@ std::optional<ArchiveKey> archive_key(const PackOptions& options, std::string_vi
     if (!seen.insert(unit_key(s)).second) return true;
     InputFile file;
     Digest text{};
-    const auto key = compile_cache_key(s, options.compile, &file, &text);
+    // A compile the memo holds is the same text (its file stats as stamped): its entry key is this key.
+    const auto held = memo && !s.file.empty() ? memo->unit(unit_key(s)) : nullptr;
+    const CompileCache::KnownText* known =
+        memo && !s.file.empty() ? memo->text((working_directory() / s.file).lexically_normal()) : nullptr;
+    if (known) file = known->file, text = known->hash;
+    const auto key = held && known && held->compiled.source_hash == known->hash ? held->entry
+                     : known ? compile_cache_key(s, options.compile, *known)
+                             : compile_cache_key(s, options.compile, &file, &text);
     if (!key) return false;
     k.add(*key);
     if (!file.path.empty()) {

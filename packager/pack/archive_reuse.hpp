@@ -43,6 +43,8 @@
 
 namespace statepack::packager {
 
+class RepackMemo;
+
 struct ArchiveKey {
   CacheKey slot{};                      // the project's record
   CacheKey inputs{};                    // what the archive was made from
@@ -63,8 +65,11 @@ CacheKey setup_key(const PackOptions& options);
 // The key of this pack's archive record; nullopt when the pack has none (see above), a shader file
 // cannot be read (the compile reports why), or one read twice (two shaders of it) changed in between.
 // `project`: the text that names the pack's project.
+// `memo`: a --watch session's memory of its last pack, whose shader texts that still hold are not read
+// again (repack_memo.hpp).
 std::optional<ArchiveKey> archive_key(const PackOptions& options, std::string_view project,
-                                      const Notation& notation, const Diagnostics& diagnostics);
+                                      const Notation& notation, const Diagnostics& diagnostics,
+                                      const RepackMemo* memo = nullptr);
 
 // The archive recorded under `key` when every #include the record lists still holds; `files_read` gets
 // the shader files and the #includes. Its bytes are the cache file's, mapped, valid while `holder` lives.

@@ -28,6 +28,7 @@
 #include "pack/compiler_warmup.hpp"
 #include "pack/input_stamps.hpp"
 #include "pack/phase_times.hpp"
+#include "pack/repack_memo.hpp"
 #include "shaders/compile_cache.hpp"
 #include "shaders/gl_translate.hpp"
 #include "shaders/nesting_bound.hpp"
@@ -44,9 +45,10 @@ struct CompiledUnit {
   ShaderDesc desc;
   CompiledShader compiled;
   Reflection reflection;
-  std::optional<spirv::Module> module;  // the compiled SPIR-V walked, for the layout's checks
-  bool in_shard = false;                // --shard: this unit's compile key falls in the pack's shard
-  bool compiled_here = false;           // not found in a cache: compiled by this pack
+  std::optional<spirv::Module> module;           // the compiled SPIR-V walked, for the layout's checks
+  bool in_shard = false;                         // --shard: this unit's compile key falls in the pack's shard
+  bool compiled_here = false;                    // not found in a cache: compiled by this pack
+  std::shared_ptr<const RepackMemo::Unit> held;  // what a --watch session's memory gave (repack_memo.hpp)
 };
 
 // A path in a depfile, written so that Make and Ninja both read it back as the path (tried with GNU
@@ -159,7 +161,8 @@ std::string finalize_cached(std::vector<uint32_t>& words, const CompileOptions& 
 // used by several pipelines is finalised once.
 class Finalizer {
  public:
-  Finalizer(const CompileOptions& options, CompileCache* cache) : options_(options), cache_(cache) {}
+  Finalizer(const CompileOptions& options, CompileCache* cache, const RepackMemo* memo)
+      : options_(options), cache_(cache), memo_(memo) {}
   // `optimize` false: the shader said ShaderOptimizationLevel DISABLED; it is validated (and stripped)
   // but never optimised.
   size_t request(std::vector<uint32_t> words, bool optimize) {
@@ -168,7 +171,7 @@ class Finalizer {
     key.append(reinterpret_cast<const char*>(words.data()), words.size() * 4);
     key += optimize ? 'o' : '-';
     auto [it, inserted] = job_by_content_.try_emplace(std::move(key), jobs_.size());
-    if (inserted) jobs_.push_back({std::move(words), {}, optimize});
+    if (inserted) jobs_.push_back({std::move(words), {}, optimize, {}});
     return it->second;
   }
   void run(uint32_t threads) {
@@ -176,6 +179,14 @@ class Finalizer {
     unoptimized.optimization = Optimization::none;
     parallel_on_stacks(jobs_.size(), threads, kCompileStackBytes, [&](size_t i) {
       const CompileOptions& options = jobs_[i].optimize ? options_ : unoptimized;
+      if (memo_) {  // (the input is kept for the memo's next pack)
+        jobs_[i].input = jobs_[i].words;
+        if (const auto* done = memo_->finalized(jobs_[i].words, jobs_[i].optimize)) {
+          if (cache_) cache_->note_used(done->entry);
+          jobs_[i].words = done->output;
+          return;
+        }
+      }
       if (finalized_from_cache(jobs_[i].words, options, cache_)) return;
       if (std::string failed =
               on_compile_stack([&] { jobs_[i].error = finalize_and_keep(jobs_[i].words, options, cache_); });
@@ -185,15 +196,24 @@ class Finalizer {
   }
   const std::vector<uint32_t>& words(size_t job) const { return jobs_[job].words; }
   const std::string& error(size_t job) const { return jobs_[job].error; }
+  // Each module finalised without an error, before and after: for the memo's next pack.
+  std::vector<RepackMemo::Made::Finalized> made() const {
+    std::vector<RepackMemo::Made::Finalized> out;
+    for (const Job& j : jobs_)
+      if (j.error.empty() && !j.input.empty()) out.push_back({&j.input, j.optimize, &j.words});
+    return out;
+  }
 
  private:
   struct Job {
     std::vector<uint32_t> words;
     std::string error;
     bool optimize = true;
+    std::vector<uint32_t> input;  // with a memo: the module before
   };
   const CompileOptions& options_;
   CompileCache* cache_;
+  const RepackMemo* memo_;
   std::map<std::string, size_t> job_by_content_;
   std::vector<Job> jobs_;
 };
@@ -235,6 +255,7 @@ class Dumper {
 // and each Shaders entry uses.
 struct CompiledShaders {
   std::vector<CompiledUnit> units;
+  std::vector<std::string> unit_keys;               // per unit: its unit_key
   std::vector<std::vector<size_t>> pipeline_units;  // per pipeline: the units of its stages
   // Per pipeline: its own description of each of those stages. Pipelines that share a compiled unit
   // still have their own shader names and notation places, which their messages and records use.
@@ -262,7 +283,8 @@ struct CompiledShaders {
 // objects have notation errors, so one run reports both (docs/cli.md).
 // `pipelines_only`: the standalone Shaders are left out (--opengl alone: its block stores pipelines only).
 CompiledShaders compile_shaders(const Notation& notation, const PackOptions& options, Diagnostics& diag,
-                                bool pipelines_only, CompileCache* cache, const ArchiveKey* record) {
+                                bool pipelines_only, CompileCache* cache, const ArchiveKey* record,
+                                const RepackMemo* memo) {
   CompiledShaders out;
   // The shader files the record's key read and hashed are not read again, so a hit and the record agree
   // on one text per file (a miss compiles what the file holds then, and the record check after the pack
@@ -272,7 +294,10 @@ CompiledShaders compile_shaders(const Notation& notation, const PackOptions& opt
   std::map<std::string, size_t> unit_by_key;
   auto unit_for = [&](const ShaderDesc& s) {
     auto [it, inserted] = unit_by_key.try_emplace(unit_key(s), out.units.size());
-    if (inserted) out.units.push_back({s, {}, {}});
+    if (inserted) {
+      out.units.push_back({s, {}, {}});
+      out.unit_keys.push_back(it->first);
+    }
     return it->second;
   };
   for (const auto& p : notation.pipelines) {
@@ -294,6 +319,13 @@ CompiledShaders compile_shaders(const Notation& notation, const PackOptions& opt
       const auto key = compile_cache_key(u.desc, options.compile);
       if (key && !in_shard(*key, options.shard, options.shards)) return;
       u.in_shard = true;
+    }
+    if (auto held = memo ? memo->unit(out.unit_keys[i]) : nullptr) {
+      // (only a compile that passed everything below is held)
+      u.compiled = held->compiled, u.reflection = held->reflection, u.module = held->module;
+      if (cache) cache->note_used(held->entry);
+      u.held = std::move(held);
+      return;
     }
     const auto text = u.desc.file.empty()
                           ? known.end()
@@ -908,7 +940,7 @@ std::optional<ArchiveKey> archive_record_key(const PackOptions& options, const P
                                              const Diagnostics& diag) {
   if (!cache || !options.archive_reuse || !(options.cache_dir || (session && session->cache)))
     return std::nullopt;
-  return archive_key(options, bundle_project(options), notation, diag);
+  return archive_key(options, bundle_project(options), notation, diag, session ? session->memo : nullptr);
 }
 
 // The pack's exit code when its archive record still holds and the recorded archive was written; else
@@ -968,6 +1000,68 @@ void note_if_empty(const Notation& notation, const PackOptions& options, Diagnos
               "no pipelines, shaders, signatures or render passes: the archive is empty");
 }
 
+// The pack's --watch memory (repack_memo.hpp), with what no longer holds dropped; nullptr outside a
+// session. The cache's bundle saves opening entry files; in a session whose memory holds the compiles it
+// would be read (megabytes hashed) for the few shaders that changed, so after the first pack it is left
+// alone, neither read nor rewritten: the next one-shot pack finds it as the session's first pack left it.
+RepackMemo* bundle_and_memo(const PackOptions& options, PackSession* session,
+                            std::optional<CompileCache>& cache, PhaseTimes& times) {
+  RepackMemo* const memo = session ? session->memo : nullptr;
+  if (cache && !(memo && memo->units_held() > 0)) cache->use_bundle(bundle_project(options));
+  if (memo) {
+    times.done("open the cache");
+    memo->refresh(options);
+    times.done("check what the last pack left");
+  }
+  return memo;
+}
+
+// The OpenGL units, made from the Vulkan compile; --opengl alone is warned that it stores pipelines only.
+CompiledShaders opengl_compile(const Notation& notation, const CompiledShaders& compiled,
+                               const PackOptions& options, Diagnostics& diag, CompileCache* cache) {
+  CompiledShaders gl = opengl_units(compiled, options, diag, cache);
+  if (!options.vulkan &&
+      (!notation.shaders.empty() || !notation.signatures.empty() || !notation.render_passes.empty()))
+    diag.warning(
+        {options.inputs.empty() ? "" : options.inputs.front().string()},
+        "--opengl alone stores pipelines only: the notation's standalone Shaders, resource "
+        "signatures and render passes are Vulkan objects and are left out (add --vulkan to keep them)");
+  return gl;
+}
+
+// The notation: a --watch session's last one when it still holds (repack_memo.hpp), else read.
+struct PackNotation {
+  std::shared_ptr<const Notation> notation;
+  bool keepable = false;  // read without a message: the memo may hold it (taking it prints nothing either)
+};
+PackNotation held_or_read_notation(const PackOptions& options, const RepackMemo* memo, Diagnostics& diag,
+                                   PhaseTimes& times) {
+  if (memo)
+    if (auto held = memo->notation()) {
+      times.done("read notation (unchanged since the last pack: kept)");
+      return {std::move(held), true};
+    }
+  auto read = std::make_shared<const Notation>(read_notations(options, diag));
+  times.done("read notation");
+  return {std::move(read), diag.all().empty()};
+}
+
+// What this pack read and made, for the next pack of the --watch session (repack_memo.hpp).
+void keep_for_next_pack(RepackMemo& memo, const PackNotation& notation, const ArchiveKey* record,
+                        const CompiledShaders& compiled, const Finalizer& finalizer,
+                        const PackOptions& options, std::chrono::system_clock::time_point started) {
+  RepackMemo::Made made;
+  if (notation.keepable) made.notation = notation.notation;
+  made.texts = record ? &record->shader_texts : nullptr;
+  for (size_t i = 0; i < compiled.units.size(); ++i) {
+    const CompiledUnit& u = compiled.units[i];
+    if (u.compiled.ok)
+      made.units.push_back({&compiled.unit_keys[i], u.held, &u.desc, &u.compiled, &u.reflection, &u.module});
+  }
+  made.finalized = finalizer.made();
+  memo.keep(made, started, options.compile);
+}
+
 }  // namespace
 
 std::optional<int> pack_if_unchanged(const PackOptions& options, std::ostream& out, std::ostream& err) {
@@ -1005,10 +1099,10 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err, P
   CompilerWarmup warmup;  // (joined when the pack ends; before the stats: it reads the input stamps)
   warmup.start_early(options, cached, bundle_project(options));
   const CompileCache::Stats stats_before = cached ? cached->stats() : CompileCache::Stats{};
-  if (cache) cache->use_bundle(bundle_project(options));
+  RepackMemo* const memo = bundle_and_memo(options, session, cache, times);
   Diagnostics diag(options.max_errors);
-  Notation notation = read_notations(options, diag);
-  times.done("read notation");
+  const PackNotation read = held_or_read_notation(options, memo, diag, times);
+  const Notation& notation = *read.notation;
   warmup.start(notation, options, cached, bundle_project(options));
   const std::optional<ArchiveKey> record = archive_record_key(options, session, cached, notation, diag);
   if (record)
@@ -1021,17 +1115,10 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err, P
   // compiles the pipelines' shaders for Vulkan too.
   CompiledShaders compiled, gl_compiled;
   if (options.vulkan || options.opengl)
-    compiled = compile_shaders(notation, options, diag, !options.vulkan, cached, record ? &*record : nullptr);
+    compiled =
+        compile_shaders(notation, options, diag, !options.vulkan, cached, record ? &*record : nullptr, memo);
   times.done("compile");
-  if (options.opengl) {
-    gl_compiled = opengl_units(compiled, options, diag, cached);
-    if (!options.vulkan &&
-        (!notation.shaders.empty() || !notation.signatures.empty() || !notation.render_passes.empty()))
-      diag.warning(
-          {options.inputs.empty() ? "" : options.inputs.front().string()},
-          "--opengl alone stores pipelines only: the notation's standalone Shaders, resource "
-          "signatures and render passes are Vulkan objects and are left out (add --vulkan to keep them)");
-  }
+  if (options.opengl) gl_compiled = opengl_compile(notation, compiled, options, diag, cached);
   // Every file read so far: no output may replace one of them.
   std::vector<InputFile> inputs = notation.files_read;
   for (const auto* c : {&compiled, &gl_compiled})
@@ -1048,7 +1135,7 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err, P
   builder.contents.content_version = options.content_version;
   builder.contents.backends =
       (options.vulkan ? format::kBackendVulkan : 0u) | (options.opengl ? format::kBackendOpenGL : 0u);
-  Finalizer finalizer(options.compile, cached);
+  Finalizer finalizer(options.compile, cached, memo);
   Dumper dumper(options.dump_dir, options.compile, inputs);
   std::string io_error;
   if (notation_ok && options.vulkan) {
@@ -1101,6 +1188,10 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err, P
   if (recorded) {
     recording.finish();
     times.done("record the archive");
+  }
+  if (memo) {
+    keep_for_next_pack(*memo, read, record ? &*record : nullptr, compiled, finalizer, options, started);
+    times.done("keep for the next pack");
   }
   return options.print_contents ? print_written(bytes, out, err) : kExitSuccess;
 }

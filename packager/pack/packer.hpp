@@ -63,9 +63,15 @@ struct PackOptions {
 class CompileCache;
 
 // What one pack of several (pack --watch) shares with the others and leaves for the next.
+class RepackMemo;
+
 struct PackSession {
   // In: the compile cache to use instead of opening --cache-dir (a cache kept between packs).
   CompileCache* cache = nullptr;
+  // In and out: what the last pack read and made, for this one to take what still holds instead of
+  // reading, looking up and compiling it again; replaced by what this pack made when it writes its
+  // archive (repack_memo.hpp). nullptr: none.
+  RepackMemo* memo = nullptr;
   // Out: every file the pack read, as the depfile lists them: notation files, their imports, shaders and
   // #includes. Filled also when the pack fails, with what it managed to read (absent files are not in
   // it), so that a fix of the file with the error is seen.

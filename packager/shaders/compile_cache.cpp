@@ -992,6 +992,31 @@ std::optional<InputFile> include_still_holds(const IncludeRecord& rec, const Com
   return text.file;
 }
 
+CacheKey compile_cache_key(const ShaderDesc& shader, const CompileOptions& options,
+                           const CompileCache::KnownText& known) {
+  return compile_key(shader, options, known.hash);
+}
+
+CacheKey compile_entry_key(const ShaderDesc& shader, const CompileOptions& options,
+                           const Digest& source_hash) {
+  return compile_key(shader, options, source_hash);
+}
+
+CacheKey finalized_entry_key(const std::vector<uint32_t>& input, const CompileOptions& options) {
+  return finalize_key(input, options);
+}
+
+void CompileCache::note_used(const CacheKey& key) {
+  const std::string name = hex(key);
+  std::lock_guard lock(mutex_);
+  if (dir_.empty()) {
+    auto found = memory_.find(name);
+    if (found == memory_.end()) return;
+    found->second.last_used = ++use_clock_;
+  }
+  used_.insert(name);
+}
+
 std::optional<CacheKey> compile_cache_key(const ShaderDesc& shader, const CompileOptions& options,
                                           InputFile* file, Digest* text) {
   const std::optional<InputText> source = shader_text(shader, options);

@@ -149,6 +149,11 @@ class CompileCache {
   // read (local or remote) that is not signed with it is not used.
   void set_signing_key(std::vector<uint8_t> secret) { secret_ = std::move(secret); }
 
+  // An entry under `key` that a pack took from elsewhere instead of a find_* hit (a --watch session's
+  // memory of its last pack: pack/repack_memo.hpp): counted as used as the hit would have been, so that
+  // trimming keeps it and the bundle goes on holding it. Thread-safe.
+  void note_used(const CacheKey& key);
+
   // Writes what was kept, never over one of `inputs` (by identity) or through a link, then (when it
   // wrote anything) trims the cache to the size bound. Returns a warning ("" when all went well): a
   // cache that cannot be written costs time, not correctness.
@@ -269,5 +274,12 @@ std::optional<InputFile> include_still_holds(const IncludeRecord& rec, const Com
 // given, to the SHA-256 of the text hashed (CompiledShader::source_hash of a compile of it).
 std::optional<CacheKey> compile_cache_key(const ShaderDesc& shader, const CompileOptions& options,
                                           InputFile* file = nullptr, Digest* text = nullptr);
+// The same from a text already read and hashed (`known`: the shader file's, as its path and identity).
+CacheKey compile_cache_key(const ShaderDesc& shader, const CompileOptions& options,
+                           const CompileCache::KnownText& known);
+// The keys find_compile (of a source whose text hashes to `source_hash`) and find_finalized look up.
+CacheKey compile_entry_key(const ShaderDesc& shader, const CompileOptions& options,
+                           const Digest& source_hash);
+CacheKey finalized_entry_key(const std::vector<uint32_t>& input, const CompileOptions& options);
 
 }  // namespace statepack::packager

@@ -1,0 +1,137 @@
+#include "repack_memo.hpp"
+
+#include <span>
+
+#include "format/archive_format.hpp"
+
+namespace statepack::packager {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+uint64_t module_hash(const std::vector<uint32_t>& words, bool optimize) {
+  return format::hash_bytes({reinterpret_cast<const uint8_t*>(words.data()), words.size() * 4}) ^
+         (optimize ? 0 : 0x9e3779b97f4a7c15ull);
+}
+
+// The stamp times before which a file changed early enough to trust its stamp (input_stamps.hpp).
+std::pair<int64_t, int64_t> trusted_before(std::chrono::system_clock::time_point started) {
+  const auto since_epoch = (started - kRacyWindow).time_since_epoch();
+  const auto seconds = std::chrono::floor<std::chrono::seconds>(since_epoch);
+  return {int64_t(seconds.count()), int64_t(std::chrono::nanoseconds(since_epoch - seconds).count())};
+}
+
+}  // namespace
+
+bool RepackMemo::stamp(const fs::path& path, const detail::FileIdentity& identity,
+                       std::map<fs::path, FileState>& files, std::pair<int64_t, int64_t> before) {
+  if (auto known = files.find(path); known != files.end()) return known->second.holds;
+  if (auto held = files_.find(path);
+      held != files_.end() && held->second.holds &&
+      detail::FileIdentity{held->second.stamp.device, held->second.stamp.inode} == identity) {
+    files.emplace(path, held->second);
+    return true;
+  }
+  const auto now = stamp_of(path);
+  const bool trusted = now && now->modified < before && now->changed < before &&
+                       detail::FileIdentity{now->device, now->inode} == identity;
+  files.emplace(path, FileState{now.value_or(FileStamp{}), trusted});
+  return trusted;
+}
+
+bool RepackMemo::all_hold(const std::vector<fs::path>& paths) const {
+  for (const fs::path& path : paths)
+    if (auto it = files_.find(path); it == files_.end() || !it->second.holds) return false;
+  return true;
+}
+
+void RepackMemo::refresh(const PackOptions& options) {
+  for (auto& [path, state] : files_)
+    if (state.holds) state.holds = stamp_of(path) == state.stamp;
+  if (notation_) {
+    bool holds = true;
+    for (const InputFile& f : notation_->files_read) holds = holds && all_hold({f.path});
+    for (const FileLookup& l : notation_->lookups)
+      holds =
+          holds && resolve_file(l.name, l.base_dir,
+                                l.shader ? options.notation.shader_dirs : options.notation.render_state_dirs,
+                                nullptr) == l.found;
+    if (!holds) notation_.reset();
+  }
+  std::erase_if(texts_, [&](const auto& entry) { return !all_hold({entry.first}); });
+  std::erase_if(units_, [&](const auto& entry) {
+    if (!all_hold(entry.second.files)) return true;
+    for (const IncludeRecord& rec : entry.second.unit->compiled.includes)
+      if (display_path(resolve_include(rec.header, rec.includer, rec.local, options.compile.include_dirs)) !=
+          rec.path)
+        return true;
+    return false;
+  });
+}
+
+const CompileCache::KnownText* RepackMemo::text(const fs::path& path) const {
+  auto it = texts_.find(path);
+  return it == texts_.end() ? nullptr : &it->second;
+}
+
+std::shared_ptr<const RepackMemo::Unit> RepackMemo::unit(const std::string& unit_key) const {
+  auto it = units_.find(unit_key);
+  return it == units_.end() ? nullptr : it->second.unit;
+}
+
+const RepackMemo::Finalized* RepackMemo::finalized(const std::vector<uint32_t>& input, bool optimize) const {
+  auto [first, last] = finalized_.equal_range(module_hash(input, optimize));
+  for (auto it = first; it != last; ++it)
+    if (it->second.optimize == optimize && it->second.input == input) return &it->second.result;
+  return nullptr;
+}
+
+void RepackMemo::keep(const Made& made, std::chrono::system_clock::time_point started,
+                      const CompileOptions& options) {
+  const auto before = trusted_before(started);
+  std::map<fs::path, FileState> files;
+  std::shared_ptr<const Notation> notation = made.notation;
+  if (notation)
+    for (const InputFile& f : notation->files_read)
+      if (!stamp(f.path, f.identity, files, before)) notation.reset();
+  std::map<fs::path, CompileCache::KnownText> texts;
+  if (made.texts)
+    for (const auto& [path, text] : *made.texts)
+      if (stamp(path, text.file.identity, files, before)) texts.emplace(path, text);
+  std::map<std::string, UnitEntry> units;
+  for (const Made::MadeUnit& made_unit : made.units) {
+    const CompiledShader& compiled = made_unit.held ? made_unit.held->compiled : *made_unit.compiled;
+    bool trusted = true;
+    std::vector<fs::path> paths;
+    for (const InputFile& f : compiled.files_read) {
+      trusted = trusted && stamp(f.path, f.identity, files, before);
+      paths.push_back(f.path);
+    }
+    if (!trusted) continue;
+    auto unit = made_unit.held;
+    if (!unit)
+      unit = std::make_shared<const Unit>(
+          Unit{compiled, *made_unit.reflection, *made_unit.module,
+               compile_entry_key(*made_unit.desc, options, compiled.source_hash)});
+    units.emplace(*made_unit.key, UnitEntry{std::move(unit), std::move(paths)});
+  }
+  // A module finalised again keeps its entry's key; a new one's is hashed once, here.
+  CompileOptions unoptimized = options;
+  unoptimized.optimization = Optimization::none;
+  std::multimap<uint64_t, FinalizedEntry> modules;
+  for (const Made::Finalized& f : made.finalized) {
+    const Finalized* earlier = finalized(*f.input, f.optimize);
+    const CacheKey entry =
+        earlier ? earlier->entry : finalized_entry_key(*f.input, f.optimize ? options : unoptimized);
+    modules.emplace(module_hash(*f.input, f.optimize),
+                    FinalizedEntry{*f.input, f.optimize, {*f.output, entry}});
+  }
+  files_ = std::move(files);
+  notation_ = std::move(notation);
+  texts_ = std::move(texts);
+  units_ = std::move(units);
+  finalized_ = std::move(modules);
+}
+
+}  // namespace statepack::packager
