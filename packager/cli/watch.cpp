@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "pack/compiler_warmup.hpp"
 #include "pack/repack_memo.hpp"
 #include "shaders/compile_cache.hpp"
 
@@ -254,6 +255,18 @@ class Repacker {
     return code;
   }
 
+  // glslang's built-in tables (~50 ms, once per process) for the project's first shader, unless the
+  // first pack built them: a first pack whose shaders all came from the cache compiled nothing, and the
+  // first edit would wait for them. Built while the watch waits (an edit meanwhile is queued, not lost).
+  void prepare_compiler_for_edits() {
+    try {  // (a speed-up only: what fails here, the compile meets and reports)
+      if (const auto notation = memo_.notation())
+        if (const ShaderDesc* shader = likely_compile(*notation, std::nullopt))
+          prepare_compiler(*shader, options_.compile);
+    } catch (...) {
+    }
+  }
+
   // What a failed pack leaves at the output.
   std::string kept() const {
     std::error_code ec;
@@ -310,6 +323,7 @@ class WatchLoop {
                                   : "pack failed in " + seconds_since(start) + "; " + repacker_.kept())
          << "; watching " << repacker_.file_count() << " file(s) in " << watcher_.directories() << " director"
          << (watcher_.directories() == 1 ? "y" : "ies") << " (Ctrl-C to stop)" << std::endl;
+    repacker_.prepare_compiler_for_edits();
     for (;;) {
       if (std::optional<int> stopped = wait_for_changes()) {
         out_ << "stopped by " << signal_name(*stopped) << std::endl;
