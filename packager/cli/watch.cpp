@@ -1,5 +1,6 @@
 #include "watch.hpp"
 
+#include <malloc.h>
 #include <poll.h>
 #include <pthread.h>
 #include <signal.h>
@@ -9,6 +10,7 @@
 
 #include <cerrno>
 #include <chrono>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <iomanip>
@@ -394,9 +396,21 @@ class WatchLoop {
   std::ostream& err_;
 };
 
+// The heap a pack used stays mapped for the next: glibc would otherwise hand large blocks and the free
+// top of each heap back to the kernel after every pack, and the next pack fault them in again, page by
+// page (a repack of 300 real-sized shaders varied from 190 to 340 ms with it, 166 to 189 without). The
+// watch's resident memory stays near a pack's peak instead. GLIBC_TUNABLES naming malloc settings wins.
+void keep_heap_between_packs() {
+  const char* tunables = std::getenv("GLIBC_TUNABLES");
+  if (tunables && std::strstr(tunables, "malloc")) return;
+  ::mallopt(M_MMAP_THRESHOLD, 32 << 20);  // (glibc's largest: blocks under it come from the heaps)
+  ::mallopt(M_TRIM_THRESHOLD, 256 << 20);
+}
+
 }  // namespace
 
 int run_watch(const PackOptions& options, const WatchOptions& watch, std::ostream& out, std::ostream& err) {
+  keep_heap_between_packs();
   // The stop signals are blocked before the first pack starts its threads (which inherit the mask), and
   // read from a signalfd between packs: a pack under way always finishes, so no temporary is left.
   sigset_t stop, before;

@@ -179,13 +179,12 @@ class Finalizer {
     unoptimized.optimization = Optimization::none;
     parallel_on_stacks(jobs_.size(), threads, kCompileStackBytes, [&](size_t i) {
       const CompileOptions& options = jobs_[i].optimize ? options_ : unoptimized;
-      if (memo_) {  // (the input is kept for the memo's next pack)
-        jobs_[i].input = jobs_[i].words;
-        if (const auto* done = memo_->finalized(jobs_[i].words, jobs_[i].optimize)) {
-          if (cache_) cache_->note_used(done->entry);
-          jobs_[i].words = done->output;
+      if (memo_) {
+        if ((jobs_[i].held = memo_->finalized(jobs_[i].words, jobs_[i].optimize))) {
+          if (cache_) cache_->note_used(jobs_[i].held->entry);
           return;
         }
+        jobs_[i].input = jobs_[i].words;  // (for the memo's next pack)
       }
       if (finalized_from_cache(jobs_[i].words, options, cache_)) return;
       if (std::string failed =
@@ -194,13 +193,16 @@ class Finalizer {
         jobs_[i].error = failed;
     });
   }
-  const std::vector<uint32_t>& words(size_t job) const { return jobs_[job].words; }
+  const std::vector<uint32_t>& words(size_t job) const {
+    return jobs_[job].held ? jobs_[job].held->output : jobs_[job].words;
+  }
   const std::string& error(size_t job) const { return jobs_[job].error; }
   // Each module finalised without an error, before and after: for the memo's next pack.
-  std::vector<RepackMemo::Made::Finalized> made() const {
-    std::vector<RepackMemo::Made::Finalized> out;
+  std::vector<RepackMemo::Made::MadeModule> made() const {
+    std::vector<RepackMemo::Made::MadeModule> out;
     for (const Job& j : jobs_)
-      if (j.error.empty() && !j.input.empty()) out.push_back({&j.input, j.optimize, &j.words});
+      if (j.held || (j.error.empty() && !j.input.empty()))
+        out.push_back({j.held, &j.input, j.optimize, &j.words});
     return out;
   }
 
@@ -209,7 +211,8 @@ class Finalizer {
     std::vector<uint32_t> words;
     std::string error;
     bool optimize = true;
-    std::vector<uint32_t> input;  // with a memo: the module before
+    std::vector<uint32_t> input;                        // with a memo: the module before
+    std::shared_ptr<const RepackMemo::Finalized> held;  // what the memo had: `words` is left as it came
   };
   const CompileOptions& options_;
   CompileCache* cache_;
@@ -1105,7 +1108,8 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err, P
   const Notation& notation = *read.notation;
   warmup.start(notation, options, cached, bundle_project(options));
   const std::optional<ArchiveKey> record = archive_record_key(options, session, cached, notation, diag);
-  if (record)
+  // (a --watch session's first pack makes its archive, so that the session's memory holds its compiles)
+  if (record && !(memo && !memo->filled()))
     if (auto code = reuse_archive(options, *cached, *record, notation, session, times, out, err, started))
       return *code;
   note_if_empty(notation, options, diag);

@@ -80,10 +80,11 @@ std::shared_ptr<const RepackMemo::Unit> RepackMemo::unit(const std::string& unit
   return it == units_.end() ? nullptr : it->second.unit;
 }
 
-const RepackMemo::Finalized* RepackMemo::finalized(const std::vector<uint32_t>& input, bool optimize) const {
+std::shared_ptr<const RepackMemo::Finalized> RepackMemo::finalized(const std::vector<uint32_t>& input,
+                                                                   bool optimize) const {
   auto [first, last] = finalized_.equal_range(module_hash(input, optimize));
   for (auto it = first; it != last; ++it)
-    if (it->second.optimize == optimize && it->second.input == input) return &it->second.result;
+    if (it->second->optimize == optimize && it->second->input == input) return it->second;
   return nullptr;
 }
 
@@ -119,19 +120,21 @@ void RepackMemo::keep(const Made& made, std::chrono::system_clock::time_point st
   // A module finalised again keeps its entry's key; a new one's is hashed once, here.
   CompileOptions unoptimized = options;
   unoptimized.optimization = Optimization::none;
-  std::multimap<uint64_t, FinalizedEntry> modules;
-  for (const Made::Finalized& f : made.finalized) {
-    const Finalized* earlier = finalized(*f.input, f.optimize);
-    const CacheKey entry =
-        earlier ? earlier->entry : finalized_entry_key(*f.input, f.optimize ? options : unoptimized);
-    modules.emplace(module_hash(*f.input, f.optimize),
-                    FinalizedEntry{*f.input, f.optimize, {*f.output, entry}});
+  std::multimap<uint64_t, std::shared_ptr<const Finalized>> modules;
+  for (const Made::MadeModule& f : made.finalized) {
+    auto module = f.held;
+    if (!module)
+      module = std::make_shared<const Finalized>(
+          Finalized{*f.input, f.optimize, *f.output,
+                    finalized_entry_key(*f.input, f.optimize ? options : unoptimized)});
+    modules.emplace(module_hash(module->input, module->optimize), std::move(module));
   }
   files_ = std::move(files);
   notation_ = std::move(notation);
   texts_ = std::move(texts);
   units_ = std::move(units);
   finalized_ = std::move(modules);
+  filled_ = true;
 }
 
 }  // namespace statepack::packager

@@ -46,6 +46,14 @@ class RepackMemo {
     std::optional<spirv::Module> module;
     CacheKey entry{};  // the compile-cache entry it stands for (compile_entry_key)
   };
+  // A module finalised (optimised or not, stripped, validated): the module before and after, and the key
+  // of the cache entry that holds it.
+  struct Finalized {
+    std::vector<uint32_t> input;
+    bool optimize = true;
+    std::vector<uint32_t> output;
+    CacheKey entry{};
+  };
   // What one pack leaves; `keep` takes it.
   struct Made {
     std::shared_ptr<const Notation> notation;  // null: read with a message, not kept
@@ -59,12 +67,13 @@ class RepackMemo {
       const std::optional<spirv::Module>* module;
     };
     std::vector<MadeUnit> units;  // compiles that passed every check only
-    struct Finalized {
+    struct MadeModule {
+      std::shared_ptr<const Finalized> held;  // what the memo gave the pack for it; else the parts below
       const std::vector<uint32_t>* input;
       bool optimize;
       const std::vector<uint32_t>* output;
     };
-    std::vector<Finalized> finalized;
+    std::vector<MadeModule> finalized;
   };
 
   // As a pack begins: drops whatever no longer holds (above). `started`: when the pack began.
@@ -76,21 +85,18 @@ class RepackMemo {
   const CompileCache::KnownText* text(const std::filesystem::path& path) const;
   // The compile of the distinct shader `unit_key`, when it still holds; null otherwise.
   std::shared_ptr<const Unit> unit(const std::string& unit_key) const;
-  // finalize_spirv's result for `input` (optimised or not), when the last pack made it, with the key
-  // of the cache entry that holds it; nullptr otherwise.
-  struct Finalized {
-    std::vector<uint32_t> output;
-    CacheKey entry{};
-  };
-  const Finalized* finalized(const std::vector<uint32_t>& input, bool optimize) const;
+  // finalize_spirv's result for `input` (optimised or not), when the last pack made it; null otherwise.
+  std::shared_ptr<const Finalized> finalized(const std::vector<uint32_t>& input, bool optimize) const;
 
   // After a pack that wrote its archive: what it read and made replaces what was kept. `started`: when
   // it began (its stamps are trusted only for files older than kRacyWindow before that); `options`: its
   // compile options (for the cache keys of what it finalised).
   void keep(const Made& made, std::chrono::system_clock::time_point started, const CompileOptions& options);
 
-  // How many of the last refresh's compiles and files held (for --time-report).
+  // How many compiles it holds (after refresh(): that still hold).
   size_t units_held() const { return units_.size(); }
+  // Whether a pack has kept anything yet (a session's first pack fills it: it reuses no recorded archive).
+  bool filled() const { return filled_; }
 
  private:
   struct FileState {
@@ -100,11 +106,6 @@ class RepackMemo {
   struct UnitEntry {
     std::shared_ptr<const Unit> unit;
     std::vector<std::filesystem::path> files;  // the shader file and its #includes
-  };
-  struct FinalizedEntry {
-    std::vector<uint32_t> input;
-    bool optimize = true;
-    Finalized result;
   };
   // Stamps `path` (read as `identity`) into `files`, when trusted (a file that still held at refresh()
   // keeps its stamp); whether it was.
@@ -116,7 +117,8 @@ class RepackMemo {
   std::shared_ptr<const Notation> notation_;
   std::map<std::filesystem::path, CompileCache::KnownText> texts_;
   std::map<std::string, UnitEntry> units_;
-  std::multimap<uint64_t, FinalizedEntry> finalized_;  // by XXH3 of the input module
+  std::multimap<uint64_t, std::shared_ptr<const Finalized>> finalized_;  // by XXH3 of the input module
+  bool filled_ = false;
 };
 
 }  // namespace statepack::packager

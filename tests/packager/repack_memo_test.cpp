@@ -49,7 +49,7 @@ class RepackMemoTest : public ::testing::Test {
     RepackMemo::Made made;
     made.texts = &texts_;
     made.units.push_back({&key_, nullptr, &desc_, &unit_.compiled, &unit_.reflection, &unit_.module});
-    made.finalized.push_back({&unit_.compiled.spirv, true, &finalized_});
+    made.finalized.push_back({nullptr, &unit_.compiled.spirv, true, &finalized_});
     memo_.keep(made, started, options_.compile);
   }
   bool holds_unit() const { return memo_.unit(key_) != nullptr; }
@@ -126,7 +126,7 @@ TEST_F(RepackMemoTest, AnIncludeFoundElsewhereDropsTheCompile) {
 TEST_F(RepackMemoTest, AFinalisedModuleNeedsTheSameModuleAndOptimisation) {
   keep(Clock::now());  // (depends on no file)
   memo_.refresh(options_);
-  const auto* found = memo_.finalized(unit_.compiled.spirv, true);
+  const auto found = memo_.finalized(unit_.compiled.spirv, true);
   ASSERT_NE(found, nullptr);
   EXPECT_EQ(found->output, finalized_);
   EXPECT_EQ(memo_.finalized(unit_.compiled.spirv, false), nullptr);
