@@ -583,7 +583,7 @@ int run(int argc, char** argv) {
   }
   if (settled.str().empty() && !pack.watch && !pack.list_inputs)
     if (auto code = pack_if_unchanged(pack.options, std::cout, std::cerr)) return *code;
-  // Not for --watch: a resident process would keep its peak heap (no trimming).
+  // Not for --watch: a resident process keeps its heap on its own terms (watch.cpp).
   if (!pack.watch) {
     PhaseTimes times(pack.options.time_report ? &std::cerr : nullptr);
     const size_t heaps =

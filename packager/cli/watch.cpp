@@ -247,13 +247,9 @@ class Repacker {
   // one past a syntax error) stays watched, so that the fix is seen.
   int pack() {
     const int code = run_pack(options_, out_, err_, &session_);
-    std::set<fs::path> files = code == kExitSuccess ? base_files_ : files_;
-    for (const fs::path& read : session_.files_read) files.insert(normal(read));
-    // (the same files: their links and real paths, a stat each, are not looked at again)
-    if (files != files_ || code != kExitSuccess) {
-      files_ = std::move(files);
-      update_watched();
-    }
+    if (code == kExitSuccess) files_ = base_files_;
+    for (const fs::path& read : session_.files_read) files_.insert(normal(read));
+    update_watched();  // (after every pack, the same files too: a link may lead elsewhere now)
     return code;
   }
 

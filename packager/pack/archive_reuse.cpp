@@ -75,10 +75,15 @@ std::optional<ArchiveKey> archive_key(const PackOptions& options, std::string_vi
     const auto held = memo && !s.file.empty() ? memo->unit(unit_key(s)) : nullptr;
     const CompileCache::KnownText* known =
         memo && !s.file.empty() ? memo->text((working_directory() / s.file).lexically_normal()) : nullptr;
-    if (known) file = known->file, text = known->hash;
-    const auto key = held && known && held->compiled.source_hash == known->hash ? held->entry
-                     : known ? compile_cache_key(s, options.compile, *known)
-                             : compile_cache_key(s, options.compile, &file, &text);
+    std::optional<CacheKey> key;
+    if (known) {
+      file = known->file;
+      text = known->hash;
+      key = held && held->compiled.source_hash == known->hash ? held->entry
+                                                              : compile_cache_key(s, options.compile, *known);
+    } else {
+      key = compile_cache_key(s, options.compile, &file, &text);
+    }
     if (!key) return false;
     k.add(*key);
     if (!file.path.empty()) {

@@ -323,10 +323,17 @@ CompiledShaders compile_shaders(const Notation& notation, const PackOptions& opt
       if (key && !in_shard(*key, options.shard, options.shards)) return;
       u.in_shard = true;
     }
-    if (auto held = memo ? memo->unit(out.unit_keys[i]) : nullptr) {
-      // (only a compile that passed everything below is held)
-      u.compiled = held->compiled, u.reflection = held->reflection, u.module = held->module;
-      if (cache) cache->note_used(held->entry);
+    // (only a compile that passed everything below is held; not with --no-compile, which must find
+    // each compile in the cache as it is now)
+    if (auto held = memo && !options.compile.no_compile ? memo->unit(out.unit_keys[i]) : nullptr) {
+      u.compiled = held->compiled;
+      u.reflection = held->reflection;
+      u.module = held->module;
+      // (an inline Source's entry is named by the shader's name too, which its unit_key leaves out)
+      if (cache)
+        cache->note_used(u.desc.file.empty()
+                             ? compile_entry_key(u.desc, options.compile, u.compiled.source_hash)
+                             : held->entry);
       u.held = std::move(held);
       return;
     }

@@ -1,5 +1,7 @@
 #include "repack_memo.hpp"
 
+#include <algorithm>
+#include <set>
 #include <span>
 
 #include "format/archive_format.hpp"
@@ -40,26 +42,44 @@ bool RepackMemo::stamp(const fs::path& path, const detail::FileIdentity& identit
   return trusted;
 }
 
-bool RepackMemo::all_hold(const std::vector<fs::path>& paths) const {
-  for (const fs::path& path : paths)
-    if (auto it = files_.find(path); it == files_.end() || !it->second.holds) return false;
+bool RepackMemo::stamp_lookups(const Notation& notation, std::map<fs::path, FileState>& files,
+                               std::pair<int64_t, int64_t> before) {
+  std::set<detail::FileIdentity> read;
+  for (const InputFile& f : notation.files_read) read.insert(f.identity);
+  for (const FileLookup& l : notation.lookups) {
+    if (l.shader) continue;  // (a shader file is stamped, through its link, with its text and compile)
+    const auto now = stamp_of(l.found);
+    if (!now || !(now->modified < before && now->changed < before) ||
+        !read.count(detail::FileIdentity{now->device, now->inode}))
+      return false;
+    files.insert_or_assign(l.found, FileState{*now, true});
+    notation_files_.push_back(l.found);
+  }
   return true;
+}
+
+bool RepackMemo::holds(const fs::path& path) const {
+  auto it = files_.find(path);
+  return it != files_.end() && it->second.holds;
+}
+
+bool RepackMemo::all_hold(const std::vector<fs::path>& paths) const {
+  return std::ranges::all_of(paths, [&](const fs::path& path) { return holds(path); });
 }
 
 void RepackMemo::refresh(const PackOptions& options) {
   for (auto& [path, state] : files_)
     if (state.holds) state.holds = stamp_of(path) == state.stamp;
   if (notation_) {
-    bool holds = true;
-    for (const InputFile& f : notation_->files_read) holds = holds && all_hold({f.path});
+    bool found = all_hold(notation_files_);
     for (const FileLookup& l : notation_->lookups)
-      holds =
-          holds && resolve_file(l.name, l.base_dir,
+      found =
+          found && resolve_file(l.name, l.base_dir,
                                 l.shader ? options.notation.shader_dirs : options.notation.render_state_dirs,
                                 nullptr) == l.found;
-    if (!holds) notation_.reset();
+    if (!found) notation_.reset();
   }
-  std::erase_if(texts_, [&](const auto& entry) { return !all_hold({entry.first}); });
+  std::erase_if(texts_, [&](const auto& entry) { return !holds(entry.first); });
   std::erase_if(units_, [&](const auto& entry) {
     if (!all_hold(entry.second.files)) return true;
     for (const IncludeRecord& rec : entry.second.unit->compiled.includes)
@@ -93,9 +113,14 @@ void RepackMemo::keep(const Made& made, std::chrono::system_clock::time_point st
   const auto before = trusted_before(started);
   std::map<fs::path, FileState> files;
   std::shared_ptr<const Notation> notation = made.notation;
-  if (notation)
-    for (const InputFile& f : notation->files_read)
+  notation_files_.clear();
+  if (notation) {
+    for (const InputFile& f : notation->files_read) {
       if (!stamp(f.path, f.identity, files, before)) notation.reset();
+      notation_files_.push_back(f.path);
+    }
+    if (notation && !stamp_lookups(*notation, files, before)) notation.reset();
+  }
   std::map<fs::path, CompileCache::KnownText> texts;
   if (made.texts)
     for (const auto& [path, text] : *made.texts)

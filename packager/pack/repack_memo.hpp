@@ -76,7 +76,7 @@ class RepackMemo {
     std::vector<MadeModule> finalized;
   };
 
-  // As a pack begins: drops whatever no longer holds (above). `started`: when the pack began.
+  // As a pack begins: drops whatever no longer holds (above).
   void refresh(const PackOptions& options);
 
   // The last pack's notation, when it still holds.
@@ -93,7 +93,7 @@ class RepackMemo {
   // compile options (for the cache keys of what it finalised).
   void keep(const Made& made, std::chrono::system_clock::time_point started, const CompileOptions& options);
 
-  // How many compiles it holds (after refresh(): that still hold).
+  // How many compiles it holds (those the last pack kept; after refresh(), those that still hold).
   size_t units_held() const { return units_.size(); }
   // Whether a pack has kept anything yet (a session's first pack fills it: it reuses no recorded archive).
   bool filled() const { return filled_; }
@@ -110,11 +110,18 @@ class RepackMemo {
   // Stamps `path` (read as `identity`) into `files`, when trusted (a file that still held at refresh()
   // keeps its stamp); whether it was.
   bool stamp(const std::filesystem::path& path, const detail::FileIdentity& identity,
-             std::map<std::filesystem::path, FileState>& files, std::pair<int64_t, int64_t> trusted_before);
+             std::map<std::filesystem::path, FileState>& files, std::pair<int64_t, int64_t> before);
+  // Stamps what each name a notation lookup found leads to (a link followed), which must be a file the
+  // notation read: a link given as -i and pointed elsewhere, or a name that was a second link to a file
+  // read once and is now a file of its own, changes only that. Whether every one was trusted.
+  bool stamp_lookups(const Notation& notation, std::map<std::filesystem::path, FileState>& files,
+                     std::pair<int64_t, int64_t> before);
+  bool holds(const std::filesystem::path& path) const;
   bool all_hold(const std::vector<std::filesystem::path>& paths) const;
 
   std::map<std::filesystem::path, FileState> files_;
   std::shared_ptr<const Notation> notation_;
+  std::vector<std::filesystem::path> notation_files_;  // its files and the names its lookups found
   std::map<std::filesystem::path, CompileCache::KnownText> texts_;
   std::map<std::string, UnitEntry> units_;
   std::multimap<uint64_t, std::shared_ptr<const Finalized>> finalized_;  // by XXH3 of the input module

@@ -283,6 +283,25 @@ TEST_F(Watch, WhatTheLastPackKeptServesOnlyWhileItHolds) {
   finish();
 }
 
+// The notation the last pack kept is not taken when the -i name now leads to another file: here a.json is
+// a link to configs/v1.json, pointed at configs/v2.json (as `ln -sfn` does); v1.json itself is unchanged.
+TEST_F(Watch, ANotationLinkPointedElsewhereIsReadAgain) {
+  write_file(dir_ / "configs" / "v1.json", notation({compute_pipeline("One", "cs.comp")}));
+  write_file(dir_ / "configs" / "v2.json", notation({compute_pipeline("Two", "cs.comp")}));
+  fs::remove(dir_ / "a.json");
+  fs::create_symlink(fs::path("configs") / "v1.json", dir_ / "a.json");
+  sleep_ms(2200);  // every file older than the racy window: trusted by the first pack's stamps
+  ASSERT_NO_FATAL_FAILURE(start({"--watch-quiet-ms", "50", "-s", ".", "--time-report"}, false));
+  EXPECT_EQ(pipelines(), std::vector<std::string>{"One"});
+  fs::create_symlink(fs::path("configs") / "v2.json", dir_ / "a.json.new");
+  fs::rename(dir_ / "a.json.new", dir_ / "a.json");
+  EXPECT_NE(next_line("repacked "), "") << log_;
+  EXPECT_EQ(context_.find("(unchanged since the last pack: kept)"), std::string::npos) << context_;
+  EXPECT_EQ(pipelines(), std::vector<std::string>{"Two"});
+  EXPECT_EQ(archive(), fresh_pack("-s ."));
+  finish();
+}
+
 TEST_F(Watch, SyntaxErrorsKeepTheArchiveAndTheirFixRepacks) {
   ASSERT_NO_FATAL_FAILURE(start());
   // A shader's syntax error: the error with its file and line, the archive untouched.
