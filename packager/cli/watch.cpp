@@ -6,6 +6,7 @@
 #include <signal.h>
 #include <sys/inotify.h>
 #include <sys/signalfd.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -249,7 +250,7 @@ class Repacker {
     const int code = run_pack(options_, out_, err_, &session_);
     if (code == kExitSuccess) files_ = base_files_;
     for (const fs::path& read : session_.files_read) files_.insert(normal(read));
-    update_watched();  // (after every pack, the same files too: a link may lead elsewhere now)
+    update_watched();
     return code;
   }
 
@@ -277,15 +278,30 @@ class Repacker {
   size_t file_count() const { return file_count_; }
 
  private:
+  // After every pack (a link may lead elsewhere now). A file's real path is its directory's, resolved
+  // once per directory, and its own name unless that is a link: an lstat per file instead of a readlink
+  // per component of its path (1,000 shaders: about 12 ms of a 70 ms repack).
   void update_watched() {
     watched_ = files_;
     std::set<fs::path> there;
+    std::map<fs::path, std::optional<fs::path>> real_directories;
     for (const fs::path& file : files_) {
+      struct stat st {};
+      if (::lstat(file.c_str(), &st) != 0) continue;  // (not there: canonical would fail too)
       std::error_code ec;
-      if (fs::path target = fs::canonical(file, ec); !ec) {
-        watched_.insert(target);
-        there.insert(target);
+      fs::path target;
+      if (S_ISLNK(st.st_mode)) {
+        target = fs::canonical(file, ec);
+        if (ec) continue;
+      } else {
+        auto [directory, added] = real_directories.try_emplace(file.parent_path());
+        if (added)
+          if (fs::path real = fs::canonical(file.parent_path(), ec); !ec) directory->second = std::move(real);
+        if (!directory->second) continue;
+        target = *directory->second / file.filename();
       }
+      watched_.insert(target);
+      there.insert(target);
     }
     file_count_ = there.size();
   }

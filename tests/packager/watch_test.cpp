@@ -302,6 +302,28 @@ TEST_F(Watch, ANotationLinkPointedElsewhereIsReadAgain) {
   finish();
 }
 
+// A shader given by a link is watched where the link leads, after every pack: pointed at another file, the
+// repack reads that file, and edits of that file (not of the link) repack from then on.
+TEST_F(Watch, AShaderLinkIsFollowedWhereverItIsPointed) {
+  write_file(dir_ / "v1" / "cs.comp", shader(kShaderMark + 1));
+  write_file(dir_ / "v2" / "cs.comp", shader(kShaderMark + 2));
+  write_file(dir_ / "v1" / "inc" / "common.glsl", include(kIncludeMark));
+  write_file(dir_ / "v2" / "inc" / "common.glsl", include(kIncludeMark));
+  fs::remove(dir_ / "cs.comp");
+  fs::create_symlink(fs::path("v1") / "cs.comp", dir_ / "cs.comp");
+  ASSERT_NO_FATAL_FAILURE(start({"--watch-quiet-ms", "50"}, false));
+  EXPECT_TRUE(archive_has(kShaderMark + 1));
+  fs::create_symlink(fs::path("v2") / "cs.comp", dir_ / "cs.comp.new");
+  fs::rename(dir_ / "cs.comp.new", dir_ / "cs.comp");
+  EXPECT_NE(next_line("repacked "), "") << log_;
+  EXPECT_TRUE(archive_has(kShaderMark + 2));
+  write_file(dir_ / "v2" / "cs.comp", shader(kShaderMark + 3));
+  EXPECT_NE(next_line("repacked "), "") << log_;
+  EXPECT_TRUE(archive_has(kShaderMark + 3));
+  EXPECT_EQ(archive(), fresh_pack());
+  finish();
+}
+
 TEST_F(Watch, SyntaxErrorsKeepTheArchiveAndTheirFixRepacks) {
   ASSERT_NO_FATAL_FAILURE(start());
   // A shader's syntax error: the error with its file and line, the archive untouched.
