@@ -68,17 +68,18 @@ std::optional<ArchiveKey> archive_key(const PackOptions& options, std::string_vi
   // Every shader the pack compiles, as compile_shaders() walks them, each distinct one once.
   std::set<std::string> seen;
   auto add_shader = [&](const ShaderDesc& s) {
-    if (!seen.insert(unit_key(s)).second) return true;
+    const auto [unit, first] = seen.insert(unit_key(s));
+    if (!first) return true;
     InputFile file;
     Digest text{};
-    // A compile the memo holds is the same text (its file stats as stamped): its entry key is this key.
-    const auto held = memo && !s.file.empty() ? memo->unit(unit_key(s)) : nullptr;
     const CompileCache::KnownText* known =
         memo && !s.file.empty() ? memo->text((working_directory() / s.file).lexically_normal()) : nullptr;
     std::optional<CacheKey> key;
     if (known) {
       file = known->file;
       text = known->hash;
+      // A compile the memo holds of the same text: its entry's key is this key.
+      const auto held = memo->unit(*unit);
       key = held && held->compiled.source_hash == known->hash ? held->entry
                                                               : compile_cache_key(s, options.compile, *known);
     } else {
@@ -176,10 +177,8 @@ std::optional<RecordedArchive> find_unchanged_archive(CompileCache& cache, const
   std::set<std::filesystem::path> stamped_paths;
   for (const InputFile& f : stamped->files) stamped_paths.insert(f.path);
   for (const IncludeRecord& rec : parts->includes) {
-    const auto path = resolve_include(rec.header, rec.includer, rec.local, options.compile.include_dirs);
-    if (display_path(path) != rec.path ||
-        !stamped_paths.count((working_directory() / path).lexically_normal()))
-      return std::nullopt;
+    const auto path = include_found_again(rec, options.compile);
+    if (!path || !stamped_paths.count((working_directory() / *path).lexically_normal())) return std::nullopt;
   }
   files_read = stamped->files;
   return RecordedArchive{entry->holder, parts->archive, stamped->record};

@@ -112,12 +112,21 @@ CacheKey stamps_slot(const CacheKey& record_slot) {
   return KeyBuilder().add("input stamps").add(record_slot).key();
 }
 
-std::string write_input_stamps(CompileCache& cache, const CacheKey& record_slot, const StampedInputs& stamped,
-                               std::chrono::system_clock::time_point started) {
+RacyWindow::RacyWindow(std::chrono::system_clock::time_point started) {
   const auto since_epoch = (started - kRacyWindow).time_since_epoch();
   const auto seconds = std::chrono::floor<std::chrono::seconds>(since_epoch);
-  const std::pair<int64_t, int64_t> trusted_before{
-      int64_t(seconds.count()), int64_t(std::chrono::nanoseconds(since_epoch - seconds).count())};
+  before_ = {int64_t(seconds.count()), int64_t(std::chrono::nanoseconds(since_epoch - seconds).count())};
+}
+
+bool lookup_finds_the_same(const FileLookup& lookup, const NotationOptions& options) {
+  return resolve_file(lookup.name, lookup.base_dir,
+                      lookup.shader ? options.shader_dirs : options.render_state_dirs,
+                      nullptr) == lookup.found;
+}
+
+std::string write_input_stamps(CompileCache& cache, const CacheKey& record_slot, const StampedInputs& stamped,
+                               std::chrono::system_clock::time_point started) {
+  const RacyWindow window(started);
   PayloadWriter w;
   w.u32(kStampsVersion);
   w.bytes.insert(w.bytes.end(), stamped.record.begin(), stamped.record.end());
@@ -143,7 +152,7 @@ std::string write_input_stamps(CompileCache& cache, const CacheKey& record_slot,
   w.u32(uint32_t(distinct.size()));
   for (const auto& [path, as_read] : distinct) {
     const auto stamp = stamp_of(path);
-    if (!stamp || stamp->modified >= trusted_before || stamp->changed >= trusted_before) return "";
+    if (!stamp || !window.trusts(*stamp)) return "";
     const FileIdentity now{stamp->device, stamp->inode};
     if (as_read ? now != *as_read : !read.count(now)) return "";
     w.str(path.string());
@@ -160,9 +169,7 @@ std::optional<StampedInputs> unchanged_inputs(CompileCache& cache, const CacheKe
   auto parsed = parse_stamps(entry->payload);
   if (!parsed || parsed->inputs.setup != setup) return std::nullopt;
   for (const FileLookup& l : parsed->inputs.lookups)
-    if (resolve_file(l.name, l.base_dir, l.shader ? options.shader_dirs : options.render_state_dirs,
-                     nullptr) != l.found)
-      return std::nullopt;
+    if (!lookup_finds_the_same(l, options)) return std::nullopt;
   for (const ParsedStamps::File& f : parsed->files) {
     const auto now = stamp_of(f.path);
     if (!now || *now != f.stamp) return std::nullopt;

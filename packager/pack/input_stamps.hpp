@@ -63,6 +63,21 @@ struct FileStamp {
 // stat(2) of `path` (a link followed, as a read follows it); nullopt when it cannot be taken.
 std::optional<FileStamp> stamp_of(const std::filesystem::path& path);
 
+// What a pack that began at `started` may trust of a stamp taken after it read the file: a file changed
+// within kRacyWindow before (or after) that is not trusted.
+class RacyWindow {
+ public:
+  explicit RacyWindow(std::chrono::system_clock::time_point started);
+  bool trusts(const FileStamp& stamp) const { return stamp.modified < before_ && stamp.changed < before_; }
+
+ private:
+  std::pair<int64_t, int64_t> before_;  // seconds and nanoseconds since the epoch
+};
+
+// Whether the search of `lookup` (next to its base, then the -r or -s directories by its kind) still finds
+// what it found.
+bool lookup_finds_the_same(const FileLookup& lookup, const NotationOptions& options);
+
 // Where the stamps of the record at `record_slot` are kept.
 CacheKey stamps_slot(const CacheKey& record_slot);
 

@@ -17,17 +17,10 @@ uint64_t module_hash(const std::vector<uint32_t>& words, bool optimize) {
          (optimize ? 0 : 0x9e3779b97f4a7c15ull);
 }
 
-// The stamp times before which a file changed early enough to trust its stamp (input_stamps.hpp).
-std::pair<int64_t, int64_t> trusted_before(std::chrono::system_clock::time_point started) {
-  const auto since_epoch = (started - kRacyWindow).time_since_epoch();
-  const auto seconds = std::chrono::floor<std::chrono::seconds>(since_epoch);
-  return {int64_t(seconds.count()), int64_t(std::chrono::nanoseconds(since_epoch - seconds).count())};
-}
-
 }  // namespace
 
 bool RepackMemo::stamp(const fs::path& path, const detail::FileIdentity& identity,
-                       std::map<fs::path, FileState>& files, std::pair<int64_t, int64_t> before) {
+                       std::map<fs::path, FileState>& files, const RacyWindow& window) {
   if (auto known = files.find(path); known != files.end()) return known->second.holds;
   if (auto held = files_.find(path);
       held != files_.end() && held->second.holds &&
@@ -36,21 +29,20 @@ bool RepackMemo::stamp(const fs::path& path, const detail::FileIdentity& identit
     return true;
   }
   const auto now = stamp_of(path);
-  const bool trusted = now && now->modified < before && now->changed < before &&
-                       detail::FileIdentity{now->device, now->inode} == identity;
+  const bool trusted =
+      now && window.trusts(*now) && detail::FileIdentity{now->device, now->inode} == identity;
   files.emplace(path, FileState{now.value_or(FileStamp{}), trusted});
   return trusted;
 }
 
 bool RepackMemo::stamp_lookups(const Notation& notation, std::map<fs::path, FileState>& files,
-                               std::pair<int64_t, int64_t> before) {
+                               const RacyWindow& window) {
   std::set<detail::FileIdentity> read;
   for (const InputFile& f : notation.files_read) read.insert(f.identity);
   for (const FileLookup& l : notation.lookups) {
     if (l.shader) continue;  // (a shader file is stamped, through its link, with its text and compile)
     const auto now = stamp_of(l.found);
-    if (!now || !(now->modified < before && now->changed < before) ||
-        !read.count(detail::FileIdentity{now->device, now->inode}))
+    if (!now || !window.trusts(*now) || !read.count(detail::FileIdentity{now->device, now->inode}))
       return false;
     files.insert_or_assign(l.found, FileState{*now, true});
     notation_files_.push_back(l.found);
@@ -71,22 +63,17 @@ void RepackMemo::refresh(const PackOptions& options) {
   for (auto& [path, state] : files_)
     if (state.holds) state.holds = stamp_of(path) == state.stamp;
   if (notation_) {
-    bool found = all_hold(notation_files_);
-    for (const FileLookup& l : notation_->lookups)
-      found =
-          found && resolve_file(l.name, l.base_dir,
-                                l.shader ? options.notation.shader_dirs : options.notation.render_state_dirs,
-                                nullptr) == l.found;
-    if (!found) notation_.reset();
+    if (!all_hold(notation_files_) || !std::ranges::all_of(notation_->lookups, [&](const FileLookup& l) {
+          return lookup_finds_the_same(l, options.notation);
+        }))
+      notation_.reset();
   }
   std::erase_if(texts_, [&](const auto& entry) { return !holds(entry.first); });
   std::erase_if(units_, [&](const auto& entry) {
-    if (!all_hold(entry.second.files)) return true;
-    for (const IncludeRecord& rec : entry.second.unit->compiled.includes)
-      if (display_path(resolve_include(rec.header, rec.includer, rec.local, options.compile.include_dirs)) !=
-          rec.path)
-        return true;
-    return false;
+    return !all_hold(entry.second.files) ||
+           !std::ranges::all_of(entry.second.unit->compiled.includes, [&](const IncludeRecord& rec) {
+             return include_found_again(rec, options.compile).has_value();
+           });
   });
 }
 
@@ -110,28 +97,28 @@ std::shared_ptr<const RepackMemo::Finalized> RepackMemo::finalized(const std::ve
 
 void RepackMemo::keep(const Made& made, std::chrono::system_clock::time_point started,
                       const CompileOptions& options) {
-  const auto before = trusted_before(started);
+  const RacyWindow window(started);
   std::map<fs::path, FileState> files;
   std::shared_ptr<const Notation> notation = made.notation;
   notation_files_.clear();
   if (notation) {
     for (const InputFile& f : notation->files_read) {
-      if (!stamp(f.path, f.identity, files, before)) notation.reset();
+      if (!stamp(f.path, f.identity, files, window)) notation.reset();
       notation_files_.push_back(f.path);
     }
-    if (notation && !stamp_lookups(*notation, files, before)) notation.reset();
+    if (notation && !stamp_lookups(*notation, files, window)) notation.reset();
   }
   std::map<fs::path, CompileCache::KnownText> texts;
   if (made.texts)
     for (const auto& [path, text] : *made.texts)
-      if (stamp(path, text.file.identity, files, before)) texts.emplace(path, text);
+      if (stamp(path, text.file.identity, files, window)) texts.emplace(path, text);
   std::map<std::string, UnitEntry> units;
   for (const Made::MadeUnit& made_unit : made.units) {
     const CompiledShader& compiled = made_unit.held ? made_unit.held->compiled : *made_unit.compiled;
     bool trusted = true;
     std::vector<fs::path> paths;
     for (const InputFile& f : compiled.files_read) {
-      trusted = trusted && stamp(f.path, f.identity, files, before);
+      trusted = trusted && stamp(f.path, f.identity, files, window);
       paths.push_back(f.path);
     }
     if (!trusted) continue;

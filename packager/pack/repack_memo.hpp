@@ -110,12 +110,12 @@ class RepackMemo {
   // Stamps `path` (read as `identity`) into `files`, when trusted (a file that still held at refresh()
   // keeps its stamp); whether it was.
   bool stamp(const std::filesystem::path& path, const detail::FileIdentity& identity,
-             std::map<std::filesystem::path, FileState>& files, std::pair<int64_t, int64_t> before);
+             std::map<std::filesystem::path, FileState>& files, const RacyWindow& window);
   // Stamps what each name a notation lookup found leads to (a link followed), which must be a file the
   // notation read: a link given as -i and pointed elsewhere, or a name that was a second link to a file
   // read once and is now a file of its own, changes only that. Whether every one was trusted.
   bool stamp_lookups(const Notation& notation, std::map<std::filesystem::path, FileState>& files,
-                     std::pair<int64_t, int64_t> before);
+                     const RacyWindow& window);
   bool holds(const std::filesystem::path& path) const;
   bool all_hold(const std::vector<std::filesystem::path>& paths) const;
 

@@ -969,12 +969,18 @@ bool read_include_record(PayloadReader& r, IncludeRecord& rec) {
   return true;
 }
 
+std::optional<fs::path> include_found_again(const IncludeRecord& rec, const CompileOptions& options) {
+  fs::path path = resolve_include(rec.header, rec.includer, rec.local, options.include_dirs);
+  if (path.empty() || display_path(path) != rec.path) return std::nullopt;
+  return path;
+}
+
 std::optional<InputFile> include_still_holds(const IncludeRecord& rec, const CompileOptions& options,
                                              uint64_t& included, IncludeTexts* texts) {
-  const fs::path path = resolve_include(rec.header, rec.includer, rec.local, options.include_dirs);
-  if (path.empty()) return std::nullopt;
-  const std::string name = display_path(path);
-  if (name != rec.path) return std::nullopt;
+  const auto found = include_found_again(rec, options);
+  if (!found) return std::nullopt;
+  const fs::path& path = *found;
+  const std::string& name = rec.path;
   if (texts)
     if (auto known = texts->find(name); known != texts->end()) {
       included += known->second.size;

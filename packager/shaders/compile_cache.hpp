@@ -263,6 +263,9 @@ struct IncludeText {
   InputFile file;
 };
 using IncludeTexts = std::map<std::string, IncludeText>;
+// Where `rec`'s header is found now, when that is where it was found (rec.path); nullopt otherwise.
+std::optional<std::filesystem::path> include_found_again(const IncludeRecord& rec,
+                                                         const CompileOptions& options);
 // The file of `rec` when it still holds (the header resolves to the same file, whose text is the same)
 // and the text sizes counted in `included` stay within --max-input-size; else nullopt.
 std::optional<InputFile> include_still_holds(const IncludeRecord& rec, const CompileOptions& options,
