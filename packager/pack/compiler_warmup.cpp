@@ -1,5 +1,8 @@
 #include "compiler_warmup.hpp"
 
+#include <chrono>
+#include <sstream>
+
 #include "pack/archive_reuse.hpp"
 #include "shaders/shader_compiler.hpp"
 
@@ -48,6 +51,30 @@ std::optional<TablesHint> tables_hint(const Notation& notation, const CompileOpt
   return hint_of(*first, options);
 }
 
+void CompilerWarmup::build(const ShaderDesc& shader, const CompileOptions& options, std::atomic<double>& ms) {
+  const auto begun = std::chrono::steady_clock::now();
+  prepare_compiler(shader, options);
+  ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - begun).count();
+}
+
+std::string CompilerWarmup::report() const {
+  std::string out;
+  auto line = [&](const std::thread& thread, const std::atomic<double>& ms, const char* hint) {
+    if (!thread.joinable() || (&thread == &early_ && early_found_nothing_)) return;
+    if (!out.empty()) out += '\n';
+    out += std::string("compiler: glslang's built-in tables built ahead on another core, from ") + hint;
+    std::ostringstream took;  // (as PhaseTimes prints a time)
+    if (const double done = ms; done < 0)
+      took << " (still building)";
+    else
+      took << " (" << done << " ms)";
+    out += took.str();
+  };
+  line(early_, early_ms_, "the input stamps' hint");
+  line(late_, late_ms_, "the notation's likely compile");
+  return out;
+}
+
 CompilerWarmup::~CompilerWarmup() {
   for (std::thread* t : {&early_, &late_})
     if (t->joinable()) t->join();
@@ -75,7 +102,7 @@ void CompilerWarmup::start_early(const PackOptions& options, CompileCache* cache
         ShaderDesc shader;
         shader.language = early_hint_->language, shader.stage = early_hint_->stage;
         shader.glsl_version = early_hint_->glsl_version, shader.source = early_hint_->version_line;
-        prepare_compiler(shader, compile);
+        build(shader, compile, early_ms_);
       } catch (...) {
       }
     });
@@ -97,9 +124,9 @@ void CompilerWarmup::start(const Notation& notation, const PackOptions& options,
   // the thread cannot be made, or the work throws (out of memory: the compile meets it too, and says so),
   // the pack goes on without it.
   try {
-    late_ = std::thread([shader = *shader, compile = options.compile] {
+    late_ = std::thread([this, shader = *shader, compile = options.compile] {
       try {
-        prepare_compiler(shader, compile);
+        build(shader, compile, late_ms_);
       } catch (...) {
       }
     });

@@ -6,6 +6,7 @@
 // cache (prepare_compiler); a repack that changed nothing compiles nothing and builds nothing.
 #include <atomic>
 #include <optional>
+#include <string>
 #include <thread>
 
 #include "notation/notation.hpp"
@@ -43,12 +44,18 @@ class CompilerWarmup {
   // read's tens). A project whose changed shader needs other tables than its first gets both.
   void start(const Notation& notation, const PackOptions& options, const CompileCache* cache,
              std::string_view project);
+  // For --time-report, once the pack's compiles are done: which tables were built ahead, from what hint,
+  // and in how long (or that they still are); "" when none was started.
+  std::string report() const;
 
  private:
   static bool wanted(const PackOptions& options, const CompileCache* cache);
+  // Builds the tables for `shader` on this thread, and notes how long that took in `ms`.
+  static void build(const ShaderDesc& shader, const CompileOptions& options, std::atomic<double>& ms);
   std::thread early_, late_;
   std::optional<TablesHint> early_hint_;
   std::atomic<bool> early_found_nothing_{false};
+  std::atomic<double> early_ms_{-1}, late_ms_{-1};  // each build's wall time, once it is done
 };
 
 }  // namespace statepack::packager

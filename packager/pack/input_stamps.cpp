@@ -12,7 +12,7 @@ namespace statepack::packager {
 namespace {
 
 namespace fs = std::filesystem;
-constexpr uint32_t kStampsVersion = 3;
+constexpr uint32_t kStampsVersion = 4;
 
 // A time as (seconds, nanoseconds) since the epoch: compared as a pair (nanoseconds alone overflow 64 bits
 // in 2262, and a file's time may be set anywhere).
@@ -60,6 +60,19 @@ bool read_hint(PayloadReader& r, std::optional<TablesHint>& hint) {
   return one_stage && hint->glsl_version <= 460 && hint->version_line.size() <= 201;
 }
 
+// The head of a stamps entry: enough to tell that it vouches for nothing, and to start glslang's tables.
+struct StampsHead {
+  CacheKey record{}, setup{};
+  uint32_t unsettled = 0;  // files stat'ed within the racy window
+  std::optional<TablesHint> tables;
+};
+
+bool read_head(PayloadReader& r, StampsHead& head) {
+  uint32_t version = 0;
+  return r.u32(version) && version == kStampsVersion && r.raw(head.record.data(), head.record.size()) &&
+         r.raw(head.setup.data(), head.setup.size()) && r.u32(head.unsettled) && read_hint(r, head.tables);
+}
+
 // A stamps entry as written: what it vouches for, and each file with its stamp and whether the pack read
 // it. Nothing is checked against the file system here.
 struct ParsedStamps {
@@ -76,11 +89,10 @@ std::optional<ParsedStamps> parse_stamps(std::span<const uint8_t> payload) {
   PayloadReader r(payload);
   ParsedStamps out;
   StampedInputs& in = out.inputs;
-  uint32_t version = 0, lookups = 0, files = 0;
-  if (!r.u32(version) || version != kStampsVersion || !r.raw(in.record.data(), in.record.size()) ||
-      !r.raw(in.setup.data(), in.setup.size()) || !read_hint(r, in.tables) || !r.u32(lookups) ||
-      !r.room_for(lookups, 16))
-    return std::nullopt;
+  StampsHead head;
+  uint32_t lookups = 0, files = 0;
+  if (!read_head(r, head) || !r.u32(lookups) || !r.room_for(lookups, 16)) return std::nullopt;
+  in.record = head.record, in.setup = head.setup, in.tables = std::move(head.tables);
   in.lookups.resize(lookups);
   for (FileLookup& l : in.lookups) {
     uint32_t kind = 0;
@@ -127,11 +139,7 @@ bool lookup_finds_the_same(const FileLookup& lookup, const NotationOptions& opti
 std::string write_input_stamps(CompileCache& cache, const CacheKey& record_slot, const StampedInputs& stamped,
                                std::chrono::system_clock::time_point started) {
   const RacyWindow window(started);
-  PayloadWriter w;
-  w.u32(kStampsVersion);
-  w.bytes.insert(w.bytes.end(), stamped.record.begin(), stamped.record.end());
-  w.bytes.insert(w.bytes.end(), stamped.setup.begin(), stamped.setup.end());
-  write_hint(w, stamped.tables);
+  PayloadWriter w;  // (the head is written last, before it: it counts the unsettled files)
   w.u32(uint32_t(stamped.lookups.size()));
   for (const FileLookup& l : stamped.lookups) {
     w.u32(l.shader ? 1 : 0);
@@ -150,48 +158,60 @@ std::string write_input_stamps(CompileCache& cache, const CacheKey& record_slot,
   for (const InputFile& f : stamped.files) distinct[f.path] = f.identity, read.insert(f.identity);
   for (const FileLookup& l : stamped.lookups) distinct.try_emplace(l.found);
   w.u32(uint32_t(distinct.size()));
+  uint32_t unsettled = 0;
   for (const auto& [path, as_read] : distinct) {
     const auto stamp = stamp_of(path);
-    if (!stamp || !window.trusts(*stamp)) return "";
+    if (!stamp) return "";
     const FileIdentity now{stamp->device, stamp->inode};
     if (as_read ? now != *as_read : !read.count(now)) return "";
+    unsettled += window.trusts(*stamp) ? 0 : 1;
     w.str(path.string());
     w.u32(as_read ? 1 : 0);
     write_stamp(w, *stamp);
   }
-  return cache.store_local(stamps_slot(record_slot), w.bytes, {}, stamped.files);
+  PayloadWriter head;
+  head.u32(kStampsVersion);
+  head.bytes.insert(head.bytes.end(), stamped.record.begin(), stamped.record.end());
+  head.bytes.insert(head.bytes.end(), stamped.setup.begin(), stamped.setup.end());
+  head.u32(unsettled);
+  write_hint(head, stamped.tables);
+  return cache.store_local(stamps_slot(record_slot), head.bytes, w.bytes, stamped.files);
 }
 
 std::optional<StampedInputs> unchanged_inputs(CompileCache& cache, const CacheKey& record_slot,
                                               const CacheKey& setup, const NotationOptions& options) {
   const auto entry = cache.find_local(stamps_slot(record_slot));
   if (!entry) return std::nullopt;
+  // Cheapest first, as a repack after an edit fails here: the head (a file stamped unsettled, the
+  // options), each file's stat, then the lookups (a stat per directory searched).
+  StampsHead head;
+  PayloadReader r(entry->payload);
+  if (!read_head(r, head) || head.unsettled || head.setup != setup) return std::nullopt;
   auto parsed = parse_stamps(entry->payload);
-  if (!parsed || parsed->inputs.setup != setup) return std::nullopt;
-  for (const FileLookup& l : parsed->inputs.lookups)
-    if (!lookup_finds_the_same(l, options)) return std::nullopt;
+  if (!parsed) return std::nullopt;
   for (const ParsedStamps::File& f : parsed->files) {
     const auto now = stamp_of(f.path);
     if (!now || *now != f.stamp) return std::nullopt;
     if (f.listed) parsed->inputs.files.push_back({f.path, {f.stamp.device, f.stamp.inode}});
   }
+  for (const FileLookup& l : parsed->inputs.lookups)
+    if (!lookup_finds_the_same(l, options)) return std::nullopt;
   return std::move(parsed->inputs);
 }
 
 std::optional<TablesHint> stamped_hint(std::span<const uint8_t> stamps) {
   PayloadReader r(stamps);
-  uint32_t version = 0;
-  CacheKey skipped{};
-  std::optional<TablesHint> hint;
-  if (!r.u32(version) || version != kStampsVersion || !r.raw(skipped.data(), skipped.size()) ||
-      !r.raw(skipped.data(), skipped.size()) || !read_hint(r, hint))
-    return std::nullopt;
-  return hint;
+  StampsHead head;
+  return read_head(r, head) ? head.tables : std::nullopt;
 }
 
 std::optional<TablesHint> hint_if_changed(std::span<const uint8_t> stamps) {
-  auto parsed = parse_stamps(stamps);
-  if (!parsed || !parsed->inputs.tables) return std::nullopt;
+  PayloadReader r(stamps);
+  StampsHead head;
+  if (!read_head(r, head) || !head.tables) return std::nullopt;
+  if (head.unsettled) return head.tables;  // (without reading on: a compile is as likely as after an edit)
+  auto parsed = parse_stamps(stamps);      // (all of it: a damaged entry gives nothing)
+  if (!parsed) return std::nullopt;
   for (const ParsedStamps::File& f : parsed->files)
     if (f.listed && stamp_of(f.path) != f.stamp) return parsed->inputs.tables;
   return std::nullopt;

@@ -6,9 +6,11 @@
 //
 // A stamp is the device, inode, size, modification and change times (ns) of a file. The change time is
 // set by the kernel on every write, rename or metadata change, and no tool can set it back. A file
-// stamped within kRacyWindow of the pack that read it is not stamped at all (git's "racily clean"): a
-// file system's timestamps are coarse (a clock tick), so a second write in the same tick could keep every
-// field; such a pack writes no stamps, and the next one reads everything and stamps then. Besides its
+// stamped within kRacyWindow of the pack that read it is not trusted (git's "racily clean"): a file
+// system's timestamps are coarse (a clock tick), so a second write in the same tick could keep every
+// field. Such stamps are written all the same, counted unsettled, and vouch for nothing: the next pack
+// reads everything and stamps again, but still finds the tables hint below (an edit loop packs within
+// seconds of each edit, so every pack after an edit is such a pack). Besides its
 // files, a notation's result depends on where each file name was found (resolve_file: next to the
 // notation, then the -r or -s directories): each lookup is stamped by what it found and done again, so a
 // file that appears earlier in the search misses. #includes are looked up again from the record.
@@ -17,11 +19,13 @@
 //
 // | payload bytes | meaning                                                                        |
 // |---------------|--------------------------------------------------------------------------------|
-// | 0..3          | u32 stamps version (3)                                                         |
+// | 0..3          | u32 stamps version (4)                                                         |
 // | 4..35         | the record these stamps vouch for: a SHA-256 of its payload before the archive |
 // |               | (its inputs key and #includes with their texts' hashes: archive_reuse.hpp)     |
 // | 36..67        | setup key: statepack's code and the options that decide the archive's bytes   |
-// | 68..71        | u32 1 when a tables hint follows (else 0): u32 source language (SourceLanguage), |
+// | 68..71        | u32 count of files stat'ed within the racy window: unless 0, the stamps vouch  |
+// |               | for nothing (the hint alone is used)                                           |
+// | 72..75        | u32 1 when a tables hint follows (else 0): u32 source language (SourceLanguage), |
 // |               | u32 stage (VkShaderStageFlagBits), u32 GLSLVersion, the #version line (string) |
 // | then          | u32 count of lookups, then each: u32 kind (0 -r, 1 -s), name, base directory,  |
 // |               | found path (strings: u32 length, bytes)                                        |
@@ -34,8 +38,9 @@
 // pack, which stamps again when it records an archive or reuses one.
 //
 // The tables hint: what picks glslang's built-in tables (compiler_warmup.hpp) for the project's first
-// shader: its language and #version. A repack that finds a stamped file changed starts building them
-// from the hint as it starts, before it has read its notation; a wrong hint costs only that work.
+// shader: its language and #version. A repack that finds a stamped file changed (or unsettled) starts
+// building them from the hint as it starts, before it has read its notation; a wrong hint costs only
+// that work.
 #pragma once
 
 #include <chrono>
@@ -99,10 +104,10 @@ struct StampedInputs {
   std::optional<TablesHint> tables;
 };
 
-// Stamps `stamped.files` for the record at `record_slot`, unless one changed within kRacyWindow before
-// `started` (when the pack began reading), after it, cannot be stat'ed, or is no longer the file the pack
-// read (its device and inode then): then nothing is written and "" returned. Returns a warning when the cache
-// cannot write.
+// Stamps `stamped.files` for the record at `record_slot`, counting those changed within kRacyWindow before
+// `started` (when the pack began reading), or after it, as unsettled; unless one cannot be stat'ed or is
+// no longer the file the pack read (its device and inode then): then nothing is written and "" returned.
+// Returns a warning when the cache cannot write.
 std::string write_input_stamps(CompileCache& cache, const CacheKey& record_slot, const StampedInputs& stamped,
                                std::chrono::system_clock::time_point started);
 
@@ -113,8 +118,8 @@ std::optional<StampedInputs> unchanged_inputs(CompileCache& cache, const CacheKe
 
 // The tables hint of `stamps` (a stamps entry's payload), read from its head only; nullopt when none.
 std::optional<TablesHint> stamped_hint(std::span<const uint8_t> stamps);
-// The same, when one of its files no longer stats as stamped (a compile is then likely); nullopt when
-// none, or when every file does.
+// The same, when one of its files no longer stats as stamped or was unsettled (a compile is then likely);
+// nullopt when none, or when every file does.
 std::optional<TablesHint> hint_if_changed(std::span<const uint8_t> stamps);
 
 }  // namespace statepack::packager

@@ -1129,6 +1129,8 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err, P
     compiled =
         compile_shaders(notation, options, diag, !options.vulkan, cached, record ? &*record : nullptr, memo);
   times.done("compile");
+  if (options.time_report)
+    if (std::string built = warmup.report(); !built.empty()) times.note(built);
   if (options.opengl) gl_compiled = opengl_compile(notation, compiled, options, diag, cached);
   // Every file read so far: no output may replace one of them.
   std::vector<InputFile> inputs = notation.files_read;

@@ -38,20 +38,20 @@ class InputStampsTest : public ::testing::Test {
     EXPECT_EQ(::stat((dir_ / name).c_str(), &st), 0);
     return {dir_ / name, {uint64_t(st.st_dev), uint64_t(st.st_ino)}};
   }
-  // Stamps `stamped` as a pack that started an hour from now would (every file older than its racy
-  // window), and returns the entry's payload; empty when none was written.
-  std::vector<uint8_t> stamp(const StampedInputs& stamped) {
-    const CacheKey slot = KeyBuilder().add("a project").key();
-    EXPECT_EQ(
-        write_input_stamps(*cache_, slot, stamped, std::chrono::system_clock::now() + std::chrono::hours(1)),
-        "");
-    const auto entry = cache_->find_local(stamps_slot(slot));
+  // Stamps `stamped` as a pack that started at `started` would (by default an hour from now: every file
+  // older than its racy window), and returns the entry's payload; empty when none was written.
+  std::vector<uint8_t> stamp(const StampedInputs& stamped,
+                             std::chrono::system_clock::time_point started =
+                                 std::chrono::system_clock::now() + std::chrono::hours(1)) {
+    EXPECT_EQ(write_input_stamps(*cache_, slot_, stamped, started), "");
+    const auto entry = cache_->find_local(stamps_slot(slot_));
     return entry ? std::vector<uint8_t>(entry->payload.begin(), entry->payload.end())
                  : std::vector<uint8_t>{};
   }
 
   fs::path dir_;
   std::optional<CompileCache> cache_;
+  const CacheKey slot_ = KeyBuilder().add("a project").key();
 };
 
 TEST_F(InputStampsTest, TheTablesHintComesBackOnlyWhenAStampedFileChanged) {
@@ -72,6 +72,26 @@ TEST_F(InputStampsTest, TheTablesHintComesBackOnlyWhenAStampedFileChanged) {
   const std::vector<uint8_t> hlsl_stamps = stamp({{}, {}, {}, {input("a.comp")}, hlsl});
   write("a.comp", "float4 main() : SV_Target { return 0; }\n");
   EXPECT_EQ(hint_if_changed(hlsl_stamps), hlsl);
+}
+
+// A file changed within the racy window of the pack that read it is stamped unsettled: its stamp never
+// vouches for it (a second write in the same clock tick could keep every field), yet the entry is written,
+// so the pack after the next edit still finds the tables hint. An edit loop packs within seconds of each
+// edit: before, such a pack wrote no stamps, and the next one built its tables only after its notation.
+TEST_F(InputStampsTest, AFileChangedWithinTheRacyWindowIsStampedUnsettled) {
+  const TablesHint hint{SourceLanguage::glsl, VK_SHADER_STAGE_COMPUTE_BIT, 0, "#version 450\n"};
+  const auto now = std::chrono::system_clock::now();
+  const std::vector<uint8_t> racy = stamp({{}, {}, {}, {input("a.comp")}, hint}, now);
+  ASSERT_FALSE(racy.empty());
+  EXPECT_EQ(hint_if_changed(racy), hint);  // nothing changed since, but nothing vouches for that
+  EXPECT_EQ(unchanged_inputs(*cache_, slot_, {}, {}), std::nullopt);
+  // The same file stamped by a pack that began after the window: it vouches, and nothing is to compile.
+  const std::vector<uint8_t> settled = stamp({{}, {}, {}, {input("a.comp")}, hint});
+  EXPECT_EQ(hint_if_changed(settled), std::nullopt);
+  const auto unchanged = unchanged_inputs(*cache_, slot_, {}, {});
+  ASSERT_TRUE(unchanged);
+  ASSERT_EQ(unchanged->files.size(), 1u);
+  EXPECT_EQ(unchanged->files[0].path, dir_ / "a.comp");
 }
 
 TEST_F(InputStampsTest, StampsWithoutAHintOrDamagedGiveNone) {
