@@ -187,8 +187,8 @@ std::optional<RecordedArchive> find_unchanged_archive(CompileCache& cache, const
 std::string record_archive(CompileCache& cache, const ArchiveKey& key,
                            const std::vector<const CompiledShader*>& compiles,
                            std::span<const uint8_t> archive, const std::vector<InputFile>& inputs,
-                           const std::vector<FileLookup>& lookups, const std::optional<TablesHint>& tables,
-                           std::chrono::system_clock::time_point started) {
+                           const std::optional<TakenStamps>& stamps,
+                           const std::optional<TablesHint>& tables) {
   for (const CompiledShader* c : compiles)
     if (!c->files_read.empty())
       if (auto hashed = key.shader_texts.find(c->files_read.front().path);
@@ -208,8 +208,8 @@ std::string record_archive(CompileCache& cache, const ArchiveKey& key,
   w.bytes.resize((w.bytes.size() + kArchiveAlignment - 1) / kArchiveAlignment * kArchiveAlignment);
   if (std::string warning = cache.store_local(key.slot, w.bytes, archive, inputs); !warning.empty())
     return warning;
-  return write_input_stamps(cache, key.slot, {record_id(w.bytes), key.setup, lookups, inputs, tables},
-                            started);
+  if (!stamps) return "";
+  return store_input_stamps(cache, key.slot, {record_id(w.bytes), key.setup, {}, inputs, tables}, *stamps);
 }
 
 }  // namespace statepack::packager

@@ -93,12 +93,11 @@ std::optional<RecordedArchive> find_unchanged_archive(CompileCache& cache, const
 
 // Records `archive` under `key` with the #includes of `compiles`, written now (after the pack's own flush);
 // a warning, or "" when written (or left out: a shader file whose compiled text is not the one the key
-// hashed). Never over one of `inputs`. Then stamps `inputs` (input_stamps.hpp) with the notation's
-// `lookups` and the tables hint, for a pack that began reading at `started`.
+// hashed). Never over one of `inputs`. Then writes `stamps`, taken of `inputs` (input_stamps.hpp), with
+// the tables hint, as the record's stamps (none when nullopt).
 std::string record_archive(CompileCache& cache, const ArchiveKey& key,
                            const std::vector<const CompiledShader*>& compiles,
                            std::span<const uint8_t> archive, const std::vector<InputFile>& inputs,
-                           const std::vector<FileLookup>& lookups, const std::optional<TablesHint>& tables,
-                           std::chrono::system_clock::time_point started);
+                           const std::optional<TakenStamps>& stamps, const std::optional<TablesHint>& tables);
 
 }  // namespace statepack::packager

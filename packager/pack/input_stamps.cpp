@@ -114,6 +114,10 @@ std::optional<ParsedStamps> parse_stamps(std::span<const uint8_t> payload) {
 }  // namespace
 
 std::optional<FileStamp> stamp_of(const fs::path& path) {
+  return stamp_of(path.native());
+}
+
+std::optional<FileStamp> stamp_of(const std::string& path) {
   struct stat st {};
   if (::stat(path.c_str(), &st) != 0) return std::nullopt;
   return FileStamp{uint64_t(st.st_dev), uint64_t(st.st_ino), uint64_t(st.st_size), pair_of(st.st_mtim),
@@ -136,12 +140,14 @@ bool lookup_finds_the_same(const FileLookup& lookup, const NotationOptions& opti
                       nullptr) == lookup.found;
 }
 
-std::string write_input_stamps(CompileCache& cache, const CacheKey& record_slot, const StampedInputs& stamped,
-                               std::chrono::system_clock::time_point started) {
+std::optional<TakenStamps> take_input_stamps(const std::vector<FileLookup>& lookups,
+                                             const std::vector<InputFile>& files,
+                                             std::chrono::system_clock::time_point started) {
   const RacyWindow window(started);
-  PayloadWriter w;  // (the head is written last, before it: it counts the unsettled files)
-  w.u32(uint32_t(stamped.lookups.size()));
-  for (const FileLookup& l : stamped.lookups) {
+  TakenStamps taken;
+  PayloadWriter w;
+  w.u32(uint32_t(lookups.size()));
+  for (const FileLookup& l : lookups) {
     w.u32(l.shader ? 1 : 0);
     w.str(l.name);
     w.str(l.base_dir.string());
@@ -153,29 +159,41 @@ std::string write_input_stamps(CompileCache& cache, const CacheKey& record_slot,
   // are not inputs of their own (the depfile and the output checks list the files read). Every stat must
   // find a file the pack read (its device and inode when read): one replaced or a link pointed elsewhere
   // while the pack ran, even at an older file, is not stamped.
-  std::map<fs::path, std::optional<FileIdentity>> distinct;  // path -> as read, when the pack read it
+  // (Keyed by the path's text: comparing std::filesystem::path objects walks their components.)
+  std::map<std::string_view, std::optional<FileIdentity>> distinct;  // path -> as read, when it was read
   std::set<FileIdentity> read;
-  for (const InputFile& f : stamped.files) distinct[f.path] = f.identity, read.insert(f.identity);
-  for (const FileLookup& l : stamped.lookups) distinct.try_emplace(l.found);
+  for (const InputFile& f : files) distinct[f.path.native()] = f.identity, read.insert(f.identity);
+  for (const FileLookup& l : lookups) distinct.try_emplace(l.found.native());
   w.u32(uint32_t(distinct.size()));
-  uint32_t unsettled = 0;
   for (const auto& [path, as_read] : distinct) {
-    const auto stamp = stamp_of(path);
-    if (!stamp) return "";
+    const auto stamp = stamp_of(std::string(path));
+    if (!stamp) return std::nullopt;
     const FileIdentity now{stamp->device, stamp->inode};
-    if (as_read ? now != *as_read : !read.count(now)) return "";
-    unsettled += window.trusts(*stamp) ? 0 : 1;
-    w.str(path.string());
+    if (as_read ? now != *as_read : !read.count(now)) return std::nullopt;
+    taken.unsettled += window.trusts(*stamp) ? 0 : 1;
+    w.str(path);
     w.u32(as_read ? 1 : 0);
     write_stamp(w, *stamp);
   }
+  taken.body = std::move(w.bytes);
+  return taken;
+}
+
+std::string store_input_stamps(CompileCache& cache, const CacheKey& record_slot, const StampedInputs& stamped,
+                               const TakenStamps& taken) {
   PayloadWriter head;
   head.u32(kStampsVersion);
   head.bytes.insert(head.bytes.end(), stamped.record.begin(), stamped.record.end());
   head.bytes.insert(head.bytes.end(), stamped.setup.begin(), stamped.setup.end());
-  head.u32(unsettled);
+  head.u32(taken.unsettled);
   write_hint(head, stamped.tables);
-  return cache.store_local(stamps_slot(record_slot), head.bytes, w.bytes, stamped.files);
+  return cache.store_local(stamps_slot(record_slot), head.bytes, taken.body, stamped.files);
+}
+
+std::string write_input_stamps(CompileCache& cache, const CacheKey& record_slot, const StampedInputs& stamped,
+                               std::chrono::system_clock::time_point started) {
+  const auto taken = take_input_stamps(stamped.lookups, stamped.files, started);
+  return taken ? store_input_stamps(cache, record_slot, stamped, *taken) : "";
 }
 
 std::optional<StampedInputs> unchanged_inputs(CompileCache& cache, const CacheKey& record_slot,

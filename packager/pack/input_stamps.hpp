@@ -67,6 +67,7 @@ struct FileStamp {
 };
 // stat(2) of `path` (a link followed, as a read follows it); nullopt when it cannot be taken.
 std::optional<FileStamp> stamp_of(const std::filesystem::path& path);
+std::optional<FileStamp> stamp_of(const std::string& path);
 
 // What a pack that began at `started` may trust of a stamp taken after it read the file: a file changed
 // within kRacyWindow before (or after) that is not trusted.
@@ -107,12 +108,25 @@ struct StampedInputs {
 // Stamps `stamped.files` for the record at `record_slot`, counting those changed within kRacyWindow before
 // `started` (when the pack began reading), or after it, as unsettled; unless one cannot be stat'ed or is
 // no longer the file the pack read (its device and inode then): then nothing is written and "" returned.
-// Returns a warning when the cache cannot write.
+// Returns a warning when the cache cannot write. The same as take_input_stamps then store_input_stamps.
 std::string write_input_stamps(CompileCache& cache, const CacheKey& record_slot, const StampedInputs& stamped,
                                std::chrono::system_clock::time_point started);
 
-// The stamps at `record_slot`'s, when they were made under `setup`, every lookup finds what it found, and
-// every file stats as stamped; else nullopt.
+// The stamps of what a pack read, without what they vouch for: taken as soon as the pack has read its last
+// input, on another core while it makes the archive (a stat is as good then as after: whatever changes
+// after `started` is unsettled). nullopt where write_input_stamps writes nothing.
+struct TakenStamps {
+  std::vector<uint8_t> body;  // the lookups and the files, as the table above lays them out
+  uint32_t unsettled = 0;
+};
+std::optional<TakenStamps> take_input_stamps(const std::vector<FileLookup>& lookups,
+                                             const std::vector<InputFile>& files,
+                                             std::chrono::system_clock::time_point started);
+// Writes `taken` as the stamps of the record `stamped.record` (with its setup key and tables hint); a
+// warning, or "".
+std::string store_input_stamps(CompileCache& cache, const CacheKey& record_slot, const StampedInputs& stamped,
+                               const TakenStamps& taken);
+
 std::optional<StampedInputs> unchanged_inputs(CompileCache& cache, const CacheKey& record_slot,
                                               const CacheKey& setup, const NotationOptions& options);
 
