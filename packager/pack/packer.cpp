@@ -165,14 +165,17 @@ class Finalizer {
       : options_(options), cache_(cache), memo_(memo) {}
   // `optimize` false: the shader said ShaderOptimizationLevel DISABLED; it is validated (and stripped)
   // but never optimised.
+  // The same module requested twice (a shader in several pipelines, patched alike) is one job: found by
+  // XXH3, then compared word by word (a collision must not merge modules). Until 0.5.6 a copy of every
+  // module was kept as the key (100 MB or more for 1,000 real-sized shaders).
   size_t request(std::vector<uint32_t> words, bool optimize) {
-    std::string key;
-    key.reserve(words.size() * 4 + 1);
-    key.append(reinterpret_cast<const char*>(words.data()), words.size() * 4);
-    key += optimize ? 'o' : '-';
-    auto [it, inserted] = job_by_content_.try_emplace(std::move(key), jobs_.size());
-    if (inserted) jobs_.push_back({std::move(words), {}, optimize, {}});
-    return it->second;
+    const uint64_t hash =
+        format::hash_bytes({reinterpret_cast<const uint8_t*>(words.data()), words.size() * 4}) ^ optimize;
+    for (auto [it, end] = job_by_hash_.equal_range(hash); it != end; ++it)
+      if (jobs_[it->second].optimize == optimize && jobs_[it->second].words == words) return it->second;
+    job_by_hash_.emplace(hash, jobs_.size());
+    jobs_.push_back({std::move(words), {}, optimize, {}});
+    return jobs_.size() - 1;
   }
   void run(uint32_t threads) {
     CompileOptions unoptimized = options_;
@@ -217,7 +220,7 @@ class Finalizer {
   const CompileOptions& options_;
   CompileCache* cache_;
   const RepackMemo* memo_;
-  std::map<std::string, size_t> job_by_content_;
+  std::multimap<uint64_t, size_t> job_by_hash_;  // (requests come before run(), which rewrites `words`)
   std::vector<Job> jobs_;
 };
 
