@@ -1033,6 +1033,16 @@ void record_in_background(ReportedThread& thread, CompileCache& cache, const Arc
                });
 }
 
+// Every file the pack read (the notation's and each compile's, #includes too): no output may replace one.
+std::vector<InputFile> files_read_by(const Notation& notation, const CompiledShaders& compiled,
+                                     const CompiledShaders& gl_compiled) {
+  std::vector<InputFile> inputs = notation.files_read;
+  for (const auto* c : {&compiled, &gl_compiled})
+    for (const auto& u : c->units)
+      inputs.insert(inputs.end(), u.compiled.files_read.begin(), u.compiled.files_read.end());
+  return inputs;
+}
+
 // Every notation file given, read into one notation, its references resolved.
 Notation read_notations(const PackOptions& options, Diagnostics& diag) {
   Notation notation;
@@ -1171,11 +1181,7 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err, P
   if (options.time_report)
     if (std::string built = warmup.report(); !built.empty()) times.note(built);
   if (options.opengl) gl_compiled = opengl_compile(notation, compiled, options, diag, cached);
-  // Every file read so far: no output may replace one of them.
-  std::vector<InputFile> inputs = notation.files_read;
-  for (const auto* c : {&compiled, &gl_compiled})
-    for (const auto& u : c->units)
-      inputs.insert(inputs.end(), u.compiled.files_read.begin(), u.compiled.files_read.end());
+  const std::vector<InputFile> inputs = files_read_by(notation, compiled, gl_compiled);
   if (session)
     for (const auto& f : inputs) session->files_read.push_back(f.path);
   StampsAhead stamps;  // (only for a record: a --shard pack has none)
