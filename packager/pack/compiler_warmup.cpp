@@ -60,7 +60,8 @@ void CompilerWarmup::build(const ShaderDesc& shader, const CompileOptions& optio
 std::string CompilerWarmup::report() const {
   std::string out;
   auto line = [&](const std::thread& thread, const std::atomic<double>& ms, const char* hint) {
-    if (!thread.joinable() || (&thread == &early_ && early_found_nothing_)) return;
+    // (The early thread builds only once it found a stamped file changed: until then, nothing to say.)
+    if (!thread.joinable() || (&thread == &early_ && !early_building_)) return;
     if (!out.empty()) out += '\n';
     out += std::string("compiler: glslang's built-in tables built ahead on another core, from ") + hint;
     std::ostringstream took;  // (as PhaseTimes prints a time)
@@ -102,6 +103,7 @@ void CompilerWarmup::start_early(const PackOptions& options, CompileCache* cache
         ShaderDesc shader;
         shader.language = early_hint_->language, shader.stage = early_hint_->stage;
         shader.glsl_version = early_hint_->glsl_version, shader.source = early_hint_->version_line;
+        early_building_ = true;
         build(shader, compile, early_ms_);
       } catch (...) {
       }

@@ -54,7 +54,7 @@ class CompilerWarmup {
   static void build(const ShaderDesc& shader, const CompileOptions& options, std::atomic<double>& ms);
   std::thread early_, late_;
   std::optional<TablesHint> early_hint_;
-  std::atomic<bool> early_found_nothing_{false};
+  std::atomic<bool> early_found_nothing_{false}, early_building_{false};
   std::atomic<double> early_ms_{-1}, late_ms_{-1};  // each build's wall time, once it is done
 };
 
