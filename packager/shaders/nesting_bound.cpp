@@ -114,6 +114,46 @@ size_t nesting_bound(std::string_view text) {
 
 namespace {
 
+size_t non_blank(std::string_view text) {
+  return size_t(std::count_if(text.begin(), text.end(),
+                              [](char c) { return !std::isspace(static_cast<unsigned char>(c)); }));
+}
+
+// Whether each macro `preamble` defines is object-like with a value of no more non-blank characters than
+// its name: each expansion then replaces a name with no more (by induction, also where the value names
+// other macros, which expand no longer than their names).
+bool preamble_macros_shrink(std::string_view preamble) {
+  for (size_t at = 0; at < preamble.size();) {
+    size_t end = preamble.find('\n', at);
+    if (end == std::string_view::npos) end = preamble.size();
+    std::string_view line = preamble.substr(at, end - at);
+    at = end + 1;
+    const size_t hash = line.find_first_not_of(" \t");
+    if (hash == std::string_view::npos || line[hash] != '#') continue;
+    const size_t directive = line.find_first_not_of(" \t", hash + 1);
+    if (directive == std::string_view::npos || !line.substr(directive).starts_with("define")) continue;
+    size_t name = line.find_first_not_of(" \t", directive + 6);
+    if (name == std::string_view::npos || name == directive + 6) return false;  // (not "#define NAME")
+    size_t name_end = name;
+    while (name_end < line.size() && is_word_char(line[name_end])) ++name_end;
+    if (name_end == name || (name_end < line.size() && line[name_end] == '(')) return false;  // function-like
+    if (non_blank(line.substr(name_end)) > name_end - name) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+bool within_bound_unpreprocessed(std::string_view source, std::string_view preamble) {
+  if (source.find("define") != std::string_view::npos || source.find("include") != std::string_view::npos ||
+      source.find('\\') != std::string_view::npos || preamble.find('\\') != std::string_view::npos ||
+      !preamble_macros_shrink(preamble))
+    return false;
+  return 2 * (non_blank(source) + non_blank(preamble)) + 1 <= kMaxNesting;
+}
+
+namespace {
+
 // The stack of the thread this runs on when parallel_on_stacks made it, else 0.
 thread_local size_t t_stack_bytes = 0;
 

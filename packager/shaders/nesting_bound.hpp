@@ -33,6 +33,16 @@ size_t bracket_depth(std::string_view text, size_t* line = nullptr);
 // operator, whose chain nests like any other. Directive lines (#version, #line, ...) do not count.
 size_t nesting_bound(std::string_view preprocessed);
 
+// Whether nesting_bound of `source` preprocessed after `preamble` is known to be within kMaxNesting
+// without preprocessing it (which costs as much as a third of a small shader's compile). nesting_bound
+// is at most a text's non-blank characters plus one, and preprocessing can only remove or shorten text
+// when the source defines no macro and includes nothing (neither word appears in it, nor a backslash,
+// which could splice a directive across lines) and every macro the preamble defines is object-like with a
+// value no longer than its name (the environment's 1s and empty ones, VARIANT=12); glslang's predefined
+// macros expand to numbers no longer than their names, or (__LINE__, 8 characters) at most 10 digits. So such
+// a text within half the bound, counted with its preamble, needs no preprocess to pass.
+bool within_bound_unpreprocessed(std::string_view source, std::string_view preamble);
+
 // Runs `work` on a thread with a `stack_bytes` stack and waits for it: the calling thread itself when it
 // is one of parallel_on_stacks' with such a stack, else a new one. False (with `error` set) when the
 // system cannot make such a thread; `work` then has not run.

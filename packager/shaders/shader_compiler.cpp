@@ -499,6 +499,7 @@ std::string nesting_problem(const ShaderDesc& shader, const CompileOptions& opti
                             const std::string& source) {
   if (size_t line = 0, depth = bracket_depth(source, &line); depth > kMaxBracketDepth)
     return too_deep(file_name, depth, line);
+  if (within_bound_unpreprocessed(source, environment.preamble)) return "";  // (no macros, no #include)
   glslang::TShader ts(stage);
   ts.setStringsWithLengthsAndNames(strings, lengths, names, 1);
   configure(ts, shader, options, stage, environment.preamble);

@@ -4,7 +4,9 @@
 #include <gtest/gtest.h>
 #include <pthread.h>
 
+#include <algorithm>
 #include <atomic>
+#include <cctype>
 #include <chrono>
 #include <mutex>
 #include <set>
@@ -78,6 +80,36 @@ TEST(CompileStackTest, NoJobsMakesNoThread) {
   bool ran = false;
   parallel_on_stacks(0, 2, kCompileStackBytes, [&](size_t) { ran = true; });
   EXPECT_FALSE(ran);
+}
+
+// The shortcut within_bound_unpreprocessed: a source that defines no macro, includes nothing and has no
+// backslash, after a preamble whose macros are object-like and expand no longer than their names, passes
+// unpreprocessed when half the bound holds its non-blank characters; anything else is preprocessed (and
+// measured). Its premise: the measure never passes a text's non-blank characters plus one.
+TEST(NestingBoundTest, OnlyASourcePreprocessingCannotGrowSkipsThePreprocess) {
+  const std::string plain = "#version 450\nvoid main() { float v = 1.0; v = v + v; }\n";
+  const std::string environment =
+      "#define GLSLANG\n#define DESKTOP_GL 1\n# define VARIANT 12\nlayout(std140) uniform;\n";
+  EXPECT_TRUE(within_bound_unpreprocessed(plain, environment));
+  for (const char* grows :
+       {"#define F(x) (x)\n", "#if defined(X)\n#endif\n", "#include \"a.glsl\"\n", "#def\\\nine F(x) (x)\n"})
+    EXPECT_FALSE(within_bound_unpreprocessed(plain + grows, environment)) << grows;
+  for (const char* preamble :
+       {"#define F(x) (x)\n", "#define A ((((\n", "#define AB 123\n", "#define\tB 1 // one\n"})
+    EXPECT_FALSE(within_bound_unpreprocessed(plain, preamble)) << preamble;
+  EXPECT_TRUE(within_bound_unpreprocessed(plain, "#define ABC 123\n#pragma pack_matrix(row_major)\n"));
+  std::string sum = "v";
+  while (sum.size() < kMaxNesting / 2) sum += "+v";
+  EXPECT_FALSE(within_bound_unpreprocessed("void main() { v = " + sum + "; }\n", ""));
+  EXPECT_TRUE(
+      within_bound_unpreprocessed("void main() { v = " + sum.substr(0, kMaxNesting / 4) + "; }\n", ""));
+  auto non_blank = [](const std::string& text) {
+    return size_t(std::count_if(text.begin(), text.end(), [](char c) { return !std::isspace(c); }));
+  };
+  for (const std::string& text :
+       {plain, environment + plain, std::string("{{{{((([[[ a ]]])))}}}}"), std::string("f(a, b, (c + d));"),
+        "void main() { v = " + sum + "; }", std::string(5000, '(') + std::string(5000, ')')})
+    EXPECT_LE(nesting_bound(text), non_blank(text) + 1) << text.substr(0, 40);
 }
 
 }  // namespace
