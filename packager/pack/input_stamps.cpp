@@ -111,6 +111,16 @@ std::optional<ParsedStamps> parse_stamps(std::span<const uint8_t> payload) {
   return out;
 }
 
+// Whether `lookup` found its name at the first place resolve_file looks (next to the notation, or the
+// name itself when absolute): nothing can come before it, and the stamp of what it found (checked before
+// the lookups) says it is still that regular file, so the search would find it again without a stat.
+bool found_where_the_search_starts(const FileLookup& lookup) {
+  const fs::path name(lookup.name);
+  return !lookup.name.empty() &&
+         (name.is_absolute() ? name.lexically_normal() : (lookup.base_dir / name).lexically_normal()) ==
+             lookup.found;
+}
+
 }  // namespace
 
 std::optional<FileStamp> stamp_of(const fs::path& path) {
@@ -213,7 +223,7 @@ std::optional<StampedInputs> unchanged_inputs(CompileCache& cache, const CacheKe
     if (f.listed) parsed->inputs.files.push_back({f.path, {f.stamp.device, f.stamp.inode}});
   }
   for (const FileLookup& l : parsed->inputs.lookups)
-    if (!lookup_finds_the_same(l, options)) return std::nullopt;
+    if (!found_where_the_search_starts(l) && !lookup_finds_the_same(l, options)) return std::nullopt;
   return std::move(parsed->inputs);
 }
 
