@@ -114,11 +114,14 @@ std::optional<ParsedStamps> parse_stamps(std::span<const uint8_t> payload) {
 // Whether `lookup` found its name at the first place resolve_file looks (next to the notation, or the
 // name itself when absolute): nothing can come before it, and the stamp of what it found (checked before
 // the lookups) says it is still that regular file, so the search would find it again without a stat.
+// Compared as text (found is normal, so equal text means the same place); any other spelling is
+// searched again, which is only slower.
 bool found_where_the_search_starts(const FileLookup& lookup) {
-  const fs::path name(lookup.name);
-  return !lookup.name.empty() &&
-         (name.is_absolute() ? name.lexically_normal() : (lookup.base_dir / name).lexically_normal()) ==
-             lookup.found;
+  const std::string &found = lookup.found.native(), &name = lookup.name, &base = lookup.base_dir.native();
+  if (name.empty()) return false;
+  if (name.front() == '/') return found == name;
+  return found.size() == base.size() + 1 + name.size() && found.starts_with(base) &&
+         found[base.size()] == '/' && found.ends_with(name);
 }
 
 }  // namespace
