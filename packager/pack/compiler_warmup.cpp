@@ -59,9 +59,8 @@ void CompilerWarmup::build(const ShaderDesc& shader, const CompileOptions& optio
 
 std::string CompilerWarmup::report() const {
   std::string out;
-  auto line = [&](const std::thread& thread, const std::atomic<double>& ms, const char* hint) {
-    // (The early thread builds only once it found a stamped file changed: until then, nothing to say.)
-    if (!thread.joinable() || (&thread == &early_ && !early_building_)) return;
+  auto line = [&](bool building, const std::atomic<double>& ms, const char* hint) {
+    if (!building) return;
     if (!out.empty()) out += '\n';
     out += std::string("compiler: glslang's built-in tables built ahead on another core, from ") + hint;
     std::ostringstream took;  // (as PhaseTimes prints a time)
@@ -71,8 +70,9 @@ std::string CompilerWarmup::report() const {
       took << " (" << done << " ms)";
     out += took.str();
   };
-  line(early_, early_ms_, "the input stamps' hint");
-  line(late_, late_ms_, "the notation's likely compile");
+  // (The early thread builds only once it found a stamped file changed: until then, nothing to say.)
+  line(early_.joinable() && early_building_, early_ms_, "the input stamps' hint");
+  line(late_.joinable(), late_ms_, "the notation's likely compile");
   return out;
 }
 

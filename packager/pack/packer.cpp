@@ -169,8 +169,7 @@ class Finalizer {
   // XXH3, then compared word by word (a collision must not merge modules). Until 0.5.6 a copy of every
   // module was kept as the key (100 MB or more for 1,000 real-sized shaders).
   size_t request(std::vector<uint32_t> words, bool optimize) {
-    const uint64_t hash =
-        format::hash_bytes({reinterpret_cast<const uint8_t*>(words.data()), words.size() * 4}) ^ optimize;
+    const uint64_t hash = module_hash(words, optimize);
     for (auto [it, end] = job_by_hash_.equal_range(hash); it != end; ++it)
       if (jobs_[it->second].optimize == optimize && jobs_[it->second].words == words) return it->second;
     job_by_hash_.emplace(hash, jobs_.size());
@@ -1185,7 +1184,7 @@ int run_pack(const PackOptions& options, std::ostream& out, std::ostream& err, P
   if (session)
     for (const auto& f : inputs) session->files_read.push_back(f.path);
   StampsAhead stamps;  // (only for a record: a --shard pack has none)
-  if (record && !options.shards) stamps.start(notation.lookups, inputs, started);
+  if (record) stamps.start(notation.lookups, inputs, started);
   if (options.shards)
     return finish_shard(options, compiled, *cached, stats_before, inputs, remote.get(), times, diag, out,
                         err);

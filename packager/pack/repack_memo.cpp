@@ -10,14 +10,10 @@ namespace statepack::packager {
 
 namespace fs = std::filesystem;
 
-namespace {
-
 uint64_t module_hash(const std::vector<uint32_t>& words, bool optimize) {
   return format::hash_bytes({reinterpret_cast<const uint8_t*>(words.data()), words.size() * 4}) ^
          (optimize ? 0 : 0x9e3779b97f4a7c15ull);
 }
-
-}  // namespace
 
 bool RepackMemo::stamp(const fs::path& path, const detail::FileIdentity& identity,
                        std::map<fs::path, FileState>& files, const RacyWindow& window) {

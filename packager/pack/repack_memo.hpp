@@ -38,6 +38,10 @@
 
 namespace statepack::packager {
 
+// XXH3 of a module to finalise, with whether it is optimised: how the memo and the pack's Finalizer find a
+// module they have seen (then compared word by word: a collision must not merge modules).
+uint64_t module_hash(const std::vector<uint32_t>& words, bool optimize);
+
 class RepackMemo {
  public:
   struct Unit {

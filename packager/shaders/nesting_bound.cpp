@@ -10,6 +10,7 @@
 #include <mutex>
 #include <vector>
 
+#include "directive_lines.hpp"
 #include "support/parallel_for.hpp"
 
 namespace statepack::packager {
@@ -123,23 +124,17 @@ size_t non_blank(std::string_view text) {
 // its name: each expansion then replaces a name with no more (by induction, also where the value names
 // other macros, which expand no longer than their names).
 bool preamble_macros_shrink(std::string_view preamble) {
-  for (size_t at = 0; at < preamble.size();) {
-    size_t end = preamble.find('\n', at);
-    if (end == std::string_view::npos) end = preamble.size();
-    std::string_view line = preamble.substr(at, end - at);
-    at = end + 1;
-    const size_t hash = line.find_first_not_of(" \t");
-    if (hash == std::string_view::npos || line[hash] != '#') continue;
-    const size_t directive = line.find_first_not_of(" \t", hash + 1);
-    if (directive == std::string_view::npos || !line.substr(directive).starts_with("define")) continue;
-    size_t name = line.find_first_not_of(" \t", directive + 6);
-    if (name == std::string_view::npos || name == directive + 6) return false;  // (not "#define NAME")
+  const bool grows = for_each_directive(preamble, [](std::string_view directive, std::string_view) {
+    if (!directive.starts_with("define")) return false;
+    const size_t name = directive.find_first_not_of(" \t", 6);
+    if (name == std::string_view::npos || name == 6) return true;  // (not "#define NAME")
     size_t name_end = name;
-    while (name_end < line.size() && is_word_char(line[name_end])) ++name_end;
-    if (name_end == name || (name_end < line.size() && line[name_end] == '(')) return false;  // function-like
-    if (non_blank(line.substr(name_end)) > name_end - name) return false;
-  }
-  return true;
+    while (name_end < directive.size() && is_word_char(directive[name_end])) ++name_end;
+    return name_end == name ||
+           (name_end < directive.size() && directive[name_end] == '(') ||  // function-like
+           non_blank(directive.substr(name_end)) > name_end - name;
+  });
+  return !grows;
 }
 
 }  // namespace
