@@ -33,6 +33,10 @@ struct ShaderDesc {
   std::string source;          // inline Source (cut to SourceLength when given)
   std::string entry_point = "main";
   std::vector<std::pair<std::string, std::string>> macros;
+  // Where each Macros entry and GLSLExtensions are written (for an error glslang finds in the text they
+  // put before the shader: shader_environment.hpp); macro_where may be shorter than macros.
+  std::vector<Location> macro_where;
+  Location extensions_where;
   uint32_t compile_flags = 0;   // CompileFlags: CompileFlag bits (enum_tables.hpp)
   std::string glsl_extensions;  // GLSLExtensions: text put after #version (GLSL)
   uint32_t glsl_version = 0;    // GLSLVersion as #version spells it (450); 0: not given

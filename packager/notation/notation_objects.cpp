@@ -232,6 +232,7 @@ void read_macros(JsonReader& json, const Json& macros, const std::string& pointe
       continue;
     }
     shader.macros.emplace_back(*name, json.string(m, "Definition", mp).value_or(""));
+    shader.macro_where.push_back(json.at(mp));
   }
 }
 
@@ -270,9 +271,10 @@ void read_compile_settings(JsonReader& json, const Json& j, const std::string& p
             "descriptors are glslang's (a texture and its sampler stay two) and its entry point keeps "
             "its name");
   if (auto extensions = json.string(j, "GLSLExtensions", pointer)) {
-    if (shader.language == SourceLanguage::glsl && !shader.verbatim)
+    if (shader.language == SourceLanguage::glsl && !shader.verbatim) {
       shader.glsl_extensions = *extensions;
-    else if (!extensions->empty())  // Diligent ignores it there too: say so rather than drop it silently
+      shader.extensions_where = json.at(pointer + "/GLSLExtensions");
+    } else if (!extensions->empty())  // Diligent ignores it there too: say so rather than drop it silently
       json.warning(pointer + "/GLSLExtensions",
                    "'GLSLExtensions' applies to GLSL sources (not GLSL_VERBATIM, HLSL or BYTECODE), as in "
                    "Diligent; it is ignored here");

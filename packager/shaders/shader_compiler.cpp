@@ -247,15 +247,29 @@ std::string environment_hint(const std::string& message, const ShaderDesc& shade
          "--shader-environment none leaves it out)";
 }
 
+// An entry glslang places in the preamble (its source string -1, a place no user can find): moved to
+// what wrote that line, the notation's Macros entry or GLSLExtensions where they are written, else the
+// shader, and named in the message.
+void locate_in_preamble(LogEntry& e, const ShaderEnvironment& environment, const ShaderDesc& shader) {
+  if (e.where.file != "-1") return;
+  const PreambleSource* source = preamble_source(environment, e.where.line);
+  e.where = source && !source->where.file.empty() ? source->where : shader.where;
+  e.message += " (in " + (source ? source->what : std::string("the shader environment")) +
+               ", which statepack puts before the shader's first line)";
+}
+
 // Turns each error of glslang's log into a diagnostic at its file and line.
 void report_log(const std::string& log, const ShaderDesc& shader, ShaderMessages& messages,
-                const std::string& fallback_file, const CompileOptions& options) {
+                const std::string& fallback_file, const CompileOptions& options,
+                const ShaderEnvironment& environment) {
   std::vector<LogEntry> errors;
   std::istringstream lines(log);
   for (std::string line; std::getline(lines, line);)
     if (auto e = parse_log_line(line, fallback_file);
-        e && !e->warning && e->message.find("compilation terminated") == std::string::npos)
+        e && !e->warning && e->message.find("compilation terminated") == std::string::npos) {
+      locate_in_preamble(*e, environment, shader);
       errors.push_back(std::move(*e));
+    }
   // glslang stops parsing at an error inside #if, then finds the #if unclosed: "missing #endif" follows
   // every such error. Said alone it is the mistake; beside another error, a consequence.
   const bool other_errors = std::any_of(errors.begin(), errors.end(), [](const LogEntry& e) {
@@ -447,13 +461,15 @@ void configure(glslang::TShader& ts, const ShaderDesc& shader, const CompileOpti
 // A parse that failed: the #include problem that stopped it, at the #include, or glslang's errors.
 void report_parse_failure(glslang::TShader& ts, const Includer& includer, const ShaderDesc& shader,
                           const std::string& file_name, const CompileOptions& options,
-                          ShaderMessages& errors) {
-  if (includer.problem().empty()) return report_log(ts.getInfoLog(), shader, errors, file_name, options);
+                          const ShaderEnvironment& environment, ShaderMessages& errors) {
+  if (includer.problem().empty())
+    return report_log(ts.getInfoLog(), shader, errors, file_name, options, environment);
   // The cause, at the #include glslang stopped at (its first error), and nothing that followed.
   Location where = shader.where;
   std::istringstream lines(ts.getInfoLog());
   for (std::string line; std::getline(lines, line);)
     if (auto e = parse_log_line(line, file_name); e && !e->warning) {
+      locate_in_preamble(*e, environment, shader);
       where = e->where;
       break;
     }
@@ -570,7 +586,7 @@ bool compile_source(const ShaderDesc& shader, const CompileOptions& options, con
   // GLSL that enables #include as GL_ARB_shading_language_include (Diligent's spelling) gets the name
   // this glslang knows too; its own #extension line stays a warning glslang does not report here.
   if (!hlsl && source.find("GL_ARB_shading_language_include") != std::string::npos)
-    environment.preamble.insert(0, "#extension GL_GOOGLE_include_directive : enable\n");
+    prepend_to_preamble(environment, "#extension GL_GOOGLE_include_directive : enable\n");
   configure(ts, shader, options, stage, environment.preamble);
   const EShMessages messages = compile_messages(hlsl, options);
   std::error_code ec;
@@ -592,7 +608,7 @@ bool compile_source(const ShaderDesc& shader, const CompileOptions& options, con
     return false;
   }
   if (!parsed) {
-    report_parse_failure(ts, includer, shader, file_name, options, errors);
+    report_parse_failure(ts, includer, shader, file_name, options, environment, errors);
     return false;
   }
   if (hlsl && report_hlsl_tree_problems(ts, shader, errors, file_name, source)) return false;
@@ -600,7 +616,7 @@ bool compile_source(const ShaderDesc& shader, const CompileOptions& options, con
   if (hlsl) result.combined_image_samplers = combined_image_samplers_of(ts, file_name, source, includer);
   LinkedSpirv linked = link_to_spirv(ts, stage, messages);
   if (!linked.link_log.empty()) {
-    report_log(linked.link_log, shader, errors, file_name, options);
+    report_log(linked.link_log, shader, errors, file_name, options, environment);
     return false;
   }
   if (!linked.generation_error.empty()) {

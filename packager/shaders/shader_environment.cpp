@@ -54,11 +54,13 @@ void hlsl_environment(const ShaderDesc& shader, bool environment, std::string& o
 // desktop, clip-depth and stage macros and std140 as the default block layout; GLSLANG on Vulkan (its
 // OpenGL backend hands the text to the driver, which defines none of Vulkan's names). Row-major
 // matrices apply on both backends, so that one source means the same everywhere.
-void glsl_environment(const ShaderDesc& shader, bool environment, bool opengl, std::string& out) {
+void glsl_extensions(const ShaderDesc& shader, std::string& out) {
   if (!shader.verbatim && !shader.glsl_extensions.empty()) {
     out += with_include_directive(shader.glsl_extensions);
     if (!out.ends_with('\n')) out += '\n';
   }
+}
+void glsl_environment(const ShaderDesc& shader, bool environment, bool opengl, std::string& out) {
   if (shader.compile_flags & kPackMatrixRowMajor) out += "layout(row_major) uniform;\n";
   if (!environment) return;
   if (!opengl) define(out, "GLSLANG", "");
@@ -80,15 +82,51 @@ std::string with_include_directive(std::string_view text) {
   return out;
 }
 
+void prepend_to_preamble(ShaderEnvironment& environment, std::string_view line) {
+  environment.preamble.insert(0, line);
+  for (PreambleSource& source : environment.sources) source.begin += line.size();
+  environment.sources.insert(environment.sources.begin(), PreambleSource{0, "the shader environment", {}});
+}
+
+const PreambleSource* preamble_source(const ShaderEnvironment& environment, int line) {
+  if (line < 1) return nullptr;
+  size_t at = 0;  // the first byte of line `line`
+  for (int i = 1; i < line; ++i) {
+    at = environment.preamble.find('\n', at);
+    if (at == std::string::npos) return nullptr;
+    ++at;
+  }
+  if (at >= environment.preamble.size()) return nullptr;
+  const PreambleSource* found = nullptr;
+  for (const PreambleSource& source : environment.sources)
+    if (source.begin <= at) found = &source;
+  return found;
+}
+
 ShaderEnvironment shader_environment(const ShaderDesc& shader, const CompileOptions& options) {
   ShaderEnvironment env;
-  if (shader.language == SourceLanguage::hlsl)
+  auto from = [&](std::string what, Location where) {
+    env.sources.push_back({env.preamble.size(), std::move(what), std::move(where)});
+  };
+  if (shader.language == SourceLanguage::hlsl) {
+    from("the shader environment", {});
     hlsl_environment(shader, options.shader_environment, env.preamble);
-  else if (shader.language == SourceLanguage::glsl)
+  } else if (shader.language == SourceLanguage::glsl) {
+    from("GLSLExtensions", shader.extensions_where);
+    glsl_extensions(shader, env.preamble);
+    from("the shader environment", {});
     glsl_environment(shader, options.shader_environment, options.opengl, env.preamble);
+  }
   env.fixed_bytes = env.preamble.size();
-  for (const auto& [name, value] : options.global_macros) define(env.preamble, name, value);
-  for (const auto& [name, value] : shader.macros) define(env.preamble, name, value);
+  for (const auto& [name, value] : options.global_macros) {
+    from("-D " + name, {});
+    define(env.preamble, name, value);
+  }
+  for (size_t i = 0; i < shader.macros.size(); ++i) {
+    from("the Macros entry '" + shader.macros[i].first + "'",
+         i < shader.macro_where.size() ? shader.macro_where[i] : shader.where);
+    define(env.preamble, shader.macros[i].first, shader.macros[i].second);
+  }
   if (shader.glsl_version != 0) env.default_glsl_version = int(shader.glsl_version);
   return env;
 }

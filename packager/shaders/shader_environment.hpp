@@ -15,8 +15,17 @@ namespace statepack::packager {
 
 struct CompileOptions;
 
+// Where a stretch of the preamble comes from: glslang reports an error in it at its source string -1,
+// a place no user can find; the message names this instead.
+struct PreambleSource {
+  size_t begin = 0;  // the stretch's first byte in the preamble
+  std::string what;  // "the Macros entry 'X'", "-D X", "GLSLExtensions", "the shader environment"
+  Location where;    // where the notation writes it; no file for the environment and -D
+};
+
 struct ShaderEnvironment {
   std::string preamble;
+  std::vector<PreambleSource> sources;  // by `begin`, the first at 0
   // How much of the preamble is statepack's own text (the definitions and macros before the -D macros
   // and the shader's Macros): a fixed cost, left out of the compile's allocation budget.
   size_t fixed_bytes = 0;
@@ -24,6 +33,12 @@ struct ShaderEnvironment {
   // maximum, "#version 460 core"). A source's own #version wins (statepack also takes such files).
   int default_glsl_version = 460;
 };
+
+// Puts `line` (ending in a newline) before the preamble, from the environment.
+void prepend_to_preamble(ShaderEnvironment& environment, std::string_view line);
+
+// What wrote line `line` (1-based, as glslang counts) of the preamble; nullptr past its end.
+const PreambleSource* preamble_source(const ShaderEnvironment& environment, int line);
 
 // The environment of `shader` compiled with `options` (for Vulkan, or for OpenGL with options.opengl).
 ShaderEnvironment shader_environment(const ShaderDesc& shader, const CompileOptions& options);

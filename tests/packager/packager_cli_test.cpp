@@ -190,6 +190,25 @@ TEST_F(PackagerCli, GlslErrorPointsIntoTheShaderFile) {
   EXPECT_NE(run.output.find("undefined_variable"), std::string::npos) << run.output;
 }
 
+// A Macros entry that breaks the text statepack puts before the shader (glslang's "-1:N") is reported at
+// that entry: the notation's file, line, column and JSON pointer.
+TEST_F(PackagerCli, AMacroThatBreaksTheTextBeforeTheShaderIsReportedAtItsEntry) {
+  const fs::path json = dir_ / "macros.json";
+  std::ofstream(json) << R"({"Pipelines": [
+ {"PSODesc": {"Name": "P"}, "pCS": {"Desc": {"Name": "CS", "ShaderType": "COMPUTE"}, "SourceLanguage": "GLSL",
+   "Source": "#version 450\nlayout(local_size_x = 1) in;\nvoid main() {}\n",
+   "Macros": [{"Name": "VARIANT", "Definition": "1"},
+              {"Name": "X(", "Definition": "2"}]}}]})";
+  CliRun run = statepack(pack_args(json.string(), dir_ / "out.spk"));
+  EXPECT_EQ(run.exit_code, 1) << run.output;
+  EXPECT_NE(run.output.find("macros.json:5:15: error: shader 'CS': '#define' : bad argument (in the Macros "
+                            "entry 'X(', which statepack puts before the shader's first line) "
+                            "[/Pipelines/0/pCS/Macros/1]"),
+            std::string::npos)
+      << run.output;
+  EXPECT_EQ(run.output.find("-1:"), std::string::npos) << run.output;
+}
+
 TEST_F(PackagerCli, UnknownKeysAndEnumsGetSuggestionsAndAllAreReported) {
   CliRun run = statepack(pack_args(data("unknown_keys.json"), dir_ / "out.spk"));
   EXPECT_EQ(run.exit_code, 1) << run.output;

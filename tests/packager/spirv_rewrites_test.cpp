@@ -254,5 +254,59 @@ TEST(ShaderEnvironment, DiligentsNamesAreDefinedAndCanBeLeftOut) {
   EXPECT_EQ(shader_environment(glsl, options).default_glsl_version, 460);
 }
 
+// glslang reports an error in the text statepack puts before a shader at "-1:N", a place nobody can find:
+// each is placed where the notation writes what made that line (a Macros entry, GLSLExtensions), or at
+// the shader for -D and the environment, and names it; every language, and with a line put first.
+TEST(ShaderEnvironment, AnErrorInTheTextBeforeTheShaderIsPlacedWhereThatTextIsWritten) {
+  const Location shader_at{"a.json", 2, 39, "/Pipelines/0/pCS"};
+  const Location macro_at{"a.json", 3, 15, "/Pipelines/0/pCS/Macros/1"};
+  const Location extensions_at{"a.json", 4, 7, "/Pipelines/0/pCS/GLSLExtensions"};
+  auto first_error = [](const ShaderDesc& shader, const CompileOptions& options) {
+    Diagnostics diag;
+    EXPECT_FALSE(compile_shader(shader, options, diag).ok);
+    return diag.all().empty() ? Diagnostic{} : diag.all().front();
+  };
+  auto with_macros = [&](ShaderDesc s, std::string bad_name, std::string bad_value) {
+    s.where = shader_at;
+    s.macros = {{"GOOD", "1"}, {std::move(bad_name), std::move(bad_value)}, {"LATER", "2"}};
+    s.macro_where = {Location{"a.json", 3, 5, "/Pipelines/0/pCS/Macros/0"}, macro_at,
+                     Location{"a.json", 3, 40, "/Pipelines/0/pCS/Macros/2"}};
+    return s;
+  };
+  const ShaderDesc glsl = inline_shader("#version 450\nlayout(local_size_x = 1) in;\nvoid main() {}\n",
+                                        VK_SHADER_STAGE_COMPUTE_BIT, SourceLanguage::glsl);
+  const ShaderDesc hlsl = inline_shader("[numthreads(1, 1, 1)] void main() {}", VK_SHADER_STAGE_COMPUTE_BIT,
+                                        SourceLanguage::hlsl);
+  ShaderDesc arb = glsl;  // (gets a line put before the preamble: the include extension's other name)
+  arb.source.insert(arb.source.find('\n') + 1, "#extension GL_ARB_shading_language_include : enable\n");
+  const CompileOptions options;
+  for (const ShaderDesc* base : std::initializer_list<const ShaderDesc*>{&glsl, &hlsl, &arb}) {
+    for (auto [name, value, said] : std::initializer_list<std::tuple<const char*, const char*, const char*>>{
+             {"X(", "2", "bad argument"}, {"GOOD", "1\n#define GOOD 3", "Macro redefined"}}) {
+      const Diagnostic d = first_error(with_macros(*base, name, value), options);
+      EXPECT_EQ(d.where.file, macro_at.file) << d.message;
+      EXPECT_EQ(d.where.line, macro_at.line) << d.message;
+      EXPECT_EQ(d.where.pointer, macro_at.pointer) << d.message;
+      EXPECT_NE(d.message.find(said), std::string::npos) << d.message;
+      EXPECT_NE(d.message.find("in the Macros entry '" + std::string(name) + "'"), std::string::npos)
+          << d.message;
+    }
+    CompileOptions bad_global;
+    bad_global.global_macros = {{"Y(", "1"}};
+    ShaderDesc plain = *base;
+    plain.where = shader_at;
+    const Diagnostic d = first_error(plain, bad_global);
+    EXPECT_EQ(d.where.pointer, shader_at.pointer) << d.message;
+    EXPECT_NE(d.message.find("in -D Y("), std::string::npos) << d.message;
+  }
+  ShaderDesc extensions = glsl;
+  extensions.where = shader_at;
+  extensions.glsl_extensions = "#extension GL_EXT_samplerless_texture_functions : enable\n#error here";
+  extensions.extensions_where = extensions_at;
+  const Diagnostic d = first_error(extensions, options);
+  EXPECT_EQ(d.where.pointer, extensions_at.pointer) << d.message;
+  EXPECT_NE(d.message.find("in GLSLExtensions"), std::string::npos) << d.message;
+}
+
 }  // namespace
 }  // namespace statepack::packager
