@@ -15,16 +15,17 @@ set -euo pipefail
 a=$1 b=$2 root=$3 count=${4:-1000} runs=${5:-16} kind=${6:-small} start=${7:-settled}
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
+# Each figure is timed by timed_run.c (the command's own start, run and exit; see there why).
+timed_run=$work/timed_run
+cc -O2 -o "$timed_run" "$(dirname "$0")/timed_run.c"
 bash "$(dirname "$0")/generate_shader_project.sh" "$root" "$work/project" "$count" "$kind"
 cd "$work/project"
 
 # Wall milliseconds of one repack with build $1; sets $ms.
 repack() {
-  local start end
-  start=$(date +%s%N)
-  "$1" pack -i project.json -o out.spk --vulkan --cache-dir cache > /dev/null
-  end=$(date +%s%N)
-  ms=$(((end - start) / 1000000))
+  local code
+  read -r ms _ code < <("$timed_run" "$1" pack -i project.json -o out.spk --vulkan --cache-dir cache)
+  ((code == 0)) || { echo "FAIL: $1 pack exited with $code"; exit 1; }
 }
 sorted() { printf '%s\n' "$@" | sort -n | tr '\n' ' '; }
 median() { printf '%s\n' "$@" | sort -n | sed -n "$((($# + 1) / 2))p"; }

@@ -6,7 +6,9 @@
 #    times, so a machine whose load changes from minute to minute slows both alike; each column gives
 #    the minimum and the median. A pack of one trivial shader is timed the same way: process start and
 #    glslang's one-time initialisation of its built-in symbol tables (a global lock in glslang, serial
-#    by nature), the fixed cost no thread count changes; the last column is the speed-up of the rest.
+#    by nature), the fixed cost no thread count changes; a column gives the speed-up of the rest, and
+#    the last one the most -t <cores> could give with that fixed cost serial and the rest split evenly
+#    (Amdahl's bound: -t 1 median / (fixed + (-t 1 median - fixed) / cores)).
 # 2. scaling: 10,000 and 100,000 compute pipelines sharing one shader, wall time and peak RSS.
 # Usage: pack_benchmark.sh <statepack> <repository root> [N=300] [repeats=5]
 # Run it through CMake: cmake --build build --target bench_pack
@@ -14,6 +16,9 @@ set -euo pipefail
 statepack=$1 root=$2 count=${3:-300} repeats=${4:-5}
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
+# Each figure is timed by timed_run.c (the command's own start, run and exit; see there why).
+timed_run=$work/timed_run
+cc -O2 -o "$timed_run" "$(dirname "$0")/timed_run.c"
 cores=$(nproc)
 here=$(dirname "$0")
 
@@ -26,12 +31,9 @@ echo '{"Pipelines": [{"PSODesc": {"Name": "One"}, "pCS": {"Desc": {"Name": "One 
 
 # Wall milliseconds of one pack; sets $ms (and $kib, the peak RSS).
 pack_ms() {
-  local start end
-  start=$(date +%s%N)
-  /usr/bin/time -f '%M' -o "$work/rss" "$statepack" pack "$@" -o "$work/out.spk" --vulkan > /dev/null
-  end=$(date +%s%N)
-  ms=$(((end - start) / 1000000))
-  kib=$(cat "$work/rss")
+  local code
+  read -r ms kib code < <("$timed_run" "$statepack" pack "$@" -o "$work/out.spk" --vulkan)
+  ((code == 0)) || { echo "FAIL: statepack pack $* exited with $code"; exit 1; }
 }
 min() { printf '%s\n' "$@" | sort -n | head -1; }
 median() { printf '%s\n' "$@" | sort -n | sed -n "$((($# + 1) / 2))p"; }
@@ -54,15 +56,16 @@ fixed=$one_med
 echo "statepack pack, $cores cores ($(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ *//')), -t 1 and -t $cores"
 echo "alternating, $repeats runs each; fixed cost (one trivial shader, -t 1 median): $fixed ms"
 echo
-echo "| input | pipelines | distinct shaders | -t 1 min / median (ms) | -t $cores min / median (ms) | speed-up (medians) | speed-up beyond the fixed cost |"
-echo "|---|---|---|---|---|---|---|"
+echo "| input | pipelines | distinct shaders | -t 1 min / median (ms) | -t $cores min / median (ms) | speed-up (medians) | speed-up beyond the fixed cost | most -t $cores could give, the fixed cost serial |"
+echo "|---|---|---|---|---|---|---|---|"
 row() {
   local name=$1 pipelines=$2 shaders=$3
   shift 3
   measure "$@"
   echo "| $name | $pipelines | $shaders | $one_min / $one_med | $all_min / $all_med |" \
        "$(awk -v a="$one_med" -v b="$all_med" 'BEGIN { printf "%.2fx", a / b }') |" \
-       "$(awk -v a="$one_med" -v b="$all_med" -v f="$fixed" 'BEGIN { printf "%.2fx", (a - f) / (b - f) }') |"
+       "$(awk -v a="$one_med" -v b="$all_med" -v f="$fixed" 'BEGIN { printf "%.2fx", (a - f) / (b - f) }') |" \
+       "$(awk -v a="$one_med" -v f="$fixed" -v c="$cores" 'BEGIN { printf "%.2fx", a / (f + (a - f) / c) }') |"
 }
 sample_inputs=()
 for f in "$root"/states/*.json; do sample_inputs+=(-i "$f"); done
