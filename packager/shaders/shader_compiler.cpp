@@ -186,6 +186,7 @@ struct LogEntry {
   Location where;
   std::string message;
   bool warning = false;
+  std::string placed;  // for an entry in the preamble: what wrote that line (locate_in_preamble)
 };
 std::optional<LogEntry> parse_log_line(std::string_view rest, const std::string& fallback_file) {
   const bool warning = rest.starts_with("WARNING: ");
@@ -254,8 +255,8 @@ void locate_in_preamble(LogEntry& e, const ShaderEnvironment& environment, const
   if (e.where.file != "-1") return;
   const PreambleSource* source = preamble_source(environment, e.where.line);
   e.where = source && !source->where.file.empty() ? source->where : shader.where;
-  e.message += " (in " + (source ? source->what : std::string("the shader environment")) +
-               ", which statepack puts before the shader's first line)";
+  e.placed = " (in " + (source ? source->what : std::string("the shader environment")) +
+             ", which statepack puts before the shader's first line)";
 }
 
 // Turns each error of glslang's log into a diagnostic at its file and line.
@@ -286,7 +287,8 @@ void report_log(const std::string& log, const ShaderDesc& shader, ShaderMessages
       continue;
     if (e.message.starts_with("'#extension' : extension not supported")) last_extension = e.where;
     if (other_errors && e.message.find("missing #endif") != std::string::npos) continue;
-    messages.error(e.where, shader.name, e.message + environment_hint(e.message, shader, options), order++);
+    messages.error(e.where, shader.name, e.message + e.placed + environment_hint(e.message, shader, options),
+                   order++);
     any = true;
   }
   if (!any) {

@@ -50,16 +50,18 @@ void hlsl_environment(const ShaderDesc& shader, bool environment, std::string& o
   for (std::string_view macro : stage_macros(shader.stage)) define(out, macro, "1");
 }
 
-// What Diligent adds to GLSL: GLSLExtensions right after #version, then (unless GLSL_VERBATIM) the
-// desktop, clip-depth and stage macros and std140 as the default block layout; GLSLANG on Vulkan (its
-// OpenGL backend hands the text to the driver, which defines none of Vulkan's names). Row-major
-// matrices apply on both backends, so that one source means the same everywhere.
+// What Diligent adds to GLSL right after #version: GLSLExtensions (not with GLSL_VERBATIM).
 void glsl_extensions(const ShaderDesc& shader, std::string& out) {
   if (!shader.verbatim && !shader.glsl_extensions.empty()) {
     out += with_include_directive(shader.glsl_extensions);
     if (!out.ends_with('\n')) out += '\n';
   }
 }
+
+// Then (unless GLSL_VERBATIM) the desktop, clip-depth and stage macros and std140 as the default block
+// layout; GLSLANG on Vulkan (its OpenGL backend hands the text to the driver, which defines none of
+// Vulkan's names). Row-major matrices apply on both backends, so that one source means the same
+// everywhere.
 void glsl_environment(const ShaderDesc& shader, bool environment, bool opengl, std::string& out) {
   if (shader.compile_flags & kPackMatrixRowMajor) out += "layout(row_major) uniform;\n";
   if (!environment) return;

@@ -299,6 +299,14 @@ TEST(ShaderEnvironment, AnErrorInTheTextBeforeTheShaderIsPlacedWhereThatTextIsWr
     EXPECT_EQ(d.where.pointer, shader_at.pointer) << d.message;
     EXPECT_NE(d.message.find("in -D Y("), std::string::npos) << d.message;
   }
+  // A Macros entry that redefines one of the environment's names keeps the note saying where the other
+  // definition comes from.
+  const Diagnostic redefined = first_error(with_macros(glsl, "COMPUTE_SHADER", "2"), options);
+  EXPECT_EQ(redefined.where.pointer, macro_at.pointer) << redefined.message;
+  for (const char* said : {"Macro redefined", "(in the Macros entry 'COMPUTE_SHADER'",
+                           "(statepack defines COMPUTE_SHADER before every shader"})
+    EXPECT_NE(redefined.message.find(said), std::string::npos) << said << " not in " << redefined.message;
+
   ShaderDesc extensions = glsl;
   extensions.where = shader_at;
   extensions.glsl_extensions = "#extension GL_EXT_samplerless_texture_functions : enable\n#error here";
