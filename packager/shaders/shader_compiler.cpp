@@ -251,12 +251,25 @@ std::string environment_hint(const std::string& message, const ShaderDesc& shade
 // An entry glslang places in the preamble (its source string -1, a place no user can find): moved to
 // what wrote that line, the notation's Macros entry or GLSLExtensions where they are written, else the
 // shader, and named in the message.
-void locate_in_preamble(LogEntry& e, const ShaderEnvironment& environment, const ShaderDesc& shader) {
+void locate_in_preamble(LogEntry& e, const ShaderEnvironment& environment, const ShaderDesc& shader,
+                        const CompileOptions& options) {
   if (e.where.file != "-1") return;
+  using Kind = PreambleSource::Kind;
   const PreambleSource* source = preamble_source(environment, e.where.line);
-  e.where = source && !source->where.file.empty() ? source->where : shader.where;
-  e.placed = " (in " + (source ? source->what : std::string("the shader environment")) +
-             ", which statepack puts before the shader's first line)";
+  const Kind kind = source ? source->kind : Kind::environment;
+  const size_t i = source ? source->index : 0;
+  std::string what = "the shader environment";
+  e.where = shader.where;
+  if (kind == Kind::glsl_extensions) {
+    what = "GLSLExtensions";
+    if (!shader.extensions_where.file.empty()) e.where = shader.extensions_where;
+  } else if (kind == Kind::global_macro && i < options.global_macros.size()) {
+    what = "-D " + options.global_macros[i].first;
+  } else if (kind == Kind::macro && i < shader.macros.size()) {
+    what = "the Macros entry '" + shader.macros[i].first + "'";
+    if (i < shader.macro_where.size() && !shader.macro_where[i].file.empty()) e.where = shader.macro_where[i];
+  }
+  e.placed = " (in " + what + ", which statepack puts before the shader's first line)";
 }
 
 // Turns each error of glslang's log into a diagnostic at its file and line.
@@ -268,7 +281,7 @@ void report_log(const std::string& log, const ShaderDesc& shader, ShaderMessages
   for (std::string line; std::getline(lines, line);)
     if (auto e = parse_log_line(line, fallback_file);
         e && !e->warning && e->message.find("compilation terminated") == std::string::npos) {
-      locate_in_preamble(*e, environment, shader);
+      locate_in_preamble(*e, environment, shader, options);
       errors.push_back(std::move(*e));
     }
   // glslang stops parsing at an error inside #if, then finds the #if unclosed: "missing #endif" follows
@@ -471,7 +484,7 @@ void report_parse_failure(glslang::TShader& ts, const Includer& includer, const 
   std::istringstream lines(ts.getInfoLog());
   for (std::string line; std::getline(lines, line);)
     if (auto e = parse_log_line(line, file_name); e && !e->warning) {
-      locate_in_preamble(*e, environment, shader);
+      locate_in_preamble(*e, environment, shader, options);
       where = e->where;
       break;
     }

@@ -87,7 +87,7 @@ std::string with_include_directive(std::string_view text) {
 void prepend_to_preamble(ShaderEnvironment& environment, std::string_view line) {
   environment.preamble.insert(0, line);
   for (PreambleSource& source : environment.sources) source.begin += line.size();
-  environment.sources.insert(environment.sources.begin(), PreambleSource{0, "the shader environment", {}});
+  environment.sources.insert(environment.sources.begin(), PreambleSource{});
 }
 
 const PreambleSource* preamble_source(const ShaderEnvironment& environment, int line) {
@@ -107,26 +107,24 @@ const PreambleSource* preamble_source(const ShaderEnvironment& environment, int 
 
 ShaderEnvironment shader_environment(const ShaderDesc& shader, const CompileOptions& options) {
   ShaderEnvironment env;
-  auto from = [&](std::string what, Location where) {
-    env.sources.push_back({env.preamble.size(), std::move(what), std::move(where)});
-  };
+  using Kind = PreambleSource::Kind;
+  auto from = [&](Kind kind, size_t index = 0) { env.sources.push_back({env.preamble.size(), kind, index}); };
   if (shader.language == SourceLanguage::hlsl) {
-    from("the shader environment", {});
+    from(Kind::environment);
     hlsl_environment(shader, options.shader_environment, env.preamble);
   } else if (shader.language == SourceLanguage::glsl) {
-    from("GLSLExtensions", shader.extensions_where);
+    from(Kind::glsl_extensions);
     glsl_extensions(shader, env.preamble);
-    from("the shader environment", {});
+    from(Kind::environment);
     glsl_environment(shader, options.shader_environment, options.opengl, env.preamble);
   }
   env.fixed_bytes = env.preamble.size();
-  for (const auto& [name, value] : options.global_macros) {
-    from("-D " + name, {});
-    define(env.preamble, name, value);
+  for (size_t i = 0; i < options.global_macros.size(); ++i) {
+    from(Kind::global_macro, i);
+    define(env.preamble, options.global_macros[i].first, options.global_macros[i].second);
   }
   for (size_t i = 0; i < shader.macros.size(); ++i) {
-    from("the Macros entry '" + shader.macros[i].first + "'",
-         i < shader.macro_where.size() ? shader.macro_where[i] : shader.where);
+    from(Kind::macro, i);
     define(env.preamble, shader.macros[i].first, shader.macros[i].second);
   }
   if (shader.glsl_version != 0) env.default_glsl_version = int(shader.glsl_version);

@@ -16,11 +16,14 @@ namespace statepack::packager {
 struct CompileOptions;
 
 // Where a stretch of the preamble comes from: glslang reports an error in it at its source string -1,
-// a place no user can find; the message names this instead.
+// a place no user can find; the message names this instead. Only the kind and index are kept: the name
+// and the notation's location are the shader's and the options' (read when an error needs them, not on
+// every compile and cache key).
 struct PreambleSource {
+  enum class Kind { environment, glsl_extensions, global_macro, macro };
   size_t begin = 0;  // the stretch's first byte in the preamble
-  std::string what;  // "the Macros entry 'X'", "-D X", "GLSLExtensions", "the shader environment"
-  Location where;    // where the notation writes it; no file for the environment and -D
+  Kind kind = Kind::environment;
+  size_t index = 0;  // of the -D macro (CompileOptions::global_macros) or of the Macros entry
 };
 
 struct ShaderEnvironment {

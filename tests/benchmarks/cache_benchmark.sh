@@ -57,7 +57,8 @@ echo '{"Pipelines": [{"PSODesc": {"Name": "One"}, "pCS": {"Desc": {"Name": "One 
   > one.json
 floor=()
 for ((r = 0; r < repeats; r++)); do
-  read -r ms _ _ < <("$timed_run" "$statepack" pack -i one.json -o one.spk --vulkan)
+  read -r ms _ code < <("$timed_run" "$statepack" pack -i one.json -o one.spk --vulkan)
+  ((code == 0)) || { echo "FAIL: statepack pack -i one.json exited with $code"; exit 1; }
   floor+=("$ms")
 done
 
